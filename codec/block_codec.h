@@ -1,0 +1,100 @@
+// Coding of one 4D block: the codec's top-level API.
+//
+// Encode: level shift -> fill unused texels -> 4D wavelet -> subband quantisation ->
+// one embedded 4D-SPIHT stream per channel -> rate allocation across channels.
+// Decode: per channel, SPIHT (under byte / time budgets) -> inverse wavelet ->
+// level shift and clamp. Decoding is integer-only and bit-exact.
+#ifndef FVV_CODEC_BLOCK_CODEC_H_
+#define FVV_CODEC_BLOCK_CODEC_H_
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "codec/block.h"
+#include "codec/parallel.h"
+#include "codec/spiht4d_common.h"
+#include "codec/status.h"
+#include "codec/wavelet.h"
+
+namespace fvv {
+
+// What a decoder needs besides the streams; carried by the block file and by
+// the container's texture payload.
+struct BlockParams {
+  Shape4D shape;  // luma shape
+  WaveletKernel kernel = WaveletKernel::kCdf97;
+  EntropyCoder coder = EntropyCoder::kArith;
+  ColourSpace colour = ColourSpace::kYCbCr601;
+  ChromaFormat chroma = ChromaFormat::k444;
+};
+
+struct ChannelStream {
+  uint8_t planes = 0;
+  std::vector<uint8_t> data;
+  std::vector<TruncationPoint> points;
+};
+
+struct EncodedBlock {
+  BlockParams params;
+  std::array<ChannelStream, 3> channels;
+
+  uint64_t total_bytes() const {
+    return channels[0].data.size() + channels[1].data.size() + channels[2].data.size();
+  }
+};
+
+enum class RateMode : uint8_t {
+  kBitsPerSample,  // value = bpp over luma samples, all three channels together
+  kTotalBytes,     // value = bytes for the three streams together
+  kPsnr,           // value = target weighted-YUV PSNR in dB over used texels
+  kLossless,       // full rate; needs a reversible kernel and the RCT colour space
+};
+
+struct EncodeSettings {
+  WaveletKernel kernel = WaveletKernel::kCdf97;
+  EntropyCoder coder = EntropyCoder::kArith;
+  RateMode rate_mode = RateMode::kBitsPerSample;
+  double rate_value = 0.25;
+  // Relative weight of each channel's squared error in rate allocation and in the
+  // PSNR target. The default makes the YUV error match RGB error (BT.601 inverse).
+  std::array<double, 3> channel_weights{1.0, 1.0861, 0.8252};
+  ParallelRunner runner = SerialRunner;
+};
+
+struct EncodeReport {
+  std::array<uint64_t, 3> channel_bytes{};
+  double estimated_psnr = 0;  // from the transform-domain error estimate, all texels
+};
+
+// mask may be null (every texel used); otherwise one byte per luma texel.
+StatusOr<EncodedBlock> EncodeBlock(const Block& block, const UsedMask* mask,
+                                   const EncodeSettings& settings, EncodeReport* report = nullptr);
+
+struct DecodeBudget {
+  uint64_t max_bytes = 0;  // all channels together; 0 = no limit. Split in proportion to stream sizes.
+  double max_ms = 0;       // 0 = no limit; stops SPIHT decoding when reached
+};
+
+struct DecodeReport {
+  std::array<uint64_t, 3> channel_bytes_read{};
+  std::array<int, 3> planes_completed{};
+  uint64_t bytes_read = 0;
+  bool complete = true;  // every stream decoded to its end
+  bool hit_deadline = false;
+  double ms = 0;
+};
+
+StatusOr<Block> DecodeBlock(const EncodedBlock& encoded, const DecodeBudget& budget,
+                            const ParallelRunner& runner, DecodeReport* report = nullptr);
+
+// Validates parameters against the codec's limits (sizes, enum values, planes).
+Status ValidateParams(const BlockParams& params);
+
+// Squared-error statistics over used texels (mask may be null).
+double ChannelMse(const Plane4D& a, const Plane4D& b, const UsedMask* mask);
+double PsnrFromMse(double mse);  // 8-bit peak; 99 dB cap for identical data
+
+}  // namespace fvv
+
+#endif  // FVV_CODEC_BLOCK_CODEC_H_

@@ -1,0 +1,35 @@
+// Serialisation of a coded block: the payload syntax shared by the stand-alone
+// block file (`fvv block`, docs/block_file.md) and, later, the container's
+// texture fragments. In memory only; the caller does file I/O.
+//
+//   block_file()       magic "fvvb", version u8 = 1, block_params(), channel_stream() x 3
+//   block_params()     kernel u8, coder u8, colour u8, chroma u8, frames u32, cameras u32,
+//                      height u32, width u32
+//   channel_stream()   planes u8, point_count u16, point_count x (bytes u32, plane u8,
+//                      pass u8), data_size u32, data_size bytes
+// Integers are little-endian.
+#ifndef FVV_CODEC_BLOCK_SYNTAX_H_
+#define FVV_CODEC_BLOCK_SYNTAX_H_
+
+#include <cstdint>
+#include <vector>
+
+#include "codec/bit_io.h"
+#include "codec/block_codec.h"
+#include "codec/status.h"
+
+namespace fvv {
+
+constexpr uint8_t kBlockFileVersion = 1;
+
+void WriteBlockParams(const BlockParams& p, ByteWriter* w);
+Status ReadBlockParams(ByteReader* r, BlockParams* p);
+void WriteChannelStream(const ChannelStream& s, ByteWriter* w);
+Status ReadChannelStream(ByteReader* r, const char* name, ChannelStream* s);
+
+std::vector<uint8_t> WriteBlockFile(const EncodedBlock& block);
+StatusOr<EncodedBlock> ReadBlockFile(const uint8_t* data, size_t size);
+
+}  // namespace fvv
+
+#endif  // FVV_CODEC_BLOCK_SYNTAX_H_

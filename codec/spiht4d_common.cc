@@ -1,0 +1,104 @@
+#include "codec/spiht4d_common.h"
+
+namespace fvv {
+
+const char* CoderName(EntropyCoder c) { return c == EntropyCoder::kArith ? "arith" : "binary"; }
+
+SpihtTree::SpihtTree(const WaveletGeometry& geometry) : g_(geometry) {
+  // Tree tops, in order: the final low band R(L), then for l = L - 1 down to 1 the
+  // detail coefficients of level l that have no parent: those whose every
+  // high-pass axis makes its last split at l (so level l + 1 has no detail band of
+  // that orientation). Each group in raster order.
+  std::array<uint32_t, kAxes> lo_box, hi_box;
+  for (int a = 0; a < kAxes; ++a) {
+    lo_box[a] = 0;
+    hi_box[a] = g_.RegionExtent(a, g_.levels);
+  }
+  AppendBox(lo_box, hi_box, -1);
+  for (int l = g_.levels - 1; l >= 1; --l) {
+    bool any = false;
+    for (int a = 0; a < kAxes; ++a) {
+      const AxisGeometry& ax = g_.axis[a];
+      if (ax.levels == l) {
+        hi_box[a] = ax.lo[l - 1];  // low and high part of its last split
+        any = true;
+      } else if (ax.levels > l) {
+        hi_box[a] = ax.lo[l];  // low part only
+      } else {
+        hi_box[a] = ax.lo[ax.levels];
+      }
+    }
+    if (any) AppendBox(lo_box, hi_box, l);
+  }
+}
+
+void SpihtTree::AppendBox(const std::array<uint32_t, kAxes>& lo, const std::array<uint32_t, kAxes>& hi,
+                          int level) {
+  std::array<uint32_t, kAxes> p;
+  for (p[0] = lo[0]; p[0] < hi[0]; ++p[0])
+    for (p[1] = lo[1]; p[1] < hi[1]; ++p[1])
+      for (p[2] = lo[2]; p[2] < hi[2]; ++p[2])
+        for (p[3] = lo[3]; p[3] < hi[3]; ++p[3]) {
+          if (level >= 0 && Level(p) != level) continue;  // the low part of the box is coarser
+          roots_.push_back(static_cast<uint32_t>(g_.shape.Index(p[0], p[1], p[2], p[3])));
+        }
+}
+
+int SpihtTree::Children(uint32_t idx, uint32_t* out) const {
+  std::array<uint32_t, kAxes> p;
+  Coords(idx, &p);
+  const int l = Level(p);
+  if (l == 1 || g_.levels == 0) return 0;
+  std::array<std::array<uint32_t, 3>, kAxes> list;
+  std::array<int, kAxes> count;
+  const bool root = l == g_.levels + 1;
+  for (int a = 0; a < kAxes; ++a) {
+    const AxisGeometry& ax = g_.axis[a];
+    const uint32_t pa = p[a];
+    int k = 0;
+    if (l > ax.levels) {
+      // Axis not split at this level ("U"). If it is split at the next finer level,
+      // the child set covers both its low and its new detail part.
+      list[a][k++] = pa;
+      if (l - 1 == ax.levels && pa < ax.lo[l - 2] - ax.lo[l - 1]) list[a][k++] = ax.lo[l - 1] + pa;
+    } else if (ax.band[pa] == l) {
+      const uint32_t q = pa - ax.lo[l];
+      const uint32_t first = ax.lo[l - 1] + 2 * q;
+      const uint32_t end = ax.lo[l - 2];  // end of the detail band of split l - 1
+      const bool last = q + 1 == ax.lo[l - 1] - ax.lo[l];
+      for (uint32_t c = first; c < end && c < first + (last ? 3u : 2u); ++c) list[a][k++] = c;
+    } else {
+      for (uint32_t c = 2 * pa; c < ax.lo[l - 1] && c < 2 * pa + 2; ++c) list[a][k++] = c;
+    }
+    count[a] = k;
+  }
+  int n = 0;
+  for (int i0 = 0; i0 < count[0]; ++i0)
+    for (int i1 = 0; i1 < count[1]; ++i1)
+      for (int i2 = 0; i2 < count[2]; ++i2)
+        for (int i3 = 0; i3 < count[3]; ++i3) {
+          if (root && i0 == 0 && i1 == 0 && i2 == 0 && i3 == 0) continue;  // itself
+          out[n++] = static_cast<uint32_t>(
+              g_.shape.Index(list[0][i0], list[1][i1], list[2][i2], list[3][i3]));
+        }
+  return n;
+}
+
+bool SpihtTree::HasGrandchildren(uint32_t idx) const {
+  std::array<uint32_t, kAxes> p;
+  Coords(idx, &p);
+  // Every coefficient of level >= 2 has children, and a root (level L + 1) has its
+  // children at level L; so grandchildren exist exactly from level 3 up.
+  return Level(p) >= 3;
+}
+
+int SpihtTree::LevelClass(uint32_t idx) const {
+  std::array<uint32_t, kAxes> p;
+  Coords(idx, &p);
+  const int l = Level(p);
+  if (l == g_.levels + 1) return 0;
+  if (l >= 4) return 1;
+  return 5 - l;  // 3 -> 2, 2 -> 3, 1 -> 4
+}
+
+}  // namespace fvv

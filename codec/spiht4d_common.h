@@ -1,0 +1,206 @@
+// 4D SPIHT: spatial-orientation trees over the 4D wavelet pyramid, and the one
+// traversal both encoder and decoder run (so their decision order cannot drift).
+//
+// Tree (see wavelet.h for the geometry): a detail coefficient at global level
+// l >= 2 has its children at level l - 1. Along each axis its position p is in
+//   - the detail band of split l ("H"): children lo[l-1] + 2q, +1 (q = p - lo[l]),
+//     and +2 as well for the last q when the finer band is one longer (odd sizes);
+//   - the low part ("L", axis still split at l): children 2p, 2p + 1 (clipped);
+//   - an axis not split at l ("U"): the child p, and also lo[l-1] + p when the
+//     axis is split at l - 1 (its last split), which covers that detail band.
+// The children are the product of the per-axis lists: up to 16, fewer where axes
+// are exhausted or clipped. Roots (the final low band, "level L + 1") follow the
+// same rule with every axis "U", minus the root itself: up to 15 children.
+// Where axes run out of levels at different depths, a detail band whose every
+// high-pass axis makes its last split at level l < L has no parent band at l + 1;
+// its coefficients are tree tops too (listed after the roots, coarsest first).
+//
+// Traversal: classic SPIHT lists (LIP, LIS with type A/B entries, LSP), bitplanes
+// from the top down, each a sorting pass then a refinement pass. Decisions carry
+// a context so the arithmetic mode can model them; the binary mode ignores it.
+#ifndef FVV_CODEC_SPIHT4D_COMMON_H_
+#define FVV_CODEC_SPIHT4D_COMMON_H_
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "codec/subband_weights.h"
+#include "codec/wavelet.h"
+
+namespace fvv {
+
+enum class EntropyCoder : uint8_t {
+  kBinary = 0,  // decisions written as raw bits (as the original system)
+  kArith = 1,   // context-adaptive binary range coding
+};
+const char* CoderName(EntropyCoder c);
+
+constexpr int kMaxChildren = 81;  // 3 per axis in the odd-size corner case
+constexpr int kMaxBitplanes = 30;
+
+// Where a SPIHT stream can be cut with a pass complete.
+struct TruncationPoint {
+  uint32_t bytes = 0;  // bytes a decoder needs to complete the pass
+  uint8_t plane = 0;   // bitplane n of the pass
+  uint8_t pass = 0;    // 0 = sorting, 1 = refinement
+};
+
+class SpihtTree {
+ public:
+  explicit SpihtTree(const WaveletGeometry& geometry);
+
+  const WaveletGeometry& geometry() const { return g_; }
+  const std::vector<uint32_t>& roots() const { return roots_; }
+  size_t size() const { return g_.shape.count(); }
+
+  void Coords(uint32_t idx, std::array<uint32_t, kAxes>* p) const {
+    uint32_t q = idx;
+    for (int a = kAxes - 1; a > 0; --a) {
+      (*p)[a] = q % g_.shape.n[a];
+      q /= g_.shape.n[a];
+    }
+    (*p)[0] = q;
+  }
+  // 1..L for detail coefficients, L + 1 for roots.
+  int Level(const std::array<uint32_t, kAxes>& p) const {
+    int l = g_.levels + 1;
+    for (int a = 0; a < kAxes; ++a) {
+      const int b = g_.axis[a].band[p[a]];
+      if (b != 0 && b < l) l = b;
+    }
+    return l;
+  }
+  int BandId(uint32_t idx) const {
+    std::array<uint32_t, kAxes> p;
+    Coords(idx, &p);
+    std::array<uint8_t, kAxes> codes;
+    for (int a = 0; a < kAxes; ++a) codes[a] = g_.axis[a].band[p[a]];
+    return SubbandQuantisers::BandId(codes);
+  }
+  // Writes the children of idx to out; returns their number.
+  int Children(uint32_t idx, uint32_t* out) const;
+  // L(idx) (descendants beyond the children) is non-empty.
+  bool HasGrandchildren(uint32_t idx) const;
+  // Context class of a coefficient's level: 0 root, 1 level >= 4, 2 level 3,
+  // 3 level 2, 4 level 1.
+  int LevelClass(uint32_t idx) const;
+
+ private:
+  void AppendBox(const std::array<uint32_t, kAxes>& lo, const std::array<uint32_t, kAxes>& hi,
+                 int level);
+
+  WaveletGeometry g_;
+  std::vector<uint32_t> roots_;  // tree tops: the root band, then parentless detail bands
+};
+
+// Context indices of the adaptive model.
+namespace ctx {
+constexpr int kLevelClasses = 5;
+constexpr int kNeighbourBins = 3;
+constexpr int kSigLip = 0;                                             // [class][nbr]
+constexpr int kSigChild = kSigLip + kLevelClasses * kNeighbourBins;    // [class][nbr]
+constexpr int kSetA = kSigChild + kLevelClasses * kNeighbourBins;      // [class]
+constexpr int kSetB = kSetA + kLevelClasses;                           // [class]
+constexpr int kSign = kSetB + kLevelClasses;                           // [class]
+constexpr int kRefine = kSign + kLevelClasses;                         // [first?]
+constexpr int kCount = kRefine + 2;
+}  // namespace ctx
+
+// The traversal. Side provides (each returns false to stop the traversal now):
+//   bool SigCoeff(uint32_t idx, int n, int ctx, bool* sig);
+//   bool Sign(uint32_t idx, int n, int ctx);
+//   bool SigSet(uint32_t idx, int n, bool type_b, int ctx, bool* sig);
+//   bool Refine(uint32_t idx, int n, int ctx);
+//   void PassEnd(int n, int pass);
+template <class Side>
+void SpihtTraverse(const SpihtTree& tree, int planes, Side* side) {
+  const Shape4D& shape = tree.geometry().shape;
+  const uint32_t w = shape.width(), h = shape.height();
+  std::vector<uint8_t> significant(tree.size(), 0);
+  // Significant spatial neighbours (x +- 1, y +- 1), clipped to 2: the context.
+  auto neighbours = [&](uint32_t idx) {
+    const uint32_t x = idx % w, y = (idx / w) % h;
+    int k = 0;
+    if (x > 0) k += significant[idx - 1];
+    if (x + 1 < w) k += significant[idx + 1];
+    if (y > 0) k += significant[idx - w];
+    if (y + 1 < h) k += significant[idx + w];
+    return k < 2 ? k : 2;
+  };
+  auto coeff_ctx = [&](int base, uint32_t idx) {
+    return base + tree.LevelClass(idx) * ctx::kNeighbourBins + neighbours(idx);
+  };
+
+  std::vector<uint32_t> lip = tree.roots();
+  std::vector<uint32_t> lis;
+  std::vector<uint32_t> lsp;
+  constexpr uint32_t kTypeB = 0x80000000u;
+  uint32_t children[kMaxChildren];
+  for (uint32_t r : tree.roots())
+    if (tree.Children(r, children) > 0) lis.push_back(r);
+
+  size_t lsp_first_refine = 0;  // LSP entries before this index had >= 1 refinement
+  for (int n = planes - 1; n >= 0; --n) {
+    const size_t lsp_before_pass = lsp.size();
+    // Sorting pass, part 1: insignificant pixels.
+    size_t kept = 0;
+    for (size_t i = 0; i < lip.size(); ++i) {
+      const uint32_t idx = lip[i];
+      bool sig;
+      if (!side->SigCoeff(idx, n, coeff_ctx(ctx::kSigLip, idx), &sig)) return;
+      if (sig) {
+        if (!side->Sign(idx, n, ctx::kSign + tree.LevelClass(idx))) return;
+        significant[idx] = 1;
+        lsp.push_back(idx);
+      } else {
+        lip[kept++] = idx;
+      }
+    }
+    lip.resize(kept);
+    // Sorting pass, part 2: insignificant sets; entries appended here are
+    // processed in this same pass.
+    kept = 0;
+    for (size_t i = 0; i < lis.size(); ++i) {
+      const uint32_t entry = lis[i];
+      const uint32_t idx = entry & ~kTypeB;
+      const bool type_b = (entry & kTypeB) != 0;
+      const int cls = tree.LevelClass(idx);
+      bool sig;
+      if (!side->SigSet(idx, n, type_b, (type_b ? ctx::kSetB : ctx::kSetA) + cls, &sig)) return;
+      if (!sig) {
+        lis[kept++] = entry;
+        continue;
+      }
+      const int nc = tree.Children(idx, children);
+      if (!type_b) {
+        for (int k = 0; k < nc; ++k) {
+          const uint32_t c = children[k];
+          bool csig;
+          if (!side->SigCoeff(c, n, coeff_ctx(ctx::kSigChild, c), &csig)) return;
+          if (csig) {
+            if (!side->Sign(c, n, ctx::kSign + tree.LevelClass(c))) return;
+            significant[c] = 1;
+            lsp.push_back(c);
+          } else {
+            lip.push_back(c);
+          }
+        }
+        if (tree.HasGrandchildren(idx)) lis.push_back(idx | kTypeB);
+      } else {
+        for (int k = 0; k < nc; ++k) lis.push_back(children[k]);
+      }
+    }
+    lis.resize(kept);
+    side->PassEnd(n, 0);
+    // Refinement pass over coefficients significant before this bitplane.
+    for (size_t i = 0; i < lsp_before_pass; ++i)
+      if (!side->Refine(lsp[i], n, ctx::kRefine + (i >= lsp_first_refine ? 1 : 0))) return;
+    lsp_first_refine = lsp_before_pass;
+    side->PassEnd(n, 1);
+  }
+}
+
+}  // namespace fvv
+
+#endif  // FVV_CODEC_SPIHT4D_COMMON_H_

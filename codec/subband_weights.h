@@ -1,0 +1,72 @@
+// Subband weighting: coefficients are scaled by the L2 norm of their synthesis
+// basis function before bitplane coding, so that one unit of error in any
+// subband costs the same image-domain squared error. SPIHT's bitplane order is
+// then also rate-distortion order.
+//
+// The 4D norm is the product of per-axis 1D norms (the transform is separable).
+// The 1D norms are pinned below as Q16 integers (derived by
+// ComputeAxisNorm from the real-valued lifting; a test recomputes them), and the
+// 4D product is formed in integers, so encoder and decoder agree bit for bit.
+//
+// Reversible kernels (Haar, 5/3) round each weight to a power of two so the
+// scaling is a shift and full-rate coding stays lossless; the 9/7 uses exact
+// weights with 2 fractional bits of sample precision.
+#ifndef FVV_CODEC_SUBBAND_WEIGHTS_H_
+#define FVV_CODEC_SUBBAND_WEIGHTS_H_
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "codec/wavelet.h"
+
+namespace fvv {
+
+// Per-axis band code as in AxisGeometry::band: 0 = final low band, k = detail of split k.
+// Number of distinct 4D bands: 7^4.
+constexpr int kBandCodes = kMaxLevelsPerAxis + 1;
+constexpr int kBandIds = kBandCodes * kBandCodes * kBandCodes * kBandCodes;
+
+// Q16 1D synthesis norm of the low band after `splits` splits, or of the detail
+// band of split k.
+uint32_t AxisLowNormQ16(WaveletKernel kernel, int splits);
+uint32_t AxisHighNormQ16(WaveletKernel kernel, int k);
+// The same from first principles, in double (for tests and the spec's table).
+double ComputeAxisNorm(WaveletKernel kernel, bool high, int level);
+
+// Bits of sample precision the transform input carries (samples << frac_bits).
+int TransformFracBits(WaveletKernel kernel);
+
+struct BandQuantiser {
+  uint32_t mul_q16 = 1u << 16;  // v = round(c * mul / 2^16)
+  uint32_t inv_q16 = 1u << 16;  // c = round(v * inv / 2^16)
+  double distortion = 1.0;      // image-domain squared error per unit^2 of v (encoder only)
+};
+
+class SubbandQuantisers {
+ public:
+  SubbandQuantisers(WaveletKernel kernel, const WaveletGeometry& geometry);
+  // Band id of a coefficient from its per-axis band codes.
+  static int BandId(const std::array<uint8_t, kAxes>& codes) {
+    return ((codes[0] * kBandCodes + codes[1]) * kBandCodes + codes[2]) * kBandCodes + codes[3];
+  }
+  const BandQuantiser& operator[](int band_id) const { return bands_[band_id]; }
+
+ private:
+  std::vector<BandQuantiser> bands_;
+};
+
+// Sign-symmetric quantise / dequantise with the Q16 factors.
+inline int32_t QuantiseCoefficient(int32_t c, uint32_t mul_q16) {
+  const uint64_t m = (static_cast<uint64_t>(c < 0 ? -int64_t{c} : c) * mul_q16 + 32768) >> 16;
+  const int32_t v = static_cast<int32_t>(m > 0x3FFFFFFF ? 0x3FFFFFFF : m);
+  return c < 0 ? -v : v;
+}
+inline int32_t DequantiseMagnitude(uint32_t mag, uint32_t inv_q16) {
+  const uint64_t c = (uint64_t{mag} * inv_q16 + 32768) >> 16;
+  return static_cast<int32_t>(c > 0x3FFFFFFF ? 0x3FFFFFFF : c);
+}
+
+}  // namespace fvv
+
+#endif  // FVV_CODEC_SUBBAND_WEIGHTS_H_
