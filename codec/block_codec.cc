@@ -331,8 +331,8 @@ StatusOr<Block> DecodeBlock(const EncodedBlock& encoded, const DecodeBudget& bud
     const SampleRange range = ChannelRange(p.colour, c);
     const int32_t round = frac ? 1 << (frac - 1) : 0;
     for (int32_t& s : coeffs[c]) {
-      const int32_t v = ((s + round) >> frac) + range.offset;
-      s = std::min(std::max(v, range.min), range.max);
+      const int64_t v = ((int64_t{s} + round) >> frac) + range.offset;
+      s = static_cast<int32_t>(std::min<int64_t>(std::max<int64_t>(v, range.min), range.max));
     }
     block.channels[c].shape = shapes[c];
     block.channels[c].samples = std::move(coeffs[c]);
@@ -345,7 +345,9 @@ StatusOr<Block> DecodeBlock(const EncodedBlock& encoded, const DecodeBudget& bud
       report->channel_bytes_read[c] = results[c].bytes_used;
       report->planes_completed[c] = results[c].planes_completed;
       report->bytes_read += results[c].bytes_used;
-      report->complete = report->complete && results[c].complete;
+      // Complete: the stream ended (by its own end or the encoder's cut), not a budget.
+      report->complete = report->complete && !results[c].hit_deadline &&
+                         limits[c].max_bytes >= encoded.channels[c].data.size();
       report->hit_deadline = report->hit_deadline || results[c].hit_deadline;
     }
     report->ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

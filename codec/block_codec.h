@@ -80,7 +80,7 @@ struct DecodeReport {
   std::array<uint64_t, 3> channel_bytes_read{};
   std::array<int, 3> planes_completed{};
   uint64_t bytes_read = 0;
-  bool complete = true;  // every stream decoded to its end
+  bool complete = true;  // every stream decoded to its end (no byte or time budget cut it)
   bool hit_deadline = false;
   double ms = 0;
 };

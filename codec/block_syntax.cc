@@ -74,7 +74,7 @@ Status ReadChannelStream(ByteReader* r, const char* name, ChannelStream* s) {
 
 std::vector<uint8_t> WriteBlockFile(const EncodedBlock& block) {
   ByteWriter w;
-  w.Bytes(reinterpret_cast<const uint8_t*>(kMagic), 4);
+  for (char c : kMagic) w.U8(static_cast<uint8_t>(c));
   w.U8(kBlockFileVersion);
   WriteBlockParams(block.params, &w);
   for (const ChannelStream& s : block.channels) WriteChannelStream(s, &w);
@@ -82,6 +82,7 @@ std::vector<uint8_t> WriteBlockFile(const EncodedBlock& block) {
 }
 
 StatusOr<EncodedBlock> ReadBlockFile(const uint8_t* data, size_t size) {
+  if (size < 4) return Truncated("block file of " + std::to_string(size) + " bytes ends in its magic");
   ByteReader r(data, size);
   const uint8_t* magic = r.Bytes(4);
   if (!magic || std::memcmp(magic, kMagic, 4) != 0)

@@ -38,6 +38,17 @@ constexpr double kAlphaR = -1.586134342059924, kBetaR = -0.052980118572961,
 
 inline int32_t MulQ16(int64_t c, int64_t sum) { return static_cast<int32_t>((c * sum + 32768) >> 16); }
 
+// Lifting updates wrap modulo 2^32 instead of overflowing: valid streams never
+// come near the limits, and a corrupt one must give defined (then clamped)
+// output rather than undefined behaviour.
+inline int32_t WrapAdd(int32_t a, int32_t b) {
+  return static_cast<int32_t>(static_cast<uint32_t>(a) + static_cast<uint32_t>(b));
+}
+inline int32_t WrapSub(int32_t a, int32_t b) {
+  return static_cast<int32_t>(static_cast<uint32_t>(a) - static_cast<uint32_t>(b));
+}
+inline int32_t NegMulQ16(int64_t c, int64_t sum) { return static_cast<int32_t>(-((c * sum + 32768) >> 16)); }
+
 // Lifting step on row vectors: target row i gets f(src row i + src row i+di) where the
 // neighbour index is clamped into [0, nsrc) (symmetric extension in deinterleaved form).
 // Predict steps (target = odd rows d, source = even rows s) use neighbours i, i+1;
@@ -48,7 +59,7 @@ inline void PredictStep(int32_t* d, uint32_t nd, const int32_t* s, uint32_t ns, 
     const int32_t* a = s + size_t{i} * v;
     const int32_t* b = s + size_t{std::min(i + 1, ns - 1)} * v;
     int32_t* t = d + size_t{i} * v;
-    for (uint32_t j = 0; j < v; ++j) t[j] += f(a[j], b[j]);
+    for (uint32_t j = 0; j < v; ++j) t[j] = WrapAdd(t[j], f(a[j], b[j]));
   }
 }
 template <typename F>
@@ -57,7 +68,7 @@ inline void UpdateStep(int32_t* s, uint32_t ns, const int32_t* d, uint32_t nd, u
     const int32_t* a = d + size_t{i == 0 ? 0 : std::min(i - 1, nd - 1)} * v;
     const int32_t* b = d + size_t{std::min(i, nd - 1)} * v;
     int32_t* t = s + size_t{i} * v;
-    for (uint32_t j = 0; j < v; ++j) t[j] += f(a[j], b[j]);
+    for (uint32_t j = 0; j < v; ++j) t[j] = WrapAdd(t[j], f(a[j], b[j]));
   }
 }
 
@@ -72,13 +83,13 @@ void LiftForward(WaveletKernel kernel, uint32_t m, uint32_t v, int32_t* rows) {
     case WaveletKernel::kHaar:
       // d = odd - even; s = even + floor(d / 2). A trailing even sample stays as is.
       for (size_t i = 0; i < size_t{nd} * v; ++i) {
-        d[i] -= s[i];
-        s[i] += d[i] >> 1;
+        d[i] = WrapSub(d[i], s[i]);
+        s[i] = WrapAdd(s[i], d[i] >> 1);
       }
       break;
     case WaveletKernel::kLeGall53:
-      PredictStep(d, nd, s, ns, v, [](int32_t a, int32_t b) { return -((a + b) >> 1); });
-      UpdateStep(s, ns, d, nd, v, [](int32_t a, int32_t b) { return (a + b + 2) >> 2; });
+      PredictStep(d, nd, s, ns, v, [](int32_t a, int32_t b) { return static_cast<int32_t>(-((int64_t{a} + b) >> 1)); });
+      UpdateStep(s, ns, d, nd, v, [](int32_t a, int32_t b) { return static_cast<int32_t>((int64_t{a} + b + 2) >> 2); });
       break;
     case WaveletKernel::kCdf97:
       PredictStep(d, nd, s, ns, v, [](int32_t a, int32_t b) { return MulQ16(kAlpha, int64_t{a} + b); });
@@ -97,19 +108,19 @@ void LiftInverse(WaveletKernel kernel, uint32_t m, uint32_t v, int32_t* rows) {
   switch (kernel) {
     case WaveletKernel::kHaar:
       for (size_t i = 0; i < size_t{nd} * v; ++i) {
-        s[i] -= d[i] >> 1;
-        d[i] += s[i];
+        s[i] = WrapSub(s[i], d[i] >> 1);
+        d[i] = WrapAdd(d[i], s[i]);
       }
       break;
     case WaveletKernel::kLeGall53:
-      UpdateStep(s, ns, d, nd, v, [](int32_t a, int32_t b) { return -((a + b + 2) >> 2); });
-      PredictStep(d, nd, s, ns, v, [](int32_t a, int32_t b) { return (a + b) >> 1; });
+      UpdateStep(s, ns, d, nd, v, [](int32_t a, int32_t b) { return static_cast<int32_t>(-((int64_t{a} + b + 2) >> 2)); });
+      PredictStep(d, nd, s, ns, v, [](int32_t a, int32_t b) { return static_cast<int32_t>((int64_t{a} + b) >> 1); });
       break;
     case WaveletKernel::kCdf97:
-      UpdateStep(s, ns, d, nd, v, [](int32_t a, int32_t b) { return -MulQ16(kDelta, int64_t{a} + b); });
-      PredictStep(d, nd, s, ns, v, [](int32_t a, int32_t b) { return -MulQ16(kGamma, int64_t{a} + b); });
-      UpdateStep(s, ns, d, nd, v, [](int32_t a, int32_t b) { return -MulQ16(kBeta, int64_t{a} + b); });
-      PredictStep(d, nd, s, ns, v, [](int32_t a, int32_t b) { return -MulQ16(kAlpha, int64_t{a} + b); });
+      UpdateStep(s, ns, d, nd, v, [](int32_t a, int32_t b) { return NegMulQ16(kDelta, int64_t{a} + b); });
+      PredictStep(d, nd, s, ns, v, [](int32_t a, int32_t b) { return NegMulQ16(kGamma, int64_t{a} + b); });
+      UpdateStep(s, ns, d, nd, v, [](int32_t a, int32_t b) { return NegMulQ16(kBeta, int64_t{a} + b); });
+      PredictStep(d, nd, s, ns, v, [](int32_t a, int32_t b) { return NegMulQ16(kAlpha, int64_t{a} + b); });
       break;
   }
 }

@@ -5,7 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build pkg-config clang clang-format
-  libpng-dev libopenexr-dev libgtest-dev
+  libpng-dev libopenexr-dev libgtest-dev libcli11-dev
   libopenjp2-tools  # opj_compress / opj_decompress: the JPEG 2000 peer in bench/
 )
 

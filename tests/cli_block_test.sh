@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# End-to-end test of `fvv block`: exit codes, outputs and error messages.
+set -u
+fvv=$1
+dir=$2
+rm -rf "$dir" && mkdir -p "$dir"
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+"$fvv" block sample -o "$dir/in" --frames 2 --cameras 3 --width 40 --height 24 >/dev/null || fail "sample"
+[ "$(ls "$dir"/in/view_*.png | wc -l)" = 6 ] || fail "sample wrote $(ls "$dir"/in | wc -l) files"
+
+out=$("$fvv" block encode "$dir"/in/view_*.png --cameras 3 --mask "$dir"/in/mask_*.png -o "$dir/b.fvb" --bpp 1 2>&1) ||
+  fail "encode: $out"
+grep -q "PSNR over used texels" <<<"$out" || fail "encode report: $out"
+out=$("$fvv" block decode "$dir/b.fvb" -o "$dir/dec" 2>&1) || fail "decode: $out"
+grep -q "complete" <<<"$out" || fail "decode report: $out"
+[ "$(ls "$dir"/dec/view_*.png | wc -l)" = 6 ] || fail "decode wrote the wrong number of views"
+out=$("$fvv" block decode "$dir/b.fvb" -o "$dir/dec2" --bytes 100 2>&1) || fail "truncated decode: $out"
+grep -q "truncated" <<<"$out" || fail "truncated decode report: $out"
+
+# Lossless really is.
+"$fvv" block encode "$dir"/in/view_*.png --cameras 3 --lossless -o "$dir/l.fvb" >/dev/null 2>&1 || fail "lossless encode"
+"$fvv" block decode "$dir/l.fvb" -o "$dir/ldec" >/dev/null || fail "lossless decode"
+out=$("$fvv" block encode "$dir"/ldec/view_*.png --cameras 3 --lossless -o "$dir/l2.fvb" 2>&1) || fail "re-encode"
+grep -q "RGB 99.00 dB" <<<"$out" || fail "lossless re-encode not exact: $out"
+
+# Errors: clear message, non-zero exit, nothing written.
+out=$("$fvv" block encode "$dir"/in/view_*.png --cameras 4 -o "$dir/x.fvb" 2>&1) && fail "bad shape accepted"
+grep -q "cannot form" <<<"$out" || fail "bad shape message: $out"
+printf 'garbage' >"$dir/bad.fvb"
+out=$("$fvv" block decode "$dir/bad.fvb" -o "$dir/xdec" 2>&1) && fail "garbage accepted"
+grep -q "not an fvv block file" <<<"$out" || fail "garbage message: $out"
+head -c 60 "$dir/b.fvb" >"$dir/cut.fvb"
+out=$("$fvv" block decode "$dir/cut.fvb" -o "$dir/xdec" 2>&1) && fail "truncated file accepted"
+grep -q "truncated" <<<"$out" || fail "truncated file message: $out"
+[ ! -e "$dir/x.fvb" ] || fail "failed encode left a file"
+echo "cli_block: all checks passed"

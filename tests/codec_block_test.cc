@@ -1,0 +1,231 @@
+// Block coding API: rate targets, masks, parameter checks, and the block file
+// syntax under corrupt, truncated and random input.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <random>
+
+#include "codec/block_codec.h"
+#include "codec/block_syntax.h"
+#include "codec/thread_pool.h"
+#include "tests/test_blocks.h"
+
+namespace fvv {
+namespace {
+
+using ::fvv::testing::RandomBlock;
+using ::fvv::testing::SmoothBlock;
+
+double WeightedPsnr(const Block& a, const Block& b, const UsedMask* mask) {
+  const double w[3] = {1.0, 1.0861, 0.8252};
+  double s = 0;
+  for (int c = 0; c < 3; ++c) s += w[c] * ChannelMse(a.channels[c], b.channels[c], mask);
+  return PsnrFromMse(s / (w[0] + w[1] + w[2]));
+}
+
+TEST(RateControl, ByteAndBppTargetsAreMetAndQualityGrowsWithRate) {
+  const Shape4D shape{{2, 4, 32, 48}};
+  const Block block = SmoothBlock(shape, ColourSpace::kYCbCr601, 1);
+  double last_psnr = 0;
+  for (double bpp : {0.05, 0.1, 0.25, 0.5, 1.0}) {
+    EncodeSettings s;
+    s.rate_value = bpp;
+    auto enc = EncodeBlock(block, nullptr, s);
+    ASSERT_TRUE(enc.ok());
+    const uint64_t budget = static_cast<uint64_t>(std::ceil(bpp * shape.count() / 8));
+    EXPECT_LE(enc->total_bytes(), budget);
+    EXPECT_GE(enc->total_bytes(), budget * 95 / 100) << "rate control left bytes unused";
+    auto dec = DecodeBlock(*enc, DecodeBudget{}, SerialRunner);
+    ASSERT_TRUE(dec.ok());
+    const double psnr = WeightedPsnr(block, *dec, nullptr);
+    EXPECT_GT(psnr, last_psnr) << "at " << bpp << " bpp";
+    last_psnr = psnr;
+  }
+  EncodeSettings s;
+  s.rate_mode = RateMode::kTotalBytes;
+  s.rate_value = 1234;
+  auto enc = EncodeBlock(block, nullptr, s);
+  ASSERT_TRUE(enc.ok());
+  EXPECT_LE(enc->total_bytes(), 1234u);
+  EXPECT_GE(enc->total_bytes(), 1200u);
+}
+
+TEST(RateControl, PsnrTargetIsReachedWithoutLargeOvershoot) {
+  const Shape4D shape{{2, 2, 40, 40}};
+  const Block block = SmoothBlock(shape, ColourSpace::kYCbCr601, 2);
+  for (double target : {30.0, 38.0, 45.0}) {
+    EncodeSettings s;
+    s.rate_mode = RateMode::kPsnr;
+    s.rate_value = target;
+    auto enc = EncodeBlock(block, nullptr, s);
+    ASSERT_TRUE(enc.ok());
+    auto dec = DecodeBlock(*enc, DecodeBudget{}, SerialRunner);
+    const double psnr = WeightedPsnr(block, *dec, nullptr);
+    EXPECT_GE(psnr, target);
+    EXPECT_LT(psnr, target + 2.0);
+  }
+}
+
+TEST(RateControl, ChromaGetsFewerBytesThanLuma) {
+  const Block block = SmoothBlock(Shape4D{{1, 1, 64, 64}}, ColourSpace::kYCbCr601, 5);
+  Block grey_chroma = block;
+  for (int c = 1; c < 3; ++c)
+    for (int32_t& v : grey_chroma.channels[c].samples) v = 128 + (v - 128) / 8;
+  EncodeSettings s;
+  s.rate_value = 1.0;
+  EncodeReport report;
+  ASSERT_TRUE(EncodeBlock(grey_chroma, nullptr, s, &report).ok());
+  EXPECT_GT(report.channel_bytes[0], report.channel_bytes[1] + report.channel_bytes[2]);
+}
+
+TEST(Masks, UnusedTexelsCostLittleAndUsedOnesAreCodedWell) {
+  const Shape4D shape{{2, 2, 48, 48}};
+  Block block = SmoothBlock(shape, ColourSpace::kYCbCr601, 3);
+  UsedMask mask(shape.count(), 0);
+  std::mt19937 rng(5);
+  for (size_t i = 0; i < mask.size(); ++i) {
+    const uint32_t x = i % 48, y = (i / 48) % 48;
+    mask[i] = (x - 24.0) * (x - 24.0) + (y - 24.0) * (y - 24.0) < 300;
+    if (!mask[i]) block.channels[0].samples[i] = static_cast<int32_t>(rng() % 256);  // junk no camera saw
+  }
+  EncodeSettings s;
+  s.rate_value = 0.5;
+  auto with_mask = EncodeBlock(block, &mask, s);
+  auto without = EncodeBlock(block, nullptr, s);
+  ASSERT_TRUE(with_mask.ok() && without.ok());
+  const double psnr_mask = WeightedPsnr(block, *DecodeBlock(*with_mask, {}, SerialRunner), &mask);
+  const double psnr_plain = WeightedPsnr(block, *DecodeBlock(*without, {}, SerialRunner), &mask);
+  EXPECT_GT(psnr_mask, psnr_plain + 3.0) << "filling should stop the junk from costing bits";
+}
+
+TEST(Params, BadSettingsAndShapesAreRejected) {
+  const Block block = SmoothBlock(Shape4D{{1, 1, 8, 8}}, ColourSpace::kYCbCr601, 1);
+  EncodeSettings s;
+  s.rate_mode = RateMode::kLossless;  // with 9/7 and BT.601: not lossless
+  EXPECT_EQ(EncodeBlock(block, nullptr, s).status().code(), StatusCode::kInvalidArgument);
+  s.rate_mode = RateMode::kBitsPerSample;
+  s.rate_value = -1;
+  EXPECT_EQ(EncodeBlock(block, nullptr, s).status().code(), StatusCode::kInvalidArgument);
+  s.rate_value = 1;
+  UsedMask short_mask(10, 1);
+  EXPECT_EQ(EncodeBlock(block, &short_mask, s).status().code(), StatusCode::kInvalidArgument);
+  BlockParams p;
+  p.shape.n = {1, 1, 70000, 1};
+  EXPECT_EQ(ValidateParams(p).code(), StatusCode::kLimitExceeded);
+  p.shape.n = {1, 1, 65535, 65535};
+  EXPECT_EQ(ValidateParams(p).code(), StatusCode::kLimitExceeded);
+}
+
+std::vector<uint8_t> SmallBlockFile(EntropyCoder coder) {
+  EncodeSettings s;
+  s.coder = coder;
+  s.rate_value = 2.0;
+  auto enc = EncodeBlock(SmoothBlock(Shape4D{{2, 2, 12, 10}}, ColourSpace::kYCbCr601, 4), nullptr, s);
+  return WriteBlockFile(*enc);
+}
+
+TEST(BlockFile, RoundTripsExactly) {
+  const std::vector<uint8_t> file = SmallBlockFile(EntropyCoder::kArith);
+  auto parsed = ReadBlockFile(file.data(), file.size());
+  ASSERT_TRUE(parsed.ok()) << parsed.status().ToString();
+  EXPECT_EQ(WriteBlockFile(*parsed), file);
+}
+
+TEST(BlockFile, HeaderErrorsAreNamed) {
+  std::vector<uint8_t> file = SmallBlockFile(EntropyCoder::kArith);
+  std::vector<uint8_t> bad = file;
+  bad[0] = 'x';
+  EXPECT_EQ(ReadBlockFile(bad.data(), bad.size()).status().code(), StatusCode::kCorrupt);
+  bad = file;
+  bad[4] = 9;  // version
+  EXPECT_EQ(ReadBlockFile(bad.data(), bad.size()).status().code(), StatusCode::kUnsupported);
+  bad = file;
+  bad[5] = 7;  // kernel
+  EXPECT_EQ(ReadBlockFile(bad.data(), bad.size()).status().code(), StatusCode::kCorrupt);
+  bad = file;
+  bad[9 + 8] = 0xFF;  // height -> huge
+  bad[9 + 10] = 0x7F;
+  EXPECT_EQ(ReadBlockFile(bad.data(), bad.size()).status().code(), StatusCode::kLimitExceeded);
+  bad = file;
+  bad.push_back(0);
+  EXPECT_EQ(ReadBlockFile(bad.data(), bad.size()).status().code(), StatusCode::kCorrupt);
+}
+
+// Every prefix and every single-byte change: a defined outcome, never a crash
+// (run under ASan+UBSan in CI).
+TEST(BlockFile, EveryPrefixAndByteFlipEndsInErrorOrValidDecode) {
+  for (EntropyCoder coder : {EntropyCoder::kBinary, EntropyCoder::kArith}) {
+    const std::vector<uint8_t> file = SmallBlockFile(coder);
+    for (size_t n = 0; n < file.size(); ++n) {
+      auto parsed = ReadBlockFile(file.data(), n);
+      ASSERT_FALSE(parsed.ok()) << "prefix " << n << " parsed";
+      EXPECT_EQ(parsed.status().code(), StatusCode::kTruncated) << parsed.status().ToString();
+    }
+    int decoded = 0;
+    for (size_t i = 0; i < file.size(); ++i) {
+      for (uint8_t flip : {0x01, 0x80, 0xFF}) {
+        std::vector<uint8_t> bad = file;
+        bad[i] ^= flip;
+        auto parsed = ReadBlockFile(bad.data(), bad.size());
+        if (!parsed.ok()) continue;
+        auto dec = DecodeBlock(*parsed, DecodeBudget{}, SerialRunner);
+        if (dec.ok()) ++decoded;
+      }
+    }
+    EXPECT_GT(decoded, 0);
+  }
+}
+
+TEST(BlockFile, RandomBytesNeverCrash) {
+  std::mt19937 rng(11);
+  const std::vector<uint8_t> good = SmallBlockFile(EntropyCoder::kArith);
+  for (int trial = 0; trial < 300; ++trial) {
+    // A valid header with random streams exercises the SPIHT decoder; pure noise the parser.
+    std::vector<uint8_t> data = trial % 2 ? good : std::vector<uint8_t>(rng() % 200);
+    for (size_t i = trial % 2 ? 25 : 0; i < data.size(); ++i) data[i] = static_cast<uint8_t>(rng());
+    auto parsed = ReadBlockFile(data.data(), data.size());
+    if (parsed.ok()) (void)DecodeBlock(*parsed, DecodeBudget{}, SerialRunner);
+  }
+}
+
+TEST(Decoder, RandomStreamsWithValidHeadersDecodeToClampedSamples) {
+  std::mt19937 rng(12);
+  for (WaveletKernel k : {WaveletKernel::kHaar, WaveletKernel::kLeGall53, WaveletKernel::kCdf97}) {
+    EncodedBlock enc;
+    enc.params.shape.n = {3, 2, 9, 14};
+    enc.params.kernel = k;
+    for (ChannelStream& s : enc.channels) {
+      s.planes = kMaxBitplanes;
+      s.data.resize(3000);
+      for (uint8_t& b : s.data) b = static_cast<uint8_t>(rng());
+    }
+    for (EntropyCoder coder : {EntropyCoder::kBinary, EntropyCoder::kArith}) {
+      enc.params.coder = coder;
+      auto dec = DecodeBlock(enc, DecodeBudget{}, SerialRunner);
+      ASSERT_TRUE(dec.ok());
+      for (const Plane4D& p : dec->channels)
+        for (int32_t v : p.samples) ASSERT_TRUE(v >= 0 && v <= 255);
+    }
+  }
+}
+
+TEST(ThreadPool, RunsEveryTaskOnceIncludingNestedCalls) {
+  ThreadPool pool(3);
+  std::vector<std::atomic<int>> hits(200);
+  pool.Run(20, [&](uint32_t i) {
+    pool.Run(10, [&](uint32_t j) { hits[i * 10 + j].fetch_add(1); });
+  });
+  for (auto& h : hits) EXPECT_EQ(h.load(), 1);
+  ThreadPool decode_pool(2);
+  const Block block = RandomBlock(Shape4D{{2, 3, 17, 21}}, ColourSpace::kRct, 8);
+  EncodeSettings s;
+  s.kernel = WaveletKernel::kLeGall53;
+  s.rate_mode = RateMode::kLossless;
+  auto serial = EncodeBlock(block, nullptr, s);
+  s.runner = decode_pool.runner();
+  auto parallel = EncodeBlock(block, nullptr, s);
+  EXPECT_EQ(WriteBlockFile(*serial), WriteBlockFile(*parallel)) << "threads must not change the stream";
+}
+
+}  // namespace
+}  // namespace fvv

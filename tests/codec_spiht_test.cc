@@ -1,0 +1,197 @@
+// 4D SPIHT: tree structure, lossless round trips, embeddedness, budgets.
+#include <gtest/gtest.h>
+
+#include "codec/block_codec.h"
+#include "codec/spiht4d.h"
+#include "codec/thread_pool.h"
+#include "tests/test_blocks.h"
+
+namespace fvv {
+namespace {
+
+using ::fvv::testing::RandomBlock;
+using ::fvv::testing::SmoothBlock;
+
+const Shape4D kOddShapes[] = {Shape4D{{3, 5, 17, 33}}, Shape4D{{1, 1, 64, 64}}, Shape4D{{8, 8, 32, 32}},
+                              Shape4D{{2, 7, 1, 9}}, Shape4D{{1, 1, 1, 1}}, Shape4D{{5, 1, 3, 1}}};
+
+TEST(SpihtTree, EveryCoefficientHasExactlyOneTreePath) {
+  for (const Shape4D& shape : kOddShapes) {
+    const WaveletGeometry g(shape);
+    const SpihtTree tree(g);
+    std::vector<int> visits(shape.count(), 0);
+    std::vector<uint32_t> stack = tree.roots();
+    for (uint32_t r : stack) ++visits[r];
+    uint32_t children[kMaxChildren];
+    while (!stack.empty()) {
+      const uint32_t x = stack.back();
+      stack.pop_back();
+      const int n = tree.Children(x, children);
+      ASSERT_LE(n, kMaxChildren);
+      for (int i = 0; i < n; ++i) {
+        ++visits[children[i]];
+        stack.push_back(children[i]);
+      }
+    }
+    for (size_t i = 0; i < visits.size(); ++i) ASSERT_EQ(visits[i], 1) << shape.ToString() << " index " << i;
+  }
+}
+
+TEST(SpihtTree, GrandchildrenPredicateMatchesStructure) {
+  for (const Shape4D& shape : kOddShapes) {
+    const WaveletGeometry g(shape);
+    const SpihtTree tree(g);
+    uint32_t children[kMaxChildren], grand[kMaxChildren];
+    for (uint32_t idx = 0; idx < shape.count(); ++idx) {
+      const int n = tree.Children(idx, children);
+      bool any = false;
+      for (int i = 0; i < n && !any; ++i) any = tree.Children(children[i], grand) > 0;
+      if (n > 0) {
+        ASSERT_EQ(tree.HasGrandchildren(idx), any) << shape.ToString() << " index " << idx;
+      }
+    }
+  }
+}
+
+struct LosslessCase {
+  WaveletKernel kernel;
+  EntropyCoder coder;
+};
+
+class LosslessRoundTrip : public ::testing::TestWithParam<LosslessCase> {};
+
+TEST_P(LosslessRoundTrip, FullRateIsExactOnOddShapes) {
+  ThreadPool pool(2);
+  for (const Shape4D& shape : kOddShapes) {
+    for (int smooth = 0; smooth < 2; ++smooth) {
+      const Block block = smooth ? SmoothBlock(shape, ColourSpace::kRct, 3) : RandomBlock(shape, ColourSpace::kRct, 4);
+      EncodeSettings s;
+      s.kernel = GetParam().kernel;
+      s.coder = GetParam().coder;
+      s.rate_mode = RateMode::kLossless;
+      s.runner = pool.runner();
+      auto enc = EncodeBlock(block, nullptr, s);
+      ASSERT_TRUE(enc.ok()) << enc.status().ToString();
+      DecodeReport report;
+      auto dec = DecodeBlock(*enc, DecodeBudget{}, pool.runner(), &report);
+      ASSERT_TRUE(dec.ok()) << dec.status().ToString();
+      EXPECT_TRUE(report.complete);
+      for (int c = 0; c < 3; ++c)
+        ASSERT_EQ(dec->channels[c].samples, block.channels[c].samples)
+            << shape.ToString() << " channel " << c << (smooth ? " smooth" : " random");
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(KernelsAndCoders, LosslessRoundTrip,
+                         ::testing::Values(LosslessCase{WaveletKernel::kHaar, EntropyCoder::kBinary},
+                                           LosslessCase{WaveletKernel::kHaar, EntropyCoder::kArith},
+                                           LosslessCase{WaveletKernel::kLeGall53, EntropyCoder::kBinary},
+                                           LosslessCase{WaveletKernel::kLeGall53, EntropyCoder::kArith}));
+
+EncodedBlock EncodeSmooth(const Shape4D& shape, WaveletKernel kernel, EntropyCoder coder, double bpp) {
+  EncodeSettings s;
+  s.kernel = kernel;
+  s.coder = coder;
+  s.rate_value = bpp;
+  auto enc = EncodeBlock(SmoothBlock(shape, ColourSpace::kYCbCr601, 9), nullptr, s);
+  EXPECT_TRUE(enc.ok());
+  return std::move(enc).value();
+}
+
+double DecodedYPsnr(const EncodedBlock& enc, uint64_t bytes, const Block& reference, DecodeReport* report) {
+  DecodeBudget budget;
+  budget.max_bytes = bytes;
+  auto dec = DecodeBlock(enc, budget, SerialRunner, report);
+  EXPECT_TRUE(dec.ok());
+  return PsnrFromMse(ChannelMse(reference.channels[0], dec->channels[0], nullptr));
+}
+
+class Embedded : public ::testing::TestWithParam<std::tuple<WaveletKernel, EntropyCoder>> {};
+
+// SPIHT's refinement can move one coefficient's estimate away from its value,
+// and with the biorthogonal kernels (5/3, 9/7) coefficient errors are not
+// independent in the sample domain, so quality rises on average rather than
+// decision by decision. Measured: Haar never drops; 5/3 and 9/7 drop by up to
+// 0.25 dB across some refinement passes of tiny blocks. The bound below pins
+// that; a larger drop is a regression.
+constexpr double kDropToleranceDb = 0.3;
+TEST_P(Embedded, QualityNeverDropsAsBytesAreAdded) {
+  const Shape4D shape{{2, 3, 24, 40}};
+  const Block ref = SmoothBlock(shape, ColourSpace::kYCbCr601, 9);
+  const EncodedBlock enc = EncodeSmooth(shape, std::get<0>(GetParam()), std::get<1>(GetParam()), 2.0);
+  double last = 0;
+  for (uint64_t bytes = 16; bytes < 2 * enc.total_bytes(); bytes *= 2) {
+    DecodeReport report;
+    const double psnr = DecodedYPsnr(enc, std::min(bytes, enc.total_bytes()), ref, &report);
+    EXPECT_LE(report.bytes_read, bytes);
+    EXPECT_GE(psnr, last - kDropToleranceDb) << "at " << bytes << " bytes";
+    last = std::max(last, psnr);
+  }
+  EXPECT_GT(last, 25.0);
+  // Luma alone at each of its truncation points.
+  EncodedBlock luma_only = enc;
+  luma_only.channels[1].data.clear();
+  luma_only.channels[2].data.clear();
+  last = 0;
+  for (const TruncationPoint& t : enc.channels[0].points) {
+    DecodeReport report;
+    const double psnr = DecodedYPsnr(luma_only, t.bytes, ref, &report);
+    EXPECT_GE(psnr, last - kDropToleranceDb) << "at truncation point of plane " << int{t.plane} << " pass " << int{t.pass};
+    last = std::max(last, psnr);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(KernelsAndCoders, Embedded,
+                         ::testing::Combine(::testing::Values(WaveletKernel::kHaar, WaveletKernel::kLeGall53,
+                                                              WaveletKernel::kCdf97),
+                                            ::testing::Values(EntropyCoder::kBinary, EntropyCoder::kArith)));
+
+TEST(Embedded, EveryPrefixOfASmallStreamDecodes) {
+  const Shape4D shape{{2, 2, 8, 12}};
+  for (EntropyCoder coder : {EntropyCoder::kBinary, EntropyCoder::kArith}) {
+    const EncodedBlock enc = EncodeSmooth(shape, WaveletKernel::kCdf97, coder, 3.0);
+    const Block ref = SmoothBlock(shape, ColourSpace::kYCbCr601, 9);
+    for (uint64_t bytes = 1; bytes <= enc.total_bytes(); ++bytes) {
+      DecodeReport report;
+      DecodedYPsnr(enc, bytes, ref, &report);
+      ASSERT_LE(report.bytes_read, bytes);
+    }
+  }
+}
+
+TEST(Embedded, TruncationPointsAreOrderedAndWithinStream) {
+  const EncodedBlock enc = EncodeSmooth(Shape4D{{2, 2, 32, 32}}, WaveletKernel::kCdf97, EntropyCoder::kArith, 1.0);
+  for (const ChannelStream& s : enc.channels) {
+    ASSERT_FALSE(s.points.empty());
+    for (size_t i = 1; i < s.points.size(); ++i) EXPECT_GE(s.points[i].bytes, s.points[i - 1].bytes);
+    EXPECT_LE(s.points.back().bytes, s.data.size());
+  }
+}
+
+TEST(Decoder, TimeBudgetStopsEarlyAndSaysSo) {
+  const EncodedBlock enc = EncodeSmooth(Shape4D{{4, 4, 64, 64}}, WaveletKernel::kCdf97, EntropyCoder::kArith, 2.0);
+  DecodeBudget budget;
+  budget.max_ms = 1e-6;  // already over when the first check comes
+  DecodeReport report;
+  auto dec = DecodeBlock(enc, budget, SerialRunner, &report);
+  ASSERT_TRUE(dec.ok());
+  EXPECT_TRUE(report.hit_deadline);
+  EXPECT_FALSE(report.complete);
+  EXPECT_LT(report.bytes_read, enc.total_bytes());
+}
+
+TEST(Decoder, OutputIsBitExact) {
+  // A fixed input coded with fixed settings: the stream and its decoding are pinned.
+  // A change here is a format change (see container/SPEC.md rules).
+  const EncodedBlock enc = EncodeSmooth(Shape4D{{3, 2, 19, 23}}, WaveletKernel::kCdf97, EntropyCoder::kArith, 1.0);
+  uint64_t stream_hash = 1469598103934665603ull;
+  for (const ChannelStream& s : enc.channels) stream_hash = testing::Fnv1a(s.data.data(), s.data.size(), stream_hash);
+  auto dec = DecodeBlock(enc, DecodeBudget{}, SerialRunner);
+  ASSERT_TRUE(dec.ok());
+  EXPECT_EQ(stream_hash, 0x7c98b5625b12266cull) << std::hex << stream_hash;
+  EXPECT_EQ(testing::HashBlock(*dec), 0x19a007a8082d5851ull) << std::hex << testing::HashBlock(*dec);
+}
+
+}  // namespace
+}  // namespace fvv

@@ -1,0 +1,153 @@
+// Colour transforms, fill, wavelet geometry and kernels, subband weights.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "codec/colour.h"
+#include "codec/fill.h"
+#include "codec/subband_weights.h"
+#include "codec/wavelet.h"
+
+namespace fvv {
+namespace {
+
+TEST(Colour, RctIsExactlyReversible) {
+  for (int r = 0; r < 256; r += 3)
+    for (int g = 0; g < 256; g += 5)
+      for (int b = 0; b < 256; b += 7) {
+        const Yuv p = RgbToYuv(ColourSpace::kRct, r, g, b);
+        const Rgb8 q = YuvToRgb(ColourSpace::kRct, p.y, p.u, p.v);
+        ASSERT_EQ(q.r, r);
+        ASSERT_EQ(q.g, g);
+        ASSERT_EQ(q.b, b);
+      }
+}
+
+TEST(Colour, Bt601RoundTripWithinRounding) {
+  int worst = 0;
+  for (int r = 0; r < 256; r += 3)
+    for (int g = 0; g < 256; g += 5)
+      for (int b = 0; b < 256; b += 7) {
+        const Yuv p = RgbToYuv(ColourSpace::kYCbCr601, r, g, b);
+        const Rgb8 q = YuvToRgb(ColourSpace::kYCbCr601, p.y, p.u, p.v);
+        worst = std::max({worst, std::abs(q.r - r), std::abs(q.g - g), std::abs(q.b - b)});
+      }
+  EXPECT_LE(worst, 2);
+  const Yuv white = RgbToYuv(ColourSpace::kYCbCr601, 255, 255, 255);
+  EXPECT_EQ(white.y, 255);
+  EXPECT_EQ(white.u, 128);
+  EXPECT_EQ(white.v, 128);
+}
+
+TEST(Colour, Chroma420AveragesAndReplicates) {
+  const Shape4D shape{{1, 1, 3, 3}};
+  std::vector<uint8_t> rgb(9 * 3);
+  for (size_t i = 0; i < 9; ++i) rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = static_cast<uint8_t>(i * 20);
+  const Block b = BlockFromRgb(rgb.data(), shape, ColourSpace::kYCbCr601, ChromaFormat::k420);
+  EXPECT_EQ(b.channels[1].shape, (Shape4D{{1, 1, 2, 2}}));
+  std::vector<uint8_t> out(rgb.size());
+  BlockToRgb(b, out.data());
+  for (size_t i = 0; i < rgb.size(); ++i) EXPECT_NEAR(out[i], rgb[i], 2);  // grey: chroma is neutral
+}
+
+TEST(Fill, UsedTexelsUnchangedHolesTakeParentMeans) {
+  // 1x1x2x4: used texels 10 and 30 in the left 2x2 cell, 100 in the right one.
+  Plane4D p(Shape4D{{1, 1, 2, 4}});
+  p.samples = {10, 0, 100, 0, 0, 30, 0, 0};
+  const UsedMask mask = {1, 0, 1, 0, 0, 1, 0, 0};
+  FillUnused(mask, 128, &p);
+  // Level 1 (1x1x1x2): cells mean(10, 30) = 20 and 100. Holes take their cell's mean.
+  EXPECT_EQ(p.samples, (std::vector<int32_t>{10, 20, 100, 100, 20, 30, 100, 100}));
+}
+
+TEST(Fill, EmptyCellsInheritFromCoarserLevels) {
+  // 1x1x1x8, one used texel at x = 7: every hole ends up equal to it.
+  Plane4D p(Shape4D{{1, 1, 1, 8}});
+  p.samples = {0, 0, 0, 0, 0, 0, 0, 77};
+  UsedMask mask(8, 0);
+  mask[7] = 1;
+  FillUnused(mask, 128, &p);
+  for (int32_t s : p.samples) EXPECT_EQ(s, 77);
+  // No used texel at all: the fill value.
+  Plane4D q(Shape4D{{2, 1, 3, 1}}, 5);
+  FillUnused(UsedMask(6, 0), 128, &q);
+  for (int32_t s : q.samples) EXPECT_EQ(s, 128);
+}
+
+TEST(Fill, RoundsMeansHalfAwayFromZero) {
+  Plane4D p(Shape4D{{1, 1, 1, 4}});
+  p.samples = {-3, -2, 0, 9};
+  const UsedMask mask = {1, 1, 0, 0};
+  FillUnused(mask, 0, &p);
+  EXPECT_EQ(p.samples[2], -3);  // mean(-3, -2) = -2.5 -> -3 at the root, inherited
+  EXPECT_EQ(p.samples[3], -3);
+}
+
+TEST(Wavelet, LevelsPerAxisFollowSize) {
+  const WaveletGeometry g(Shape4D{{8, 1, 17, 512}});
+  EXPECT_EQ(g.axis[0].levels, 3);
+  EXPECT_EQ(g.axis[1].levels, 0);
+  EXPECT_EQ(g.axis[2].levels, 5);  // 17 9 5 3 2 1
+  EXPECT_EQ(g.axis[3].levels, 6);  // capped
+  EXPECT_EQ(g.levels, 6);
+  EXPECT_EQ(g.axis[3].lo[6], 8u);
+  EXPECT_EQ(g.axis[2].band[16], 1);
+  EXPECT_EQ(g.axis[2].band[0], 0);
+}
+
+class WaveletRoundTrip : public ::testing::TestWithParam<std::tuple<WaveletKernel, Shape4D>> {};
+
+TEST_P(WaveletRoundTrip, ForwardThenInverseIsIdentity) {
+  const auto [kernel, shape] = GetParam();
+  std::mt19937 rng(7);
+  std::vector<int32_t> data(shape.count());
+  for (int32_t& v : data) v = static_cast<int32_t>(rng() % 1024) - 512;
+  const std::vector<int32_t> original = data;
+  const WaveletGeometry g(shape);
+  ForwardTransform4D(kernel, g, SerialRunner, data.data());
+  EXPECT_NE(data, original);
+  InverseTransform4D(kernel, g, SerialRunner, data.data());
+  EXPECT_EQ(data, original);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Shapes, WaveletRoundTrip,
+    ::testing::Combine(::testing::Values(WaveletKernel::kHaar, WaveletKernel::kLeGall53, WaveletKernel::kCdf97),
+                       ::testing::Values(Shape4D{{3, 5, 17, 33}}, Shape4D{{2, 7, 1, 9}}, Shape4D{{1, 1, 64, 64}},
+                                         Shape4D{{8, 8, 16, 16}}, Shape4D{{1, 2, 1, 1}})));
+
+TEST(Wavelet, ConstantSignalHasNoDetail) {
+  const Shape4D shape{{1, 1, 1, 37}};
+  for (WaveletKernel k : {WaveletKernel::kHaar, WaveletKernel::kLeGall53}) {
+    std::vector<int32_t> data(37, 100);
+    const WaveletGeometry g(shape);
+    ForwardTransform4D(k, g, SerialRunner, data.data());
+    for (uint32_t x = g.axis[3].lo[g.axis[3].levels]; x < 37; ++x) EXPECT_EQ(data[x], 0) << "x=" << x;
+  }
+}
+
+TEST(SubbandWeights, PinnedTableMatchesSynthesisNorms) {
+  for (WaveletKernel k : {WaveletKernel::kHaar, WaveletKernel::kLeGall53, WaveletKernel::kCdf97}) {
+    for (int level = 0; level <= kMaxLevelsPerAxis; ++level)
+      EXPECT_NEAR(AxisLowNormQ16(k, level), ComputeAxisNorm(k, false, level) * 65536, 0.5001);
+    for (int level = 1; level <= kMaxLevelsPerAxis; ++level)
+      EXPECT_NEAR(AxisHighNormQ16(k, level), ComputeAxisNorm(k, true, level) * 65536, 0.5001);
+  }
+}
+
+TEST(SubbandWeights, ReversibleKernelsUsePowerOfTwoShifts) {
+  const WaveletGeometry g(Shape4D{{4, 4, 32, 32}});
+  const SubbandQuantisers q(WaveletKernel::kLeGall53, g);
+  for (int32_t c : {-1000, -1, 0, 1, 7, 12345}) {
+    for (int band : {0, 1, 50, 400, kBandIds - 1}) {
+      const uint32_t mul = q[band].mul_q16;
+      ASSERT_EQ(mul & (mul - 1), 0u);
+      const int32_t v = QuantiseCoefficient(c, mul);
+      const int32_t back = DequantiseMagnitude(static_cast<uint32_t>(std::abs(v)), q[band].inv_q16);
+      EXPECT_EQ(v < 0 ? -back : back, c);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace fvv
