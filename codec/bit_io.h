@@ -73,7 +73,10 @@ class ByteReader {
  public:
   ByteReader(const uint8_t* data, size_t size) : data_(data), size_(size) {}
   uint8_t U8() { return pos_ + 1 <= size_ ? data_[pos_++] : Fail8(); }
-  uint16_t U16() { return static_cast<uint16_t>(U8() | (U8() << 8)); }
+  uint16_t U16() {
+    const uint32_t lo = U8();  // two statements: operand evaluation order is unspecified
+    return static_cast<uint16_t>(lo | (uint32_t{U8()} << 8));
+  }
   uint32_t U32() {
     uint32_t v = 0;
     for (int i = 0; i < 4; ++i) v |= uint32_t{U8()} << (8 * i);
