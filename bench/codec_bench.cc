@@ -83,7 +83,8 @@ int Kodak(const std::string& dir, int images) {
     }
     const Shape4D shape{{1, 1, img->height, img->width}};
     samples_total += shape.count();
-    const Block block = BlockFromRgb(img->pixels.data(), shape, ColourSpace::kYCbCr601, ChromaFormat::k444);
+    const Block block =
+        BlockFromRgb(img->pixels.data(), shape, ColourSpace::kYCbCr601, ChromaFormat::k444);
     std::fprintf(stderr, "kodim%02d ", i);
     for (int k = 0; k < 3; ++k)
       for (int c = 0; c < 2; ++c)
@@ -110,16 +111,24 @@ int Kodak(const std::string& dir, int images) {
             const std::string cmd_c = "opj_compress -i " + tmp + ".ppm -o " + tmp + ".j2k -I -r " +
                                       std::to_string(ratio) + " >/dev/null 2>&1";
             t0 = Clock::now();
-            if (std::system(cmd_c.c_str()) != 0) { std::fprintf(stderr, "opj_compress failed\n"); return 1; }
+            if (std::system(cmd_c.c_str()) != 0) {
+              std::fprintf(stderr, "opj_compress failed\n");
+              return 1;
+            }
             const double oe = Secs(t0);
-            const std::string cmd_d = "opj_decompress -i " + tmp + ".j2k -o " + tmp + "_d.ppm >/dev/null 2>&1";
+            const std::string cmd_d =
+                "opj_decompress -i " + tmp + ".j2k -o " + tmp + "_d.ppm >/dev/null 2>&1";
             t0 = Clock::now();
-            if (std::system(cmd_d.c_str()) != 0) { std::fprintf(stderr, "opj_decompress failed\n"); return 1; }
+            if (std::system(cmd_d.c_str()) != 0) {
+              std::fprintf(stderr, "opj_decompress failed\n");
+              return 1;
+            }
             const double od = Secs(t0);
             std::vector<uint8_t> o;
             ReadPpm(tmp + "_d.ppm", &o);
             std::ifstream jf(tmp + ".j2k", std::ios::binary | std::ios::ate);
-            opj[r].Add(PsnrRgb(img->pixels, o), PsnrY(img->pixels, o), oe * 1e3, od * 1e3, double(jf.tellg()));
+            opj[r].Add(PsnrRgb(img->pixels, o), PsnrY(img->pixels, o), oe * 1e3, od * 1e3,
+                       double(jf.tellg()));
           }
         }
   }
@@ -128,22 +137,29 @@ int Kodak(const std::string& dir, int images) {
   std::remove((tmp + ".j2k").c_str());
   std::remove((tmp + "_d.ppm").c_str());
   const double per_image = samples_total / images;
-  std::printf("Kodak, %d images, mean over images; 1 thread; OpenJPEG 2.5 (opj_compress -I -r, process time incl. start-up)\n", images);
-  std::printf("%-14s %6s %9s %9s %9s %10s %10s\n", "codec", "bpp", "bytes", "RGB dB", "Y dB", "enc MS/s", "dec MS/s");
+  std::printf(
+      "Kodak, %d images, mean over images; 1 thread; OpenJPEG 2.5 (opj_compress -I -r, process "
+      "time incl. start-up)\n",
+      images);
+  std::printf("%-14s %6s %9s %9s %9s %10s %10s\n", "codec", "bpp", "bytes", "RGB dB", "Y dB",
+              "enc MS/s", "dec MS/s");
   for (int r = 0; r < 4; ++r) {
     for (int k = 0; k < 3; ++k)
       for (int c = 0; c < 2; ++c) {
         const Row& x = rows[k][c][r];
-        std::printf("fvv %-4s %-6s %6.3f %9.0f %9.2f %9.2f %10.1f %10.1f\n", kernels[k], coders[c], rates[r],
-                    x.bytes / x.n, x.psnr_rgb / x.n, x.psnr_y / x.n, per_image / (x.enc_ms / x.n) / 1e3,
-                    per_image / (x.dec_ms / x.n) / 1e3);
+        std::printf("fvv %-4s %-6s %6.3f %9.0f %9.2f %9.2f %10.1f %10.1f\n", kernels[k], coders[c],
+                    rates[r], x.bytes / x.n, x.psnr_rgb / x.n, x.psnr_y / x.n,
+                    per_image / (x.enc_ms / x.n) / 1e3, per_image / (x.dec_ms / x.n) / 1e3);
       }
     const Row& o = opj[r];
-    std::printf("%-14s %6.3f %9.0f %9.2f %9.2f %10.1f %10.1f\n", "openjpeg 9/7", rates[r], o.bytes / o.n,
-                o.psnr_rgb / o.n, o.psnr_y / o.n, per_image / (o.enc_ms / o.n) / 1e3, per_image / (o.dec_ms / o.n) / 1e3);
+    std::printf("%-14s %6.3f %9.0f %9.2f %9.2f %10.1f %10.1f\n", "openjpeg 9/7", rates[r],
+                o.bytes / o.n, o.psnr_rgb / o.n, o.psnr_y / o.n, per_image / (o.enc_ms / o.n) / 1e3,
+                per_image / (o.dec_ms / o.n) / 1e3);
     const Row& f = rows[2][1][r];
-    std::printf("  -> fvv 97 arith minus openjpeg: %+.2f dB RGB, %+.2f dB Y; decode speed ratio %.2fx\n",
-                (f.psnr_rgb - o.psnr_rgb) / f.n, (f.psnr_y - o.psnr_y) / f.n, (o.dec_ms / o.n) / (f.dec_ms / f.n));
+    std::printf(
+        "  -> fvv 97 arith minus openjpeg: %+.2f dB RGB, %+.2f dB Y; decode speed ratio %.2fx\n",
+        (f.psnr_rgb - o.psnr_rgb) / f.n, (f.psnr_y - o.psnr_y) / f.n,
+        (o.dec_ms / o.n) / (f.dec_ms / f.n));
   }
   return 0;
 }
@@ -167,9 +183,12 @@ int Gop4d(const std::string& dir) {
           const double sy = 0 + (y - 256.0) / scale + 256 - 2.0 * c;
           const int x0 = std::min<int>(std::max(0.0, std::floor(sx)), img->width - 2);
           const int y0 = std::min<int>(std::max(0.0, std::floor(sy)), img->height - 2);
-          const double fx = std::min(1.0, std::max(0.0, sx - x0)), fy = std::min(1.0, std::max(0.0, sy - y0));
+          const double fx = std::min(1.0, std::max(0.0, sx - x0)),
+                       fy = std::min(1.0, std::max(0.0, sy - y0));
           for (int ch = 0; ch < 3; ++ch) {
-            auto p = [&](int xx, int yy) { return double(img->pixels[(size_t(yy) * img->width + xx) * 3 + ch]); };
+            auto p = [&](int xx, int yy) {
+              return double(img->pixels[(size_t(yy) * img->width + xx) * 3 + ch]);
+            };
             const double v = (p(x0, y0) * (1 - fx) + p(x0 + 1, y0) * fx) * (1 - fy) +
                              (p(x0, y0 + 1) * (1 - fx) + p(x0 + 1, y0 + 1) * fx) * fy;
             rgb[(shape.Index(t, c, y, x)) * 3 + ch] = static_cast<uint8_t>(v + 0.5);
@@ -177,8 +196,11 @@ int Gop4d(const std::string& dir) {
         }
   const Block block = BlockFromRgb(rgb.data(), shape, ColourSpace::kYCbCr601, ChromaFormat::k444);
   ThreadPool pool(2);
-  std::printf("4D GOP 8x8x512x512 from kodim23 (shifted/rescaled cameras, panning frames), 9/7 + arith, 2 threads\n");
-  std::printf("%6s %9s %9s %9s %10s %9s %10s\n", "bpp", "bytes", "RGB dB", "Y dB", "enc MS/s", "dec ms", "dec MS/s");
+  std::printf(
+      "4D GOP 8x8x512x512 from kodim23 (shifted/rescaled cameras, panning frames), 9/7 + arith, 2 "
+      "threads\n");
+  std::printf("%6s %9s %9s %9s %10s %9s %10s\n", "bpp", "bytes", "RGB dB", "Y dB", "enc MS/s",
+              "dec ms", "dec MS/s");
   for (double bpp : {0.05, 0.1, 0.25, 0.5}) {
     EncodeSettings s;
     s.rate_value = bpp;
@@ -195,8 +217,9 @@ int Gop4d(const std::string& dir) {
     }
     std::vector<uint8_t> out(rgb.size());
     BlockToRgb(dec, out.data());
-    std::printf("%6.2f %9llu %9.2f %9.2f %10.1f %9.0f %10.1f\n", bpp, (unsigned long long)enc->total_bytes(),
-                PsnrRgb(rgb, out), PsnrY(rgb, out), shape.count() / e / 1e6, best * 1e3, shape.count() / best / 1e6);
+    std::printf("%6.2f %9llu %9.2f %9.2f %10.1f %9.0f %10.1f\n", bpp,
+                (unsigned long long)enc->total_bytes(), PsnrRgb(rgb, out), PsnrY(rgb, out),
+                shape.count() / e / 1e6, best * 1e3, shape.count() / best / 1e6);
   }
   rusage ru;
   getrusage(RUSAGE_SELF, &ru);
@@ -214,7 +237,8 @@ int main(int argc, char** argv) {
   }
   const std::string mode = argv[1], dir = argv[2];
   int images = 24;
-  if (argc >= 5 && std::string(argv[3]) == "--images") images = std::max(1, std::min(24, std::atoi(argv[4])));
+  if (argc >= 5 && std::string(argv[3]) == "--images")
+    images = std::max(1, std::min(24, std::atoi(argv[4])));
   if (mode == "kodak") return fvv::Kodak(dir, images);
   if (mode == "gop4d") return fvv::Gop4d(dir);
   std::fprintf(stderr, "unknown mode %s\n", mode.c_str());

@@ -55,7 +55,8 @@ ChannelRd ConvexHull(const std::vector<uint64_t>& bytes, const std::vector<doubl
       const size_t k = hull.bytes.size();
       const double s_prev = (hull.distortion[k - 2] - hull.distortion[k - 1]) /
                             static_cast<double>(hull.bytes[k - 1] - hull.bytes[k - 2]);
-      const double s_new = (hull.distortion[k - 1] - di) / static_cast<double>(bytes[i] - hull.bytes[k - 1]);
+      const double s_new =
+          (hull.distortion[k - 1] - di) / static_cast<double>(bytes[i] - hull.bytes[k - 1]);
       if (s_new < s_prev) break;
       hull.bytes.pop_back();
       hull.distortion.pop_back();
@@ -95,8 +96,8 @@ std::array<uint64_t, 3> Allocate(const std::array<ChannelRd, 3>& hulls, uint64_t
     const double seg_gain = h.distortion[seg[best]] - h.distortion[seg[best] + 1];
     uint64_t take = std::min(seg_bytes, budget - spent);
     if (total_d - seg_gain < target) {
-      take = std::min<uint64_t>(
-          take, static_cast<uint64_t>(std::ceil((total_d - target) / best_slope)));
+      take = std::min<uint64_t>(take,
+                                static_cast<uint64_t>(std::ceil((total_d - target) / best_slope)));
     }
     alloc[best] += take;
     spent += take;
@@ -250,7 +251,8 @@ StatusOr<EncodedBlock> EncodeBlock(const Block& block, const UsedMask* mask,
     wsum += settings.channel_weights[c];
   }
   double final_d = 0;
-  if (settings.rate_mode == RateMode::kBitsPerSample || settings.rate_mode == RateMode::kTotalBytes) {
+  if (settings.rate_mode == RateMode::kBitsPerSample ||
+      settings.rate_mode == RateMode::kTotalBytes) {
     out = CutBlock(out, Allocate(hulls, cap, 0.0, &final_d));
   } else if (settings.rate_mode == RateMode::kPsnr) {
     // The estimate gives a starting point; actual decodes over used texels settle it.
@@ -312,7 +314,8 @@ StatusOr<Block> DecodeBlock(const EncodedBlock& encoded, const DecodeBudget& bud
           static_cast<double>(encoded.channels[c].data.size()) * budget.max_bytes / total);
     }
     if (budget.max_ms > 0)
-      limits[c].deadline = start + std::chrono::microseconds(static_cast<int64_t>(budget.max_ms * 1000));
+      limits[c].deadline =
+          start + std::chrono::microseconds(static_cast<int64_t>(budget.max_ms * 1000));
   }
   std::array<SpihtDecodeResult, 3> results;
   std::array<std::vector<int32_t>, 3> coeffs;
@@ -350,7 +353,8 @@ StatusOr<Block> DecodeBlock(const EncodedBlock& encoded, const DecodeBudget& bud
                          limits[c].max_bytes >= encoded.channels[c].data.size();
       report->hit_deadline = report->hit_deadline || results[c].hit_deadline;
     }
-    report->ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    report->ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   }
   return block;
 }

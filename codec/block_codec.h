@@ -72,8 +72,9 @@ StatusOr<EncodedBlock> EncodeBlock(const Block& block, const UsedMask* mask,
                                    const EncodeSettings& settings, EncodeReport* report = nullptr);
 
 struct DecodeBudget {
-  uint64_t max_bytes = 0;  // all channels together; 0 = no limit. Split in proportion to stream sizes.
-  double max_ms = 0;       // 0 = no limit; stops SPIHT decoding when reached
+  uint64_t max_bytes =
+      0;              // all channels together; 0 = no limit. Split in proportion to stream sizes.
+  double max_ms = 0;  // 0 = no limit; stops SPIHT decoding when reached
 };
 
 struct DecodeReport {

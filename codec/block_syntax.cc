@@ -82,7 +82,8 @@ std::vector<uint8_t> WriteBlockFile(const EncodedBlock& block) {
 }
 
 StatusOr<EncodedBlock> ReadBlockFile(const uint8_t* data, size_t size) {
-  if (size < 4) return Truncated("block file of " + std::to_string(size) + " bytes ends in its magic");
+  if (size < 4)
+    return Truncated("block file of " + std::to_string(size) + " bytes ends in its magic");
   ByteReader r(data, size);
   const uint8_t* magic = r.Bytes(4);
   if (!magic || std::memcmp(magic, kMagic, 4) != 0)
@@ -95,7 +96,8 @@ StatusOr<EncodedBlock> ReadBlockFile(const uint8_t* data, size_t size) {
   EncodedBlock block;
   FVV_RETURN_IF_ERROR(ReadBlockParams(&r, &block.params));
   static const char* const kNames[3] = {"Y", "U", "V"};
-  for (int c = 0; c < 3; ++c) FVV_RETURN_IF_ERROR(ReadChannelStream(&r, kNames[c], &block.channels[c]));
+  for (int c = 0; c < 3; ++c)
+    FVV_RETURN_IF_ERROR(ReadChannelStream(&r, kNames[c], &block.channels[c]));
   if (r.remaining() != 0)
     return Corrupt(std::to_string(r.remaining()) + " unexpected bytes after the last channel");
   return block;

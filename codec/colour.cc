@@ -101,8 +101,7 @@ void BlockToRgb(const Block& block, uint8_t* rgb) {
     for (uint32_t y = 0; y < h; ++y) {
       for (uint32_t x = 0; x < w; ++x) {
         const size_t i = (size_t{tc} * h + y) * w + x;
-        const size_t ci =
-            sub ? (size_t{tc} * cshape.height() + y / 2) * cshape.width() + x / 2 : i;
+        const size_t ci = sub ? (size_t{tc} * cshape.height() + y / 2) * cshape.width() + x / 2 : i;
         const Rgb8 p = YuvToRgb(block.colour, block.channels[0].samples[i],
                                 block.channels[1].samples[ci], block.channels[2].samples[ci]);
         rgb[3 * i] = p.r;

@@ -79,7 +79,8 @@ UsedMask DownsampleMask(const UsedMask& mask, const Shape4D& luma, const Shape4D
     for (uint32_t c = 0; c < luma.n[1]; ++c)
       for (uint32_t y = 0; y < luma.n[2]; ++y)
         for (uint32_t x = 0; x < luma.n[3]; ++x, ++i)
-          if (mask[i]) out[chroma.Index(t, c, y * chroma.n[2] / luma.n[2], x * chroma.n[3] / luma.n[3])] = 1;
+          if (mask[i])
+            out[chroma.Index(t, c, y * chroma.n[2] / luma.n[2], x * chroma.n[3] / luma.n[3])] = 1;
   return out;
 }
 

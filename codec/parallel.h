@@ -11,7 +11,8 @@ namespace fvv {
 
 // Runs task(i) for every i in [0, count), possibly concurrently, and returns when
 // all have finished. Tasks must not depend on each other's order.
-using ParallelRunner = std::function<void(uint32_t count, const std::function<void(uint32_t)>& task)>;
+using ParallelRunner =
+    std::function<void(uint32_t count, const std::function<void(uint32_t)>& task)>;
 
 inline void SerialRunner(uint32_t count, const std::function<void(uint32_t)>& task) {
   for (uint32_t i = 0; i < count; ++i) task(i);

@@ -32,8 +32,8 @@ SpihtTree::SpihtTree(const WaveletGeometry& geometry) : g_(geometry) {
   }
 }
 
-void SpihtTree::AppendBox(const std::array<uint32_t, kAxes>& lo, const std::array<uint32_t, kAxes>& hi,
-                          int level) {
+void SpihtTree::AppendBox(const std::array<uint32_t, kAxes>& lo,
+                          const std::array<uint32_t, kAxes>& hi, int level) {
   std::array<uint32_t, kAxes> p;
   for (p[0] = lo[0]; p[0] < hi[0]; ++p[0])
     for (p[1] = lo[1]; p[1] < hi[1]; ++p[1])

@@ -98,12 +98,12 @@ class SpihtTree {
 namespace ctx {
 constexpr int kLevelClasses = 5;
 constexpr int kNeighbourBins = 3;
-constexpr int kSigLip = 0;                                             // [class][nbr]
-constexpr int kSigChild = kSigLip + kLevelClasses * kNeighbourBins;    // [class][nbr]
-constexpr int kSetA = kSigChild + kLevelClasses * kNeighbourBins;      // [class]
-constexpr int kSetB = kSetA + kLevelClasses;                           // [class]
-constexpr int kSign = kSetB + kLevelClasses;                           // [class]
-constexpr int kRefine = kSign + kLevelClasses;                         // [first?]
+constexpr int kSigLip = 0;                                           // [class][nbr]
+constexpr int kSigChild = kSigLip + kLevelClasses * kNeighbourBins;  // [class][nbr]
+constexpr int kSetA = kSigChild + kLevelClasses * kNeighbourBins;    // [class]
+constexpr int kSetB = kSetA + kLevelClasses;                         // [class]
+constexpr int kSign = kSetB + kLevelClasses;                         // [class]
+constexpr int kRefine = kSign + kLevelClasses;                       // [first?]
 constexpr int kCount = kRefine + 2;
 }  // namespace ctx
 

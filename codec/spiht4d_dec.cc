@@ -12,8 +12,13 @@ class DecoderSide {
  public:
   DecoderSide(const SpihtTree& tree, const uint8_t* data, size_t budget, EntropyCoder coder,
               const SpihtDecodeLimits& limits, std::vector<int32_t>* magnitudes)
-      : coder_(coder), bits_(data, budget), range_(data, budget), deadline_(limits.deadline),
-        mag_(*magnitudes), state_(tree.size(), 0), probs_(ctx::kCount, kProbInit) {}
+      : coder_(coder),
+        bits_(data, budget),
+        range_(data, budget),
+        deadline_(limits.deadline),
+        mag_(*magnitudes),
+        state_(tree.size(), 0),
+        probs_(ctx::kCount, kProbInit) {}
 
   bool SigCoeff(uint32_t, int, int ctx, bool* sig) {
     uint32_t bit;

@@ -21,9 +21,14 @@ class EncoderSide {
  public:
   EncoderSide(const SpihtTree& tree, const SubbandQuantisers& quantisers,
               const std::vector<int32_t>& coefficients, EntropyCoder coder, uint64_t max_bytes)
-      : tree_(tree), quantisers_(quantisers), coder_(coder), max_bytes_(max_bytes),
-        mag_(coefficients.size()), descendant_bits_(coefficients.size(), 0),
-        grandchild_bits_(coefficients.size(), 0), probs_(ctx::kCount, kProbInit) {
+      : tree_(tree),
+        quantisers_(quantisers),
+        coder_(coder),
+        max_bytes_(max_bytes),
+        mag_(coefficients.size()),
+        descendant_bits_(coefficients.size(), 0),
+        grandchild_bits_(coefficients.size(), 0),
+        probs_(ctx::kCount, kProbInit) {
     for (size_t i = 0; i < coefficients.size(); ++i) {
       mag_[i] = static_cast<uint32_t>(std::abs(coefficients[i]));
       const double v = mag_[i];
@@ -67,8 +72,8 @@ class EncoderSide {
   }
   void PassEnd(int n, int pass) {
     const uint64_t bytes = BytesNeeded();
-    out_.points.push_back({static_cast<uint32_t>(bytes), static_cast<uint8_t>(n),
-                           static_cast<uint8_t>(pass)});
+    out_.points.push_back(
+        {static_cast<uint32_t>(bytes), static_cast<uint8_t>(n), static_cast<uint8_t>(pass)});
     out_.rd_bytes.push_back(bytes);
     out_.rd_distortion.push_back(distortion_);
   }

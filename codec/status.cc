@@ -4,16 +4,26 @@ namespace fvv {
 
 const char* StatusCodeName(StatusCode code) {
   switch (code) {
-    case StatusCode::kOk: return "ok";
-    case StatusCode::kInvalidArgument: return "invalid argument";
-    case StatusCode::kTruncated: return "truncated";
-    case StatusCode::kCorrupt: return "corrupt";
-    case StatusCode::kLimitExceeded: return "limit exceeded";
-    case StatusCode::kUnsupported: return "unsupported";
-    case StatusCode::kChecksumMismatch: return "checksum mismatch";
-    case StatusCode::kIoError: return "i/o error";
-    case StatusCode::kOutOfMemory: return "out of memory";
-    case StatusCode::kInternal: return "internal error";
+    case StatusCode::kOk:
+      return "ok";
+    case StatusCode::kInvalidArgument:
+      return "invalid argument";
+    case StatusCode::kTruncated:
+      return "truncated";
+    case StatusCode::kCorrupt:
+      return "corrupt";
+    case StatusCode::kLimitExceeded:
+      return "limit exceeded";
+    case StatusCode::kUnsupported:
+      return "unsupported";
+    case StatusCode::kChecksumMismatch:
+      return "checksum mismatch";
+    case StatusCode::kIoError:
+      return "i/o error";
+    case StatusCode::kOutOfMemory:
+      return "out of memory";
+    case StatusCode::kInternal:
+      return "internal error";
   }
   return "unknown";
 }

@@ -21,7 +21,7 @@ enum class StatusCode : int {
   kChecksumMismatch = 6,  // integrity check failed
   kIoError = 7,           // file system or external program failure
   kOutOfMemory = 8,
-  kInternal = 9,          // a bug in fvv
+  kInternal = 9,  // a bug in fvv
 };
 
 const char* StatusCodeName(StatusCode code);
@@ -43,7 +43,9 @@ class [[nodiscard]] Status {
   std::string message_;
 };
 
-inline Status InvalidArgument(std::string m) { return {StatusCode::kInvalidArgument, std::move(m)}; }
+inline Status InvalidArgument(std::string m) {
+  return {StatusCode::kInvalidArgument, std::move(m)};
+}
 inline Status Truncated(std::string m) { return {StatusCode::kTruncated, std::move(m)}; }
 inline Status Corrupt(std::string m) { return {StatusCode::kCorrupt, std::move(m)}; }
 inline Status LimitExceeded(std::string m) { return {StatusCode::kLimitExceeded, std::move(m)}; }
@@ -87,10 +89,10 @@ class [[nodiscard]] StatusOr {
   } while (0)
 
 // FVV_ASSIGN_OR_RETURN(auto x, Foo()); declares x from a StatusOr or returns its error.
-#define FVV_ASSIGN_OR_RETURN(lhs, expr)                                                \
-  auto FVV_STATUS_CONCAT(fvv_statusor_, __LINE__) = (expr);                            \
-  if (!FVV_STATUS_CONCAT(fvv_statusor_, __LINE__).ok())                                \
-    return FVV_STATUS_CONCAT(fvv_statusor_, __LINE__).status();                        \
+#define FVV_ASSIGN_OR_RETURN(lhs, expr)                         \
+  auto FVV_STATUS_CONCAT(fvv_statusor_, __LINE__) = (expr);     \
+  if (!FVV_STATUS_CONCAT(fvv_statusor_, __LINE__).ok())         \
+    return FVV_STATUS_CONCAT(fvv_statusor_, __LINE__).status(); \
   lhs = std::move(FVV_STATUS_CONCAT(fvv_statusor_, __LINE__)).value()
 
 #endif  // FVV_CODEC_STATUS_H_

@@ -75,7 +75,8 @@ SubbandQuantisers::SubbandQuantisers(WaveletKernel kernel, const WaveletGeometry
       while (shift < 15 && ((w << 16) >= ((ref * 92682) << shift))) ++shift;
       q.mul_q16 = 1u << (16 + shift);
       q.inv_q16 = 1u << (16 - shift);
-      const double ratio = static_cast<double>(w) / static_cast<double>(uint64_t{1} << (16 + shift));
+      const double ratio =
+          static_cast<double>(w) / static_cast<double>(uint64_t{1} << (16 + shift));
       q.distortion = ratio * ratio;
     } else {
       q.mul_q16 = static_cast<uint32_t>(w);

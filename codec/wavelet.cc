@@ -7,9 +7,12 @@ namespace fvv {
 
 const char* KernelName(WaveletKernel k) {
   switch (k) {
-    case WaveletKernel::kHaar: return "haar";
-    case WaveletKernel::kLeGall53: return "53";
-    case WaveletKernel::kCdf97: return "97";
+    case WaveletKernel::kHaar:
+      return "haar";
+    case WaveletKernel::kLeGall53:
+      return "53";
+    case WaveletKernel::kCdf97:
+      return "97";
   }
   return "?";
 }
@@ -36,7 +39,9 @@ constexpr int64_t kAlpha = -103949, kBeta = -3472, kGamma = 57862, kDelta = 2906
 constexpr double kAlphaR = -1.586134342059924, kBetaR = -0.052980118572961,
                  kGammaR = 0.882911075530934, kDeltaR = 0.443506852043971;
 
-inline int32_t MulQ16(int64_t c, int64_t sum) { return static_cast<int32_t>((c * sum + 32768) >> 16); }
+inline int32_t MulQ16(int64_t c, int64_t sum) {
+  return static_cast<int32_t>((c * sum + 32768) >> 16);
+}
 
 // Lifting updates wrap modulo 2^32 instead of overflowing: valid streams never
 // come near the limits, and a corrupt one must give defined (then clamped)
@@ -47,7 +52,9 @@ inline int32_t WrapAdd(int32_t a, int32_t b) {
 inline int32_t WrapSub(int32_t a, int32_t b) {
   return static_cast<int32_t>(static_cast<uint32_t>(a) - static_cast<uint32_t>(b));
 }
-inline int32_t NegMulQ16(int64_t c, int64_t sum) { return static_cast<int32_t>(-((c * sum + 32768) >> 16)); }
+inline int32_t NegMulQ16(int64_t c, int64_t sum) {
+  return static_cast<int32_t>(-((c * sum + 32768) >> 16));
+}
 
 // Lifting step on row vectors: target row i gets f(src row i + src row i+di) where the
 // neighbour index is clamped into [0, nsrc) (symmetric extension in deinterleaved form).
@@ -88,14 +95,22 @@ void LiftForward(WaveletKernel kernel, uint32_t m, uint32_t v, int32_t* rows) {
       }
       break;
     case WaveletKernel::kLeGall53:
-      PredictStep(d, nd, s, ns, v, [](int32_t a, int32_t b) { return static_cast<int32_t>(-((int64_t{a} + b) >> 1)); });
-      UpdateStep(s, ns, d, nd, v, [](int32_t a, int32_t b) { return static_cast<int32_t>((int64_t{a} + b + 2) >> 2); });
+      PredictStep(d, nd, s, ns, v, [](int32_t a, int32_t b) {
+        return static_cast<int32_t>(-((int64_t{a} + b) >> 1));
+      });
+      UpdateStep(s, ns, d, nd, v, [](int32_t a, int32_t b) {
+        return static_cast<int32_t>((int64_t{a} + b + 2) >> 2);
+      });
       break;
     case WaveletKernel::kCdf97:
-      PredictStep(d, nd, s, ns, v, [](int32_t a, int32_t b) { return MulQ16(kAlpha, int64_t{a} + b); });
-      UpdateStep(s, ns, d, nd, v, [](int32_t a, int32_t b) { return MulQ16(kBeta, int64_t{a} + b); });
-      PredictStep(d, nd, s, ns, v, [](int32_t a, int32_t b) { return MulQ16(kGamma, int64_t{a} + b); });
-      UpdateStep(s, ns, d, nd, v, [](int32_t a, int32_t b) { return MulQ16(kDelta, int64_t{a} + b); });
+      PredictStep(d, nd, s, ns, v,
+                  [](int32_t a, int32_t b) { return MulQ16(kAlpha, int64_t{a} + b); });
+      UpdateStep(s, ns, d, nd, v,
+                 [](int32_t a, int32_t b) { return MulQ16(kBeta, int64_t{a} + b); });
+      PredictStep(d, nd, s, ns, v,
+                  [](int32_t a, int32_t b) { return MulQ16(kGamma, int64_t{a} + b); });
+      UpdateStep(s, ns, d, nd, v,
+                 [](int32_t a, int32_t b) { return MulQ16(kDelta, int64_t{a} + b); });
       break;
   }
 }
@@ -113,14 +128,21 @@ void LiftInverse(WaveletKernel kernel, uint32_t m, uint32_t v, int32_t* rows) {
       }
       break;
     case WaveletKernel::kLeGall53:
-      UpdateStep(s, ns, d, nd, v, [](int32_t a, int32_t b) { return static_cast<int32_t>(-((int64_t{a} + b + 2) >> 2)); });
-      PredictStep(d, nd, s, ns, v, [](int32_t a, int32_t b) { return static_cast<int32_t>((int64_t{a} + b) >> 1); });
+      UpdateStep(s, ns, d, nd, v, [](int32_t a, int32_t b) {
+        return static_cast<int32_t>(-((int64_t{a} + b + 2) >> 2));
+      });
+      PredictStep(d, nd, s, ns, v,
+                  [](int32_t a, int32_t b) { return static_cast<int32_t>((int64_t{a} + b) >> 1); });
       break;
     case WaveletKernel::kCdf97:
-      UpdateStep(s, ns, d, nd, v, [](int32_t a, int32_t b) { return NegMulQ16(kDelta, int64_t{a} + b); });
-      PredictStep(d, nd, s, ns, v, [](int32_t a, int32_t b) { return NegMulQ16(kGamma, int64_t{a} + b); });
-      UpdateStep(s, ns, d, nd, v, [](int32_t a, int32_t b) { return NegMulQ16(kBeta, int64_t{a} + b); });
-      PredictStep(d, nd, s, ns, v, [](int32_t a, int32_t b) { return NegMulQ16(kAlpha, int64_t{a} + b); });
+      UpdateStep(s, ns, d, nd, v,
+                 [](int32_t a, int32_t b) { return NegMulQ16(kDelta, int64_t{a} + b); });
+      PredictStep(d, nd, s, ns, v,
+                  [](int32_t a, int32_t b) { return NegMulQ16(kGamma, int64_t{a} + b); });
+      UpdateStep(s, ns, d, nd, v,
+                 [](int32_t a, int32_t b) { return NegMulQ16(kBeta, int64_t{a} + b); });
+      PredictStep(d, nd, s, ns, v,
+                  [](int32_t a, int32_t b) { return NegMulQ16(kAlpha, int64_t{a} + b); });
       break;
   }
 }
@@ -132,8 +154,12 @@ void LiftInverseReal(WaveletKernel kernel, uint32_t m, double* x) {
   double* d = x + ns;
   auto sn = [&](uint32_t i) { return s[std::min(i, ns - 1)]; };
   auto dn = [&](int64_t i) { return d[std::clamp<int64_t>(i, 0, nd - 1)]; };
-  auto update = [&](double c) { for (uint32_t i = 0; i < ns; ++i) s[i] -= c * (dn(int64_t{i} - 1) + dn(i)); };
-  auto predict = [&](double c) { for (uint32_t i = 0; i < nd; ++i) d[i] -= c * (sn(i) + sn(i + 1)); };
+  auto update = [&](double c) {
+    for (uint32_t i = 0; i < ns; ++i) s[i] -= c * (dn(int64_t{i} - 1) + dn(i));
+  };
+  auto predict = [&](double c) {
+    for (uint32_t i = 0; i < nd; ++i) d[i] -= c * (sn(i) + sn(i + 1));
+  };
   switch (kernel) {
     case WaveletKernel::kHaar:
       for (uint32_t i = 0; i < nd; ++i) {
@@ -196,8 +222,10 @@ void AxisPass(WaveletKernel kernel, const Shape4D& shape, const Region& region, 
         for (uint32_t r = 0; r < nr; ++r) dst[r] = line[r][i];
         for (uint32_t r = nr; r < kXGroup; ++r) dst[r] = 0;
       }
-      if (forward) LiftForward(kernel, m, kXGroup, buf.data());
-      else LiftInverse(kernel, m, kXGroup, buf.data());
+      if (forward)
+        LiftForward(kernel, m, kXGroup, buf.data());
+      else
+        LiftInverse(kernel, m, kXGroup, buf.data());
       for (uint32_t i = 0; i < m; ++i) {
         const int32_t* src = buf.data() + size_t{forward ? i : slot(i)} * kXGroup;
         for (uint32_t r = 0; r < nr; ++r) line[r][i] = src[r];
@@ -226,8 +254,10 @@ void AxisPass(WaveletKernel kernel, const Shape4D& shape, const Region& region, 
     for (uint32_t i = 0; i < m; ++i)
       std::memcpy(buf.data() + size_t{forward ? slot(i) : i} * vlen, base + i * stride,
                   vlen * sizeof(int32_t));
-    if (forward) LiftForward(kernel, m, vlen, buf.data());
-    else LiftInverse(kernel, m, vlen, buf.data());
+    if (forward)
+      LiftForward(kernel, m, vlen, buf.data());
+    else
+      LiftInverse(kernel, m, vlen, buf.data());
     for (uint32_t i = 0; i < m; ++i)
       std::memcpy(base + i * stride, buf.data() + size_t{forward ? i : slot(i)} * vlen,
                   vlen * sizeof(int32_t));

@@ -24,9 +24,9 @@
 namespace fvv {
 
 enum class WaveletKernel : uint8_t {
-  kHaar = 0,     // reversible S-transform (the original system's kernel)
-  kLeGall53 = 1, // reversible 5/3 of JPEG 2000
-  kCdf97 = 2,    // 9/7 of JPEG 2000, Q16 fixed-point lifting
+  kHaar = 0,      // reversible S-transform (the original system's kernel)
+  kLeGall53 = 1,  // reversible 5/3 of JPEG 2000
+  kCdf97 = 2,     // 9/7 of JPEG 2000, Q16 fixed-point lifting
 };
 const char* KernelName(WaveletKernel k);
 
@@ -34,7 +34,7 @@ constexpr int kMaxLevelsPerAxis = 6;
 
 struct AxisGeometry {
   uint32_t n = 1;
-  int levels = 0;                                // K_a
+  int levels = 0;                                    // K_a
   std::array<uint32_t, kMaxLevelsPerAxis + 1> lo{};  // lo[0] = n, lo[k] = ceil(lo[k-1] / 2)
   std::vector<uint8_t> band;  // per position: 0 = final low band, k = detail of split k
 

@@ -86,7 +86,8 @@ TEST(Masks, UnusedTexelsCostLittleAndUsedOnesAreCodedWell) {
   for (size_t i = 0; i < mask.size(); ++i) {
     const uint32_t x = i % 48, y = (i / 48) % 48;
     mask[i] = (x - 24.0) * (x - 24.0) + (y - 24.0) * (y - 24.0) < 300;
-    if (!mask[i]) block.channels[0].samples[i] = static_cast<int32_t>(rng() % 256);  // junk no camera saw
+    if (!mask[i])
+      block.channels[0].samples[i] = static_cast<int32_t>(rng() % 256);  // junk no camera saw
   }
   EncodeSettings s;
   s.rate_value = 0.5;
@@ -120,7 +121,8 @@ std::vector<uint8_t> SmallBlockFile(EntropyCoder coder) {
   EncodeSettings s;
   s.coder = coder;
   s.rate_value = 2.0;
-  auto enc = EncodeBlock(SmoothBlock(Shape4D{{2, 2, 12, 10}}, ColourSpace::kYCbCr601, 4), nullptr, s);
+  auto enc =
+      EncodeBlock(SmoothBlock(Shape4D{{2, 2, 12, 10}}, ColourSpace::kYCbCr601, 4), nullptr, s);
   return WriteBlockFile(*enc);
 }
 
@@ -212,9 +214,8 @@ TEST(Decoder, RandomStreamsWithValidHeadersDecodeToClampedSamples) {
 TEST(ThreadPool, RunsEveryTaskOnceIncludingNestedCalls) {
   ThreadPool pool(3);
   std::vector<std::atomic<int>> hits(200);
-  pool.Run(20, [&](uint32_t i) {
-    pool.Run(10, [&](uint32_t j) { hits[i * 10 + j].fetch_add(1); });
-  });
+  pool.Run(20,
+           [&](uint32_t i) { pool.Run(10, [&](uint32_t j) { hits[i * 10 + j].fetch_add(1); }); });
   for (auto& h : hits) EXPECT_EQ(h.load(), 1);
   ThreadPool decode_pool(2);
   const Block block = RandomBlock(Shape4D{{2, 3, 17, 21}}, ColourSpace::kRct, 8);
@@ -224,7 +225,8 @@ TEST(ThreadPool, RunsEveryTaskOnceIncludingNestedCalls) {
   auto serial = EncodeBlock(block, nullptr, s);
   s.runner = decode_pool.runner();
   auto parallel = EncodeBlock(block, nullptr, s);
-  EXPECT_EQ(WriteBlockFile(*serial), WriteBlockFile(*parallel)) << "threads must not change the stream";
+  EXPECT_EQ(WriteBlockFile(*serial), WriteBlockFile(*parallel))
+      << "threads must not change the stream";
 }
 
 }  // namespace

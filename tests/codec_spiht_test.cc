@@ -12,8 +12,9 @@ namespace {
 using ::fvv::testing::RandomBlock;
 using ::fvv::testing::SmoothBlock;
 
-const Shape4D kOddShapes[] = {Shape4D{{3, 5, 17, 33}}, Shape4D{{1, 1, 64, 64}}, Shape4D{{8, 8, 32, 32}},
-                              Shape4D{{2, 7, 1, 9}}, Shape4D{{1, 1, 1, 1}}, Shape4D{{5, 1, 3, 1}}};
+const Shape4D kOddShapes[] = {Shape4D{{3, 5, 17, 33}}, Shape4D{{1, 1, 64, 64}},
+                              Shape4D{{8, 8, 32, 32}}, Shape4D{{2, 7, 1, 9}},
+                              Shape4D{{1, 1, 1, 1}},   Shape4D{{5, 1, 3, 1}}};
 
 TEST(SpihtTree, EveryCoefficientHasExactlyOneTreePath) {
   for (const Shape4D& shape : kOddShapes) {
@@ -33,7 +34,8 @@ TEST(SpihtTree, EveryCoefficientHasExactlyOneTreePath) {
         stack.push_back(children[i]);
       }
     }
-    for (size_t i = 0; i < visits.size(); ++i) ASSERT_EQ(visits[i], 1) << shape.ToString() << " index " << i;
+    for (size_t i = 0; i < visits.size(); ++i)
+      ASSERT_EQ(visits[i], 1) << shape.ToString() << " index " << i;
   }
 }
 
@@ -64,7 +66,8 @@ TEST_P(LosslessRoundTrip, FullRateIsExactOnOddShapes) {
   ThreadPool pool(2);
   for (const Shape4D& shape : kOddShapes) {
     for (int smooth = 0; smooth < 2; ++smooth) {
-      const Block block = smooth ? SmoothBlock(shape, ColourSpace::kRct, 3) : RandomBlock(shape, ColourSpace::kRct, 4);
+      const Block block = smooth ? SmoothBlock(shape, ColourSpace::kRct, 3)
+                                 : RandomBlock(shape, ColourSpace::kRct, 4);
       EncodeSettings s;
       s.kernel = GetParam().kernel;
       s.coder = GetParam().coder;
@@ -83,13 +86,15 @@ TEST_P(LosslessRoundTrip, FullRateIsExactOnOddShapes) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(KernelsAndCoders, LosslessRoundTrip,
-                         ::testing::Values(LosslessCase{WaveletKernel::kHaar, EntropyCoder::kBinary},
-                                           LosslessCase{WaveletKernel::kHaar, EntropyCoder::kArith},
-                                           LosslessCase{WaveletKernel::kLeGall53, EntropyCoder::kBinary},
-                                           LosslessCase{WaveletKernel::kLeGall53, EntropyCoder::kArith}));
+INSTANTIATE_TEST_SUITE_P(
+    KernelsAndCoders, LosslessRoundTrip,
+    ::testing::Values(LosslessCase{WaveletKernel::kHaar, EntropyCoder::kBinary},
+                      LosslessCase{WaveletKernel::kHaar, EntropyCoder::kArith},
+                      LosslessCase{WaveletKernel::kLeGall53, EntropyCoder::kBinary},
+                      LosslessCase{WaveletKernel::kLeGall53, EntropyCoder::kArith}));
 
-EncodedBlock EncodeSmooth(const Shape4D& shape, WaveletKernel kernel, EntropyCoder coder, double bpp) {
+EncodedBlock EncodeSmooth(const Shape4D& shape, WaveletKernel kernel, EntropyCoder coder,
+                          double bpp) {
   EncodeSettings s;
   s.kernel = kernel;
   s.coder = coder;
@@ -99,7 +104,8 @@ EncodedBlock EncodeSmooth(const Shape4D& shape, WaveletKernel kernel, EntropyCod
   return std::move(enc).value();
 }
 
-double DecodedYPsnr(const EncodedBlock& enc, uint64_t bytes, const Block& reference, DecodeReport* report) {
+double DecodedYPsnr(const EncodedBlock& enc, uint64_t bytes, const Block& reference,
+                    DecodeReport* report) {
   DecodeBudget budget;
   budget.max_bytes = bytes;
   auto dec = DecodeBlock(enc, budget, SerialRunner, report);
@@ -119,7 +125,8 @@ constexpr double kDropToleranceDb = 0.3;
 TEST_P(Embedded, QualityNeverDropsAsBytesAreAdded) {
   const Shape4D shape{{2, 3, 24, 40}};
   const Block ref = SmoothBlock(shape, ColourSpace::kYCbCr601, 9);
-  const EncodedBlock enc = EncodeSmooth(shape, std::get<0>(GetParam()), std::get<1>(GetParam()), 2.0);
+  const EncodedBlock enc =
+      EncodeSmooth(shape, std::get<0>(GetParam()), std::get<1>(GetParam()), 2.0);
   double last = 0;
   for (uint64_t bytes = 16; bytes < 2 * enc.total_bytes(); bytes *= 2) {
     DecodeReport report;
@@ -137,15 +144,17 @@ TEST_P(Embedded, QualityNeverDropsAsBytesAreAdded) {
   for (const TruncationPoint& t : enc.channels[0].points) {
     DecodeReport report;
     const double psnr = DecodedYPsnr(luma_only, t.bytes, ref, &report);
-    EXPECT_GE(psnr, last - kDropToleranceDb) << "at truncation point of plane " << int{t.plane} << " pass " << int{t.pass};
+    EXPECT_GE(psnr, last - kDropToleranceDb)
+        << "at truncation point of plane " << int{t.plane} << " pass " << int{t.pass};
     last = std::max(last, psnr);
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(KernelsAndCoders, Embedded,
-                         ::testing::Combine(::testing::Values(WaveletKernel::kHaar, WaveletKernel::kLeGall53,
-                                                              WaveletKernel::kCdf97),
-                                            ::testing::Values(EntropyCoder::kBinary, EntropyCoder::kArith)));
+INSTANTIATE_TEST_SUITE_P(
+    KernelsAndCoders, Embedded,
+    ::testing::Combine(::testing::Values(WaveletKernel::kHaar, WaveletKernel::kLeGall53,
+                                         WaveletKernel::kCdf97),
+                       ::testing::Values(EntropyCoder::kBinary, EntropyCoder::kArith)));
 
 TEST(Embedded, EveryPrefixOfASmallStreamDecodes) {
   const Shape4D shape{{2, 2, 8, 12}};
@@ -161,16 +170,19 @@ TEST(Embedded, EveryPrefixOfASmallStreamDecodes) {
 }
 
 TEST(Embedded, TruncationPointsAreOrderedAndWithinStream) {
-  const EncodedBlock enc = EncodeSmooth(Shape4D{{2, 2, 32, 32}}, WaveletKernel::kCdf97, EntropyCoder::kArith, 1.0);
+  const EncodedBlock enc =
+      EncodeSmooth(Shape4D{{2, 2, 32, 32}}, WaveletKernel::kCdf97, EntropyCoder::kArith, 1.0);
   for (const ChannelStream& s : enc.channels) {
     ASSERT_FALSE(s.points.empty());
-    for (size_t i = 1; i < s.points.size(); ++i) EXPECT_GE(s.points[i].bytes, s.points[i - 1].bytes);
+    for (size_t i = 1; i < s.points.size(); ++i)
+      EXPECT_GE(s.points[i].bytes, s.points[i - 1].bytes);
     EXPECT_LE(s.points.back().bytes, s.data.size());
   }
 }
 
 TEST(Decoder, TimeBudgetStopsEarlyAndSaysSo) {
-  const EncodedBlock enc = EncodeSmooth(Shape4D{{4, 4, 64, 64}}, WaveletKernel::kCdf97, EntropyCoder::kArith, 2.0);
+  const EncodedBlock enc =
+      EncodeSmooth(Shape4D{{4, 4, 64, 64}}, WaveletKernel::kCdf97, EntropyCoder::kArith, 2.0);
   DecodeBudget budget;
   budget.max_ms = 1e-6;  // already over when the first check comes
   DecodeReport report;
@@ -184,13 +196,16 @@ TEST(Decoder, TimeBudgetStopsEarlyAndSaysSo) {
 TEST(Decoder, OutputIsBitExact) {
   // A fixed input coded with fixed settings: the stream and its decoding are pinned.
   // A change here is a format change (see container/SPEC.md rules).
-  const EncodedBlock enc = EncodeSmooth(Shape4D{{3, 2, 19, 23}}, WaveletKernel::kCdf97, EntropyCoder::kArith, 1.0);
+  const EncodedBlock enc =
+      EncodeSmooth(Shape4D{{3, 2, 19, 23}}, WaveletKernel::kCdf97, EntropyCoder::kArith, 1.0);
   uint64_t stream_hash = 1469598103934665603ull;
-  for (const ChannelStream& s : enc.channels) stream_hash = testing::Fnv1a(s.data.data(), s.data.size(), stream_hash);
+  for (const ChannelStream& s : enc.channels)
+    stream_hash = testing::Fnv1a(s.data.data(), s.data.size(), stream_hash);
   auto dec = DecodeBlock(enc, DecodeBudget{}, SerialRunner);
   ASSERT_TRUE(dec.ok());
   EXPECT_EQ(stream_hash, 0x7c98b5625b12266cull) << std::hex << stream_hash;
-  EXPECT_EQ(testing::HashBlock(*dec), 0x19a007a8082d5851ull) << std::hex << testing::HashBlock(*dec);
+  EXPECT_EQ(testing::HashBlock(*dec), 0x19a007a8082d5851ull)
+      << std::hex << testing::HashBlock(*dec);
 }
 
 }  // namespace

@@ -42,12 +42,14 @@ TEST(Colour, Bt601RoundTripWithinRounding) {
 TEST(Colour, Chroma420AveragesAndReplicates) {
   const Shape4D shape{{1, 1, 3, 3}};
   std::vector<uint8_t> rgb(9 * 3);
-  for (size_t i = 0; i < 9; ++i) rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = static_cast<uint8_t>(i * 20);
+  for (size_t i = 0; i < 9; ++i)
+    rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = static_cast<uint8_t>(i * 20);
   const Block b = BlockFromRgb(rgb.data(), shape, ColourSpace::kYCbCr601, ChromaFormat::k420);
   EXPECT_EQ(b.channels[1].shape, (Shape4D{{1, 1, 2, 2}}));
   std::vector<uint8_t> out(rgb.size());
   BlockToRgb(b, out.data());
-  for (size_t i = 0; i < rgb.size(); ++i) EXPECT_NEAR(out[i], rgb[i], 2);  // grey: chroma is neutral
+  for (size_t i = 0; i < rgb.size(); ++i)
+    EXPECT_NEAR(out[i], rgb[i], 2);  // grey: chroma is neutral
 }
 
 TEST(Fill, UsedTexelsUnchangedHolesTakeParentMeans) {
@@ -112,9 +114,10 @@ TEST_P(WaveletRoundTrip, ForwardThenInverseIsIdentity) {
 
 INSTANTIATE_TEST_SUITE_P(
     Shapes, WaveletRoundTrip,
-    ::testing::Combine(::testing::Values(WaveletKernel::kHaar, WaveletKernel::kLeGall53, WaveletKernel::kCdf97),
-                       ::testing::Values(Shape4D{{3, 5, 17, 33}}, Shape4D{{2, 7, 1, 9}}, Shape4D{{1, 1, 64, 64}},
-                                         Shape4D{{8, 8, 16, 16}}, Shape4D{{1, 2, 1, 1}})));
+    ::testing::Combine(
+        ::testing::Values(WaveletKernel::kHaar, WaveletKernel::kLeGall53, WaveletKernel::kCdf97),
+        ::testing::Values(Shape4D{{3, 5, 17, 33}}, Shape4D{{2, 7, 1, 9}}, Shape4D{{1, 1, 64, 64}},
+                          Shape4D{{8, 8, 16, 16}}, Shape4D{{1, 2, 1, 1}})));
 
 TEST(Wavelet, ConstantSignalHasNoDetail) {
   const Shape4D shape{{1, 1, 1, 37}};
@@ -122,7 +125,8 @@ TEST(Wavelet, ConstantSignalHasNoDetail) {
     std::vector<int32_t> data(37, 100);
     const WaveletGeometry g(shape);
     ForwardTransform4D(k, g, SerialRunner, data.data());
-    for (uint32_t x = g.axis[3].lo[g.axis[3].levels]; x < 37; ++x) EXPECT_EQ(data[x], 0) << "x=" << x;
+    for (uint32_t x = g.axis[3].lo[g.axis[3].levels]; x < 37; ++x)
+      EXPECT_EQ(data[x], 0) << "x=" << x;
   }
 }
 

@@ -42,7 +42,8 @@ inline Block SmoothBlock(const Shape4D& shape, ColourSpace colour, uint32_t seed
                              (r.max - r.min) * 0.3 *
                                  std::sin(0.11 * x + 0.07 * y + 0.3 * t + 0.2 * cam + c) *
                                  std::cos(0.05 * x - 0.09 * y);
-            b.channels[c].samples[i] = std::clamp<int32_t>(static_cast<int32_t>(v) + noise(rng), r.min, r.max);
+            b.channels[c].samples[i] =
+                std::clamp<int32_t>(static_cast<int32_t>(v) + noise(rng), r.min, r.max);
           }
   }
   return b;

@@ -2,11 +2,11 @@
 
 #include <sys/stat.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <cerrno>
 #include <map>
 #include <memory>
 #include <string>
@@ -39,7 +39,8 @@ Status MakeDirectory(const std::string& dir) {
   return Status::Ok();
 }
 
-std::string ViewName(const std::string& dir, const char* stem, uint32_t t, uint32_t c, const char* ext) {
+std::string ViewName(const std::string& dir, const char* stem, uint32_t t, uint32_t c,
+                     const char* ext) {
   char name[64];
   std::snprintf(name, sizeof(name), "/%s_t%03u_c%02u.%s", stem, t, c, ext);
   return dir + name;
@@ -57,15 +58,16 @@ Status LoadStack(const std::vector<std::string>& paths, uint32_t frames, uint32_
         return LimitExceeded("a block of " + shape->ToString() + " is too large");
       rgb->resize(shape->count() * 3);
     } else if (img.width != shape->width() || img.height != shape->height()) {
-      return InvalidArgument(paths[i] + " is " + std::to_string(img.width) + "x" +
-                             std::to_string(img.height) + ", but " + paths[0] + " is " +
-                             std::to_string(shape->width()) + "x" + std::to_string(shape->height()) +
-                             ": all images of a block must have one size");
+      return InvalidArgument(
+          paths[i] + " is " + std::to_string(img.width) + "x" + std::to_string(img.height) +
+          ", but " + paths[0] + " is " + std::to_string(shape->width()) + "x" +
+          std::to_string(shape->height()) + ": all images of a block must have one size");
     }
     const size_t texels = size_t{img.width} * img.height;
     uint8_t* dst = rgb->data() + i * texels * 3;
     for (size_t k = 0; k < texels; ++k)
-      for (int c = 0; c < 3; ++c) dst[3 * k + c] = img.pixels[k * img.channels + (img.channels == 3 ? c : 0)];
+      for (int c = 0; c < 3; ++c)
+        dst[3 * k + c] = img.pixels[k * img.channels + (img.channels == 3 ? c : 0)];
   }
   return Status::Ok();
 }
@@ -114,15 +116,18 @@ int RunEncode(const EncodeArgs& a) {
   const uint32_t views = static_cast<uint32_t>(a.inputs.size());
   uint32_t frames = a.frames ? a.frames : views / std::max(1u, a.cameras);
   if (a.cameras == 0 || size_t{frames} * a.cameras != views)
-    return Fail(InvalidArgument(std::to_string(views) + " images cannot form " +
-                                std::to_string(frames) + " frames x " + std::to_string(a.cameras) +
-                                " cameras (give --frames and --cameras whose product is the image count)"));
+    return Fail(
+        InvalidArgument(std::to_string(views) + " images cannot form " + std::to_string(frames) +
+                        " frames x " + std::to_string(a.cameras) +
+                        " cameras (give --frames and --cameras whose product is the image count)"));
   const int targets = (a.bpp > 0) + (a.bytes > 0) + (a.psnr > 0) + a.lossless;
-  if (targets > 1) return Fail(InvalidArgument("give at most one of --bpp, --bytes, --psnr, --lossless"));
+  if (targets > 1)
+    return Fail(InvalidArgument("give at most one of --bpp, --bytes, --psnr, --lossless"));
 
   EncodeSettings settings;
-  static const std::map<std::string, WaveletKernel> kKernels{
-      {"haar", WaveletKernel::kHaar}, {"53", WaveletKernel::kLeGall53}, {"97", WaveletKernel::kCdf97}};
+  static const std::map<std::string, WaveletKernel> kKernels{{"haar", WaveletKernel::kHaar},
+                                                             {"53", WaveletKernel::kLeGall53},
+                                                             {"97", WaveletKernel::kCdf97}};
   settings.kernel = kKernels.at(a.kernel);
   settings.coder = a.coder == "binary" ? EntropyCoder::kBinary : EntropyCoder::kArith;
   if (a.lossless) {
@@ -184,11 +189,12 @@ int RunEncode(const EncodeArgs& a) {
               static_cast<unsigned long long>(report.channel_bytes[0]),
               static_cast<unsigned long long>(report.channel_bytes[1]),
               static_cast<unsigned long long>(report.channel_bytes[2]), bpp, 24.0 / bpp);
-  std::printf("PSNR over %s texels: RGB %.2f dB, Y %.2f dB; encode %.2f s (%.1f Msamples/s), "
-              "decode %.3f s (%.1f Msamples/s)\n",
-              mask_ptr ? "used" : "all", RgbPsnr(rgb, out_rgb, mask_ptr),
-              PsnrFromMse(ChannelMse(block.channels[0], decoded->channels[0], mask_ptr)), enc_s,
-              samples / enc_s / 1e6, dec_s, samples / dec_s / 1e6);
+  std::printf(
+      "PSNR over %s texels: RGB %.2f dB, Y %.2f dB; encode %.2f s (%.1f Msamples/s), "
+      "decode %.3f s (%.1f Msamples/s)\n",
+      mask_ptr ? "used" : "all", RgbPsnr(rgb, out_rgb, mask_ptr),
+      PsnrFromMse(ChannelMse(block.channels[0], decoded->channels[0], mask_ptr)), enc_s,
+      samples / enc_s / 1e6, dec_s, samples / dec_s / 1e6);
   return 0;
 }
 
@@ -203,7 +209,8 @@ int RunDecode(const DecodeArgs& a) {
   auto data = ReadFileBytes(a.input, kMaxBlockFileBytes);
   if (!data.ok()) return Fail(data.status());
   auto encoded = ReadBlockFile(data->data(), data->size());
-  if (!encoded.ok()) return Fail(Status(encoded.status().code(), a.input + ": " + encoded.status().message()));
+  if (!encoded.ok())
+    return Fail(Status(encoded.status().code(), a.input + ": " + encoded.status().message()));
   ThreadPool pool(a.threads);
   DecodeBudget budget;
   budget.max_bytes = a.bytes;
@@ -228,12 +235,13 @@ int RunDecode(const DecodeArgs& a) {
       s = WriteImage(ViewName(a.output_dir, "view", t, c, a.format.c_str()), img);
       if (!s.ok()) return Fail(s);
     }
-  std::printf("decoded %s in %.1f ms: read %llu of %llu bytes, bitplanes Y %d U %d V %d, %s -> %s\n",
-              shape.ToString().c_str(), report.ms, static_cast<unsigned long long>(report.bytes_read),
-              static_cast<unsigned long long>(encoded->total_bytes()), report.planes_completed[0],
-              report.planes_completed[1], report.planes_completed[2],
-              report.complete ? "complete" : (report.hit_deadline ? "stopped at time budget" : "truncated"),
-              a.output_dir.c_str());
+  std::printf(
+      "decoded %s in %.1f ms: read %llu of %llu bytes, bitplanes Y %d U %d V %d, %s -> %s\n",
+      shape.ToString().c_str(), report.ms, static_cast<unsigned long long>(report.bytes_read),
+      static_cast<unsigned long long>(encoded->total_bytes()), report.planes_completed[0],
+      report.planes_completed[1], report.planes_completed[2],
+      report.complete ? "complete" : (report.hit_deadline ? "stopped at time budget" : "truncated"),
+      a.output_dir.c_str());
   return 0;
 }
 
@@ -247,8 +255,11 @@ int RunSample(const SampleArgs& a) {
   if (!s.ok()) return Fail(s);
   for (uint32_t t = 0; t < a.frames; ++t)
     for (uint32_t c = 0; c < a.cameras; ++c) {
-      s = WritePng(ViewName(a.output_dir, "view", t, c, "png"), SampleView(t, c, a.width, a.height));
-      if (s.ok()) s = WritePng(ViewName(a.output_dir, "mask", t, c, "png"), SampleMask(t, c, a.width, a.height));
+      s = WritePng(ViewName(a.output_dir, "view", t, c, "png"),
+                   SampleView(t, c, a.width, a.height));
+      if (s.ok())
+        s = WritePng(ViewName(a.output_dir, "mask", t, c, "png"),
+                     SampleMask(t, c, a.width, a.height));
       if (!s.ok()) return Fail(s);
     }
   std::printf("wrote %u views and masks of %ux%u (frames x cameras = %u x %u) to %s\n",
@@ -259,23 +270,30 @@ int RunSample(const SampleArgs& a) {
 }  // namespace
 
 void AddBlockCommands(CLI::App* app, int* exit_code) {
-  CLI::App* block = app->add_subcommand("block", "The texture codec alone: code images as one 4D block");
+  CLI::App* block =
+      app->add_subcommand("block", "The texture codec alone: code images as one 4D block");
   block->require_subcommand(1);
 
   auto enc = std::make_shared<EncodeArgs>();
   CLI::App* e = block->add_subcommand(
-      "encode", "Code a stack of PNG/EXR images of one size (frame-major: all cameras of frame 0 "
-                "first) as one 4D block (frames x cameras x height x width)");
-  e->add_option("images", enc->inputs, "Input images (PNG or EXR)")->required()->check(CLI::ExistingFile);
+      "encode",
+      "Code a stack of PNG/EXR images of one size (frame-major: all cameras of frame 0 "
+      "first) as one 4D block (frames x cameras x height x width)");
+  e->add_option("images", enc->inputs, "Input images (PNG or EXR)")
+      ->required()
+      ->check(CLI::ExistingFile);
   e->add_option("-o,--output", enc->output, "Output block file (.fvb)")->required();
   e->add_option("--frames", enc->frames, "Frames in the block (default: images / cameras)");
   e->add_option("--cameras", enc->cameras, "Cameras in the block")->capture_default_str();
   e->add_option("--kernel", enc->kernel, "Wavelet kernel")
-      ->check(CLI::IsMember({"haar", "53", "97"}))->capture_default_str();
+      ->check(CLI::IsMember({"haar", "53", "97"}))
+      ->capture_default_str();
   e->add_option("--coder", enc->coder, "SPIHT decision coding")
-      ->check(CLI::IsMember({"binary", "arith"}))->capture_default_str();
+      ->check(CLI::IsMember({"binary", "arith"}))
+      ->capture_default_str();
   e->add_option("--chroma", enc->chroma, "Chroma resolution")
-      ->check(CLI::IsMember({"444", "420"}))->capture_default_str();
+      ->check(CLI::IsMember({"444", "420"}))
+      ->capture_default_str();
   e->add_option("--bpp", enc->bpp, "Target bits per texel, all channels together (default 0.25)")
       ->check(CLI::PositiveNumber);
   e->add_option("--bytes", enc->bytes, "Target total bytes")->check(CLI::PositiveNumber);
@@ -288,22 +306,32 @@ void AddBlockCommands(CLI::App* app, int* exit_code) {
   e->callback([enc, exit_code] { *exit_code = RunEncode(*enc); });
 
   auto dec = std::make_shared<DecodeArgs>();
-  CLI::App* d = block->add_subcommand("decode", "Decode a block file to images, optionally truncated");
+  CLI::App* d =
+      block->add_subcommand("decode", "Decode a block file to images, optionally truncated");
   d->add_option("input", dec->input, "Block file (.fvb)")->required()->check(CLI::ExistingFile);
   d->add_option("-o,--output", dec->output_dir, "Output directory (view_tTTT_cCC.png)")->required();
   d->add_option("--bytes", dec->bytes, "Decode at most this many bytes (all channels together)");
   d->add_option("--max-ms", dec->max_ms, "Stop SPIHT decoding after this many milliseconds");
-  d->add_option("--format", dec->format, "Image format")->check(CLI::IsMember({"png", "exr"}))->capture_default_str();
+  d->add_option("--format", dec->format, "Image format")
+      ->check(CLI::IsMember({"png", "exr"}))
+      ->capture_default_str();
   d->add_option("--threads", dec->threads, "Worker threads (0 = all cores)")->capture_default_str();
   d->callback([dec, exit_code] { *exit_code = RunDecode(*dec); });
 
   auto smp = std::make_shared<SampleArgs>();
-  CLI::App* s = block->add_subcommand("sample", "Write the built-in multi-view test volume (views and masks)");
+  CLI::App* s = block->add_subcommand(
+      "sample", "Write the built-in multi-view test volume (views and masks)");
   s->add_option("-o,--output", smp->output_dir, "Output directory")->required();
-  s->add_option("--frames", smp->frames, "Frames")->capture_default_str()->check(CLI::Range(1, 256));
-  s->add_option("--cameras", smp->cameras, "Cameras")->capture_default_str()->check(CLI::Range(1, 256));
+  s->add_option("--frames", smp->frames, "Frames")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 256));
+  s->add_option("--cameras", smp->cameras, "Cameras")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 256));
   s->add_option("--width", smp->width, "Width")->capture_default_str()->check(CLI::Range(1, 8192));
-  s->add_option("--height", smp->height, "Height")->capture_default_str()->check(CLI::Range(1, 8192));
+  s->add_option("--height", smp->height, "Height")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 8192));
   s->callback([smp, exit_code] { *exit_code = RunSample(*smp); });
 }
 

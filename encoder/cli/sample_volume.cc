@@ -17,7 +17,8 @@ double ValueNoise(double x, double y) {
   const int xi = static_cast<int>(std::floor(x)), yi = static_cast<int>(std::floor(y));
   const double fx = x - xi, fy = y - yi;
   const double sx = fx * fx * (3 - 2 * fx), sy = fy * fy * (3 - 2 * fy);
-  const double a = Hash(xi, yi), b = Hash(xi + 1, yi), c = Hash(xi, yi + 1), d = Hash(xi + 1, yi + 1);
+  const double a = Hash(xi, yi), b = Hash(xi + 1, yi), c = Hash(xi, yi + 1),
+               d = Hash(xi + 1, yi + 1);
   return (a + (b - a) * sx) * (1 - sy) + (c + (d - c) * sx) * sy;
 }
 
@@ -26,7 +27,8 @@ void Scene(double u, double v, double* rgb) {
   double n = 0, amp = 0.5, f = 6;
   for (int o = 0; o < 5; ++o, amp *= 0.5, f *= 2) n += amp * ValueNoise(u * f, v * f);
   const double stripes = 0.5 + 0.5 * std::sin(40 * u + 8 * std::sin(5 * v));
-  const bool check = (static_cast<int>(std::floor(u * 12)) + static_cast<int>(std::floor(v * 12))) & 1;
+  const bool check =
+      (static_cast<int>(std::floor(u * 12)) + static_cast<int>(std::floor(v * 12))) & 1;
   const double dx = u - 0.55, dy = v - 0.45;
   const double disc = std::exp(-(dx * dx + dy * dy) * 40);
   rgb[0] = 0.25 + 0.45 * n + 0.2 * disc + (v > 0.7 ? 0.15 * stripes : 0);
@@ -74,7 +76,8 @@ Image SampleMask(uint32_t frame, uint32_t camera, uint32_t width, uint32_t heigh
   for (uint32_t y = 0; y < height; ++y)
     for (uint32_t x = 0; x < width; ++x) {
       const double dx = (x + 0.5) / width - cx, dy = (y + 0.5) / height - cy;
-      img.pixels[size_t{y} * width + x] = (dx * dx / (rx * rx) + dy * dy / (ry * ry)) <= 1 ? 255 : 0;
+      img.pixels[size_t{y} * width + x] =
+          (dx * dx / (rx * rx) + dy * dy / (ry * ry)) <= 1 ? 255 : 0;
     }
   return img;
 }

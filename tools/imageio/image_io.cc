@@ -1,18 +1,18 @@
 #include "tools/imageio/image_io.h"
 
-#include <png.h>
-#include <unistd.h>
-
 #include <ImfArray.h>
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+#include <png.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cerrno>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <exception>
 #include <memory>
@@ -88,10 +88,11 @@ StatusOr<Image> ReadExr(const std::string& path) {
     Imf::FrameBuffer fb;
     for (int c = 0; c < nc; ++c) {
       planes[c].resizeErase(h, w);
-      fb.insert(rgb ? names[c] : "Y",
-                Imf::Slice(Imf::FLOAT,
-                           reinterpret_cast<char*>(&planes[c][0][0] - dw.min.x - int64_t{dw.min.y} * w),
-                           sizeof(float), sizeof(float) * w));
+      fb.insert(
+          rgb ? names[c] : "Y",
+          Imf::Slice(Imf::FLOAT,
+                     reinterpret_cast<char*>(&planes[c][0][0] - dw.min.x - int64_t{dw.min.y} * w),
+                     sizeof(float), sizeof(float) * w));
     }
     file.setFrameBuffer(fb);
     file.readPixels(dw.min.y, dw.max.y);
@@ -144,7 +145,8 @@ Status WriteExr(const std::string& path, const Image& image) {
     const int nc = image.channels;
     Imf::Header header(w, h);
     const char* names[3] = {"R", "G", "B"};
-    std::vector<std::vector<float>> planes(nc, std::vector<float>(size_t{image.width} * image.height));
+    std::vector<std::vector<float>> planes(nc,
+                                           std::vector<float>(size_t{image.width} * image.height));
     for (size_t i = 0; i < planes[0].size(); ++i)
       for (int c = 0; c < nc; ++c) planes[c][i] = image.pixels[i * nc + c] / 255.f;
     Imf::FrameBuffer fb;
