@@ -50,8 +50,18 @@ bool ReadPpm(const std::string& path, std::vector<uint8_t>* rgb) {
   std::ifstream f(path, std::ios::binary);
   std::string magic;
   int w, h, maxv;
-  f >> magic >> w >> h >> maxv;
+  f >> magic;
+  auto skip_comments = [&f] {  // opj_decompress writes "# OpenJPEG-..." into the header
+    while (f >> std::ws && f.peek() == '#') f.ignore(1 << 20, '\n');
+  };
+  skip_comments();
+  f >> w;
+  skip_comments();
+  f >> h;
+  skip_comments();
+  f >> maxv;
   f.get();
+  if (!f || w <= 0 || h <= 0 || maxv != 255) return false;
   rgb->resize(size_t(w) * h * 3);
   f.read(reinterpret_cast<char*>(rgb->data()), rgb->size());
   return bool(f) && magic == "P6";
@@ -125,7 +135,10 @@ int Kodak(const std::string& dir, int images) {
             }
             const double od = Secs(t0);
             std::vector<uint8_t> o;
-            ReadPpm(tmp + "_d.ppm", &o);
+            if (!ReadPpm(tmp + "_d.ppm", &o) || o.size() != img->pixels.size()) {
+              std::fprintf(stderr, "cannot read OpenJPEG's output %s_d.ppm\n", tmp.c_str());
+              return 1;
+            }
             std::ifstream jf(tmp + ".j2k", std::ios::binary | std::ios::ate);
             opj[r].Add(PsnrRgb(img->pixels, o), PsnrY(img->pixels, o), oe * 1e3, od * 1e3,
                        double(jf.tellg()));
