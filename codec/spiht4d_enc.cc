@@ -96,9 +96,7 @@ class EncoderSide {
     return std::move(out_);
   }
 
-  double initial_distortion() const { return initial_distortion_; }
   void MarkStart() {
-    initial_distortion_ = distortion_;
     out_.rd_bytes.push_back(0);
     out_.rd_distortion.push_back(distortion_);
   }
@@ -159,7 +157,6 @@ class EncoderSide {
   BitWriter bits_;
   RangeEncoder range_;
   double distortion_ = 0;
-  double initial_distortion_ = 0;
   SpihtEncoded out_;
 };
 

@@ -53,9 +53,8 @@ struct WaveletGeometry {
   bool AxisSplitAt(int axis_index, int l) const { return l >= 1 && l <= axis[axis_index].levels; }
 };
 
-// Forward and inverse transforms, in place on one plane of the block.
-// frac_bits: samples are scaled by 2^frac_bits before (and after) the transform, so
-// lossy kernels keep sub-integer precision; 0 for the lossless path.
+// Forward and inverse transforms, in place on one plane of the block. Callers
+// level-shift (and for the 9/7 scale by 2^TransformFracBits) around them.
 void ForwardTransform4D(WaveletKernel kernel, const WaveletGeometry& geometry,
                         const ParallelRunner& runner, int32_t* data);
 void InverseTransform4D(WaveletKernel kernel, const WaveletGeometry& geometry,
