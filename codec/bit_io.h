@@ -7,6 +7,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
+#include <string>
 #include <vector>
 
 namespace fvv {
@@ -82,6 +84,31 @@ class ByteReader {
     for (int i = 0; i < 4; ++i) v |= uint32_t{U8()} << (8 * i);
     return v;
   }
+  uint64_t U64() {
+    const uint64_t lo = U32();
+    return lo | (uint64_t{U32()} << 32);
+  }
+  int16_t I16() { return static_cast<int16_t>(U16()); }
+  int32_t I32() { return static_cast<int32_t>(U32()); }
+  // IEEE-754 binary32 / binary64, stored by bit pattern.
+  float F32() {
+    const uint32_t bits = U32();
+    float f;
+    std::memcpy(&f, &bits, 4);
+    return f;
+  }
+  double F64() {
+    const uint64_t bits = U64();
+    double d;
+    std::memcpy(&d, &bits, 8);
+    return d;
+  }
+  // string(): u16 byte length, then that many bytes of UTF-8.
+  std::string Str() {
+    const uint16_t n = U16();
+    const uint8_t* p = Bytes(n);
+    return p ? std::string(reinterpret_cast<const char*>(p), n) : std::string();
+  }
   // Returns nullptr (and sets the error) if fewer than n bytes remain.
   const uint8_t* Bytes(size_t n) {
     if (n > size_ - pos_) {
@@ -118,7 +145,38 @@ class ByteWriter {
   void U32(uint32_t v) {
     for (int i = 0; i < 4; ++i) U8(v >> (8 * i));
   }
+  void U64(uint64_t v) {
+    U32(static_cast<uint32_t>(v));
+    U32(static_cast<uint32_t>(v >> 32));
+  }
+  void I16(int32_t v) { U16(static_cast<uint32_t>(v)); }
+  void I32(int32_t v) { U32(static_cast<uint32_t>(v)); }
+  void F32(float f) {
+    uint32_t bits;
+    std::memcpy(&bits, &f, 4);
+    U32(bits);
+  }
+  void F64(double d) {
+    uint64_t bits;
+    std::memcpy(&bits, &d, 8);
+    U64(bits);
+  }
+  // Strings longer than 65535 bytes are cut; callers validate lengths first.
+  void Str(const std::string& s) {
+    const size_t n = s.size() < 65535 ? s.size() : 65535;
+    U16(static_cast<uint32_t>(n));
+    Bytes(reinterpret_cast<const uint8_t*>(s.data()), n);
+  }
   void Bytes(const uint8_t* p, size_t n) { bytes_.insert(bytes_.end(), p, p + n); }
+  void Bytes(const std::vector<uint8_t>& v) { Bytes(v.data(), v.size()); }
+  // Overwrites 4 bytes written earlier (sizes known only after the content).
+  void PatchU32(size_t pos, uint32_t v) {
+    for (int i = 0; i < 4; ++i) bytes_[pos + i] = static_cast<uint8_t>(v >> (8 * i));
+  }
+  void PatchU64(size_t pos, uint64_t v) {
+    for (int i = 0; i < 8; ++i) bytes_[pos + i] = static_cast<uint8_t>(v >> (8 * i));
+  }
+  size_t size() const { return bytes_.size(); }
   std::vector<uint8_t>& bytes() { return bytes_; }
 
  private:

@@ -23,15 +23,17 @@ constexpr uint32_t kRangeTop = 1u << 24;
 
 class RangeEncoder {
  public:
+  // kShift: adaptation rate; SPIHT uses the default, short streams (motion) adapt faster.
+  template <int kShift = kProbAdaptShift>
   void Encode(uint32_t bit, uint16_t* prob) {
     const uint32_t bound = (range_ >> kProbBits) * *prob;
     if (bit == 0) {
       range_ = bound;
-      *prob += ((1u << kProbBits) - *prob) >> kProbAdaptShift;
+      *prob += ((1u << kProbBits) - *prob) >> kShift;
     } else {
       low_ += bound;
       range_ -= bound;
-      *prob -= *prob >> kProbAdaptShift;
+      *prob -= *prob >> kShift;
     }
     while (range_ < kRangeTop) {
       range_ <<= 8;
@@ -85,17 +87,18 @@ class RangeDecoder {
   }
   // False once a read went past the budget: no further decision is trustworthy.
   bool ok() const { return !exhausted_; }
+  template <int kShift = kProbAdaptShift>
   uint32_t Decode(uint16_t* prob) {
     const uint32_t bound = (range_ >> kProbBits) * *prob;
     uint32_t bit;
     if (code_ < bound) {
       range_ = bound;
-      *prob += ((1u << kProbBits) - *prob) >> kProbAdaptShift;
+      *prob += ((1u << kProbBits) - *prob) >> kShift;
       bit = 0;
     } else {
       code_ -= bound;
       range_ -= bound;
-      *prob -= *prob >> kProbAdaptShift;
+      *prob -= *prob >> kShift;
       bit = 1;
     }
     while (range_ < kRangeTop) {

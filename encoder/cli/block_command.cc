@@ -16,7 +16,7 @@
 #include "codec/block_syntax.h"
 #include "codec/colour.h"
 #include "codec/thread_pool.h"
-#include "encoder/cli/sample_volume.h"
+#include "encoder/sample/sample_volume.h"
 #include "tools/imageio/image_io.h"
 
 namespace fvv {

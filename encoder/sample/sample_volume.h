@@ -1,8 +1,8 @@
 // A built-in multi-view test volume, so the demo and tests need no data files:
 // a textured, lit scene seen by a ring of cameras (each a shifted, slightly
 // rescaled view) over frames of a slow pan, with an elliptical "actor" mask per view.
-#ifndef FVV_ENCODER_CLI_SAMPLE_VOLUME_H_
-#define FVV_ENCODER_CLI_SAMPLE_VOLUME_H_
+#ifndef FVV_ENCODER_SAMPLE_SAMPLE_VOLUME_H_
+#define FVV_ENCODER_SAMPLE_SAMPLE_VOLUME_H_
 
 #include <cstdint>
 
@@ -15,4 +15,4 @@ Image SampleMask(uint32_t frame, uint32_t camera, uint32_t width, uint32_t heigh
 
 }  // namespace fvv
 
-#endif  // FVV_ENCODER_CLI_SAMPLE_VOLUME_H_
+#endif  // FVV_ENCODER_SAMPLE_SAMPLE_VOLUME_H_

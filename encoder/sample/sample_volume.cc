@@ -1,4 +1,4 @@
-#include "encoder/cli/sample_volume.h"
+#include "encoder/sample/sample_volume.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,0 +1,105 @@
+// The coding order and context model of the mask coder (SPEC.md 7), written
+// once for both sides: `Side::Flag(bit, prob)` encodes `bit` or decodes and
+// returns a bit.
+#ifndef FVV_CODEC_MASK_TRAVERSAL_H_
+#define FVV_CODEC_MASK_TRAVERSAL_H_
+
+#include <cstring>
+#include <vector>
+
+#include "codec/block.h"
+#include "codec/range_coder.h"
+
+namespace fvv {
+namespace mask {
+
+constexpr int kPad = 2;  // zero texels around each padded plane
+
+// A mask with kPad zero columns left and right, kPad zero rows above and below.
+class PaddedPlane {
+ public:
+  PaddedPlane(uint32_t h, uint32_t w) : w_(w), stride_(w + 2 * kPad), v_((h + 2 * kPad) * stride_, 0) {}
+  uint8_t* Row(int64_t y) { return v_.data() + (y + kPad) * stride_ + kPad; }
+  const uint8_t* Row(int64_t y) const { return v_.data() + (y + kPad) * stride_ + kPad; }
+
+ private:
+  uint32_t w_;
+  size_t stride_;
+  std::vector<uint8_t> v_;
+};
+
+struct Contexts {
+  Contexts() {
+    for (auto& p : intra) p = kProbInit;
+    for (auto& p : inter) p = kProbInit;
+    for (auto& r : row_copy) r[0] = r[1] = kProbInit;
+  }
+  uint16_t intra[1 << 10];
+  uint16_t inter[1 << 10];
+  uint16_t row_copy[2][2];  // [has reference][previous row was copied]
+};
+
+// Codes one mask. `ref` is the same camera's mask in the previous frame, or null
+// for a fragment's first frame. `cur` holds the mask (encoder) or receives it.
+template <class Side>
+void CodeMask(Side& side, Contexts& ctx, uint32_t h, uint32_t w, const PaddedPlane* ref,
+              PaddedPlane* cur) {
+  uint32_t prev_copied = 0;
+  for (uint32_t y = 0; y < h; ++y) {
+    uint8_t* row = cur->Row(y);
+    // Row copy: from the reference row when there is a reference, else from the
+    // row above (all zeros above row 0).
+    const uint8_t* source = ref ? ref->Row(y) : cur->Row(int64_t{y} - 1);
+    const uint32_t same = side.Flag(std::memcmp(row, source, w) == 0,
+                                    &ctx.row_copy[ref != nullptr][prev_copied]);
+    prev_copied = same;
+    if (same) {
+      std::memcpy(row, source, w);
+      continue;
+    }
+    const uint8_t* up = cur->Row(int64_t{y} - 1);
+    const uint8_t* up2 = cur->Row(int64_t{y} - 2);
+    if (ref) {
+      const uint8_t* r0 = ref->Row(y);
+      const uint8_t* rn = ref->Row(int64_t{y} - 1);
+      const uint8_t* rs = ref->Row(int64_t{y} + 1);
+      for (int64_t x = 0; x < int64_t{w}; ++x) {
+        const uint32_t c = row[x - 1] | row[x - 2] << 1 | up[x - 1] << 2 | up[x] << 3 |
+                           up[x + 1] << 4 | r0[x] << 5 | r0[x - 1] << 6 | r0[x + 1] << 7 |
+                           rn[x] << 8 | rs[x] << 9;
+        row[x] = static_cast<uint8_t>(side.Flag(row[x], &ctx.inter[c]));
+      }
+    } else {
+      for (int64_t x = 0; x < int64_t{w}; ++x) {
+        const uint32_t c = row[x - 1] | row[x - 2] << 1 | up[x - 2] << 2 | up[x - 1] << 3 |
+                           up[x] << 4 | up[x + 1] << 5 | up[x + 2] << 6 | up2[x - 1] << 7 |
+                           up2[x] << 8 | up2[x + 1] << 9;
+        row[x] = static_cast<uint8_t>(side.Flag(row[x], &ctx.intra[c]));
+      }
+    }
+  }
+}
+
+// Codes all masks of a fragment in (t, c) order. `load(t, c, plane)` fills the
+// plane before coding (encoder); `store(t, c, plane)` takes the result.
+template <class Side, class Load, class Store>
+void TraverseMasks(Side& side, const Shape4D& shape, Load load, Store store) {
+  const uint32_t h = shape.height(), w = shape.width();
+  Contexts ctx;
+  std::vector<PaddedPlane> prev(shape.cameras(), PaddedPlane(h, w));
+  PaddedPlane cur(h, w);
+  for (uint32_t t = 0; t < shape.frames(); ++t) {
+    for (uint32_t c = 0; c < shape.cameras(); ++c) {
+      load(t, c, &cur);
+      CodeMask(side, ctx, h, w, t > 0 ? &prev[c] : nullptr, &cur);
+      if (!side.ok()) return;  // a decoder past its data: stop, the caller reports it
+      store(t, c, cur);
+      std::swap(prev[c], cur);
+    }
+  }
+}
+
+}  // namespace mask
+}  // namespace fvv
+
+#endif  // FVV_CODEC_MASK_TRAVERSAL_H_

@@ -1,0 +1,324 @@
+#include "container/body_model.h"
+
+#include <zstd.h>
+
+#include <cmath>
+#include <cstring>
+
+namespace fvv {
+
+std::array<int, 3> RotationOrderAxes(RotationOrder order) {
+  switch (order) {
+    case RotationOrder::kXYZ: return {0, 1, 2};
+    case RotationOrder::kXZY: return {0, 2, 1};
+    case RotationOrder::kYXZ: return {1, 0, 2};
+    case RotationOrder::kYZX: return {1, 2, 0};
+    case RotationOrder::kZXY: return {2, 0, 1};
+    case RotationOrder::kZYX: break;
+  }
+  return {2, 1, 0};
+}
+
+std::vector<DofRef> Skeleton::Dofs() const {
+  std::vector<DofRef> dofs;
+  for (size_t b = 0; b < bones.size(); ++b) {
+    for (int k = 0; k < kDofKinds; ++k) {
+      if (bones[b].dof_mask & (1u << k)) dofs.push_back({static_cast<uint16_t>(b), uint8_t(k)});
+    }
+  }
+  return dofs;
+}
+
+namespace {
+
+constexpr size_t kMaxBoneNameBytes = 255;
+constexpr uint8_t kCompressionNone = 0;
+constexpr uint8_t kCompressionZstd = 1;
+
+// Floats and integers are stored column-wise with their bytes split into planes
+// (all first bytes, then all second bytes, ...): similar bytes sit together, which
+// roughly halves what zstd leaves of a mesh.
+template <typename T>
+void PutPlanes(const std::vector<T>& values, ByteWriter* w) {
+  static_assert(sizeof(T) == 2 || sizeof(T) == 4, "16- or 32-bit values");
+  std::vector<uint8_t> raw(values.size() * sizeof(T));
+  for (size_t i = 0; i < values.size(); ++i) {
+    uint8_t b[sizeof(T)];
+    std::memcpy(b, &values[i], sizeof(T));  // little-endian hosts only (checked in CMake)
+    for (size_t k = 0; k < sizeof(T); ++k) raw[k * values.size() + i] = b[k];
+  }
+  w->Bytes(raw);
+}
+
+template <typename T>
+bool GetPlanes(ByteReader* r, size_t count, std::vector<T>* values) {
+  const uint8_t* p = r->Bytes(count * sizeof(T));
+  if (p == nullptr) return false;
+  values->resize(count);
+  for (size_t i = 0; i < count; ++i) {
+    uint8_t b[sizeof(T)];
+    for (size_t k = 0; k < sizeof(T); ++k) b[k] = p[k * count + i];
+    std::memcpy(&(*values)[i], b, sizeof(T));
+  }
+  return true;
+}
+
+template <typename T, size_t N>
+std::vector<T> Column(const std::vector<std::array<T, N>>& v, size_t k) {
+  std::vector<T> c(v.size());
+  for (size_t i = 0; i < v.size(); ++i) c[i] = v[i][k];
+  return c;
+}
+
+template <typename T, size_t N>
+bool GetColumns(ByteReader* r, size_t count, std::vector<std::array<T, N>>* out) {
+  out->resize(count);
+  std::vector<T> c;
+  for (size_t k = 0; k < N; ++k) {
+    if (!GetPlanes(r, count, &c)) return false;
+    for (size_t i = 0; i < count; ++i) (*out)[i][k] = c[i];
+  }
+  return true;
+}
+
+std::vector<uint8_t> SerialiseModel(const BodyModel& model) {
+  ByteWriter w;
+  const auto& bones = model.skeleton.bones;
+  w.U16(static_cast<uint32_t>(bones.size()));
+  for (const Bone& b : bones) {
+    w.Str(b.name);
+    w.I16(b.parent);
+    for (float v : b.rest_translation) w.F32(v);
+    for (float v : b.rest_rotation) w.F32(v);
+    w.U8(static_cast<uint8_t>(b.order));
+    w.U8(b.dof_mask);
+    for (int k = 0; k < kDofKinds; ++k) {
+      if (b.dof_mask & (1u << k)) {
+        w.F32(b.dof_min[k]);
+        w.F32(b.dof_max[k]);
+      }
+    }
+  }
+  const Mesh& m = model.mesh;
+  w.U32(static_cast<uint32_t>(m.positions.size()));
+  w.U32(static_cast<uint32_t>(m.triangles.size()));
+  for (size_t k = 0; k < 3; ++k) PutPlanes(Column(m.positions, k), &w);
+  for (size_t k = 0; k < 3; ++k) PutPlanes(Column(m.normals, k), &w);
+  for (size_t k = 0; k < 2; ++k) PutPlanes(Column(m.uvs, k), &w);
+  for (size_t k = 0; k < kMaxInfluences; ++k) PutPlanes(Column(m.joints, k), &w);
+  for (size_t k = 0; k < kMaxInfluences; ++k) PutPlanes(Column(m.weights, k), &w);
+  w.Bytes(m.segments);
+  // Triangle corners as differences from the same corner of the previous
+  // triangle (mod 2^32): neighbouring triangles share nearby vertices.
+  for (size_t k = 0; k < 3; ++k) {
+    std::vector<uint32_t> d(m.triangles.size());
+    uint32_t prev = 0;
+    for (size_t i = 0; i < m.triangles.size(); ++i) {
+      d[i] = m.triangles[i][k] - prev;
+      prev = m.triangles[i][k];
+    }
+    PutPlanes(d, &w);
+  }
+  return std::move(w.bytes());
+}
+
+// Upper bound of a raw model's size under `limits`: caps the allocation before
+// decompression.
+uint64_t MaxRawModelBytes(const LevelLimits& limits) {
+  const uint64_t per_bone = 2 + kMaxBoneNameBytes + 2 + 28 + 2 + 48;
+  const uint64_t per_vertex = 12 + 12 + 8 + 8 + 8 + 1;
+  return 2 + limits.max_bones * per_bone + 8 + limits.max_vertices * per_vertex +
+         uint64_t{limits.max_triangles} * 12;
+}
+
+Status ParseRawModel(const uint8_t* data, size_t size, const LevelLimits& limits,
+                     const BoxHeader& box, BodyModel* model) {
+  const std::string at = BoxContext(box);
+  ByteReader r(data, size);
+  const uint32_t bone_count = r.U16();
+  if (bone_count > limits.max_bones) {
+    return LimitExceeded(at + std::to_string(bone_count) + " bones (level allows " +
+                         std::to_string(limits.max_bones) + ")");
+  }
+  auto& bones = model->skeleton.bones;
+  bones.assign(bone_count, Bone());
+  for (Bone& b : bones) {
+    b.name = r.Str();
+    b.parent = r.I16();
+    for (float& v : b.rest_translation) v = r.F32();
+    for (float& v : b.rest_rotation) v = r.F32();
+    b.order = static_cast<RotationOrder>(r.U8());
+    b.dof_mask = r.U8();
+    for (int k = 0; k < kDofKinds; ++k) {
+      if (b.dof_mask & (1u << k)) {
+        b.dof_min[k] = r.F32();
+        b.dof_max[k] = r.F32();
+      }
+    }
+    if (r.overrun()) return Corrupt(at + "model data ends inside the skeleton");
+  }
+  const uint32_t vertex_count = r.U32();
+  const uint32_t triangle_count = r.U32();
+  if (vertex_count > limits.max_vertices || triangle_count > limits.max_triangles) {
+    return LimitExceeded(at + std::to_string(vertex_count) + " vertices, " +
+                         std::to_string(triangle_count) + " triangles (level allows " +
+                         std::to_string(limits.max_vertices) + ", " +
+                         std::to_string(limits.max_triangles) + ")");
+  }
+  // Exact size of what follows: checked before any array is allocated.
+  const uint64_t need = uint64_t{vertex_count} * (12 + 12 + 8 + 8 + 8 + 1) +
+                        uint64_t{triangle_count} * 12;
+  if (need != r.remaining()) {
+    return Corrupt(at + "mesh arrays need " + std::to_string(need) + " bytes, model data has " +
+                   std::to_string(r.remaining()));
+  }
+  Mesh& m = model->mesh;
+  GetColumns(&r, vertex_count, &m.positions);
+  GetColumns(&r, vertex_count, &m.normals);
+  GetColumns(&r, vertex_count, &m.uvs);
+  GetColumns(&r, vertex_count, &m.joints);
+  GetColumns(&r, vertex_count, &m.weights);
+  const uint8_t* seg = r.Bytes(vertex_count);
+  if (seg) m.segments.assign(seg, seg + vertex_count);
+  GetColumns(&r, triangle_count, &m.triangles);
+  for (size_t k = 0; k < 3; ++k) {
+    uint32_t prev = 0;
+    for (auto& t : m.triangles) {
+      t[k] += prev;
+      prev = t[k];
+    }
+  }
+  if (r.overrun() || r.remaining() != 0) return Internal(at + "mesh size bookkeeping");
+  return ValidateBodyModel(*model, &limits);
+}
+
+}  // namespace
+
+Status ValidateBodyModel(const BodyModel& model, const LevelLimits* limits) {
+  const auto& bones = model.skeleton.bones;
+  if (bones.empty()) return Corrupt("body model: skeleton has no bones");
+  if (limits && bones.size() > limits->max_bones) {
+    return LimitExceeded("body model: " + std::to_string(bones.size()) + " bones");
+  }
+  for (size_t i = 0; i < bones.size(); ++i) {
+    const Bone& b = bones[i];
+    const std::string at = "body model: bone " + std::to_string(i) + " ('" + b.name + "'): ";
+    if (b.name.size() > kMaxBoneNameBytes) return Corrupt(at + "name longer than 255 bytes");
+    if (b.parent < -1 || b.parent >= static_cast<int32_t>(i)) {
+      return Corrupt(at + "parent " + std::to_string(b.parent) + " is not an earlier bone");
+    }
+    if (static_cast<uint8_t>(b.order) >= kRotationOrderCount) {
+      return Corrupt(at + "rotation order " + std::to_string(int(b.order)) + " unknown");
+    }
+    if (b.dof_mask >= (1u << kDofKinds)) return Corrupt(at + "unknown DOF bits");
+    double qn = 0;
+    for (float v : b.rest_rotation) {
+      if (!std::isfinite(v)) return Corrupt(at + "non-finite rest rotation");
+      qn += double(v) * v;
+    }
+    if (std::fabs(qn - 1.0) > 1e-3) return Corrupt(at + "rest rotation is not a unit quaternion");
+    for (float v : b.rest_translation) {
+      if (!std::isfinite(v)) return Corrupt(at + "non-finite rest translation");
+    }
+    for (int k = 0; k < kDofKinds; ++k) {
+      if ((b.dof_mask & (1u << k)) &&
+          !(std::isfinite(b.dof_min[k]) && std::isfinite(b.dof_max[k]) &&
+            b.dof_min[k] <= b.dof_max[k])) {
+        return Corrupt(at + "DOF " + std::to_string(k) + " limits are not an interval");
+      }
+    }
+  }
+  const Mesh& m = model.mesh;
+  const size_t n = m.positions.size();
+  if (m.normals.size() != n || m.uvs.size() != n || m.joints.size() != n ||
+      m.weights.size() != n || m.segments.size() != n) {
+    return InvalidArgument("body model: per-vertex arrays differ in length");
+  }
+  if (limits && (n > limits->max_vertices || m.triangles.size() > limits->max_triangles)) {
+    return LimitExceeded("body model: " + std::to_string(n) + " vertices, " +
+                         std::to_string(m.triangles.size()) + " triangles beyond the level");
+  }
+  for (size_t i = 0; i < n; ++i) {
+    uint32_t sum = 0;
+    for (int k = 0; k < kMaxInfluences; ++k) {
+      if (m.weights[i][k] != 0 && m.joints[i][k] >= bones.size()) {
+        return Corrupt("body model: vertex " + std::to_string(i) + " is skinned to bone " +
+                       std::to_string(m.joints[i][k]) + " of " + std::to_string(bones.size()));
+      }
+      sum += m.weights[i][k];
+    }
+    if (sum != 65535) {
+      return Corrupt("body model: vertex " + std::to_string(i) + " skin weights sum to " +
+                     std::to_string(sum) + ", not 65535");
+    }
+    for (float v : m.positions[i]) {
+      if (!std::isfinite(v)) return Corrupt("body model: non-finite vertex position");
+    }
+  }
+  for (size_t t = 0; t < m.triangles.size(); ++t) {
+    for (uint32_t v : m.triangles[t]) {
+      if (v >= n) {
+        return Corrupt("body model: triangle " + std::to_string(t) + " uses vertex " +
+                       std::to_string(v) + " of " + std::to_string(n));
+      }
+    }
+  }
+  return Status::Ok();
+}
+
+std::vector<uint8_t> WriteModelBox(const BodyModel& model) {
+  const std::vector<uint8_t> raw = SerialiseModel(model);
+  std::vector<uint8_t> packed(ZSTD_compressBound(raw.size()));
+  // The zstd frame carries its content checksum: damage to the model is detected.
+  ZSTD_CCtx* cctx = ZSTD_createCCtx();
+  ZSTD_CCtx_setParameter(cctx, ZSTD_c_compressionLevel, 19);
+  ZSTD_CCtx_setParameter(cctx, ZSTD_c_checksumFlag, 1);
+  const size_t n = ZSTD_compress2(cctx, packed.data(), packed.size(), raw.data(), raw.size());
+  ZSTD_freeCCtx(cctx);
+  ByteWriter w;
+  if (ZSTD_isError(n) || n >= raw.size() + 4) {
+    w.U8(kCompressionNone);
+    w.U32(static_cast<uint32_t>(raw.size()));
+    w.Bytes(raw);
+  } else {
+    w.U8(kCompressionZstd);
+    w.U32(static_cast<uint32_t>(raw.size()));
+    w.Bytes(packed.data(), n);
+  }
+  return MakeBox(box::kModel, 0, kBoxFlagEssential, w.bytes());
+}
+
+Status ReadModel(const BoxHeader& box, const uint8_t* payload, const LevelLimits& limits,
+                 BodyModel* model) {
+  const std::string at = BoxContext(box);
+  if (box.version != 0) return Unsupported(at + "version " + std::to_string(box.version));
+  ByteReader r(payload, box.payload_size());
+  const uint8_t compression = r.U8();
+  const uint32_t raw_size = r.U32();
+  if (r.overrun()) return Corrupt(at + "too short");
+  if (raw_size > MaxRawModelBytes(limits)) {
+    return LimitExceeded(at + "model data of " + std::to_string(raw_size) +
+                         " bytes exceeds what the level allows");
+  }
+  const uint8_t* data = payload + 5;
+  const size_t size = static_cast<size_t>(box.payload_size() - 5);
+  if (compression == kCompressionNone) {
+    if (size != raw_size) return Corrupt(at + "stored model size does not match raw_size");
+    return ParseRawModel(data, size, limits, box, model);
+  }
+  if (compression != kCompressionZstd) {
+    return Unsupported(at + "compression method " + std::to_string(compression));
+  }
+  const unsigned long long content = ZSTD_getFrameContentSize(data, size);
+  if (content == ZSTD_CONTENTSIZE_ERROR || content != raw_size) {
+    return Corrupt(at + "zstd frame does not declare raw_size " + std::to_string(raw_size));
+  }
+  std::vector<uint8_t> raw(raw_size);
+  const size_t n = ZSTD_decompress(raw.data(), raw.size(), data, size);
+  if (ZSTD_isError(n) || n != raw_size) {
+    return Corrupt(at + "zstd: " + (ZSTD_isError(n) ? ZSTD_getErrorName(n) : "short output"));
+  }
+  return ParseRawModel(raw.data(), raw.size(), limits, box, model);
+}
+
+}  // namespace fvv

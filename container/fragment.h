@@ -1,0 +1,61 @@
+// The fragment box 'frag' (SPEC.md 3.5): one GOP (a time span x a camera range),
+// decodable on its own. Sub-boxes: 'fghd' (first), 'motn' (in the fragment of
+// camera range 0), 'texr', 'mask' and 'vvis' when the header declares those
+// tools, and 'fcrc' (last): CRC-32C of every payload byte before it.
+#ifndef FVV_CONTAINER_FRAGMENT_H_
+#define FVV_CONTAINER_FRAGMENT_H_
+
+#include <cstdint>
+#include <vector>
+
+#include "codec/block_codec.h"
+#include "codec/status.h"
+#include "container/box.h"
+#include "container/file_header.h"
+
+namespace fvv {
+
+struct FragmentInfo {
+  uint32_t gop_index = 0;  // time_span * camera_groups + camera_group
+  uint32_t first_frame = 0;
+  uint16_t frame_count = 0;
+  uint16_t first_camera = 0;
+  uint16_t camera_count = 0;
+
+  Shape4D TextureShape(const FileHeader& h) const {
+    Shape4D s;
+    s.n = {frame_count, camera_count, h.atlas_height, h.atlas_width};
+    return s;
+  }
+};
+
+// A fragment's coded payloads, as the writer takes them and the reader returns
+// them (decoding the payloads is the decoder's job).
+struct FragmentData {
+  FragmentInfo info;
+  std::vector<uint8_t> motion;  // 'motn' payload; empty = absent
+  EncodedBlock texture;          // params.shape follows info and the header
+  std::vector<uint8_t> masks;    // coded masks (codec/mask_coder.h); empty = absent
+  std::vector<uint8_t> vertex_visibility;  // coded; empty = absent
+  uint32_t checksum = 0;                   // filled by the reader
+};
+
+// The fragment info the header's GOP grid gives to fragment `gop_index`.
+StatusOr<FragmentInfo> FragmentInfoFor(const FileHeader& h, uint32_t gop_index);
+
+std::vector<uint8_t> WriteFragmentBox(const FragmentData& f);
+
+struct FragmentReadOptions {
+  bool verify_checksum = true;
+};
+// Parses a 'frag' payload, checking it against the header (GOP grid, declared
+// tools, level limits) and its checksum.
+Status ReadFragment(const BoxHeader& box, const uint8_t* payload, const FileHeader& h,
+                    const FragmentReadOptions& options, FragmentData* f);
+
+// Motion 'motn' sub-box header of a parsed fragment (for DecodeMotion).
+BoxHeader MotionBoxHeader(const FragmentData& f);
+
+}  // namespace fvv
+
+#endif  // FVV_CONTAINER_FRAGMENT_H_
