@@ -61,6 +61,11 @@ StatusOr<BoxHeader> FileReader::ReadBoxHeaderAt(uint64_t offset) const {
 Status FileReader::ReadHeaderBoxes() {
   const uint64_t size = source_->size();
   if (size == 0) return Truncated("empty file");
+  uint8_t magic[8];
+  if (size < 8 || !source_->Read(0, 8, magic).ok() ||
+      ByteReader(magic + 4, 4).U32() != box::kFileHeader) {
+    return Corrupt("not an fvv file: it does not start with an 'fvvh' box");
+  }
   uint64_t offset = 0;
   std::vector<uint8_t> payload;
   while (offset < size) {

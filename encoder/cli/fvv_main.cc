@@ -3,12 +3,14 @@
 #include <cstdio>
 
 #include "encoder/cli/block_command.h"
+#include "encoder/cli/stream_command.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"fvv: free-viewpoint video of human actors (codec SDK tools)"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "fvv 0.1.0");
   int exit_code = 0;
+  fvv::AddStreamCommands(&app, &exit_code);
   fvv::AddBlockCommands(&app, &exit_code);
   CLI11_PARSE(app, argc, argv);
   return exit_code;

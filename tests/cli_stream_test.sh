@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# End-to-end test of `fvv sample` and `fvv info`: outputs, exit codes and the
+# messages a user sees for damaged, truncated and foreign files.
+set -u
+fvv=$1
+dir=$2
+rm -rf "$dir" && mkdir -p "$dir"
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+"$fvv" sample -o "$dir/s.fvv" --frames 10 --cameras 3 --atlas 32 16 --gop 4 2 >/dev/null || fail "sample"
+out=$("$fvv" info "$dir/s.fvv" 2>&1) || fail "info on a good file: $out"
+grep -q "10 frames at 25.000 fps" <<<"$out" || fail "info header line: $out"
+grep -q "index: front" <<<"$out" || fail "fast-start index not reported: $out"
+[ "$(grep -c ' ok$' <<<"$out")" = 6 ] || fail "expected 6 good fragments: $out"
+json=$("$fvv" info "$dir/s.fvv" --json) || fail "info --json"
+grep -q '"damaged_fragments": 0' <<<"$json" || fail "json: $json"
+
+"$fvv" sample -o "$dir/e.fvv" --frames 5 --cameras 1 --atlas 16 16 --end-index >/dev/null || fail "sample --end-index"
+out=$("$fvv" info "$dir/e.fvv" 2>&1) || fail "info on end-index file: $out"
+grep -q "index: end" <<<"$out" || fail "end index not reported: $out"
+
+# A damaged byte inside the last fragment: exit 1, the fragment named.
+cp "$dir/s.fvv" "$dir/bad.fvv"
+size=$(stat -c %s "$dir/bad.fvv")
+printf '\x55' | dd of="$dir/bad.fvv" bs=1 seek=$((size - 40)) conv=notrunc status=none
+out=$("$fvv" info "$dir/bad.fvv" 2>&1) && fail "damaged file accepted: $out"
+grep -q "checksum mismatch" <<<"$out" || fail "no checksum message: $out"
+
+# Truncated: the header's index points past the end.
+head -c $((size / 2)) "$dir/s.fvv" >"$dir/cut.fvv"
+out=$("$fvv" info "$dir/cut.fvv" 2>&1) && fail "truncated file accepted: $out"
+grep -qE "truncated|corrupt" <<<"$out" || fail "truncation message: $out"
+
+# Not an fvv file at all, and a missing file.
+echo "hello, this is not a stream" >"$dir/text.fvv"
+out=$("$fvv" info "$dir/text.fvv" 2>&1) && fail "text file accepted"
+grep -q "not an fvv" <<<"$out" || fail "foreign file message: $out"
+"$fvv" info "$dir/missing.fvv" >/dev/null 2>&1 && fail "missing file accepted"
+
+# Out-of-level request: a clear error, and no file left behind.
+out=$("$fvv" sample -o "$dir/big.fvv" --cameras 20 2>&1) && fail "level 1 with 20 cameras accepted"
+grep -q "level 1 allows 8" <<<"$out" || fail "level message: $out"
+[ ! -e "$dir/big.fvv" ] || fail "a file was left behind"
+ls "$dir" | grep -q part && fail "temporary file left behind"
+echo "cli stream test passed"
