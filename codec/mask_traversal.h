@@ -18,12 +18,11 @@ constexpr int kPad = 2;  // zero texels around each padded plane
 // A mask with kPad zero columns left and right, kPad zero rows above and below.
 class PaddedPlane {
  public:
-  PaddedPlane(uint32_t h, uint32_t w) : w_(w), stride_(w + 2 * kPad), v_((h + 2 * kPad) * stride_, 0) {}
+  PaddedPlane(uint32_t h, uint32_t w) : stride_(w + 2 * kPad), v_((h + 2 * kPad) * stride_, 0) {}
   uint8_t* Row(int64_t y) { return v_.data() + (y + kPad) * stride_ + kPad; }
   const uint8_t* Row(int64_t y) const { return v_.data() + (y + kPad) * stride_ + kPad; }
 
  private:
-  uint32_t w_;
   size_t stride_;
   std::vector<uint8_t> v_;
 };
@@ -32,29 +31,43 @@ struct Contexts {
   Contexts() {
     for (auto& p : intra) p = kProbInit;
     for (auto& p : inter) p = kProbInit;
-    for (auto& r : row_copy) r[0] = r[1] = kProbInit;
+    row_copy[0] = row_copy[1] = kProbInit;
+    for (auto& r : row_above) r[0] = r[1] = kProbInit;
   }
   uint16_t intra[1 << 10];
   uint16_t inter[1 << 10];
-  uint16_t row_copy[2][2];  // [has reference][previous row was copied]
+  uint16_t row_copy[2];      // [previous row was copied]
+  uint16_t row_above[2][2];  // [has reference][previous row repeated the row above]
 };
 
-// Codes one mask. `ref` is the same camera's mask in the previous frame, or null
-// for a fragment's first frame. `cur` holds the mask (encoder) or receives it.
+// Codes one mask. `ref` is the reference mask (SPEC.md 7: the same camera in the
+// previous frame, or in a fragment's first frame the previous camera), or null.
+// `cur` holds the mask (encoder) or receives it.
 template <class Side>
 void CodeMask(Side& side, Contexts& ctx, uint32_t h, uint32_t w, const PaddedPlane* ref,
               PaddedPlane* cur) {
-  uint32_t prev_copied = 0;
+  uint32_t prev_copied = 0, prev_above = 0;
+  const uint32_t has_ref = ref != nullptr;
   for (uint32_t y = 0; y < h; ++y) {
     uint8_t* row = cur->Row(y);
-    // Row copy: from the reference row when there is a reference, else from the
-    // row above (all zeros above row 0).
-    const uint8_t* source = ref ? ref->Row(y) : cur->Row(int64_t{y} - 1);
-    const uint32_t same = side.Flag(std::memcmp(row, source, w) == 0,
-                                    &ctx.row_copy[ref != nullptr][prev_copied]);
-    prev_copied = same;
-    if (same) {
-      std::memcpy(row, source, w);
+    const uint8_t* above = cur->Row(int64_t{y} - 1);  // zeros above row 0
+    // A row equal to the reference's row, or else to the row above, costs one or
+    // two decisions (without a reference, only the second test is made).
+    if (ref) {
+      const uint8_t* source = ref->Row(y);
+      const uint32_t same = side.Flag(std::memcmp(row, source, w) == 0,
+                                      &ctx.row_copy[prev_copied]);
+      prev_copied = same;
+      if (same) {
+        std::memcpy(row, source, w);
+        continue;
+      }
+    }
+    const uint32_t repeat = side.Flag(std::memcmp(row, above, w) == 0,
+                                      &ctx.row_above[has_ref][prev_above]);
+    prev_above = repeat;
+    if (repeat) {
+      std::memcpy(row, above, w);
       continue;
     }
     const uint8_t* up = cur->Row(int64_t{y} - 1);
@@ -91,7 +104,9 @@ void TraverseMasks(Side& side, const Shape4D& shape, Load load, Store store) {
   for (uint32_t t = 0; t < shape.frames(); ++t) {
     for (uint32_t c = 0; c < shape.cameras(); ++c) {
       load(t, c, &cur);
-      CodeMask(side, ctx, h, w, t > 0 ? &prev[c] : nullptr, &cur);
+      // In the first frame, neighbouring cameras see much of the same surface.
+      const PaddedPlane* ref = t > 0 ? &prev[c] : c > 0 ? &prev[c - 1] : nullptr;
+      CodeMask(side, ctx, h, w, ref, &cur);
       if (!side.ok()) return;  // a decoder past its data: stop, the caller reports it
       store(t, c, cur);
       std::swap(prev[c], cur);

@@ -43,7 +43,7 @@ struct ResidualContexts {
   uint16_t zero[kClasses];
   uint16_t sign;
   uint16_t length[kClasses][kMaxLengthBins];
-  uint16_t mantissa[33];
+  uint16_t mantissa[35];  // by bit length: residuals reach 2^33 (second-order prediction of int32)
 };
 
 struct Contexts {

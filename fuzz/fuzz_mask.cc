@@ -1,0 +1,16 @@
+// Fuzz target: the mask decoder. Bytes 0-3 give the shape (frames 1-8,
+// cameras 1-4, height and width 1-64); the rest is coded mask data.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "codec/mask_coder.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  if (size < 4) return 0;
+  fvv::Shape4D shape;
+  shape.n = {1u + data[0] % 8, 1u + data[1] % 4, 1u + data[2] % 64, 1u + data[3] % 64};
+  std::vector<uint8_t> out(shape.count());
+  (void)fvv::DecodeMasks(data + 4, size - 4, shape, out.data());
+  return 0;
+}
