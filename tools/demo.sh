@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The main job on the built-in default: installs dependencies, builds, makes the
 # built-in multi-view test volume (8 frames x 8 cameras, 256x256), codes it as one
-# 4D block at several rates, decodes, and prints the figures and where outputs are.
+# 4D block at several rates, decodes, then writes a complete .fvv stream (model,
+# cameras, motion, masks, textures) and inspects it; prints figures and outputs.
 # Usage: tools/demo.sh [output dir, default out/demo]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -24,6 +25,10 @@ bytes=$(( $(stat -c %s "$out/block_0.25.fvb") / 5 ))
 $fvv block decode "$out/block_0.25.fvb" -o "$out/decoded_cut" --bytes $bytes
 echo "== lossless (5/3, reversible colour)"
 $fvv block encode "$out"/views/view_*.png --cameras 8 --lossless -o "$out/block_lossless.fvb" 2>/dev/null
+echo "== a complete .fvv stream: 40 frames x 8 cameras, 256x256 atlas, 8x8 GOPs"
+$fvv sample -o "$out/sample.fvv" --frames 40 --cameras 8 --atlas 256 256 --bpp 0.1
+$fvv info "$out/sample.fvv"
 echo
 echo "outputs: $out/views (input views + masks), $out/block_*.fvb (coded blocks),"
-echo "         $out/decoded_full and $out/decoded_cut (decoded views, view_tTTT_cCC.png)"
+echo "         $out/decoded_full and $out/decoded_cut (decoded views, view_tTTT_cCC.png),"
+echo "         $out/sample.fvv (a stream; fvv info $out/sample.fvv --json)"
