@@ -333,10 +333,20 @@ StatusOr<Block> DecodeBlock(const EncodedBlock& encoded, const DecodeBudget& bud
     InverseTransform4D(p.kernel, g, runner, coeffs[c].data());
     const SampleRange range = ChannelRange(p.colour, c);
     const int32_t round = frac ? 1 << (frac - 1) : 0;
-    for (int32_t& s : coeffs[c]) {
-      const int64_t v = ((int64_t{s} + round) >> frac) + range.offset;
-      s = static_cast<int32_t>(std::min<int64_t>(std::max<int64_t>(v, range.min), range.max));
-    }
+    // Output scaling in slices over the runner, in 32-bit arithmetic so it
+    // vectorises: clamping to +-2^30 first changes no result (such values clamp to
+    // the range anyway) and keeps the sums from overflowing.
+    constexpr size_t kSlice = 1 << 16;
+    int32_t* data = coeffs[c].data();
+    const size_t count = coeffs[c].size();
+    runner(static_cast<uint32_t>((count + kSlice - 1) / kSlice), [&](uint32_t k) {
+      const size_t end = std::min(count, (size_t{k} + 1) * kSlice);
+      for (size_t i = size_t{k} * kSlice; i < end; ++i) {
+        const int32_t s = std::min(std::max(data[i], -(1 << 30)), 1 << 30);
+        const int32_t v = ((s + round) >> frac) + range.offset;
+        data[i] = std::min(std::max(v, range.min), range.max);
+      }
+    });
     block.channels[c].shape = shapes[c];
     block.channels[c].samples = std::move(coeffs[c]);
   }
