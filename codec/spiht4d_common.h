@@ -99,17 +99,19 @@ namespace ctx {
 constexpr int kLevelClasses = 5;
 constexpr int kNeighbourBins = 3;
 constexpr int kSigLip = 0;                                           // [class][nbr]
-constexpr int kSigChild = kSigLip + kLevelClasses * kNeighbourBins;  // [class][nbr]
-constexpr int kSetA = kSigChild + kLevelClasses * kNeighbourBins;    // [class]
+constexpr int kSigChild = kSigLip + kLevelClasses * kNeighbourBins;  // [sib][class][nbr]
+constexpr int kSiblingBins = 3;                                       // significant siblings so far
+constexpr int kSetA = kSigChild + kLevelClasses * kNeighbourBins * kSiblingBins;  // [class]
 constexpr int kSetB = kSetA + kLevelClasses;                         // [class]
-constexpr int kSign = kSetB + kLevelClasses;                         // [class]
-constexpr int kRefine = kSign + kLevelClasses;                       // [first?]
+constexpr int kSignStates = 9;  // (left, up) neighbour: insignificant, positive, negative
+constexpr int kSign = kSetB + kLevelClasses;                         // [class][left][up]
+constexpr int kRefine = kSign + kLevelClasses * kSignStates;         // [first?]
 constexpr int kCount = kRefine + 2;
 }  // namespace ctx
 
 // The traversal. Side provides (each returns false to stop the traversal now):
 //   bool SigCoeff(uint32_t idx, int n, int ctx, bool* sig);
-//   bool Sign(uint32_t idx, int n, int ctx);
+//   bool Sign(uint32_t idx, int n, int ctx, bool* negative);
 //   bool SigSet(uint32_t idx, int n, bool type_b, int ctx, bool* sig);
 //   bool Refine(uint32_t idx, int n, int ctx);
 //   void PassEnd(int n, int pass);
@@ -117,16 +119,31 @@ template <class Side>
 void SpihtTraverse(const SpihtTree& tree, int planes, Side* side) {
   const Shape4D& shape = tree.geometry().shape;
   const uint32_t w = shape.width(), h = shape.height();
+  // 0: not (yet) significant; 1: significant, positive; 2: significant, negative.
   std::vector<uint8_t> significant(tree.size(), 0);
   // Significant spatial neighbours (x +- 1, y +- 1), clipped to 2: the context.
   auto neighbours = [&](uint32_t idx) {
     const uint32_t x = idx % w, y = (idx / w) % h;
     int k = 0;
-    if (x > 0) k += significant[idx - 1];
-    if (x + 1 < w) k += significant[idx + 1];
-    if (y > 0) k += significant[idx - w];
-    if (y + 1 < h) k += significant[idx + w];
+    if (x > 0) k += significant[idx - 1] != 0;
+    if (x + 1 < w) k += significant[idx + 1] != 0;
+    if (y > 0) k += significant[idx - w] != 0;
+    if (y + 1 < h) k += significant[idx + w] != 0;
     return k < 2 ? k : 2;
+  };
+  // Signs of the left and upper neighbours: signs of neighbouring wavelet
+  // coefficients are correlated along edges.
+  auto sign_ctx = [&](uint32_t idx) {
+    const uint32_t x = idx % w, y = (idx / w) % h;
+    const int left = x > 0 ? significant[idx - 1] : 0;
+    const int up = y > 0 ? significant[idx - w] : 0;
+    return ctx::kSign + tree.LevelClass(idx) * ctx::kSignStates + left * 3 + up;
+  };
+  auto code_sign = [&](uint32_t idx, int n) {
+    bool negative;
+    if (!side->Sign(idx, n, sign_ctx(idx), &negative)) return false;
+    significant[idx] = negative ? 2 : 1;
+    return true;
   };
   auto coeff_ctx = [&](int base, uint32_t idx) {
     return base + tree.LevelClass(idx) * ctx::kNeighbourBins + neighbours(idx);
@@ -150,8 +167,7 @@ void SpihtTraverse(const SpihtTree& tree, int planes, Side* side) {
       bool sig;
       if (!side->SigCoeff(idx, n, coeff_ctx(ctx::kSigLip, idx), &sig)) return;
       if (sig) {
-        if (!side->Sign(idx, n, ctx::kSign + tree.LevelClass(idx))) return;
-        significant[idx] = 1;
+        if (!code_sign(idx, n)) return;
         lsp.push_back(idx);
       } else {
         lip[kept++] = idx;
@@ -174,13 +190,16 @@ void SpihtTraverse(const SpihtTree& tree, int planes, Side* side) {
       }
       const int nc = tree.Children(idx, children);
       if (!type_b) {
+        int siblings = 0;
         for (int k = 0; k < nc; ++k) {
           const uint32_t c = children[k];
           bool csig;
-          if (!side->SigCoeff(c, n, coeff_ctx(ctx::kSigChild, c), &csig)) return;
+          const int sib = siblings < ctx::kSiblingBins ? siblings : ctx::kSiblingBins - 1;
+          const int base = ctx::kSigChild + sib * ctx::kLevelClasses * ctx::kNeighbourBins;
+          if (!side->SigCoeff(c, n, coeff_ctx(base, c), &csig)) return;
+          siblings += csig;
           if (csig) {
-            if (!side->Sign(c, n, ctx::kSign + tree.LevelClass(c))) return;
-            significant[c] = 1;
+            if (!code_sign(c, n)) return;
             lsp.push_back(c);
           } else {
             lip.push_back(c);

@@ -26,9 +26,10 @@ class DecoderSide {
     *sig = bit != 0;
     return true;
   }
-  bool Sign(uint32_t idx, int n, int ctx) {
+  bool Sign(uint32_t idx, int n, int ctx, bool* is_negative) {
     uint32_t negative;
     if (!Get(ctx, &negative)) return false;
+    *is_negative = negative != 0;
     mag_[idx] = static_cast<int32_t>(1u << n);
     state_[idx] = static_cast<uint8_t>(n | (negative ? kNegativeFlag : 0));
     significant_.push_back(idx);

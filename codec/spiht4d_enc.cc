@@ -49,12 +49,13 @@ class EncoderSide {
     *sig = (mag_[idx] >> n) != 0;
     return Put(ctx, *sig);
   }
-  bool Sign(uint32_t idx, int n, int ctx) {
-    // Newly significant: reconstruction moves from 0 to the middle of [2^n, 2^(n+1)).
+  bool Sign(uint32_t idx, int n, int ctx, bool* negative) {
+    // Newly significant: reconstruction moves from 0 to 3/8 into [2^n, 2^(n+1)).
     const double v = mag_[idx];
-    const double rec = n > 0 ? 1.5 * (1u << n) : 1.0;
+    const double rec = static_cast<double>((1u << n) + ((3u << n) >> 3));
     distortion_ += Factor(idx) * ((v - rec) * (v - rec) - v * v);
-    return Put(ctx, negative_[idx]);
+    *negative = negative_[idx];
+    return Put(ctx, *negative);
   }
   bool SigSet(uint32_t idx, int n, bool type_b, int ctx, bool* sig) {
     *sig = (type_b ? grandchild_bits_[idx] : descendant_bits_[idx]) > n;
@@ -64,9 +65,9 @@ class EncoderSide {
     const uint32_t m = mag_[idx];
     const double v = m;
     const double known_above = static_cast<double>((m >> (n + 1)) << (n + 1));
-    const double old_rec = known_above + (1u << n);
+    const double old_rec = known_above + ((3u << (n + 1)) >> 3);
     const double known = static_cast<double>((m >> n) << n);
-    const double new_rec = n > 0 ? known + (1u << (n - 1)) : known;
+    const double new_rec = known + ((3u << n) >> 3);
     distortion_ += Factor(idx) * ((v - new_rec) * (v - new_rec) - (v - old_rec) * (v - old_rec));
     return Put(ctx, (m >> n) & 1);
   }
