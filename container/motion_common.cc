@@ -11,6 +11,14 @@ std::vector<uint8_t> WriteMotionParamsBox(const MotionParams& p) {
   w.U32(p.translation_step_um);
   w.U8(static_cast<uint8_t>(p.coder));
   w.U16(p.key_interval);
+  w.U16(static_cast<uint32_t>(p.key_reference.size()));
+  for (int32_t v : p.key_reference) w.I32(v);
+  for (uint8_t c : p.first_class) w.U8(c);
+  w.U16(static_cast<uint32_t>(p.context_init.size()));
+  for (const auto& ci : p.context_init) {
+    w.U16(ci.first);
+    w.U8(ci.second >> 7);
+  }
   return MakeBox(box::kMotionParams, 0, kBoxFlagEssential, w.bytes());
 }
 
@@ -30,6 +38,21 @@ Status ValidateMotionParams(const MotionParams& p) {
     return Corrupt("motion params: key interval " + std::to_string(p.key_interval) +
                    " outside 1..256");
   }
+  if (p.first_class.size() != p.key_reference.size()) {
+    return Corrupt("motion params: per-DOF statistics of different lengths");
+  }
+  for (uint8_t c : p.first_class) {
+    if (c >= motion::kClasses) return Corrupt("motion params: first class " + std::to_string(c));
+  }
+  for (size_t i = 0; i < p.context_init.size(); ++i) {
+    const auto& ci = p.context_init[i];
+    if (ci.first >= motion::kContextCount || ci.second < 128 || ci.second >= (255u << 7) ||
+        (ci.second & 127) != 64 ||
+        (i > 0 && ci.first <= p.context_init[i - 1].first)) {
+      return Corrupt("motion params: context initialisation entry " + std::to_string(i) +
+                     " is invalid");
+    }
+  }
   return Status::Ok();
 }
 
@@ -40,6 +63,21 @@ Status ReadMotionParams(const BoxHeader& box, const uint8_t* payload, MotionPara
   p->translation_step_um = r.U32();
   p->coder = static_cast<MotionCoder>(r.U8());
   p->key_interval = r.U16();
+  const uint32_t dofs = r.U16();
+  if (uint64_t{dofs} * 5 > r.remaining()) return Corrupt(BoxContext(box) + "too short for its DOF statistics");
+  p->key_reference.resize(dofs);
+  for (int32_t& v : p->key_reference) v = r.I32();
+  p->first_class.resize(dofs);
+  for (uint8_t& c : p->first_class) c = r.U8();
+  const uint32_t inits = r.U16();
+  if (uint64_t{inits} * 3 != r.remaining()) return Corrupt(BoxContext(box) + "context table size");
+  p->context_init.resize(inits);
+  for (auto& ci : p->context_init) {
+    ci.first = r.U16();
+    const uint32_t p8 = r.U8();
+    ci.second = static_cast<uint16_t>(p8 * 128 + 64);
+    if (p8 == 0 || p8 == 255) return Corrupt(BoxContext(box) + "context probability 0 or 255");
+  }
   FVV_RETURN_IF_ERROR(CheckFullyRead(r, box));
   return ValidateMotionParams(*p);
 }

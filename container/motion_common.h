@@ -46,21 +46,52 @@ struct ResidualContexts {
   uint16_t mantissa[35];  // by bit length: residuals reach 2^33 (second-order prediction of int32)
 };
 
+// All contexts, numbered in declaration order (SPEC.md 6.3) for the
+// initialisation table of the 'mtrk' box.
 struct Contexts {
-  Contexts() {
-    uint16_t* p = reinterpret_cast<uint16_t*>(this);
-    for (size_t i = 0; i < sizeof(Contexts) / sizeof(uint16_t); ++i) p[i] = kProbInit;
+  explicit Contexts(const std::vector<std::pair<uint16_t, uint16_t>>& init) {
+    uint16_t* p = data();
+    for (size_t i = 0; i < kCount; ++i) p[i] = kProbInit;
+    for (const auto& ci : init) p[ci.first] = ci.second;
   }
+  uint16_t* data() { return reinterpret_cast<uint16_t*>(this); }
   ResidualContexts residual[2][2];  // [translation][predicted]
   uint16_t bone_changed[2];         // by the bone's bit in the previous coded frame
   uint16_t dof_changed[2];          // by the DOF's bit in the previous coded frame
+  static constexpr size_t kCount = (sizeof(ResidualContexts) * 4 + 8) / sizeof(uint16_t);
 };
+constexpr size_t kContextCount = Contexts::kCount;
 
 inline int ResidualClass(bool has_previous, int64_t previous_residual) {
   if (!has_previous) return kClasses - 1;
   const int n = BitLength(static_cast<uint64_t>(previous_residual < 0 ? -previous_residual
                                                                        : previous_residual));
   return n < kClasses - 1 ? n : kClasses - 2;
+}
+
+// The binarisation of a residual (SPEC.md 6.3), for any `flag(bit, prob)` that
+// codes one decision; lower mantissa bits use a fresh, unadapted probability.
+// *too_long is set (and 0 returned) when a decoded length passes any valid one.
+template <class Flag>
+int64_t CodeResidualBins(Flag&& flag, int64_t r, ResidualContexts& c, int cls, bool* too_long) {
+  if (!flag(r != 0, &c.zero[cls])) return 0;
+  const bool negative = flag(r < 0, &c.sign) != 0;
+  const uint64_t m_in = static_cast<uint64_t>(r < 0 ? -r : r);
+  const int n_in = BitLength(m_in);
+  int n = 1;
+  while (flag(n < n_in, &c.length[cls][n - 1 < kMaxLengthBins ? n - 1 : kMaxLengthBins - 1])) {
+    if (++n > 34) {
+      *too_long = true;
+      return 0;
+    }
+  }
+  uint64_t m = 1;
+  for (int i = n - 2; i >= 0; --i) {
+    uint16_t even = kProbInit;
+    m = (m << 1) | flag((m_in >> i) & 1, i == n - 2 ? &c.mantissa[n] : &even);
+  }
+  const int64_t v = static_cast<int64_t>(m);
+  return negative ? -v : v;
 }
 
 // Bone index ranges into the DOF list: dofs of bone b are [first[b], first[b+1]).

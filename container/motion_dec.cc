@@ -10,24 +10,14 @@ namespace {
 class ArithReader {
  public:
   ArithReader(const uint8_t* data, size_t size) : rc_(data, size) {}
+  void Begin(uint16_t*) {}
   uint32_t Flag(uint32_t, uint16_t* p) { return rc_.Decode<kAdaptShift>(p); }
   int64_t Residual(int64_t, ResidualContexts& c, int cls) {
-    if (!Flag(0, &c.zero[cls])) return 0;
-    const bool negative = Flag(0, &c.sign);
-    int n = 1;
-    while (Flag(0, &c.length[cls][n - 1 < kMaxLengthBins ? n - 1 : kMaxLengthBins - 1])) {
-      if (++n > 34 || !rc_.ok()) {  // no valid residual is this long
-        bad_ = true;
-        return 0;
-      }
-    }
-    uint64_t m = 1;
-    for (int i = n - 2; i >= 0; --i) {
-      uint16_t even = kProbInit;
-      m = (m << 1) | Flag(0, i == n - 2 ? &c.mantissa[n] : &even);
-    }
-    const int64_t r = static_cast<int64_t>(m);
-    return negative ? -r : r;
+    bool too_long = false;
+    const int64_t r = CodeResidualBins([this](uint32_t, uint16_t* p) { return Flag(0, p); }, 0, c,
+                                       cls, &too_long);
+    bad_ |= too_long;
+    return r;
   }
   bool ok() const { return rc_.ok() && !bad_; }
 
@@ -39,6 +29,7 @@ class ArithReader {
 class ByteReaderSide {
  public:
   ByteReaderSide(const uint8_t* data, size_t size) : data_(data), size_(size) {}
+  void Begin(uint16_t*) {}
   uint32_t Flag(uint32_t, uint16_t*) {
     if (pos_ >= size_) return Fail();
     const uint8_t b = data_[pos_++];
@@ -79,18 +70,23 @@ Status DecodeMotion(const BoxHeader& box, const uint8_t* payload, const Skeleton
   if (box.version != 0) return Unsupported(at + "version " + std::to_string(box.version));
   if (box.payload_size() < 1) return Corrupt(at + "empty");
   const auto predictor = static_cast<motion::Predictor>(payload[0]);
-  if (predictor != motion::kPreviousValue && predictor != motion::kLinearExtrapolation) {
+  if (predictor > motion::kLinearExtrapolation) {
     return Corrupt(at + "predictor " + std::to_string(payload[0]) + " unknown");
   }
   const uint8_t* data = payload + 1;
   const size_t size = static_cast<size_t>(box.payload_size() - 1);
   const std::vector<uint32_t> coded_indices = CodedFrameIndices(frame_count, p.key_interval);
   const size_t dof_count = skeleton.Dofs().size();
+  if (!p.key_reference.empty() && p.key_reference.size() != dof_count) {
+    return Corrupt(at + "the motion parameters give statistics for " +
+                   std::to_string(p.key_reference.size()) + " DOFs, the skeleton has " +
+                   std::to_string(dof_count));
+  }
   std::vector<QuantisedPose> coded(coded_indices.size(), QuantisedPose(dof_count, 0));
   bool ok;
   if (p.coder == MotionCoder::kArith) {
     motion::ArithReader r(data, size);
-    ok = motion::TraverseMotion(r, skeleton, predictor, &coded);
+    ok = motion::TraverseMotion(r, skeleton, p, predictor, &coded);
   } else {
     // The byte form needs at most one byte per flag and 5 per residual.
     const uint64_t bound =
@@ -105,7 +101,7 @@ Status DecodeMotion(const BoxHeader& box, const uint8_t* payload, const Skeleton
     const size_t n = ZSTD_decompress(raw.data(), raw.size(), data, size);
     if (ZSTD_isError(n) || n != raw.size()) return Corrupt(at + "zstd data does not decode");
     motion::ByteReaderSide r(raw.data(), raw.size());
-    ok = motion::TraverseMotion(r, skeleton, predictor, &coded) && r.fully_read();
+    ok = motion::TraverseMotion(r, skeleton, p, predictor, &coded) && r.fully_read();
   }
   if (!ok) return Corrupt(at + "motion data is truncated or invalid");
   frames->assign(frame_count, DecodedFrame());

@@ -31,6 +31,18 @@ struct MotionParams {
   // each fragment are coded; the frames between are interpolated.
   uint16_t key_interval = 1;
 
+  // Stream statistics an offline encoder measures over the whole motion (empty
+  // when it cannot, e.g. live): they let every fragment start where a long
+  // stream would have adapted to, while each still decodes on its own.
+  // Per DOF (skeleton order): the value key frames are coded against, and the
+  // residual context class of a fragment's first predicted frame.
+  std::vector<int32_t> key_reference;
+  std::vector<uint8_t> first_class;
+  // Initial probabilities of arithmetic-coder contexts: (context index, 15-bit
+  // probability of 0 of the form p8 * 128 + 64, p8 in 1..254), increasing
+  // indices; contexts not listed start at 16384.
+  std::vector<std::pair<uint16_t, uint16_t>> context_init;
+
   double rotation_step_degrees() const { return rotation_step * (360.0 / 4294967296.0); }
 };
 
@@ -71,6 +83,11 @@ StatusOr<std::vector<uint8_t>> EncodeMotion(const Skeleton& skeleton, const Moti
 // Decodes a 'motn' payload into frame_count frames.
 Status DecodeMotion(const BoxHeader& box, const uint8_t* payload, const Skeleton& skeleton,
                     const MotionParams& p, uint32_t frame_count, std::vector<DecodedFrame>* frames);
+
+// Measures the stream statistics above from all poses of a stream (coded as
+// fragments of gop_frames) and stores them in *p.
+void TrainMotionParams(const Skeleton& skeleton, const std::vector<QuantisedPose>& poses,
+                       uint32_t gop_frames, MotionParams* p);
 
 // Bone motions of a coded pose (rotation from the bone's Euler DOFs in its
 // rotation order, translation in micrometres).

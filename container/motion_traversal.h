@@ -16,13 +16,16 @@ namespace motion {
 // decoder sizes them and gets them filled. False when a decoded value leaves
 // the int32 range (a corrupt stream).
 template <class Side>
-bool TraverseMotion(Side& side, const Skeleton& skeleton, Predictor predictor,
-                    std::vector<QuantisedPose>* coded) {
+bool TraverseMotion(Side& side, const Skeleton& skeleton, const MotionParams& params,
+                    Predictor predictor, std::vector<QuantisedPose>* coded) {
   const std::vector<uint32_t> starts = BoneDofStarts(skeleton);
   const size_t bone_count = skeleton.bones.size();
   const size_t dof_count = starts.back();
   const std::vector<DofRef> dofs = skeleton.Dofs();
-  Contexts ctx;
+  static_assert(sizeof(Contexts) == Contexts::kCount * sizeof(uint16_t), "packed contexts");
+  Contexts ctx(params.context_init);
+  side.Begin(ctx.data());
+  const bool has_stats = params.key_reference.size() == dof_count;
   std::vector<uint8_t> prev_bone_changed(bone_count, 1), prev_dof_changed(dof_count, 1);
   std::vector<int64_t> prev_residual(dof_count, 0);
   auto& poses = *coded;
@@ -37,8 +40,9 @@ bool TraverseMotion(Side& side, const Skeleton& skeleton, Predictor predictor,
     if (j == 0) {  // key frame: every DOF, predicted from the rest pose (0)
       for (size_t d = 0; d < dof_count; ++d) {
         const bool translation = !IsRotationDof(dofs[d].kind);
-        const int64_t r = side.Residual(poses[0][d], ctx.residual[translation][0], 0);
-        if (!store(0, d, r)) return false;
+        const int64_t ref = has_stats ? params.key_reference[d] : 0;
+        const int64_t r = side.Residual(poses[0][d] - ref, ctx.residual[translation][0], 0);
+        if (!store(0, d, ref + r)) return false;
       }
       if (!side.ok()) return false;
       continue;
@@ -59,7 +63,8 @@ bool TraverseMotion(Side& side, const Skeleton& skeleton, Predictor predictor,
         int64_t r = 0, v = poses[j - 1][d];
         if (changed) {
           const int64_t pred = Predict(predictor, poses, j, d);
-          const int cls = ResidualClass(j >= 2, prev_residual[d]);
+          const int cls = j >= 2 ? ResidualClass(true, prev_residual[d])
+                          : has_stats ? params.first_class[d] : kClasses - 1;
           r = side.Residual(int64_t{poses[j][d]} - pred, ctx.residual[translation][1], cls);
           v = pred + r;
         }

@@ -147,6 +147,48 @@ TEST(Motion, InterpolationCodesKeyFramesExactlyAndSlerpsBetween) {
   }
 }
 
+TEST(Motion, TrainedStatisticsRoundTripAndSaveBits) {
+  const BodyModel model = MakeSampleBodyModel();
+  const auto dofs = model.skeleton.Dofs();
+  for (MotionCoder coder : {MotionCoder::kArith, MotionCoder::kZstd}) {
+    MotionParams plain;
+    plain.coder = coder;
+    std::vector<QuantisedPose> q;
+    for (const auto& v : Walk(model.skeleton, 0, 64)) q.push_back(QuantisePose(dofs, plain, v));
+    MotionParams trained = plain;
+    TrainMotionParams(model.skeleton, q, 8, &trained);
+    ASSERT_EQ(trained.key_reference.size(), dofs.size());
+    ASSERT_TRUE(ValidateMotionParams(trained).ok());
+    // Through the box and back.
+    const auto box = WriteMotionParamsBox(trained);
+    auto h = ParseBoxHeader(box.data(), box.size(), 0, "test");
+    ASSERT_TRUE(h.ok());
+    MotionParams read;
+    ASSERT_TRUE(ReadMotionParams(*h, box.data() + h->header_size, &read).ok());
+    EXPECT_EQ(read.key_reference, trained.key_reference);
+    EXPECT_EQ(read.context_init, trained.context_init);
+    size_t plain_bytes = 0, trained_bytes = 0;
+    for (size_t f0 = 0; f0 < q.size(); f0 += 8) {
+      const std::vector<QuantisedPose> gop(q.begin() + f0, q.begin() + f0 + 8);
+      auto a = EncodeMotion(model.skeleton, plain, gop);
+      auto b = EncodeMotion(model.skeleton, read, gop);
+      ASSERT_TRUE(a.ok());
+      ASSERT_TRUE(b.ok());
+      plain_bytes += a->size();
+      trained_bytes += b->size();
+      std::vector<DecodedFrame> frames;
+      ASSERT_TRUE(
+          DecodeMotion(PayloadHeader(b->size()), b->data(), model.skeleton, read, 8, &frames).ok());
+      for (size_t f = 0; f < 8; ++f) EXPECT_EQ(frames[f].values, gop[f]);
+      // Decoding with other statistics than the encoder's gives other values, not a crash.
+      (void)DecodeMotion(PayloadHeader(b->size()), b->data(), model.skeleton, plain, 8, &frames);
+    }
+    if (coder == MotionCoder::kArith) {
+      EXPECT_LT(trained_bytes, plain_bytes);
+    }
+  }
+}
+
 TEST(Motion, RejectsBadParams) {
   MotionParams p;
   p.rotation_step = 0;
@@ -157,6 +199,27 @@ TEST(Motion, RejectsBadParams) {
   p = MotionParams();
   p.coder = static_cast<MotionCoder>(9);
   EXPECT_EQ(ValidateMotionParams(p).code(), StatusCode::kUnsupported);
+  p = MotionParams();
+  p.key_reference = {1, 2};
+  p.first_class = {3};  // lengths differ
+  EXPECT_EQ(ValidateMotionParams(p).code(), StatusCode::kCorrupt);
+  p.first_class = {3, 12};  // class out of range
+  EXPECT_EQ(ValidateMotionParams(p).code(), StatusCode::kCorrupt);
+  p.first_class = {3, 4};
+  p.context_init = {{5, 64 + 128}, {5, 64 + 256}};  // indices not increasing
+  EXPECT_EQ(ValidateMotionParams(p).code(), StatusCode::kCorrupt);
+  p.context_init = {{60000, 64 + 128}};  // no such context
+  EXPECT_EQ(ValidateMotionParams(p).code(), StatusCode::kCorrupt);
+  p.context_init = {{5, 64 + 128}};
+  EXPECT_TRUE(ValidateMotionParams(p).ok());
+  // Statistics for another skeleton: refused by the encoder and the decoder.
+  const BodyModel model = MakeSampleBodyModel();
+  std::vector<QuantisedPose> q(2, QuantisedPose(model.skeleton.Dofs().size(), 0));
+  EXPECT_EQ(EncodeMotion(model.skeleton, p, q).status().code(), StatusCode::kInvalidArgument);
+  std::vector<DecodedFrame> frames;
+  const uint8_t payload[4] = {0, 0, 0, 0};
+  EXPECT_EQ(DecodeMotion(PayloadHeader(4), payload, model.skeleton, p, 2, &frames).code(),
+            StatusCode::kCorrupt);
 }
 
 }  // namespace

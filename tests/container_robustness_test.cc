@@ -71,7 +71,7 @@ TEST(Robustness, EverySingleByteChangeEndsDefined) {
       }
     }
   }
-  EXPECT_GT(payload_bytes, s.size() / 4);
+  EXPECT_GT(payload_bytes, s.size() / 6);  // the fragments are a good part of the stream
 }
 
 }  // namespace

@@ -101,6 +101,9 @@ void ExpectSameInfo(const StreamInfo& a, const StreamInfo& b) {
   EXPECT_EQ(a.model.mesh.triangles, b.model.mesh.triangles);
   EXPECT_EQ(a.motion.rotation_step, b.motion.rotation_step);
   EXPECT_EQ(a.motion.key_interval, b.motion.key_interval);
+  EXPECT_EQ(a.motion.key_reference, b.motion.key_reference);
+  EXPECT_EQ(a.motion.first_class, b.motion.first_class);
+  EXPECT_EQ(a.motion.context_init, b.motion.context_init);
   EXPECT_EQ(a.metadata, b.metadata);
 }
 

@@ -221,6 +221,9 @@ StatusOr<SampleStream> MakeSampleStream(const SampleStreamOptions& o,
   for (uint32_t f = 0; f < o.frames; ++f) {
     out.poses.push_back(QuantisePose(skeleton.Dofs(), info.motion, SampleWalkPose(skeleton, f)));
   }
+  // An offline encoder knows the whole motion and sends its statistics up front;
+  // the live-like variant (frame count unknown) goes without.
+  if (o.fast_start) TrainMotionParams(skeleton, out.poses, o.gop_frames, &info.motion);
   const size_t texels = size_t{o.atlas_width} * o.atlas_height;
   out.rgb.resize(size_t{o.frames} * o.cameras * texels * 3);
   out.masks.resize(size_t{o.frames} * o.cameras * texels);
