@@ -104,7 +104,6 @@ int Kodak(const std::string& dir, int images) {
           s.coder = static_cast<EntropyCoder>(c);
           s.rate_value = rates[r];
           s.runner = pool.runner();
-          if (const char* w = std::getenv("FVV_CW")) { double a, b; if (std::sscanf(w, "%lf,%lf", &a, &b) == 2) s.channel_weights = {1.0, a, b}; }
           auto t0 = Clock::now();
           auto enc = EncodeBlock(block, nullptr, s);
           const double e = Secs(t0);

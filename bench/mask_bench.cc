@@ -46,7 +46,8 @@ std::vector<uint8_t> EllipseMasks(const Shape4D& s) {
   for (uint32_t t = 0; t < s.frames(); ++t)
     for (uint32_t c = 0; c < s.cameras(); ++c) {
       const Image img = SampleMask(t, c, s.width(), s.height());
-      for (size_t i = 0; i < img.pixels.size(); ++i) m[s.Index(t, c, 0, 0) + i] = img.pixels[i] != 0;
+      for (size_t i = 0; i < img.pixels.size(); ++i)
+        m[s.Index(t, c, 0, 0) + i] = img.pixels[i] != 0;
     }
   return m;
 }
@@ -69,7 +70,8 @@ std::vector<uint8_t> AtlasVisibilityMasks(const Shape4D& s) {
         const double nz = -n[0] * std::sin(turn) + n[2] * std::cos(turn);
         const double px = p[0] * std::cos(turn) + p[2] * std::sin(turn);
         const double pz = -p[0] * std::sin(turn) + p[2] * std::cos(turn);
-        if (nx * (centre[0] - px) + n[1] * (centre[1] - p[1]) + nz * (centre[2] - pz) <= 0) continue;
+        if (nx * (centre[0] - px) + n[1] * (centre[1] - p[1]) + nz * (centre[2] - pz) <= 0)
+          continue;
         double u[3], v[3];
         for (int k = 0; k < 3; ++k) {
           u[k] = mesh.uvs[tri[k]][0] * s.width();
@@ -149,10 +151,14 @@ int main(int argc, char** argv) {
   std::string dir;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--size" && i + 1 < argc) size = std::atoi(argv[++i]);
-    else if (a == "--dir" && i + 1 < argc) dir = argv[++i];
-    else if (a == "--frames" && i + 1 < argc) frames = std::atoi(argv[++i]);
-    else if (a == "--cameras" && i + 1 < argc) cameras = std::atoi(argv[++i]);
+    if (a == "--size" && i + 1 < argc)
+      size = std::atoi(argv[++i]);
+    else if (a == "--dir" && i + 1 < argc)
+      dir = argv[++i];
+    else if (a == "--frames" && i + 1 < argc)
+      frames = std::atoi(argv[++i]);
+    else if (a == "--cameras" && i + 1 < argc)
+      cameras = std::atoi(argv[++i]);
     else {
       std::printf("usage: %s [--size N] [--dir DIR --frames F --cameras C]\n", argv[0]);
       return a == "-h" || a == "--help" ? 0 : 2;
@@ -160,8 +166,9 @@ int main(int argc, char** argv) {
   }
   Shape4D s;
   s.n = {frames, cameras, size, size};
-  std::printf("masks: one GOP of %u frames x %u cameras; bits per texel, zstd -19 over the whole GOP\n",
-              frames, cameras);
+  std::printf(
+      "masks: one GOP of %u frames x %u cameras; bits per texel, zstd -19 over the whole GOP\n",
+      frames, cameras);
   std::printf("%-22s %6s | %8s %8s %8s | %7s %7s | %7s %7s %7s\n", "input", "used", "fvv",
               "zstd bit", "zstd B", "vs bit", "vs B", "enc ms", "dec ms", "zstd ms");
   if (!dir.empty()) {

@@ -36,9 +36,9 @@ size_t ZstdSize(const void* data, size_t size) {
 }
 
 // Codes the whole sequence as GOP fragments; returns total bytes, or 0 on failure.
-size_t CodeSequence(const Skeleton& sk, const MotionParams& p,
-                    const std::vector<QuantisedPose>& q, double* max_rot_err_deg,
-                    const std::vector<std::vector<double>>& truth, double* ms) {
+size_t CodeSequence(const Skeleton& sk, const MotionParams& p, const std::vector<QuantisedPose>& q,
+                    double* max_rot_err_deg, const std::vector<std::vector<double>>& truth,
+                    double* ms) {
   size_t bytes = 0;
   const auto dofs = sk.Dofs();
   const auto start = std::chrono::steady_clock::now();
@@ -60,7 +60,8 @@ size_t CodeSequence(const Skeleton& sk, const MotionParams& p,
       const auto back = DequantisePose(dofs, p, frames[i].values);
       for (size_t d = 0; d < dofs.size(); ++d) {
         if (IsRotationDof(dofs[d].kind)) {
-          *max_rot_err_deg = std::max(*max_rot_err_deg, std::fabs(back[d] - truth[f0 + i][d]) * 180 / M_PI);
+          *max_rot_err_deg =
+              std::max(*max_rot_err_deg, std::fabs(back[d] - truth[f0 + i][d]) * 180 / M_PI);
         }
       }
     }
@@ -78,13 +79,20 @@ struct BodyJoint {
   int keep;
 };
 const BodyJoint kBody35[] = {
-    {{"Hips", "Hips"}, 6},           {{"LowerBack", "Ab"}, 3},
-    {{"Neck", "Neck"}, 2},           {{"LeftArm", "LeftShoulder"}, 3},
-    {{"LeftForeArm", "LeftElbow"}, 1}, {{"LeftHand", "LeftWrist"}, 2},
-    {{"RightArm", "RightShoulder"}, 3}, {{"RightForeArm", "RightElbow"}, 1},
-    {{"RightHand", "RightWrist"}, 2}, {{"LeftUpLeg", "LeftHip"}, 3},
-    {{"LeftLeg", "LeftKnee"}, 1},    {{"LeftFoot", "LeftAnkle"}, 2},
-    {{"RightUpLeg", "RightHip"}, 3}, {{"RightLeg", "RightKnee"}, 1},
+    {{"Hips", "Hips"}, 6},
+    {{"LowerBack", "Ab"}, 3},
+    {{"Neck", "Neck"}, 2},
+    {{"LeftArm", "LeftShoulder"}, 3},
+    {{"LeftForeArm", "LeftElbow"}, 1},
+    {{"LeftHand", "LeftWrist"}, 2},
+    {{"RightArm", "RightShoulder"}, 3},
+    {{"RightForeArm", "RightElbow"}, 1},
+    {{"RightHand", "RightWrist"}, 2},
+    {{"LeftUpLeg", "LeftHip"}, 3},
+    {{"LeftLeg", "LeftKnee"}, 1},
+    {{"LeftFoot", "LeftAnkle"}, 2},
+    {{"RightUpLeg", "RightHip"}, 3},
+    {{"RightLeg", "RightKnee"}, 1},
     {{"RightFoot", "RightAnkle"}, 2},
 };
 
@@ -127,70 +135,75 @@ bool ToBody35(Skeleton* sk, std::vector<std::vector<double>>* frames) {
 
 bool Report(const std::string& label, const Skeleton& sk,
             const std::vector<std::vector<double>>& frames) {
-    const auto dofs = sk.Dofs();
-    const double seconds = frames.size() / kFps;
-    size_t moving = 0;
-    for (size_t d = 0; d < dofs.size(); ++d) {
-      for (const auto& f : frames) {
-        if (f[d] != frames[0][d]) {
-          ++moving;
-          break;
-        }
+  const auto dofs = sk.Dofs();
+  const double seconds = frames.size() / kFps;
+  size_t moving = 0;
+  for (size_t d = 0; d < dofs.size(); ++d) {
+    for (const auto& f : frames) {
+      if (f[d] != frames[0][d]) {
+        ++moving;
+        break;
       }
     }
-    std::vector<float> raw;
-    for (const auto& f : frames)
-      for (double v : f) raw.push_back(static_cast<float>(v));
-    const double raw_kbps = raw.size() * 32 / seconds / 1000;
-    const double zstd_kbps = ZstdSize(raw.data(), raw.size() * 4) * 8 / seconds / 1000;
-    constexpr int kModes = 5;
-    double kbps[kModes] = {}, err = 0, ms = 0;
-    const struct {
-      MotionCoder coder;
-      uint16_t key_interval;
-      uint32_t rotation_step;
-    } modes[kModes] = {{MotionCoder::kArith, 1, 596523}, {MotionCoder::kZstd, 1, 596523},
-                       {MotionCoder::kArith, 1, 1193046}, {MotionCoder::kArith, 2, 596523},
-                       {MotionCoder::kArith, 4, 596523}};
-    for (int m = 0; m < kModes; ++m) {
-      MotionParams p;
-      p.coder = modes[m].coder;
-      p.key_interval = modes[m].key_interval;
-      p.rotation_step = modes[m].rotation_step;
-      std::vector<QuantisedPose> q;
-      for (const auto& f : frames) q.push_back(QuantisePose(dofs, p, f));
-      if (std::getenv("FVV_NO_TRAIN") == nullptr) TrainMotionParams(sk, q, kGopFrames, &p);
-      double e = 0, t = 0;
-      // The 'mtrk' box (with its statistics) is sent once; count it in.
-      const size_t bytes = CodeSequence(sk, p, q, &e, frames, &t) + WriteMotionParamsBox(p).size();
-      if (bytes == 0) {
-        std::fprintf(stderr, "motion_bench: %s: round trip failed\n", label.c_str());
-        return false;
-      }
-      kbps[m] = bytes * 8 / seconds / 1000;
-      if (m == 0 && std::getenv("FVV_VERBOSE")) {
-        std::fprintf(stderr, "%s: mtrk box %zu bytes, %zu context initialisers\n", label.c_str(),
-                     WriteMotionParamsBox(p).size(), p.context_init.size());
-      }
-      if (m == 0) {
-        err = e;
-        ms = t / seconds;
-      }
+  }
+  std::vector<float> raw;
+  for (const auto& f : frames)
+    for (double v : f) raw.push_back(static_cast<float>(v));
+  const double raw_kbps = raw.size() * 32 / seconds / 1000;
+  const double zstd_kbps = ZstdSize(raw.data(), raw.size() * 4) * 8 / seconds / 1000;
+  constexpr int kModes = 5;
+  double kbps[kModes] = {}, err = 0, ms = 0;
+  const struct {
+    MotionCoder coder;
+    uint16_t key_interval;
+    uint32_t rotation_step;
+  } modes[kModes] = {{MotionCoder::kArith, 1, 596523},
+                     {MotionCoder::kZstd, 1, 596523},
+                     {MotionCoder::kArith, 1, 1193046},
+                     {MotionCoder::kArith, 2, 596523},
+                     {MotionCoder::kArith, 4, 596523}};
+  for (int m = 0; m < kModes; ++m) {
+    MotionParams p;
+    p.coder = modes[m].coder;
+    p.key_interval = modes[m].key_interval;
+    p.rotation_step = modes[m].rotation_step;
+    std::vector<QuantisedPose> q;
+    for (const auto& f : frames) q.push_back(QuantisePose(dofs, p, f));
+    if (std::getenv("FVV_NO_TRAIN") == nullptr) TrainMotionParams(sk, q, kGopFrames, &p);
+    double e = 0, t = 0;
+    // The 'mtrk' box (with its statistics) is sent once; count it in.
+    const size_t bytes = CodeSequence(sk, p, q, &e, frames, &t) + WriteMotionParamsBox(p).size();
+    if (bytes == 0) {
+      std::fprintf(stderr, "motion_bench: %s: round trip failed\n", label.c_str());
+      return false;
     }
-    std::printf("%-22s %6zu %5zu %6zu | %8.1f %8.2f | %8.2f %8.2f %8.2f %8.2f %8.2f | %7.4f %6.2f\n",
-                label.c_str(), frames.size(), dofs.size(), moving, raw_kbps, zstd_kbps, kbps[0],
-                kbps[1], kbps[2], kbps[3], kbps[4], err, ms);
-    return true;
+    kbps[m] = bytes * 8 / seconds / 1000;
+    if (m == 0 && std::getenv("FVV_VERBOSE")) {
+      std::fprintf(stderr, "%s: mtrk box %zu bytes, %zu context initialisers\n", label.c_str(),
+                   WriteMotionParamsBox(p).size(), p.context_init.size());
+    }
+    if (m == 0) {
+      err = e;
+      ms = t / seconds;
+    }
+  }
+  std::printf("%-22s %6zu %5zu %6zu | %8.1f %8.2f | %8.2f %8.2f %8.2f %8.2f %8.2f | %7.4f %6.2f\n",
+              label.c_str(), frames.size(), dofs.size(), moving, raw_kbps, zstd_kbps, kbps[0],
+              kbps[1], kbps[2], kbps[3], kbps[4], err, ms);
+  return true;
 }
 
 int Run(std::vector<Input> inputs) {
   if (inputs.empty()) {
     const std::string dir = "/usr/share/assimp/models/BVH/";
-    inputs = {{dir + "01_01.bvh", 0.0254 / 0.45}, {dir + "01_03.bvh", 0.0254 / 0.45},
+    inputs = {{dir + "01_01.bvh", 0.0254 / 0.45},
+              {dir + "01_03.bvh", 0.0254 / 0.45},
               {dir + "Boxing_Toes.bvh", 0.01}};
   }
-  std::printf("motion track at %.0f fps, GOP %u frames (a key frame each), default steps "
-              "0.05 deg / 0.5 mm\n", kFps, kGopFrames);
+  std::printf(
+      "motion track at %.0f fps, GOP %u frames (a key frame each), default steps "
+      "0.05 deg / 0.5 mm\n",
+      kFps, kGopFrames);
   std::printf("%-22s %6s %5s %6s | %8s %8s | %8s %8s %8s %8s %8s | %7s %6s\n", "motion", "frames",
               "DOF", "moving", "raw f32", "zstd f32", "arith", "zstd", "arith", "arith k2",
               "arith k4", "max err", "codec");

@@ -22,7 +22,8 @@ Status DecodeMasks(const uint8_t* data, size_t size, const Shape4D& shape, uint8
   mask::TraverseMasks(
       r, shape, [](uint32_t, uint32_t, mask::PaddedPlane*) {},
       [&](uint32_t t, uint32_t c, const mask::PaddedPlane& plane) {
-        for (uint32_t y = 0; y < h; ++y) std::memcpy(out + shape.Index(t, c, y, 0), plane.Row(y), w);
+        for (uint32_t y = 0; y < h; ++y)
+          std::memcpy(out + shape.Index(t, c, y, 0), plane.Row(y), w);
       });
   if (!r.rc_.ok()) {
     return Truncated("mask data: " + std::to_string(size) + " bytes end before the last of " +

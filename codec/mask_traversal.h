@@ -55,16 +55,15 @@ void CodeMask(Side& side, Contexts& ctx, uint32_t h, uint32_t w, const PaddedPla
     // two decisions (without a reference, only the second test is made).
     if (ref) {
       const uint8_t* source = ref->Row(y);
-      const uint32_t same = side.Flag(std::memcmp(row, source, w) == 0,
-                                      &ctx.row_copy[prev_copied]);
+      const uint32_t same = side.Flag(std::memcmp(row, source, w) == 0, &ctx.row_copy[prev_copied]);
       prev_copied = same;
       if (same) {
         std::memcpy(row, source, w);
         continue;
       }
     }
-    const uint32_t repeat = side.Flag(std::memcmp(row, above, w) == 0,
-                                      &ctx.row_above[has_ref][prev_above]);
+    const uint32_t repeat =
+        side.Flag(std::memcmp(row, above, w) == 0, &ctx.row_above[has_ref][prev_above]);
     prev_above = repeat;
     if (repeat) {
       std::memcpy(row, above, w);

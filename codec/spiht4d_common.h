@@ -100,12 +100,12 @@ constexpr int kLevelClasses = 5;
 constexpr int kNeighbourBins = 3;
 constexpr int kSigLip = 0;                                           // [class][nbr]
 constexpr int kSigChild = kSigLip + kLevelClasses * kNeighbourBins;  // [sib][class][nbr]
-constexpr int kSiblingBins = 3;                                       // significant siblings so far
+constexpr int kSiblingBins = 3;                                      // significant siblings so far
 constexpr int kSetA = kSigChild + kLevelClasses * kNeighbourBins * kSiblingBins;  // [class]
-constexpr int kSetB = kSetA + kLevelClasses;                         // [class]
+constexpr int kSetB = kSetA + kLevelClasses;                                      // [class]
 constexpr int kSignStates = 9;  // (left, up) neighbour: insignificant, positive, negative
-constexpr int kSign = kSetB + kLevelClasses;                         // [class][left][up]
-constexpr int kRefine = kSign + kLevelClasses * kSignStates;         // [first?]
+constexpr int kSign = kSetB + kLevelClasses;                  // [class][left][up]
+constexpr int kRefine = kSign + kLevelClasses * kSignStates;  // [first?]
 constexpr int kCount = kRefine + 2;
 }  // namespace ctx
 

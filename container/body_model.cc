@@ -9,12 +9,18 @@ namespace fvv {
 
 std::array<int, 3> RotationOrderAxes(RotationOrder order) {
   switch (order) {
-    case RotationOrder::kXYZ: return {0, 1, 2};
-    case RotationOrder::kXZY: return {0, 2, 1};
-    case RotationOrder::kYXZ: return {1, 0, 2};
-    case RotationOrder::kYZX: return {1, 2, 0};
-    case RotationOrder::kZXY: return {2, 0, 1};
-    case RotationOrder::kZYX: break;
+    case RotationOrder::kXYZ:
+      return {0, 1, 2};
+    case RotationOrder::kXZY:
+      return {0, 2, 1};
+    case RotationOrder::kYXZ:
+      return {1, 0, 2};
+    case RotationOrder::kYZX:
+      return {1, 2, 0};
+    case RotationOrder::kZXY:
+      return {2, 0, 1};
+    case RotationOrder::kZYX:
+      break;
   }
   return {2, 1, 0};
 }
@@ -166,8 +172,8 @@ Status ParseRawModel(const uint8_t* data, size_t size, const LevelLimits& limits
                          std::to_string(limits.max_triangles) + ")");
   }
   // Exact size of what follows: checked before any array is allocated.
-  const uint64_t need = uint64_t{vertex_count} * (12 + 12 + 8 + 8 + 8 + 1) +
-                        uint64_t{triangle_count} * 12;
+  const uint64_t need =
+      uint64_t{vertex_count} * (12 + 12 + 8 + 8 + 8 + 1) + uint64_t{triangle_count} * 12;
   if (need != r.remaining()) {
     return Corrupt(at + "mesh arrays need " + std::to_string(need) + " bytes, model data has " +
                    std::to_string(r.remaining()));
@@ -230,8 +236,8 @@ Status ValidateBodyModel(const BodyModel& model, const LevelLimits* limits) {
   }
   const Mesh& m = model.mesh;
   const size_t n = m.positions.size();
-  if (m.normals.size() != n || m.uvs.size() != n || m.joints.size() != n ||
-      m.weights.size() != n || m.segments.size() != n) {
+  if (m.normals.size() != n || m.uvs.size() != n || m.joints.size() != n || m.weights.size() != n ||
+      m.segments.size() != n) {
     return InvalidArgument("body model: per-vertex arrays differ in length");
   }
   if (limits && (n > limits->max_vertices || m.triangles.size() > limits->max_triangles)) {

@@ -36,8 +36,8 @@ inline bool IsRotationDof(int kind) { return kind < 3; }
 
 struct Bone {
   std::string name;
-  int32_t parent = -1;  // index of an earlier bone; -1 for a root
-  std::array<float, 3> rest_translation{};       // from the parent joint, metres
+  int32_t parent = -1;                             // index of an earlier bone; -1 for a root
+  std::array<float, 3> rest_translation{};         // from the parent joint, metres
   std::array<float, 4> rest_rotation{1, 0, 0, 0};  // unit quaternion w, x, y, z
   RotationOrder order = RotationOrder::kZYX;
   uint8_t dof_mask = 0;

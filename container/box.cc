@@ -18,8 +18,8 @@ std::string BoxContext(const BoxHeader& h) {
 StatusOr<BoxHeader> ParseBoxHeader(const uint8_t* data, size_t available, uint64_t offset,
                                    const char* where) {
   const std::string at = std::string(where) + ", offset " + std::to_string(offset) + ": ";
-  if (available < 8) return Truncated(at + "box header needs 8 bytes, " +
-                                      std::to_string(available) + " left");
+  if (available < 8)
+    return Truncated(at + "box header needs 8 bytes, " + std::to_string(available) + " left");
   ByteReader r(data, available);
   BoxHeader h;
   h.offset = offset;

@@ -31,8 +31,8 @@ std::vector<uint8_t> WriteCamerasBox(const std::vector<Camera>& cameras) {
 namespace {
 
 Status CheckCamera(const Camera& c, size_t index, const BoxHeader& box) {
-  const std::string at = BoxContext(box) + "camera " + std::to_string(index) + " ('" + c.name +
-                         "'): ";
+  const std::string at =
+      BoxContext(box) + "camera " + std::to_string(index) + " ('" + c.name + "'): ";
   if (c.width == 0 || c.height == 0 || c.width > 65535 || c.height > 65535) {
     return Corrupt(at + "image size " + std::to_string(c.width) + "x" + std::to_string(c.height) +
                    " outside 1..65535");
@@ -55,7 +55,8 @@ Status CheckCamera(const Camera& c, size_t index, const BoxHeader& box) {
   }
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j) {
-      const double d = R[3 * i] * R[3 * j] + R[3 * i + 1] * R[3 * j + 1] + R[3 * i + 2] * R[3 * j + 2];
+      const double d =
+          R[3 * i] * R[3 * j] + R[3 * i + 1] * R[3 * j + 1] + R[3 * i + 2] * R[3 * j + 2];
       if (std::fabs(d - (i == j ? 1.0 : 0.0)) > 1e-3) {
         return Corrupt(at + "rotation matrix is not orthonormal");
       }

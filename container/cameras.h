@@ -16,7 +16,7 @@ struct Camera {
   std::string name;
   uint32_t width = 0, height = 0;  // image size in pixels
   double fx = 0, fy = 0, cx = 0, cy = 0;
-  std::array<double, 5> distortion{};  // k1 k2 p1 p2 k3 (OpenCV order)
+  std::array<double, 5> distortion{};                         // k1 k2 p1 p2 k3 (OpenCV order)
   std::array<double, 9> rotation{1, 0, 0, 0, 1, 0, 0, 0, 1};  // R, row-major, world -> camera
   std::array<double, 3> translation{};                        // t in metres: x_cam = R x + t
 

@@ -6,18 +6,30 @@ namespace fvv {
 
 const char* CodingToolName(uint32_t tool_bit) {
   switch (tool_bit) {
-    case kToolHaar: return "haar";
-    case kToolLeGall53: return "53";
-    case kToolCdf97: return "97";
-    case kToolSpihtBinary: return "spiht-binary";
-    case kToolSpihtArith: return "spiht-arith";
-    case kToolChroma420: return "chroma-420";
-    case kToolReversibleColour: return "rct";
-    case kToolMasks: return "masks";
-    case kToolVertexVisibility: return "vertex-visibility";
-    case kToolMotionInterpolation: return "motion-interpolation";
-    case kToolMotionZstd: return "motion-zstd";
-    default: return "unknown";
+    case kToolHaar:
+      return "haar";
+    case kToolLeGall53:
+      return "53";
+    case kToolCdf97:
+      return "97";
+    case kToolSpihtBinary:
+      return "spiht-binary";
+    case kToolSpihtArith:
+      return "spiht-arith";
+    case kToolChroma420:
+      return "chroma-420";
+    case kToolReversibleColour:
+      return "rct";
+    case kToolMasks:
+      return "masks";
+    case kToolVertexVisibility:
+      return "vertex-visibility";
+    case kToolMotionInterpolation:
+      return "motion-interpolation";
+    case kToolMotionZstd:
+      return "motion-zstd";
+    default:
+      return "unknown";
   }
 }
 
@@ -26,8 +38,8 @@ const std::vector<LevelLimits>& AllLevels() {
   // codec's 2^30 and fragments within what a player buffers comfortably.
   static const std::vector<LevelLimits> levels = {
       {1, 512, 8, 8, 8, 512ull * 512 * 64, 512ull * 512 * 8 * 30, 8ull << 20, 64, 65536, 131072},
-      {2, 1024, 16, 16, 16, 1024ull * 1024 * 64, 1024ull * 1024 * 16 * 30, 32ull << 20, 128,
-       262144, 524288},
+      {2, 1024, 16, 16, 16, 1024ull * 1024 * 64, 1024ull * 1024 * 16 * 30, 32ull << 20, 128, 262144,
+       524288},
       {3, 2048, 32, 16, 32, 2048ull * 2048 * 64, 2048ull * 2048 * 32 * 30, 128ull << 20, 256,
        1048576, 2097152},
       {4, 4096, 64, 32, 64, 4096ull * 4096 * 64, 4096ull * 4096 * 64 * 60, 512ull << 20, 256,
@@ -43,9 +55,7 @@ const LevelLimits* FindLevel(uint8_t level) {
   return nullptr;
 }
 
-uint32_t ProfileTools(Profile profile) {
-  return profile == Profile::kMain ? kAllKnownTools : 0;
-}
+uint32_t ProfileTools(Profile profile) { return profile == Profile::kMain ? kAllKnownTools : 0; }
 
 const LevelLimits& LimitsOf(const FileHeader& h) { return *FindLevel(h.level); }
 
@@ -95,8 +105,8 @@ Status ValidateFileHeader(const FileHeader& h) {
   const std::string lv = " (level " + std::to_string(h.level) + " allows ";
   if (h.atlas_width > lim->max_atlas_side || h.atlas_height > lim->max_atlas_side) {
     return LimitExceeded(at + "atlas " + std::to_string(h.atlas_width) + "x" +
-                         std::to_string(h.atlas_height) + lv +
-                         std::to_string(lim->max_atlas_side) + ")");
+                         std::to_string(h.atlas_height) + lv + std::to_string(lim->max_atlas_side) +
+                         ")");
   }
   if (h.camera_count > lim->max_cameras) {
     return LimitExceeded(at + std::to_string(h.camera_count) + " cameras" + lv +
@@ -104,9 +114,8 @@ Status ValidateFileHeader(const FileHeader& h) {
   }
   if (h.gop_frames > lim->max_gop_frames || h.gop_cameras > lim->max_gop_cameras) {
     return LimitExceeded(at + "GOP " + std::to_string(h.gop_frames) + "x" +
-                         std::to_string(h.gop_cameras) + lv +
-                         std::to_string(lim->max_gop_frames) + "x" +
-                         std::to_string(lim->max_gop_cameras) + ")");
+                         std::to_string(h.gop_cameras) + lv + std::to_string(lim->max_gop_frames) +
+                         "x" + std::to_string(lim->max_gop_cameras) + ")");
   }
   const uint64_t texels = uint64_t{h.atlas_width} * h.atlas_height;
   if (texels * h.gop_frames * h.gop_cameras > lim->max_gop_samples) {

@@ -116,7 +116,8 @@ Status FileReader::LoadIndex() {
       return Corrupt("file header: index_offset points at box '" + FourCCString(h.type) +
                      "', not 'indx'");
     }
-    if (h.size > MaxTopLevelBoxSize(info_, h.type)) return LimitExceeded(BoxContext(h) + "too large");
+    if (h.size > MaxTopLevelBoxSize(info_, h.type))
+      return LimitExceeded(BoxContext(h) + "too large");
     std::vector<uint8_t> payload(static_cast<size_t>(h.payload_size()));
     FVV_RETURN_IF_ERROR(source_->Read(h.offset + h.header_size, payload.size(), payload.data()));
     FVV_RETURN_IF_ERROR(ApplyTopLevelBox(h, payload.data(), &info_));
@@ -126,9 +127,8 @@ Status FileReader::LoadIndex() {
     for (size_t i = 0; i < info_.index.size(); ++i) {
       const IndexEntry& e = info_.index[i];
       if (e.offset < first_fragment_offset_ || e.offset > size || e.size > size - e.offset) {
-        return Corrupt("index entry " + std::to_string(i) + " (offset " +
-                       std::to_string(e.offset) + ", size " + std::to_string(e.size) +
-                       ") lies outside the file's fragments");
+        return Corrupt("index entry " + std::to_string(i) + " (offset " + std::to_string(e.offset) +
+                       ", size " + std::to_string(e.size) + ") lies outside the file's fragments");
       }
     }
     return Status::Ok();
@@ -177,9 +177,9 @@ StatusOr<FragmentData> FileReader::ReadFragment(size_t i) {
   const IndexEntry& e = info_.index[i];
   FVV_ASSIGN_OR_RETURN(const BoxHeader h, ReadBoxHeaderAt(e.offset));
   if (h.type != box::kFragment || h.size != e.size) {
-    return Corrupt("index entry " + std::to_string(i) + " points at box '" +
-                   FourCCString(h.type) + "' of " + std::to_string(h.size) +
-                   " bytes, not a fragment of " + std::to_string(e.size));
+    return Corrupt("index entry " + std::to_string(i) + " points at box '" + FourCCString(h.type) +
+                   "' of " + std::to_string(h.size) + " bytes, not a fragment of " +
+                   std::to_string(e.size));
   }
   if (h.size > MaxTopLevelBoxSize(info_, h.type)) {
     return LimitExceeded(BoxContext(h) + "fragment larger than the level allows");
@@ -191,7 +191,8 @@ StatusOr<FragmentData> FileReader::ReadFragment(size_t i) {
   if (f.info.gop_index != i || f.info.first_frame != e.first_frame ||
       f.info.frame_count != e.frame_count || f.info.first_camera != e.first_camera ||
       f.info.camera_count != e.camera_count) {
-    return Corrupt("index entry " + std::to_string(i) + " disagrees with the fragment it points at");
+    return Corrupt("index entry " + std::to_string(i) +
+                   " disagrees with the fragment it points at");
   }
   return f;
 }

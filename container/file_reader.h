@@ -42,7 +42,8 @@ class FileSource : public ByteSource {
   Status Read(uint64_t offset, size_t n, uint8_t* out) override;
 
  private:
-  FileSource(FILE* f, uint64_t size, std::string path) : f_(f), size_(size), path_(std::move(path)) {}
+  FileSource(FILE* f, uint64_t size, std::string path)
+      : f_(f), size_(size), path_(std::move(path)) {}
   FILE* f_;
   uint64_t size_;
   std::string path_;
@@ -66,7 +67,8 @@ class FileReader {
   StatusOr<std::vector<BoxHeader>> ListTopLevelBoxes() const;
 
  private:
-  FileReader(ByteSource* source, FragmentReadOptions options) : source_(source), options_(options) {}
+  FileReader(ByteSource* source, FragmentReadOptions options)
+      : source_(source), options_(options) {}
   Status ReadHeaderBoxes();
   Status LoadIndex();
   StatusOr<BoxHeader> ReadBoxHeaderAt(uint64_t offset) const;

@@ -45,10 +45,22 @@ void SinCosTurns(uint32_t angle, int32_t* sine, int32_t* cosine) {
   y = Asr(y + (int64_t{1} << (kGuardBits - 1)), kGuardBits);
   int64_t s, c;
   switch (quadrant) {
-    case 0: s = y; c = x; break;
-    case 1: s = x; c = -y; break;
-    case 2: s = -y; c = -x; break;
-    default: s = -x; c = y; break;
+    case 0:
+      s = y;
+      c = x;
+      break;
+    case 1:
+      s = x;
+      c = -y;
+      break;
+    case 2:
+      s = -y;
+      c = -x;
+      break;
+    default:
+      s = -x;
+      c = y;
+      break;
   }
   *sine = static_cast<int32_t>(s);
   *cosine = static_cast<int32_t>(c);
@@ -151,8 +163,8 @@ QuatQ30 QuatSlerp(const QuatQ30& a, const QuatQ30& b_in, uint32_t num, uint32_t 
     }
     return QuatNormalize(r);
   }
-  const int64_t sin_theta = static_cast<int64_t>(
-      Isqrt(static_cast<uint64_t>(kQ30One * kQ30One - dot * dot)));
+  const int64_t sin_theta =
+      static_cast<int64_t>(Isqrt(static_cast<uint64_t>(kQ30One * kQ30One - dot * dot)));
   const int64_t theta = Atan2Turns(sin_theta, dot);
   int32_t w0, w1, unused;
   SinCosTurns(static_cast<uint32_t>(theta * (den - num) / den), &w0, &unused);

@@ -10,9 +10,12 @@ constexpr uint8_t kMaskModeContextCoded = 1;
 
 uint32_t ToolOfKernel(WaveletKernel k) {
   switch (k) {
-    case WaveletKernel::kHaar: return kToolHaar;
-    case WaveletKernel::kLeGall53: return kToolLeGall53;
-    case WaveletKernel::kCdf97: break;
+    case WaveletKernel::kHaar:
+      return kToolHaar;
+    case WaveletKernel::kLeGall53:
+      return kToolLeGall53;
+    case WaveletKernel::kCdf97:
+      break;
   }
   return kToolCdf97;
 }
@@ -27,11 +30,13 @@ StatusOr<FragmentInfo> FragmentInfoFor(const FileHeader& h, uint32_t gop_index) 
   f.first_frame = static_cast<uint32_t>(span * h.gop_frames);
   f.first_camera = static_cast<uint16_t>((gop_index % groups) * h.gop_cameras);
   if (h.frame_count != 0 && f.first_frame >= h.frame_count) {
-    return InvalidArgument("fragment " + std::to_string(gop_index) + " starts after the last frame");
+    return InvalidArgument("fragment " + std::to_string(gop_index) +
+                           " starts after the last frame");
   }
   const uint32_t frames_left = h.frame_count != 0 ? h.frame_count - f.first_frame : h.gop_frames;
   f.frame_count = static_cast<uint16_t>(std::min<uint32_t>(h.gop_frames, frames_left));
-  f.camera_count = static_cast<uint16_t>(std::min<uint32_t>(h.gop_cameras, h.camera_count - f.first_camera));
+  f.camera_count =
+      static_cast<uint16_t>(std::min<uint32_t>(h.gop_cameras, h.camera_count - f.first_camera));
   return f;
 }
 
@@ -99,12 +104,11 @@ Status ReadFragmentHeader(const BoxHeader& b, const uint8_t* payload, const File
       info->frame_count == 0 || info->frame_count > h.gop_frames || info->camera_count == 0 ||
       info->camera_count > h.gop_cameras ||
       uint32_t{info->first_camera} + info->camera_count > h.camera_count ||
-      (h.frame_count != 0 &&
-       uint64_t{info->first_frame} + info->frame_count > h.frame_count)) {
+      (h.frame_count != 0 && uint64_t{info->first_frame} + info->frame_count > h.frame_count)) {
     return Corrupt(at + "frames " + std::to_string(info->first_frame) + "+" +
                    std::to_string(info->frame_count) + ", cameras " +
-                   std::to_string(info->first_camera) + "+" +
-                   std::to_string(info->camera_count) + " do not fit the header's GOP grid");
+                   std::to_string(info->first_camera) + "+" + std::to_string(info->camera_count) +
+                   " do not fit the header's GOP grid");
   }
   if (expected_index != info->gop_index) {
     return Corrupt(at + "GOP index " + std::to_string(info->gop_index) + " should be " +
@@ -137,8 +141,9 @@ Status ReadTexture(const BoxHeader& b, const uint8_t* payload, const FileHeader&
   static const char* const kNames[3] = {"Y", "U", "V"};
   for (int c = 0; c < 3; ++c) {
     s = ReadChannelStream(&r, kNames[c], &texture->channels[c]);
-    if (!s.ok()) return Status(s.code() == StatusCode::kTruncated ? StatusCode::kCorrupt : s.code(),
-                               at + s.message());
+    if (!s.ok())
+      return Status(s.code() == StatusCode::kTruncated ? StatusCode::kCorrupt : s.code(),
+                    at + s.message());
   }
   return CheckFullyRead(r, b);
 }

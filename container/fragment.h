@@ -33,9 +33,9 @@ struct FragmentInfo {
 // them (decoding the payloads is the decoder's job).
 struct FragmentData {
   FragmentInfo info;
-  std::vector<uint8_t> motion;  // 'motn' payload; empty = absent
-  EncodedBlock texture;          // params.shape follows info and the header
-  std::vector<uint8_t> masks;    // coded masks (codec/mask_coder.h); empty = absent
+  std::vector<uint8_t> motion;             // 'motn' payload; empty = absent
+  EncodedBlock texture;                    // params.shape follows info and the header
+  std::vector<uint8_t> masks;              // coded masks (codec/mask_coder.h); empty = absent
   std::vector<uint8_t> vertex_visibility;  // coded; empty = absent
   uint32_t checksum = 0;                   // filled by the reader
 };

@@ -1,7 +1,7 @@
+#include "container/motion_common.h"
+
 #include <cmath>
 #include <string>
-
-#include "container/motion_common.h"
 
 namespace fvv {
 
@@ -47,8 +47,7 @@ Status ValidateMotionParams(const MotionParams& p) {
   for (size_t i = 0; i < p.context_init.size(); ++i) {
     const auto& ci = p.context_init[i];
     if (ci.first >= motion::kContextCount || ci.second < 128 || ci.second >= (255u << 7) ||
-        (ci.second & 127) != 64 ||
-        (i > 0 && ci.first <= p.context_init[i - 1].first)) {
+        (ci.second & 127) != 64 || (i > 0 && ci.first <= p.context_init[i - 1].first)) {
       return Corrupt("motion params: context initialisation entry " + std::to_string(i) +
                      " is invalid");
     }
@@ -57,14 +56,16 @@ Status ValidateMotionParams(const MotionParams& p) {
 }
 
 Status ReadMotionParams(const BoxHeader& box, const uint8_t* payload, MotionParams* p) {
-  if (box.version != 0) return Unsupported(BoxContext(box) + "version " + std::to_string(box.version));
+  if (box.version != 0)
+    return Unsupported(BoxContext(box) + "version " + std::to_string(box.version));
   ByteReader r(payload, box.payload_size());
   p->rotation_step = r.U32();
   p->translation_step_um = r.U32();
   p->coder = static_cast<MotionCoder>(r.U8());
   p->key_interval = r.U16();
   const uint32_t dofs = r.U16();
-  if (uint64_t{dofs} * 5 > r.remaining()) return Corrupt(BoxContext(box) + "too short for its DOF statistics");
+  if (uint64_t{dofs} * 5 > r.remaining())
+    return Corrupt(BoxContext(box) + "too short for its DOF statistics");
   p->key_reference.resize(dofs);
   for (int32_t& v : p->key_reference) v = r.I32();
   p->first_class.resize(dofs);

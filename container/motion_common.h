@@ -16,7 +16,7 @@ namespace motion {
 // Motion streams are short (a few hundred decisions per fragment), so their
 // probabilities adapt faster than SPIHT's.
 constexpr int kAdaptShift = 4;
-constexpr int kClasses = 12;      // residual magnitude classes of the previous frame; 11 = none
+constexpr int kClasses = 12;  // residual magnitude classes of the previous frame; 11 = none
 constexpr int kMaxLengthBins = 32;
 
 enum Predictor : uint8_t { kPreviousValue = 0, kLinearExtrapolation = 1 };
@@ -64,8 +64,8 @@ constexpr size_t kContextCount = Contexts::kCount;
 
 inline int ResidualClass(bool has_previous, int64_t previous_residual) {
   if (!has_previous) return kClasses - 1;
-  const int n = BitLength(static_cast<uint64_t>(previous_residual < 0 ? -previous_residual
-                                                                       : previous_residual));
+  const int n = BitLength(
+      static_cast<uint64_t>(previous_residual < 0 ? -previous_residual : previous_residual));
   return n < kClasses - 1 ? n : kClasses - 2;
 }
 

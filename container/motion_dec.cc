@@ -65,7 +65,8 @@ class ByteReaderSide {
 }  // namespace motion
 
 Status DecodeMotion(const BoxHeader& box, const uint8_t* payload, const Skeleton& skeleton,
-                    const MotionParams& p, uint32_t frame_count, std::vector<DecodedFrame>* frames) {
+                    const MotionParams& p, uint32_t frame_count,
+                    std::vector<DecodedFrame>* frames) {
   const std::string at = BoxContext(box);
   if (box.version != 0) return Unsupported(at + "version " + std::to_string(box.version));
   if (box.payload_size() < 1) return Corrupt(at + "empty");
@@ -89,13 +90,12 @@ Status DecodeMotion(const BoxHeader& box, const uint8_t* payload, const Skeleton
     ok = motion::TraverseMotion(r, skeleton, p, predictor, &coded);
   } else {
     // The byte form needs at most one byte per flag and 5 per residual.
-    const uint64_t bound =
-        uint64_t{coded.size()} * (skeleton.bones.size() + dof_count * 6) + 16;
+    const uint64_t bound = uint64_t{coded.size()} * (skeleton.bones.size() + dof_count * 6) + 16;
     const unsigned long long content = ZSTD_getFrameContentSize(data, size);
     if (content == ZSTD_CONTENTSIZE_ERROR || content == ZSTD_CONTENTSIZE_UNKNOWN ||
         content > bound) {
-      return Corrupt(at + "zstd frame size missing or beyond what " +
-                     std::to_string(frame_count) + " frames can need");
+      return Corrupt(at + "zstd frame size missing or beyond what " + std::to_string(frame_count) +
+                     " frames can need");
     }
     std::vector<uint8_t> raw(static_cast<size_t>(content));
     const size_t n = ZSTD_decompress(raw.data(), raw.size(), data, size);

@@ -18,8 +18,8 @@ class ArithWriter {
   }
   int64_t Residual(int64_t r, ResidualContexts& c, int cls) {
     bool unused;
-    return CodeResidualBins([this](uint32_t bit, uint16_t* p) { return Flag(bit, p); }, r, c,
-                            cls, &unused);
+    return CodeResidualBins([this](uint32_t bit, uint16_t* p) { return Flag(bit, p); }, r, c, cls,
+                            &unused);
   }
   bool ok() const { return true; }
   std::vector<uint8_t> Finish() { return rc_.Finish(); }
@@ -40,8 +40,8 @@ class CountingSide {
   }
   int64_t Residual(int64_t r, ResidualContexts& c, int cls) {
     bool unused;
-    return CodeResidualBins([this](uint32_t bit, uint16_t* p) { return Flag(bit, p); }, r, c,
-                            cls, &unused);
+    return CodeResidualBins([this](uint32_t bit, uint16_t* p) { return Flag(bit, p); }, r, c, cls,
+                            &unused);
   }
   bool ok() const { return true; }
 
@@ -89,7 +89,7 @@ std::vector<uint8_t> CodeWith(const MotionParams& params, const Skeleton& skelet
 }  // namespace motion
 
 StatusOr<std::vector<uint8_t>> EncodeMotion(const Skeleton& skeleton, const MotionParams& p,
-                                               const std::vector<QuantisedPose>& poses) {
+                                            const std::vector<QuantisedPose>& poses) {
   FVV_RETURN_IF_ERROR(ValidateMotionParams(p));
   if (poses.empty()) return InvalidArgument("motion: a fragment needs at least one frame");
   const size_t dof_count = skeleton.Dofs().size();
@@ -171,7 +171,8 @@ void TrainMotionParams(const Skeleton& skeleton, const std::vector<QuantisedPose
     // Stored as p8 in 1..254, probability p8 * 128 + 64 (SPEC.md 3.4).
     const uint64_t p8 = ((n0 * 2 + 1) << (kProbBits - 7)) / (2 * n + 2);
     const uint64_t clamped = std::min<uint64_t>(std::max<uint64_t>(p8, 1), 254);
-    p->context_init.push_back({static_cast<uint16_t>(i), static_cast<uint16_t>(clamped * 128 + 64)});
+    p->context_init.push_back(
+        {static_cast<uint16_t>(i), static_cast<uint16_t>(clamped * 128 + 64)});
   }
 }
 

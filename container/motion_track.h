@@ -68,8 +68,8 @@ struct BoneMotion {
 };
 
 struct DecodedFrame {
-  bool coded = false;     // false: interpolated
-  QuantisedPose values;   // the DOF values (coded frames; empty when interpolated)
+  bool coded = false;    // false: interpolated
+  QuantisedPose values;  // the DOF values (coded frames; empty when interpolated)
   std::vector<BoneMotion> bones;
 };
 
@@ -79,7 +79,7 @@ std::vector<uint32_t> CodedFrameIndices(uint32_t frame_count, uint16_t key_inter
 // Encodes the poses of one fragment's frames (poses.size() frames; only the
 // coded ones are used). Returns the 'motn' payload.
 StatusOr<std::vector<uint8_t>> EncodeMotion(const Skeleton& skeleton, const MotionParams& p,
-                                               const std::vector<QuantisedPose>& poses);
+                                            const std::vector<QuantisedPose>& poses);
 // Decodes a 'motn' payload into frame_count frames.
 Status DecodeMotion(const BoxHeader& box, const uint8_t* payload, const Skeleton& skeleton,
                     const MotionParams& p, uint32_t frame_count, std::vector<DecodedFrame>* frames);

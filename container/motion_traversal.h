@@ -57,14 +57,16 @@ bool TraverseMotion(Side& side, const Skeleton& skeleton, const MotionParams& pa
         const bool translation = !IsRotationDof(dofs[d].kind);
         uint32_t changed = 0;
         if (bone_changed) {
-          changed = side.Flag(poses[j][d] != poses[j - 1][d], &ctx.dof_changed[prev_dof_changed[d]]);
+          changed =
+              side.Flag(poses[j][d] != poses[j - 1][d], &ctx.dof_changed[prev_dof_changed[d]]);
         }
         prev_dof_changed[d] = static_cast<uint8_t>(changed);
         int64_t r = 0, v = poses[j - 1][d];
         if (changed) {
           const int64_t pred = Predict(predictor, poses, j, d);
-          const int cls = j >= 2 ? ResidualClass(true, prev_residual[d])
-                          : has_stats ? params.first_class[d] : kClasses - 1;
+          const int cls = j >= 2      ? ResidualClass(true, prev_residual[d])
+                          : has_stats ? params.first_class[d]
+                                      : kClasses - 1;
           r = side.Residual(int64_t{poses[j][d]} - pred, ctx.residual[translation][1], cls);
           v = pred + r;
         }

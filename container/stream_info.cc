@@ -17,7 +17,8 @@ uint64_t MaxTopLevelBoxSize(const StreamInfo& info, FourCC type) {
            kIndexEntryBytes * uint64_t{0xFFFFFFFFu / info.header.gop_frames + 1} *
                info.header.camera_groups();
   }
-  if (type == box::kCameras) return kMaxBoxHeaderSize + 2 + uint64_t{lim.max_cameras} * (65535 + 200);
+  if (type == box::kCameras)
+    return kMaxBoxHeaderSize + 2 + uint64_t{lim.max_cameras} * (65535 + 200);
   return 1u << 20;  // metadata, motion parameters, and boxes a reader skips unread
 }
 
@@ -64,8 +65,10 @@ Status ApplyTopLevelBox(const BoxHeader& b, const uint8_t* payload, StreamInfo* 
 }
 
 Status CheckReadyForFragments(const StreamInfo& info, uint64_t offset) {
-  const char* missing = !info.has_cameras ? "cams" : !info.has_model ? "modl"
-                        : !info.has_motion ? "mtrk" : nullptr;
+  const char* missing = !info.has_cameras  ? "cams"
+                        : !info.has_model  ? "modl"
+                        : !info.has_motion ? "mtrk"
+                                           : nullptr;
   if (missing) {
     return Corrupt("fragment at offset " + std::to_string(offset) + " comes before the '" +
                    missing + "' box");

@@ -4,15 +4,24 @@ namespace fvv {
 
 const char* ReaderEventName(ReaderEvent e) {
   switch (e) {
-    case ReaderEvent::kNeedMoreInput: return "need-more-input";
-    case ReaderEvent::kHeader: return "header";
-    case ReaderEvent::kCameras: return "cameras";
-    case ReaderEvent::kModel: return "model";
-    case ReaderEvent::kMotionParams: return "motion-params";
-    case ReaderEvent::kMetadata: return "metadata";
-    case ReaderEvent::kIndex: return "index";
-    case ReaderEvent::kFragment: return "fragment";
-    case ReaderEvent::kEnd: break;
+    case ReaderEvent::kNeedMoreInput:
+      return "need-more-input";
+    case ReaderEvent::kHeader:
+      return "header";
+    case ReaderEvent::kCameras:
+      return "cameras";
+    case ReaderEvent::kModel:
+      return "model";
+    case ReaderEvent::kMotionParams:
+      return "motion-params";
+    case ReaderEvent::kMetadata:
+      return "metadata";
+    case ReaderEvent::kIndex:
+      return "index";
+    case ReaderEvent::kFragment:
+      return "fragment";
+    case ReaderEvent::kEnd:
+      break;
   }
   return "end";
 }
@@ -41,8 +50,8 @@ Status StreamReader::CheckFragmentAgainstIndex(uint64_t offset, uint64_t size) {
   if (!info_.has_index) return Status::Ok();
   const size_t i = seen_.size() - 1;
   if (i >= info_.index.size() || info_.index[i].offset != offset || info_.index[i].size != size) {
-    return Corrupt("index entry " + std::to_string(i) + " does not point at the fragment at offset " +
-                   std::to_string(offset));
+    return Corrupt("index entry " + std::to_string(i) +
+                   " does not point at the fragment at offset " + std::to_string(offset));
   }
   return Status::Ok();
 }
@@ -93,8 +102,7 @@ StatusOr<ReaderEvent> StreamReader::Next() {
   }
   const bool known = b.type == box::kFileHeader || b.type == box::kCameras ||
                      b.type == box::kModel || b.type == box::kMotionParams ||
-                     b.type == box::kMetadata || b.type == box::kIndex ||
-                     b.type == box::kFragment;
+                     b.type == box::kMetadata || b.type == box::kIndex || b.type == box::kFragment;
   if (!known && info_.has_header) {
     if (b.essential()) {
       return Fail(Unsupported(BoxContext(b) + "essential box type unknown to this decoder"));
@@ -108,9 +116,8 @@ StatusOr<ReaderEvent> StreamReader::Next() {
   }
   const uint64_t cap = MaxTopLevelBoxSize(info_, b.type);
   if (b.size > cap) {
-    return Fail(LimitExceeded(BoxContext(b) + "size " + std::to_string(b.size) +
-                              " exceeds the " + std::to_string(cap) +
-                              " bytes this level allows for it"));
+    return Fail(LimitExceeded(BoxContext(b) + "size " + std::to_string(b.size) + " exceeds the " +
+                              std::to_string(cap) + " bytes this level allows for it"));
   }
   if (available < b.size) {
     if (finished_) {
@@ -148,12 +155,12 @@ StatusOr<ReaderEvent> StreamReader::Next() {
     }
     Status s = ApplyTopLevelBox(b, payload, &info_);
     if (!s.ok()) return Fail(s);
-    event = b.type == box::kFileHeader      ? ReaderEvent::kHeader
-            : b.type == box::kCameras       ? ReaderEvent::kCameras
-            : b.type == box::kModel         ? ReaderEvent::kModel
-            : b.type == box::kMotionParams  ? ReaderEvent::kMotionParams
-            : b.type == box::kMetadata      ? ReaderEvent::kMetadata
-                                            : ReaderEvent::kIndex;
+    event = b.type == box::kFileHeader     ? ReaderEvent::kHeader
+            : b.type == box::kCameras      ? ReaderEvent::kCameras
+            : b.type == box::kModel        ? ReaderEvent::kModel
+            : b.type == box::kMotionParams ? ReaderEvent::kMotionParams
+            : b.type == box::kMetadata     ? ReaderEvent::kMetadata
+                                           : ReaderEvent::kIndex;
   }
   start_ += static_cast<size_t>(b.size);
   offset_ += b.size;

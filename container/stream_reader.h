@@ -26,14 +26,14 @@ namespace fvv {
 
 enum class ReaderEvent {
   kNeedMoreInput,
-  kHeader,        // info().header is ready
+  kHeader,  // info().header is ready
   kCameras,
   kModel,
   kMotionParams,
   kMetadata,
   kIndex,
-  kFragment,      // fragment() holds the fragment just read
-  kEnd,           // after Finish(): the stream was complete
+  kFragment,  // fragment() holds the fragment just read
+  kEnd,       // after Finish(): the stream was complete
 };
 const char* ReaderEventName(ReaderEvent e);
 

@@ -48,7 +48,9 @@ StatusOr<std::unique_ptr<StreamWriter>> StreamWriter::Create(const StreamInfo& i
 
 Status StreamWriter::WriteHeaderBoxes() {
   std::vector<uint8_t> out = WriteFileHeaderBox(info_.header);
-  const auto append = [&out](const std::vector<uint8_t>& b) { out.insert(out.end(), b.begin(), b.end()); };
+  const auto append = [&out](const std::vector<uint8_t>& b) {
+    out.insert(out.end(), b.begin(), b.end());
+  };
   append(WriteCamerasBox(info_.cameras));
   append(WriteModelBox(info_.model));
   append(WriteMotionParamsBox(info_.motion));

@@ -31,8 +31,8 @@ std::vector<uint8_t> Prefixed(std::vector<uint8_t> prefix, const std::vector<uin
 }
 
 int Run(const std::string& dir) {
-  for (const char* t : {"", "/fuzz_decode", "/fuzz_stream_reader", "/fuzz_motion", "/fuzz_mask",
-                        "/fuzz_block"}) {
+  for (const char* t :
+       {"", "/fuzz_decode", "/fuzz_stream_reader", "/fuzz_motion", "/fuzz_mask", "/fuzz_block"}) {
     mkdir((dir + t).c_str(), 0755);
   }
   int n = 0;
@@ -50,35 +50,34 @@ int Run(const std::string& dir) {
   };
   const Variant variants[] = {
       {"default", [](SampleStreamOptions*) {}},
-      {"haar_binary", [](SampleStreamOptions* o) {
+      {"haar_binary",
+       [](SampleStreamOptions* o) {
          o->kernel = WaveletKernel::kHaar;
          o->coder = EntropyCoder::kBinary;
        }},
-      {"lossless_53", [](SampleStreamOptions* o) {
+      {"lossless_53",
+       [](SampleStreamOptions* o) {
          o->kernel = WaveletKernel::kLeGall53;
          o->lossless = true;
        }},
-      {"chroma420_nomask", [](SampleStreamOptions* o) {
+      {"chroma420_nomask",
+       [](SampleStreamOptions* o) {
          o->chroma = ChromaFormat::k420;
          o->masks = false;
        }},
-      {"motion_zstd_interp", [](SampleStreamOptions* o) {
+      {"motion_zstd_interp",
+       [](SampleStreamOptions* o) {
          o->motion_coder = MotionCoder::kZstd;
          o->key_interval = 2;
        }},
-      {"end_index_vvis", [](SampleStreamOptions* o) {
+      {"end_index_vvis",
+       [](SampleStreamOptions* o) {
          o->fast_start = false;
          o->vertex_visibility = true;
        }},
   };
   for (const Variant& v : variants) {
-    SampleStreamOptions o;
-    o.frames = 3;
-    o.cameras = 2;
-    o.atlas_width = 8;
-    o.atlas_height = 8;
-    o.gop_frames = 2;
-    o.gop_cameras = 2;
+    SampleStreamOptions o = TinySampleOptions();
     v.apply(&o);
     auto stream = MakeSampleStream(o);
     if (!stream.ok()) {

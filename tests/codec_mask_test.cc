@@ -31,7 +31,8 @@ TEST(MaskCoder, RoundTripsExactly) {
   for (const Shape4D& s : {MakeShape(8, 3, 33, 47), MakeShape(1, 1, 1, 1), MakeShape(2, 1, 1, 9),
                            MakeShape(3, 2, 17, 1), MakeShape(4, 2, 64, 64)}) {
     for (int kind = 0; kind < 3; ++kind) {
-      std::vector<uint8_t> m = kind == 0 ? MovingDiscs(s) : std::vector<uint8_t>(s.count(), kind == 2);
+      std::vector<uint8_t> m =
+          kind == 0 ? MovingDiscs(s) : std::vector<uint8_t>(s.count(), kind == 2);
       if (kind == 2) {
         for (auto& v : m) v = rng() & 1;
       }

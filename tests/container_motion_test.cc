@@ -42,9 +42,9 @@ TEST_P(MotionRoundTrip, ErrorWithinHalfAStepAtDefaultSteps) {
     auto payload = EncodeMotion(model.skeleton, p, q);
     ASSERT_TRUE(payload.ok()) << payload.status().ToString();
     std::vector<DecodedFrame> frames;
-    ASSERT_TRUE(DecodeMotion(PayloadHeader(payload->size()), payload->data(), model.skeleton, p, 8,
-                             &frames)
-                    .ok());
+    ASSERT_TRUE(
+        DecodeMotion(PayloadHeader(payload->size()), payload->data(), model.skeleton, p, 8, &frames)
+            .ok());
     ASSERT_EQ(frames.size(), 8u);
     for (size_t f = 0; f < 8; ++f) {
       ASSERT_TRUE(frames[f].coded);
@@ -71,16 +71,18 @@ TEST_P(MotionRoundTrip, StaticDofsAndJumpsRoundTrip) {
   for (size_t f = 0; f < 8; ++f) {
     for (size_t d = 0; d < n; ++d) {
       // Mix of constant DOFs, smooth ramps, extreme values and random jumps.
-      q[f][d] = d % 4 == 0 ? 17 : d % 4 == 1 ? int32_t(f * 1000) - 3000
-              : d % 4 == 2 ? (f % 2 ? INT32_MAX : INT32_MIN) : int32_t(rng());
+      q[f][d] = d % 4 == 0   ? 17
+                : d % 4 == 1 ? int32_t(f * 1000) - 3000
+                : d % 4 == 2 ? (f % 2 ? INT32_MAX : INT32_MIN)
+                             : int32_t(rng());
     }
   }
   auto payload = EncodeMotion(model.skeleton, p, q);
   ASSERT_TRUE(payload.ok());
   std::vector<DecodedFrame> frames;
-  ASSERT_TRUE(DecodeMotion(PayloadHeader(payload->size()), payload->data(), model.skeleton, p, 8,
-                           &frames)
-                  .ok());
+  ASSERT_TRUE(
+      DecodeMotion(PayloadHeader(payload->size()), payload->data(), model.skeleton, p, 8, &frames)
+          .ok());
   for (size_t f = 0; f < 8; ++f) EXPECT_EQ(frames[f].values, q[f]) << "frame " << f;
 }
 
@@ -89,13 +91,15 @@ TEST_P(MotionRoundTrip, EveryPrefixAndByteFlipEndsDefined) {
   MotionParams p;
   p.coder = GetParam();
   std::vector<QuantisedPose> q;
-  for (const auto& v : Walk(model.skeleton, 3, 8)) q.push_back(QuantisePose(model.skeleton.Dofs(), p, v));
+  for (const auto& v : Walk(model.skeleton, 3, 8))
+    q.push_back(QuantisePose(model.skeleton.Dofs(), p, v));
   auto payload = EncodeMotion(model.skeleton, p, q);
   ASSERT_TRUE(payload.ok());
   std::vector<DecodedFrame> frames;
   int failures = 0;
   for (size_t n = 0; n < payload->size(); ++n) {
-    failures += !DecodeMotion(PayloadHeader(n), payload->data(), model.skeleton, p, 8, &frames).ok();
+    failures +=
+        !DecodeMotion(PayloadHeader(n), payload->data(), model.skeleton, p, 8, &frames).ok();
   }
   EXPECT_GT(failures, 0);  // a cut stream must be noticed at least most of the time
   for (size_t i = 0; i < payload->size(); ++i) {
@@ -131,7 +135,8 @@ TEST(Motion, InterpolationCodesKeyFramesExactlyAndSlerpsBetween) {
       // Angle between decoded and true rotation: exact on key frames, within a
       // few degrees between them (the knees swing ~25 degrees per frame pair).
       int64_t dot = 0;
-      for (int k = 0; k < 4; ++k) dot += int64_t(truth[b].rotation.c[k]) * frames[f].bones[b].rotation.c[k];
+      for (int k = 0; k < 4; ++k)
+        dot += int64_t(truth[b].rotation.c[k]) * frames[f].bones[b].rotation.c[k];
       const double cosine = std::min(1.0, std::fabs(dot / double(kQ30One) / double(kQ30One)));
       const double degrees = 2 * std::acos(cosine) * 180 / M_PI;
       if (is_coded) {
@@ -140,8 +145,8 @@ TEST(Motion, InterpolationCodesKeyFramesExactlyAndSlerpsBetween) {
         EXPECT_LT(degrees, 6.0) << "bone " << b << " frame " << f;
       }
       for (int a = 0; a < 3; ++a) {
-        EXPECT_NEAR(double(frames[f].bones[b].translation_um[a]), double(truth[b].translation_um[a]),
-                    is_coded ? 0 : 30000);
+        EXPECT_NEAR(double(frames[f].bones[b].translation_um[a]),
+                    double(truth[b].translation_um[a]), is_coded ? 0 : 30000);
       }
     }
   }

@@ -11,13 +11,7 @@ namespace fvv {
 namespace {
 
 std::vector<uint8_t> TinyStream(bool fast_start) {
-  SampleStreamOptions o;
-  o.frames = 3;
-  o.cameras = 2;
-  o.atlas_width = 8;
-  o.atlas_height = 8;
-  o.gop_frames = 2;
-  o.gop_cameras = 2;
+  SampleStreamOptions o = TinySampleOptions();
   o.vertex_visibility = true;
   o.key_interval = 2;
   o.fast_start = fast_start;

@@ -22,8 +22,8 @@ TEST(FixedRotation, SinCosMatchesLibmToQ30Precision) {
     int32_t s, c;
     SinCosTurns(a, &s, &c);
     const double rad = a / kTurn * 2 * M_PI;
-    worst = std::max({worst, std::fabs(ToDouble(s) - std::sin(rad)),
-                      std::fabs(ToDouble(c) - std::cos(rad))});
+    worst = std::max(
+        {worst, std::fabs(ToDouble(s) - std::sin(rad)), std::fabs(ToDouble(c) - std::cos(rad))});
   }
   EXPECT_LT(worst, 1.2e-8);  // ~13 Q30 units: 7e-7 degree, far below any quantisation step
 }
@@ -92,7 +92,8 @@ std::array<double, 4> SlerpRef(std::array<double, 4> a, std::array<double, 4> b,
   const double th = std::acos(std::min(1.0, dot));
   std::array<double, 4> r;
   for (int k = 0; k < 4; ++k) {
-    r[k] = th < 1e-9 ? a[k] : (std::sin((1 - s) * th) * a[k] + std::sin(s * th) * b[k]) / std::sin(th);
+    r[k] =
+        th < 1e-9 ? a[k] : (std::sin((1 - s) * th) * a[k] + std::sin(s * th) * b[k]) / std::sin(th);
   }
   return r;
 }

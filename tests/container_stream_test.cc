@@ -174,7 +174,8 @@ TEST_P(StreamRoundTrip, EveryBoxSurvivesBothReaders) {
         continue;
       }
       events.push_back(*e);
-      if (*e == ReaderEvent::kFragment) ExpectSameFragment(sr.fragment(), sample->fragments[fragments++]);
+      if (*e == ReaderEvent::kFragment)
+        ExpectSameFragment(sr.fragment(), sample->fragments[fragments++]);
     }
     EXPECT_EQ(fragments, sample->fragments.size());
     ASSERT_GE(events.size(), 5u);
@@ -211,7 +212,9 @@ TEST(Stream, DecodedPayloadsMatchTheSource) {
         for (size_t k = 0; k < texels; ++k)
           ASSERT_EQ(masks[(size_t{t} * shape.cameras() + c) * texels + k],
                     sample->masks[(size_t{f->info.first_frame + t} * info.header.camera_count +
-                                   f->info.first_camera + c) * texels + k]);
+                                   f->info.first_camera + c) *
+                                      texels +
+                                  k]);
     if (f->info.first_camera == 0) {
       std::vector<DecodedFrame> frames;
       ASSERT_TRUE(DecodeMotion(MotionBoxHeader(*f), f->motion.data(), info.model.skeleton,
@@ -315,7 +318,8 @@ TEST(Stream, BadStreamsGiveTheirPinnedStatus) {
   // Not an fvv stream at all.
   EXPECT_EQ(DecodeCode(std::vector<uint8_t>(64, 0x41)), StatusCode::kCorrupt);
   // Truncation anywhere past the header: Truncated.
-  EXPECT_EQ(DecodeCode(std::vector<uint8_t>(good->begin(), good->end() - 1)), StatusCode::kTruncated);
+  EXPECT_EQ(DecodeCode(std::vector<uint8_t>(good->begin(), good->end() - 1)),
+            StatusCode::kTruncated);
   EXPECT_EQ(DecodeCode(std::vector<uint8_t>(good->begin(), good->begin() + after_header + 5)),
             StatusCode::kTruncated);
   // A box size that runs past its parent / is below the header size.

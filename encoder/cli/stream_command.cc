@@ -52,24 +52,33 @@ int RunInfo(const InfoArgs& a) {
   nlohmann::json j;
   j["file"] = a.input;
   j["size"] = (*source)->size();
-  j["header"] = {{"format_version", h.format_version}, {"profile", int(h.profile)},
-                 {"level", h.level}, {"tools", ToolList(h.tools)},
-                 {"frame_rate", std::to_string(h.frame_rate_num) + "/" +
-                                    std::to_string(h.frame_rate_den)},
-                 {"frames", h.frame_count}, {"cameras", h.camera_count},
-                 {"atlas", {h.atlas_width, h.atlas_height}},
-                 {"gop", {h.gop_frames, h.gop_cameras}}, {"index_offset", h.index_offset},
-                 {"index", reader.fast_start() ? "front" : reader.index_in_stream() ? "end" : "none (scanned)"}};
+  j["header"] = {
+      {"format_version", h.format_version},
+      {"profile", int(h.profile)},
+      {"level", h.level},
+      {"tools", ToolList(h.tools)},
+      {"frame_rate", std::to_string(h.frame_rate_num) + "/" + std::to_string(h.frame_rate_den)},
+      {"frames", h.frame_count},
+      {"cameras", h.camera_count},
+      {"atlas", {h.atlas_width, h.atlas_height}},
+      {"gop", {h.gop_frames, h.gop_cameras}},
+      {"index_offset", h.index_offset},
+      {"index", reader.fast_start()        ? "front"
+                : reader.index_in_stream() ? "end"
+                                           : "none (scanned)"}};
   for (const BoxHeader& b : *boxes) {
     j["boxes"].push_back({{"type", FourCCString(b.type)}, {"offset", b.offset}, {"size", b.size}});
   }
   for (const Camera& c : info.cameras) {
     const auto centre = c.Centre();
-    j["cameras"].push_back({{"name", c.name}, {"image", {c.width, c.height}},
-                            {"focal", {c.fx, c.fy}}, {"centre", centre}});
+    j["cameras"].push_back({{"name", c.name},
+                            {"image", {c.width, c.height}},
+                            {"focal", {c.fx, c.fy}},
+                            {"centre", centre}});
   }
   const Skeleton& sk = info.model.skeleton;
-  j["model"] = {{"bones", sk.bones.size()}, {"dofs", sk.Dofs().size()},
+  j["model"] = {{"bones", sk.bones.size()},
+                {"dofs", sk.Dofs().size()},
                 {"vertices", info.model.mesh.positions.size()},
                 {"triangles", info.model.mesh.triangles.size()}};
   j["motion"] = {{"rotation_step_degrees", info.motion.rotation_step_degrees()},
@@ -81,8 +90,10 @@ int RunInfo(const InfoArgs& a) {
   uint64_t texture = 0, motion = 0, masks = 0, visibility = 0, damaged = 0;
   for (size_t i = 0; i < reader.fragment_count(); ++i) {
     const IndexEntry& e = info.index[i];
-    nlohmann::json g = {{"gop", i}, {"frames", {e.first_frame, e.frame_count}},
-                        {"cameras", {e.first_camera, e.camera_count}}, {"offset", e.offset},
+    nlohmann::json g = {{"gop", i},
+                        {"frames", {e.first_frame, e.frame_count}},
+                        {"cameras", {e.first_camera, e.camera_count}},
+                        {"offset", e.offset},
                         {"size", e.size}};
     auto f = reader.ReadFragment(i);
     if (!f.ok()) {
@@ -96,7 +107,9 @@ int RunInfo(const InfoArgs& a) {
         tex += s.data.size();
         nlohmann::json points = nlohmann::json::array();
         for (const TruncationPoint& p : s.points) points.push_back(p.bytes);
-        g["texture"][c == 0 ? "Y" : c == 1 ? "U" : "V"] = {
+        g["texture"][c == 0   ? "Y"
+                     : c == 1 ? "U"
+                              : "V"] = {
             {"bytes", s.data.size()}, {"bitplanes", s.planes}, {"truncation_points", points}};
       }
       g["motion_bytes"] = f->motion.size();
@@ -110,8 +123,10 @@ int RunInfo(const InfoArgs& a) {
   }
   const double seconds = h.fps() > 0 ? h.frame_count / h.fps() : 0;
   auto kbps = [seconds](uint64_t bytes) { return seconds > 0 ? bytes * 8 / seconds / 1000 : 0.0; };
-  j["bitrate_kbps"] = {{"texture", kbps(texture)}, {"motion", kbps(motion)},
-                       {"masks", kbps(masks)}, {"vertex_visibility", kbps(visibility)},
+  j["bitrate_kbps"] = {{"texture", kbps(texture)},
+                       {"motion", kbps(motion)},
+                       {"masks", kbps(masks)},
+                       {"vertex_visibility", kbps(visibility)},
                        {"total", kbps((*source)->size())}};
   j["damaged_fragments"] = damaged;
 
@@ -122,27 +137,28 @@ int RunInfo(const InfoArgs& a) {
   std::printf("%s: fvv stream, format version %u, profile %d, level %u, %llu bytes\n",
               a.input.c_str(), h.format_version, int(h.profile), h.level,
               static_cast<unsigned long long>((*source)->size()));
-  std::printf("  %u frames at %.3f fps (%.2f s), %u cameras, atlas %ux%u, GOP %u frames x %u cameras\n",
-              h.frame_count, h.fps(), seconds, h.camera_count, h.atlas_width, h.atlas_height,
-              h.gop_frames, h.gop_cameras);
+  std::printf(
+      "  %u frames at %.3f fps (%.2f s), %u cameras, atlas %ux%u, GOP %u frames x %u cameras\n",
+      h.frame_count, h.fps(), seconds, h.camera_count, h.atlas_width, h.atlas_height, h.gop_frames,
+      h.gop_cameras);
   std::printf("  tools: %s\n", ToolList(h.tools).c_str());
   std::printf("  model: %zu bones, %zu DOF, %zu vertices, %zu triangles\n", sk.bones.size(),
-              sk.Dofs().size(), info.model.mesh.positions.size(),
-              info.model.mesh.triangles.size());
+              sk.Dofs().size(), info.model.mesh.positions.size(), info.model.mesh.triangles.size());
   std::printf("  motion: steps %.4f deg / %.3f mm, %s coder, key interval %u\n",
               info.motion.rotation_step_degrees(), info.motion.translation_step_um / 1000.0,
               info.motion.coder == MotionCoder::kArith ? "arith" : "zstd",
               info.motion.key_interval);
-  for (const auto& kv : info.metadata) std::printf("  %s: %s\n", kv.first.c_str(), kv.second.c_str());
+  for (const auto& kv : info.metadata)
+    std::printf("  %s: %s\n", kv.first.c_str(), kv.second.c_str());
   std::printf("  boxes:");
   for (const BoxHeader& b : *boxes) {
     std::printf(" %s@%llu(%llu)", FourCCString(b.type).c_str(),
                 static_cast<unsigned long long>(b.offset), static_cast<unsigned long long>(b.size));
   }
   std::printf("\n  index: %s\n", j["header"]["index"].get<std::string>().c_str());
-  std::printf("  bitrate kbps: texture %.1f, motion %.2f, masks %.1f, vertex visibility %.1f, total %.1f\n",
-              kbps(texture), kbps(motion), kbps(masks), kbps(visibility),
-              kbps((*source)->size()));
+  std::printf(
+      "  bitrate kbps: texture %.1f, motion %.2f, masks %.1f, vertex visibility %.1f, total %.1f\n",
+      kbps(texture), kbps(motion), kbps(masks), kbps(visibility), kbps((*source)->size()));
   std::printf("  %-5s %-9s %-7s %9s %9s %7s %7s  %s\n", "gop", "frames", "cameras", "offset",
               "bytes", "motion", "masks", "Y/U/V bytes (bitplanes, truncation points)");
   for (const auto& g : j["gops"]) {
@@ -181,7 +197,8 @@ struct SampleArgs {
 
 int RunSample(SampleArgs a) {
   a.o.kernel = a.kernel == "haar" ? WaveletKernel::kHaar
-               : a.kernel == "53" ? WaveletKernel::kLeGall53 : WaveletKernel::kCdf97;
+               : a.kernel == "53" ? WaveletKernel::kLeGall53
+                                  : WaveletKernel::kCdf97;
   a.o.coder = a.coder == "binary" ? EntropyCoder::kBinary : EntropyCoder::kArith;
   a.o.chroma = a.chroma == "420" ? ChromaFormat::k420 : ChromaFormat::k444;
   a.o.motion_coder = a.motion_coder == "zstd" ? MotionCoder::kZstd : MotionCoder::kArith;
@@ -204,11 +221,11 @@ int RunSample(SampleArgs a) {
   }
   Status s = (*writer)->Close();
   if (!s.ok()) return Fail(s);
-  std::printf("wrote %s: %u frames x %u cameras, atlas %ux%u, %zu fragments, %llu bytes in %.2f s\n",
-              a.output.c_str(), a.o.frames, a.o.cameras, a.o.atlas_width, a.o.atlas_height,
-              sample->fragments.size(),
-              static_cast<unsigned long long>((*writer)->bytes_written()),
-              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  std::printf(
+      "wrote %s: %u frames x %u cameras, atlas %ux%u, %zu fragments, %llu bytes in %.2f s\n",
+      a.output.c_str(), a.o.frames, a.o.cameras, a.o.atlas_width, a.o.atlas_height,
+      sample->fragments.size(), static_cast<unsigned long long>((*writer)->bytes_written()),
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   return 0;
 }
 
@@ -217,8 +234,9 @@ int RunSample(SampleArgs a) {
 void AddStreamCommands(CLI::App* app, int* exit_code) {
   auto info = std::make_shared<InfoArgs>();
   CLI::App* i = app->add_subcommand(
-      "info", "Show a .fvv stream's structure, bitrates per track, per-GOP sizes and truncation "
-              "points, and checksum status (exit status 1 on a bad file)");
+      "info",
+      "Show a .fvv stream's structure, bitrates per track, per-GOP sizes and truncation "
+      "points, and checksum status (exit status 1 on a bad file)");
   i->add_option("file", info->input, ".fvv stream")->required()->check(CLI::ExistingFile);
   i->add_flag("--json", info->json, "Machine-readable output");
   i->add_flag("--no-checksum", info->no_checksum, "Do not verify fragment checksums");
@@ -226,33 +244,52 @@ void AddStreamCommands(CLI::App* app, int* exit_code) {
 
   auto smp = std::make_shared<SampleArgs>();
   CLI::App* s = app->add_subcommand(
-      "sample", "Write a synthetic .fvv stream (stick-figure model, procedural walk, test-pattern "
-                "atlas textures and masks) for trying the tools and testing decoders");
+      "sample",
+      "Write a synthetic .fvv stream (stick-figure model, procedural walk, test-pattern "
+      "atlas textures and masks) for trying the tools and testing decoders");
   s->add_option("-o,--output", smp->output, "Output .fvv file")->required();
-  s->add_option("--frames", smp->o.frames, "Frames")->capture_default_str()->check(CLI::Range(1, 100000));
-  s->add_option("--cameras", smp->o.cameras, "Cameras")->capture_default_str()->check(CLI::Range(1, 64));
-  s->add_option("--atlas", smp->atlas, "Atlas width and height")->expected(2)->capture_default_str()
+  s->add_option("--frames", smp->o.frames, "Frames")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100000));
+  s->add_option("--cameras", smp->o.cameras, "Cameras")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
+  s->add_option("--atlas", smp->atlas, "Atlas width and height")
+      ->expected(2)
+      ->capture_default_str()
       ->check(CLI::Range(1, 4096));
-  s->add_option("--gop", smp->gop, "GOP frames and cameras")->expected(2)->capture_default_str()
+  s->add_option("--gop", smp->gop, "GOP frames and cameras")
+      ->expected(2)
+      ->capture_default_str()
       ->check(CLI::Range(1, 64));
   s->add_option("--kernel", smp->kernel, "Wavelet kernel")
-      ->check(CLI::IsMember({"haar", "53", "97"}))->capture_default_str();
+      ->check(CLI::IsMember({"haar", "53", "97"}))
+      ->capture_default_str();
   s->add_option("--coder", smp->coder, "SPIHT decision coding")
-      ->check(CLI::IsMember({"binary", "arith"}))->capture_default_str();
+      ->check(CLI::IsMember({"binary", "arith"}))
+      ->capture_default_str();
   s->add_option("--chroma", smp->chroma, "Chroma resolution")
-      ->check(CLI::IsMember({"444", "420"}))->capture_default_str();
-  s->add_option("--bpp", smp->o.bpp, "Texture bits per texel")->capture_default_str()
+      ->check(CLI::IsMember({"444", "420"}))
+      ->capture_default_str();
+  s->add_option("--bpp", smp->o.bpp, "Texture bits per texel")
+      ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  s->add_flag("--lossless", smp->o.lossless, "Lossless textures (reversible colour; 5/3 unless --kernel haar)");
+  s->add_flag("--lossless", smp->o.lossless,
+              "Lossless textures (reversible colour; 5/3 unless --kernel haar)");
   s->add_flag("--no-masks", smp->no_masks, "Leave out the shape masks");
   s->add_flag("--vertex-visibility", smp->o.vertex_visibility, "Add per-vertex visibility");
   s->add_option("--motion-coder", smp->motion_coder, "Motion entropy coder")
-      ->check(CLI::IsMember({"arith", "zstd"}))->capture_default_str();
+      ->check(CLI::IsMember({"arith", "zstd"}))
+      ->capture_default_str();
   s->add_option("--key-interval", smp->o.key_interval,
                 "Code every Nth frame's pose and interpolate between (1 = all)")
-      ->capture_default_str()->check(CLI::Range(1, 256));
-  s->add_flag("--end-index", smp->end_index, "Index at the end (frame count not declared up front)");
-  s->add_option("--level", smp->o.level, "Level (1-4)")->capture_default_str()->check(CLI::Range(1, 4));
+      ->capture_default_str()
+      ->check(CLI::Range(1, 256));
+  s->add_flag("--end-index", smp->end_index,
+              "Index at the end (frame count not declared up front)");
+  s->add_option("--level", smp->o.level, "Level (1-4)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 4));
   s->add_option("--threads", smp->threads, "Worker threads (0 = all cores)")->capture_default_str();
   s->callback([smp, exit_code] { *exit_code = RunSample(*smp); });
 }

@@ -143,10 +143,12 @@ StatusOr<BvhMotion> ParseBvh(const std::string& text, double unit_metres) {
     tok = t.Next();
   }
   double frames, frame_time;
-  if (t.Next() != "Frames:" || !t.NextNumber(&frames) || frames < 0 || frames != std::floor(frames)) {
+  if (t.Next() != "Frames:" || !t.NextNumber(&frames) || frames < 0 ||
+      frames != std::floor(frames)) {
     return Error(t, "expected 'Frames: N'");
   }
-  if (t.Next() != "Frame" || t.Next() != "Time:" || !t.NextNumber(&frame_time) || !(frame_time > 0)) {
+  if (t.Next() != "Frame" || t.Next() != "Time:" || !t.NextNumber(&frame_time) ||
+      !(frame_time > 0)) {
     return Error(t, "expected 'Frame Time: seconds'");
   }
   if (frames * channels.size() > double(kMaxValues)) return Error(t, "motion too long");

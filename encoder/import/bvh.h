@@ -13,7 +13,7 @@
 namespace fvv {
 
 struct BvhMotion {
-  Skeleton skeleton;  // one bone per ROOT/JOINT (End Sites dropped), DOFs from CHANNELS
+  Skeleton skeleton;      // one bone per ROOT/JOINT (End Sites dropped), DOFs from CHANNELS
   double frame_time = 0;  // seconds
   // Per frame, one value per Skeleton::Dofs() entry: radians, metres.
   std::vector<std::vector<double>> frames;

@@ -14,7 +14,7 @@ namespace {
 struct BoneSpec {
   const char* name;
   int parent;
-  float x, y, z;     // rest offset from the parent joint, metres
+  float x, y, z;  // rest offset from the parent joint, metres
   uint8_t dofs;
   float limit;       // symmetric rotation limit, radians
   float dx, dy, dz;  // the segment's extent from its joint (drawn as a box)
@@ -60,8 +60,8 @@ void AddBox(Mesh* m, int bone, const std::array<float, 3>& lo, const std::array<
       {{1, 0, 0}, {1, 1, 0}, {1, 1, 1}, {1, 0, 1}}, {{0, 0, 1}, {0, 1, 1}, {0, 1, 0}, {0, 0, 0}},
       {{0, 1, 0}, {0, 1, 1}, {1, 1, 1}, {1, 1, 0}}, {{0, 0, 1}, {0, 0, 0}, {1, 0, 0}, {1, 0, 1}},
       {{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}}, {{1, 0, 0}, {0, 0, 0}, {0, 1, 0}, {1, 1, 0}}};
-  static const float kNormals[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0},
-                                       {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  static const float kNormals[6][3] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                       {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
   for (int f = 0; f < 6; ++f) {
     const uint32_t base = static_cast<uint32_t>(m->positions.size());
     const float fu = u0 + (f % 3) * cell / 3, fv = v0 + (f / 3) * cell / 2;
@@ -84,6 +84,17 @@ void AddBox(Mesh* m, int bone, const std::array<float, 3>& lo, const std::array<
 }
 
 }  // namespace
+
+SampleStreamOptions TinySampleOptions() {
+  SampleStreamOptions o;
+  o.frames = 3;
+  o.cameras = 2;
+  o.atlas_width = 8;
+  o.atlas_height = 8;
+  o.gop_frames = 2;
+  o.gop_cameras = 2;
+  return o;
+}
 
 BodyModel MakeSampleBodyModel() {
   BodyModel model;
@@ -135,7 +146,8 @@ std::vector<Camera> MakeRingCameras(uint32_t count, uint32_t image_width, uint32
     const double a = 2 * M_PI * i / count;
     const std::array<double, 3> centre{3.0 * std::sin(a), 1.2, 3.0 * std::cos(a)};
     const std::array<double, 3> target{0, 1.0, 0};
-    const auto f = Normalised({target[0] - centre[0], target[1] - centre[1], target[2] - centre[2]});
+    const auto f =
+        Normalised({target[0] - centre[0], target[1] - centre[1], target[2] - centre[2]});
     const auto r = Normalised(Cross(f, {0, 1, 0}));
     const auto d = Cross(f, r);
     for (int k = 0; k < 3; ++k) {
@@ -160,8 +172,8 @@ std::vector<double> SampleWalkPose(const Skeleton& skeleton, uint32_t frame) {
     const double side = name[0] == 'r' ? -1 : 1;
     double v = 0;
     if (name == "pelvis") {
-      const double pv[6] = {0.05 * std::sin(2 * phase), 0.15 * s, 0.04 * c,
-                            0.03 * s, 0.02 * std::cos(2 * phase), 1.1 * t};
+      const double pv[6] = {0.05 * std::sin(2 * phase), 0.15 * s, 0.04 * c, 0.03 * s,
+                            0.02 * std::cos(2 * phase), 1.1 * t};
       v = pv[d.kind];
     } else if (name == "spine") {
       v = d.kind == 1 ? -0.12 * s : 0.03 * c;
@@ -200,9 +212,9 @@ StatusOr<SampleStream> MakeSampleStream(const SampleStreamOptions& o,
   h.atlas_height = o.atlas_height;
   h.gop_frames = o.gop_frames;
   h.gop_cameras = o.gop_cameras;
-  const uint32_t kernel_tool = o.kernel == WaveletKernel::kHaar      ? kToolHaar
+  const uint32_t kernel_tool = o.kernel == WaveletKernel::kHaar       ? kToolHaar
                                : o.kernel == WaveletKernel::kLeGall53 ? kToolLeGall53
-                                                                     : kToolCdf97;
+                                                                      : kToolCdf97;
   h.tools = kernel_tool | (o.coder == EntropyCoder::kArith ? kToolSpihtArith : kToolSpihtBinary);
   if (o.chroma == ChromaFormat::k420) h.tools |= kToolChroma420;
   if (o.lossless) h.tools |= kToolReversibleColour;

@@ -34,6 +34,10 @@ struct SampleStreamOptions {
   Metadata metadata = {{"title", "fvv sample stream"}, {"generator", "fvv sample"}};
 };
 
+// The smallest useful stream (3 frames, 2 cameras, 8x8 atlas, 2x2 GOPs: two
+// fragments): fuzz seeds and the exhaustive prefix and byte-change tests.
+SampleStreamOptions TinySampleOptions();
+
 BodyModel MakeSampleBodyModel();
 std::vector<Camera> MakeRingCameras(uint32_t count, uint32_t image_width, uint32_t image_height);
 // DOF values (radians, metres) of the sample walk at `frame` (25 fps).
