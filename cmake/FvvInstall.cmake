@@ -2,7 +2,7 @@
 # that find_package(fvv) works for embedding applications, and a pkg-config file.
 include(CMakePackageConfigHelpers)
 install(DIRECTORY include/fvv DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-install(TARGETS fvv_codec fvv_thread_pool fvv_container_dec fvv_container EXPORT fvvTargets
+install(TARGETS fvv_codec_dec fvv_codec fvv_thread_pool fvv_container_dec fvv_container EXPORT fvvTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
@@ -21,5 +21,5 @@ install(FILES ${CMAKE_CURRENT_BINARY_DIR}/fvvConfig.cmake
               ${CMAKE_CURRENT_BINARY_DIR}/fvvConfigVersion.cmake
         DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/fvv)
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/fvv.pc
-     "prefix=${CMAKE_INSTALL_PREFIX}\nlibdir=\${prefix}/${CMAKE_INSTALL_LIBDIR}\nincludedir=\${prefix}/${CMAKE_INSTALL_INCLUDEDIR}\n\nName: fvv\nDescription: free-viewpoint video codec SDK\nVersion: ${PROJECT_VERSION}\nLibs: -L\${libdir} -lfvv_container -lfvv_container_dec -lfvv_codec -lfvv_thread_pool -lzstd\nCflags: -I\${includedir}\n")
+     "prefix=${CMAKE_INSTALL_PREFIX}\nlibdir=\${prefix}/${CMAKE_INSTALL_LIBDIR}\nincludedir=\${prefix}/${CMAKE_INSTALL_INCLUDEDIR}\n\nName: fvv\nDescription: free-viewpoint video codec SDK\nVersion: ${PROJECT_VERSION}\nLibs: -L\${libdir} -lfvv_container -lfvv_container_dec -lfvv_codec -lfvv_codec_dec -lfvv_thread_pool -lzstd\nCflags: -I\${includedir}\n")
 install(FILES ${CMAKE_CURRENT_BINARY_DIR}/fvv.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)

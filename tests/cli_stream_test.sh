@@ -19,12 +19,26 @@ grep -q '"damaged_fragments": 0' <<<"$json" || fail "json: $json"
 out=$("$fvv" info "$dir/e.fvv" 2>&1) || fail "info on end-index file: $out"
 grep -q "index: end" <<<"$out" || fail "end index not reported: $out"
 
+# fvv decode: every frame and camera as PNG, masks, poses, a one-line report.
+out=$("$fvv" decode "$dir/s.fvv" -o "$dir/dec" 2>&1) || fail "decode: $out"
+grep -q "decoded frames 0..9 (3 GOPs, 3 cameras, 32x16)" <<<"$out" || fail "decode report: $out"
+grep -q "complete" <<<"$out" || fail "full decode not complete: $out"
+[ "$(ls "$dir"/dec/tex_*.png | wc -l)" = 30 ] || fail "decode wrote $(ls "$dir"/dec | wc -l) files"
+[ "$(ls "$dir"/dec/mask_*.png | wc -l)" = 30 ] || fail "masks missing"
+grep -q '"bone_world"' "$dir/dec/poses.json" || fail "poses.json"
+out=$("$fvv" decode "$dir/s.fvv" -o "$dir/cut" --bytes 100 --frames 4:5 2>&1) || fail "cut decode: $out"
+grep -q "decoded frames 4..5 (1 GOPs" <<<"$out" && grep -q "truncated" <<<"$out" || fail "cut report: $out"
+out=$("$fvv" decode "$dir/s.fvv" -o "$dir/bad" --frames 7:99 2>&1) && fail "frames beyond the end accepted"
+grep -q "not a range" <<<"$out" || fail "range message: $out"
+
 # A damaged byte inside the last fragment: exit 1, the fragment named.
 cp "$dir/s.fvv" "$dir/bad.fvv"
 size=$(stat -c %s "$dir/bad.fvv")
 printf '\x55' | dd of="$dir/bad.fvv" bs=1 seek=$((size - 40)) conv=notrunc status=none
 out=$("$fvv" info "$dir/bad.fvv" 2>&1) && fail "damaged file accepted: $out"
 grep -q "checksum mismatch" <<<"$out" || fail "no checksum message: $out"
+out=$("$fvv" decode "$dir/bad.fvv" -o "$dir/bad_dec" 2>&1) && fail "decode of a damaged file succeeded"
+grep -q "checksum mismatch" <<<"$out" || fail "decode: no checksum message: $out"
 
 # Truncated: the header's index points past the end.
 head -c $((size / 2)) "$dir/s.fvv" >"$dir/cut.fvv"

@@ -28,7 +28,11 @@ $fvv block encode "$out"/views/view_*.png --cameras 8 --lossless -o "$out/block_
 echo "== a complete .fvv stream: 40 frames x 8 cameras, 256x256 atlas, 8x8 GOPs"
 $fvv sample -o "$out/sample.fvv" --frames 40 --cameras 8 --atlas 256 256 --bpp 0.1
 $fvv info "$out/sample.fvv"
+echo "== decode it with the decoder library, in full and at 4000 bytes per GOP"
+$fvv decode "$out/sample.fvv" -o "$out/sample_decoded" --frames 0:7
+$fvv decode "$out/sample.fvv" -o "$out/sample_cut" --frames 0:7 --bytes 4000
 echo
 echo "outputs: $out/views (input views + masks), $out/block_*.fvb (coded blocks),"
 echo "         $out/decoded_full and $out/decoded_cut (decoded views, view_tTTT_cCC.png),"
-echo "         $out/sample.fvv (a stream; fvv info $out/sample.fvv --json)"
+echo "         $out/sample.fvv (a stream; fvv info $out/sample.fvv --json),"
+echo "         $out/sample_decoded and $out/sample_cut (tex_/mask_fFFFFF_cCC.png, poses.json)"

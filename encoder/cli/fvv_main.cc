@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "encoder/cli/block_command.h"
+#include "encoder/cli/decode_command.h"
 #include "encoder/cli/stream_command.h"
 
 int main(int argc, char** argv) {
@@ -11,6 +12,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "fvv 0.1.0");
   int exit_code = 0;
   fvv::AddStreamCommands(&app, &exit_code);
+  fvv::AddDecodeCommand(&app, &exit_code);
   fvv::AddBlockCommands(&app, &exit_code);
   CLI11_PARSE(app, argc, argv);
   return exit_code;

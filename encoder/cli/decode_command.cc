@@ -1,0 +1,172 @@
+#include "encoder/cli/decode_command.h"
+
+#include <sys/stat.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "container/writer.h"
+#include "fvv/fvv_decoder.hpp"
+#include "tools/imageio/image_io.h"
+
+namespace fvv {
+namespace {
+
+struct DecodeArgs {
+  std::string input, output_dir, frames, format = "png";
+  uint64_t bytes = 0;
+  double max_ms = 0;
+  unsigned threads = 0;
+};
+
+int Fail(const std::string& message) {
+  std::fprintf(stderr, "fvv: %s\n", message.c_str());
+  return 1;
+}
+
+// "A:B" (inclusive), "A:" or "A".
+bool ParseRange(const std::string& s, uint32_t count, uint32_t* first, uint32_t* last) {
+  if (s.empty()) {
+    *first = 0;
+    *last = count - 1;
+    return count > 0;
+  }
+  const size_t colon = s.find(':');
+  char* end = nullptr;
+  const unsigned long a = std::strtoul(s.c_str(), &end, 10);
+  if (end == s.c_str()) return false;
+  unsigned long b = a;
+  if (colon != std::string::npos) {
+    const std::string rest = s.substr(colon + 1);
+    b = rest.empty() ? count - 1 : std::strtoul(rest.c_str(), &end, 10);
+    if (!rest.empty() && *end != '\0') return false;
+  } else if (*end != '\0') {
+    return false;
+  }
+  if (a > b || b >= count) return false;
+  *first = static_cast<uint32_t>(a);
+  *last = static_cast<uint32_t>(b);
+  return true;
+}
+
+std::string Name(const std::string& dir, const char* stem, uint32_t f, uint32_t c,
+                 const std::string& ext) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "/%s_f%05u_c%02u.%s", stem, f, c, ext.c_str());
+  return dir + buf;
+}
+
+int RunDecode(const DecodeArgs& a) {
+  fvv_decoder_settings settings;
+  fvv_decoder_default_settings(&settings);
+  settings.threads = a.threads;
+  DecoderPtr dec = MakeDecoder(&settings);
+  if (!dec) return Fail("cannot create a decoder");
+  if (fvv_decoder_open_file(dec.get(), a.input.c_str()) != FVV_OK) {
+    return Fail(fvv_decoder_error(dec.get()));
+  }
+  fvv_stream_info info;
+  fvv_decoder_get_info(dec.get(), &info);
+  uint32_t first, last;
+  if (!ParseRange(a.frames, info.frame_count, &first, &last)) {
+    return Fail("--frames " + a.frames + ": not a range A:B within 0:" +
+                std::to_string(info.frame_count - 1));
+  }
+  if (mkdir(a.output_dir.c_str(), 0755) != 0 && errno != EEXIST) {
+    return Fail("cannot create " + a.output_dir + ": " + std::strerror(errno));
+  }
+  fvv_decode_budget budget{};
+  budget.max_bytes_per_gop = a.bytes;
+  budget.max_ms_per_gop = a.max_ms;
+  budget.format = FVV_FORMAT_RGB8;
+  nlohmann::json poses;
+  uint64_t bytes = 0, available = 0;
+  uint32_t min_planes[3] = {99, 99, 99};
+  double ms = 0;
+  bool complete = true;
+  uint32_t gops = 0, last_gop = UINT32_MAX;
+  for (uint32_t f = first; f <= last; ++f) {
+    fvv_status status;
+    FramePtr frame = DecodeFrame(dec.get(), f, &budget, &status);
+    if (!frame) {
+      return Fail(a.input + ": frame " + std::to_string(f) + ": " + fvv_decoder_error(dec.get()));
+    }
+    const uint32_t gop = f / info.gop_frames;
+    if (gop != last_gop) {  // the report is per GOP; count each once
+      last_gop = gop;
+      ++gops;
+      bytes += frame->report.bytes_decoded;
+      available += frame->report.bytes_available;
+      ms += frame->report.decode_ms;
+      for (int c = 0; c < 3; ++c) min_planes[c] = std::min(min_planes[c], frame->report.bitplanes[c]);
+      complete = complete && frame->report.complete;
+    }
+    for (uint32_t c = 0; c < frame->camera_count; ++c) {
+      Image img;
+      img.width = frame->width;
+      img.height = frame->height;
+      img.channels = 3;
+      img.pixels.assign(frame->views[c].pixels,
+                        frame->views[c].pixels + size_t{img.width} * img.height * 3);
+      Status s = WriteImage(Name(a.output_dir, "tex", f, c, a.format), img);
+      if (s.ok() && frame->views[c].mask) {
+        Image mask;
+        mask.width = frame->width;
+        mask.height = frame->height;
+        mask.channels = 1;
+        mask.pixels.resize(size_t{mask.width} * mask.height);
+        for (size_t i = 0; i < mask.pixels.size(); ++i) {
+          mask.pixels[i] = frame->views[c].mask[i] ? 255 : 0;
+        }
+        s = WriteImage(Name(a.output_dir, "mask", f, c, a.format), mask);
+      }
+      if (!s.ok()) return Fail(s.ToString());
+    }
+    nlohmann::json bones = nlohmann::json::array();
+    for (uint32_t b = 0; b < frame->bone_count; ++b) {
+      bones.push_back(std::vector<float>(frame->bone_world + 16 * b, frame->bone_world + 16 * b + 16));
+    }
+    poses.push_back({{"frame", f}, {"bone_world", bones}});
+  }
+  const std::string pose_path = a.output_dir + "/poses.json";
+  const std::string text = nlohmann::json({{"frames", poses}}).dump(1);
+  Status s = WriteFileAtomic(pose_path, reinterpret_cast<const uint8_t*>(text.data()), text.size());
+  if (!s.ok()) return Fail(s.ToString());
+  std::printf(
+      "decoded frames %u..%u (%u GOPs, %u cameras, %ux%u) in %.1f ms: %llu of %llu texture bytes "
+      "(%.1f%%), bitplanes Y %u U %u V %u, %s -> %s\n",
+      first, last, gops, info.camera_count, info.atlas_width, info.atlas_height, ms,
+      static_cast<unsigned long long>(bytes), static_cast<unsigned long long>(available),
+      available ? 100.0 * bytes / available : 100.0, min_planes[0], min_planes[1], min_planes[2],
+      complete ? "complete" : "truncated", a.output_dir.c_str());
+  return 0;
+}
+
+}  // namespace
+
+void AddDecodeCommand(CLI::App* app, int* exit_code) {
+  auto args = std::make_shared<DecodeArgs>();
+  CLI::App* d = app->add_subcommand(
+      "decode",
+      "Decode a .fvv stream with the decoder library: per-frame, per-camera atlas textures "
+      "(tex_fFFFFF_cCC) and masks (mask_...), poses.json, and a one-line report");
+  d->add_option("file", args->input, ".fvv stream")->required()->check(CLI::ExistingFile);
+  d->add_option("-o,--output", args->output_dir, "Output directory")->required();
+  auto* bytes = d->add_option("--bytes", args->bytes,
+                              "Decode at most this many texture bytes of each GOP fragment");
+  d->add_option("--max-ms", args->max_ms, "Stop each GOP's texture decoding after this many ms")
+      ->excludes(bytes)
+      ->check(CLI::PositiveNumber);
+  d->add_option("--frames", args->frames, "Frames to decode: A:B (inclusive), A: or A");
+  d->add_option("--format", args->format, "Image format")
+      ->check(CLI::IsMember({"png", "exr"}))
+      ->capture_default_str();
+  d->add_option("--threads", args->threads, "Worker threads (0 = all cores)")->capture_default_str();
+  d->callback([args, exit_code] { *exit_code = RunDecode(*args); });
+}
+
+}  // namespace fvv

@@ -1,0 +1,183 @@
+#include "player/decoder/decoder.h"
+
+namespace fvv {
+namespace {
+
+constexpr uint64_t kDefaultMemoryCap = uint64_t{1} << 30;
+
+uint64_t FragmentBytes(const FragmentData& f) {
+  return f.texture.total_bytes() + f.motion.size() + f.masks.size() + f.vertex_visibility.size();
+}
+
+}  // namespace
+
+Decoder::Decoder(const fvv_decoder_settings& settings)
+    : settings_(settings), pool_(settings.threads) {
+  if (settings_.memory_cap_bytes == 0) settings_.memory_cap_bytes = kDefaultMemoryCap;
+}
+
+Decoder::~Decoder() { WaitDecodeAhead(); }
+
+const StreamInfo& Decoder::info() const {
+  return file_ ? file_->info() : stream_->info();
+}
+
+uint32_t Decoder::span_count() const { return info().header.time_spans(); }
+
+Status Decoder::OpenFile(const std::string& path) {
+  if (file_ || stream_) return InvalidArgument("the decoder already has an input");
+  FVV_ASSIGN_OR_RETURN(source_, FileSource::Open(path));
+  auto reader = FileReader::Open(source_.get());
+  if (!reader.ok()) {
+    source_.reset();
+    return Status(reader.status().code(), path + ": " + reader.status().message());
+  }
+  file_ = std::move(reader).value();
+  ready_ = true;
+  frames_available_ = file_->info().header.frame_count;
+  return Status::Ok();
+}
+
+Status Decoder::Push(const uint8_t* data, size_t size) {
+  if (file_) return InvalidArgument("push after open_file: a decoder has one input");
+  if (stream_ended_) return InvalidArgument("push after push_end");
+  if (!stream_) stream_ = std::make_unique<StreamReader>();
+  if (size > 0) stream_->Push(data, size);
+  return Status::Ok();
+}
+
+Status Decoder::PushEnd() {
+  if (file_) return InvalidArgument("push_end after open_file");
+  if (!stream_) stream_ = std::make_unique<StreamReader>();
+  stream_->Finish();
+  stream_ended_ = true;
+  return Status::Ok();
+}
+
+StatusOr<fvv_event> Decoder::Process() {
+  if (!file_ && !stream_) return FVV_EVENT_NEED_MORE_INPUT;  // streaming starts empty
+  if (file_) {
+    if (!ready_reported_) {
+      ready_reported_ = true;
+      return FVV_EVENT_READY;
+    }
+    if (frames_reported_ < frames_available_) {
+      frames_reported_ = frames_available_;
+      return FVV_EVENT_FRAMES;
+    }
+    end_reported_ = true;
+    return FVV_EVENT_END;
+  }
+  for (;;) {
+    if (ready_ && !ready_reported_) {
+      ready_reported_ = true;
+      return FVV_EVENT_READY;
+    }
+    if (frames_reported_ < frames_available_) {
+      frames_reported_ = frames_available_;
+      return FVV_EVENT_FRAMES;
+    }
+    FVV_ASSIGN_OR_RETURN(const ReaderEvent e, stream_->Next());
+    const StreamInfo& si = stream_->info();
+    switch (e) {
+      case ReaderEvent::kNeedMoreInput:
+        return FVV_EVENT_NEED_MORE_INPUT;
+      case ReaderEvent::kEnd:
+        end_reported_ = true;
+        return FVV_EVENT_END;
+      case ReaderEvent::kFragment: {
+        FragmentData f = stream_->TakeFragment();
+        const uint32_t groups = si.header.camera_groups();
+        const bool span_done = f.info.first_camera / si.header.gop_cameras == groups - 1;
+        const uint32_t end_frame = f.info.first_frame + f.info.frame_count;
+        buffered_bytes_ += FragmentBytes(f);
+        buffered_.emplace(f.info.gop_index, std::move(f));
+        // Bounded memory: the oldest spans go first (they can no longer be decoded).
+        while (buffered_bytes_ > settings_.memory_cap_bytes && buffered_.size() > groups) {
+          buffered_bytes_ -= FragmentBytes(buffered_.begin()->second);
+          buffered_.erase(buffered_.begin());
+        }
+        if (span_done) frames_available_ = end_frame;
+        break;
+      }
+      default:
+        ready_ = si.has_header && si.has_cameras && si.has_model && si.has_motion;
+        break;
+    }
+  }
+}
+
+Status Decoder::SpanFragments(uint32_t span, std::vector<FragmentData>* out) {
+  const FileHeader& h = info().header;
+  const uint32_t groups = h.camera_groups();
+  out->clear();
+  for (uint32_t g = 0; g < groups; ++g) {
+    const uint32_t index = span * groups + g;
+    if (file_) {
+      FVV_ASSIGN_OR_RETURN(FragmentData f, file_->ReadFragment(index));
+      out->push_back(std::move(f));
+    } else {
+      auto it = buffered_.find(index);
+      if (it == buffered_.end()) {
+        return InvalidArgument("GOP " + std::to_string(index) +
+                               " is no longer buffered (memory cap) or has not arrived");
+      }
+      out->push_back(it->second);
+    }
+  }
+  return Status::Ok();
+}
+
+StatusOr<std::shared_ptr<DecodedGop>> Decoder::DecodeSpan(uint32_t span, const GopBudget& budget) {
+  std::vector<FragmentData> fragments;
+  FVV_RETURN_IF_ERROR(SpanFragments(span, &fragments));
+  return DecodeGop(info(), fragments, budget, pool_.runner());
+}
+
+void Decoder::StartDecodeAhead(uint32_t span, const GopBudget& budget) {
+  if (!settings_.decode_ahead || ahead_.valid() || span >= span_count()) return;
+  if (!file_ && (span + 1) * info().header.gop_frames > frames_available_ &&
+      (span + 1) * info().header.gop_frames < info().header.frame_count) {
+    return;  // not all of it has arrived
+  }
+  std::vector<FragmentData> fragments;
+  if (!SpanFragments(span, &fragments).ok()) return;  // reported when it is asked for
+  ahead_span_ = span;
+  ahead_budget_ = budget;
+  const StreamInfo* si = &info();
+  ThreadPool* pool = &pool_;
+  ahead_ = std::async(std::launch::async, [si, pool, budget, fragments = std::move(fragments)] {
+    return DecodeGop(*si, fragments, budget, pool->runner());
+  });
+}
+
+void Decoder::WaitDecodeAhead() {
+  if (ahead_.valid()) ahead_.wait();
+}
+
+StatusOr<std::shared_ptr<const DecodedGop>> Decoder::Gop(uint32_t frame, const GopBudget& budget) {
+  if (!ready_) return InvalidArgument("decode before the stream's header boxes were read");
+  if (frame >= frames_available_) {
+    return InvalidArgument("frame " + std::to_string(frame) + " is not available (" +
+                           std::to_string(frames_available_) + " frames decodable)");
+  }
+  const uint32_t span = frame / info().header.gop_frames;
+  auto same = [](const GopBudget& a, const GopBudget& b) { return a.Covers(b) && b.Covers(a); };
+  if (cache_ && cache_->span == span && same(cache_->budget, budget)) return cache_;
+  std::shared_ptr<DecodedGop> gop;
+  if (ahead_.valid() && ahead_span_ == span && same(ahead_budget_, budget)) {
+    auto result = ahead_.get();
+    if (result.ok()) gop = std::move(result).value();
+  } else if (ahead_.valid()) {
+    auto dropped = ahead_.get();  // a different span or budget: its work is not used
+    (void)dropped;
+  }
+  if (!gop) {
+    FVV_ASSIGN_OR_RETURN(gop, DecodeSpan(span, budget));
+  }
+  cache_ = gop;
+  StartDecodeAhead(span + 1, budget);
+  return cache_;
+}
+
+}  // namespace fvv

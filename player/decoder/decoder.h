@@ -1,0 +1,66 @@
+// The decoder behind the C API (include/fvv/fvv_decoder.h): input by file
+// (random access through the index) or by pushed bytes (streaming), a cache of
+// the last decoded GOP, and decode-ahead of the next one on a worker thread.
+#ifndef FVV_PLAYER_DECODER_DECODER_H_
+#define FVV_PLAYER_DECODER_DECODER_H_
+
+#include <future>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "codec/thread_pool.h"
+#include "container/file_reader.h"
+#include "container/stream_reader.h"
+#include "fvv/fvv_decoder.h"
+#include "player/decoder/gop_decoder.h"
+
+namespace fvv {
+
+class Decoder {
+ public:
+  explicit Decoder(const fvv_decoder_settings& settings);
+  ~Decoder();
+
+  Status OpenFile(const std::string& path);
+  Status Push(const uint8_t* data, size_t size);
+  Status PushEnd();
+  StatusOr<fvv_event> Process();
+
+  bool ready() const { return ready_; }
+  const StreamInfo& info() const;
+  uint32_t frames_available() const { return frames_available_; }
+
+  // The decoded GOP holding `frame`, decoded at least as well as `budget` asks.
+  StatusOr<std::shared_ptr<const DecodedGop>> Gop(uint32_t frame, const GopBudget& budget);
+
+ private:
+  Status SpanFragments(uint32_t span, std::vector<FragmentData>* out);
+  StatusOr<std::shared_ptr<DecodedGop>> DecodeSpan(uint32_t span, const GopBudget& budget);
+  void StartDecodeAhead(uint32_t span, const GopBudget& budget);
+  void WaitDecodeAhead();
+  uint32_t span_count() const;
+
+  fvv_decoder_settings settings_;
+  ThreadPool pool_;
+  bool ready_ = false, ready_reported_ = false, end_reported_ = false;
+  uint32_t frames_available_ = 0, frames_reported_ = 0;
+
+  // Random access.
+  std::unique_ptr<FileSource> source_;
+  std::unique_ptr<FileReader> file_;
+  // Streaming.
+  std::unique_ptr<StreamReader> stream_;
+  bool stream_ended_ = false;
+  std::map<uint32_t, FragmentData> buffered_;  // by GOP index
+  uint64_t buffered_bytes_ = 0;
+
+  std::shared_ptr<const DecodedGop> cache_;
+  std::future<StatusOr<std::shared_ptr<DecodedGop>>> ahead_;
+  uint32_t ahead_span_ = 0;
+  GopBudget ahead_budget_;
+};
+
+}  // namespace fvv
+
+#endif  // FVV_PLAYER_DECODER_DECODER_H_

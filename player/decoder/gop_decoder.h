@@ -1,0 +1,47 @@
+// Decoding of one GOP time span: the motion of its frames and the textures and
+// masks of every camera group, under a byte or time budget.
+#ifndef FVV_PLAYER_DECODER_GOP_DECODER_H_
+#define FVV_PLAYER_DECODER_GOP_DECODER_H_
+
+#include <memory>
+#include <vector>
+
+#include "codec/block.h"
+#include "codec/parallel.h"
+#include "container/fragment.h"
+#include "container/motion_track.h"
+#include "container/stream_info.h"
+
+namespace fvv {
+
+struct GopBudget {
+  uint64_t max_bytes = 0;  // texture bytes per fragment; 0 = all
+  double max_ms = 0;       // for the whole span; 0 = no limit
+
+  // A GOP decoded under `this` is at least as good as one decoded under `other`.
+  bool Covers(const GopBudget& other) const;
+};
+
+struct DecodedGop {
+  uint32_t span = 0;
+  uint32_t first_frame = 0, frame_count = 0;
+  GopBudget budget;
+  std::vector<DecodedFrame> motion;          // frame_count entries
+  std::vector<FragmentInfo> groups;          // one per camera group
+  std::vector<Block> textures;               // decoded YUV, per camera group
+  std::vector<std::vector<uint8_t>> masks;   // per camera group; empty without masks
+  uint64_t bytes_decoded = 0, bytes_available = 0;
+  std::array<int, 3> bitplanes{};  // fewest complete bitplanes over the groups
+  double ms = 0;
+  bool complete = true;
+};
+
+// `fragments` are the span's fragments, camera group 0 first.
+StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
+                                                const std::vector<FragmentData>& fragments,
+                                                const GopBudget& budget,
+                                                const ParallelRunner& runner);
+
+}  // namespace fvv
+
+#endif  // FVV_PLAYER_DECODER_GOP_DECODER_H_

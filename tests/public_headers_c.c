@@ -1,0 +1,11 @@
+/* The public headers compile alone, as C (DESIGN.md 4.1). */
+#include "fvv/fvv_types.h"
+/* (second include on purpose: include guards) */
+#include "fvv/fvv_decoder.h"
+#include "fvv/fvv_types.h"
+
+int fvv_public_headers_compile_as_c(void) {
+  fvv_decoder_settings settings;
+  fvv_decoder_default_settings(&settings);
+  return settings.decode_ahead && fvv_status_name(FVV_CORRUPT)[0] != '\0';
+}
