@@ -12,7 +12,6 @@
 namespace fvv {
 namespace {
 
-
 // Applies fn(index, band_id) to every coefficient, walking the per-axis band codes.
 template <typename Fn>
 void ForEachBand(const WaveletGeometry& g, Fn fn) {

@@ -60,7 +60,8 @@ double UsedPsnr(const fvv_frame& frame, const Fixture& fx) {
     for (size_t i = 0; i < texels; ++i) {
       if (!fx.sample.masks[plane * texels + i]) continue;
       for (int k = 0; k < 3; ++k) {
-        const double d = double(frame.views[c].pixels[3 * i + k]) - fx.sample.rgb[(plane * texels + i) * 3 + k];
+        const double d =
+            double(frame.views[c].pixels[3 * i + k]) - fx.sample.rgb[(plane * texels + i) * 3 + k];
         sum += d * d;
         ++n;
       }
@@ -75,7 +76,8 @@ TEST(DecoderApi, FileDecodeMatchesTheSource) {
   const Fixture& fx = Shared();
   DecoderPtr dec = MakeDecoder();
   ASSERT_TRUE(dec);
-  ASSERT_EQ(fvv_decoder_open_file(dec.get(), fx.path.c_str()), FVV_OK) << fvv_decoder_error(dec.get());
+  ASSERT_EQ(fvv_decoder_open_file(dec.get(), fx.path.c_str()), FVV_OK)
+      << fvv_decoder_error(dec.get());
   fvv_stream_info info;
   ASSERT_EQ(fvv_decoder_get_info(dec.get(), &info), FVV_OK);
   EXPECT_EQ(info.frame_count, 10u);
@@ -126,7 +128,8 @@ TEST(DecoderApi, ByteBudgetIsRespectedAndLowersQuality) {
   FramePtr full = DecodeFrame(dec.get(), 5, nullptr);
   ASSERT_TRUE(full);
   const double full_psnr = UsedPsnr(*full, fx);
-  ASSERT_GT(full->report.bytes_available, 2000u);  // fragments of ~1500 and ~750 bytes: all cut below
+  ASSERT_GT(full->report.bytes_available,
+            2000u);  // fragments of ~1500 and ~750 bytes: all cut below
   for (uint64_t k : {60u, 200u, 500u}) {
     fvv_decode_budget budget{};
     budget.max_bytes_per_gop = k;
@@ -208,7 +211,7 @@ TEST(DecoderApi, MisuseGivesInvalidArgument) {
   EXPECT_EQ(fvv_decoder_push(dec.get(), &byte, 1), FVV_INVALID_ARGUMENT);  // one input only
   EXPECT_EQ(fvv_decoder_decode_frame(dec.get(), 10, nullptr, &frame), FVV_INVALID_ARGUMENT);
   fvv_decode_budget bad{};
-  bad.format = static_cast<fvv_pixel_format>(7);
+  bad.format = 7;
   EXPECT_EQ(fvv_decoder_decode_frame(dec.get(), 0, &bad, &frame), FVV_INVALID_ARGUMENT);
   fvv_camera cam;
   EXPECT_EQ(fvv_decoder_get_camera(dec.get(), 3, &cam), FVV_INVALID_ARGUMENT);

@@ -73,8 +73,8 @@ int RunDecode(const DecodeArgs& a) {
   fvv_decoder_get_info(dec.get(), &info);
   uint32_t first, last;
   if (!ParseRange(a.frames, info.frame_count, &first, &last)) {
-    return Fail("--frames " + a.frames + ": not a range A:B within 0:" +
-                std::to_string(info.frame_count - 1));
+    return Fail("--frames " + a.frames +
+                ": not a range A:B within 0:" + std::to_string(info.frame_count - 1));
   }
   if (mkdir(a.output_dir.c_str(), 0755) != 0 && errno != EEXIST) {
     return Fail("cannot create " + a.output_dir + ": " + std::strerror(errno));
@@ -102,7 +102,8 @@ int RunDecode(const DecodeArgs& a) {
       bytes += frame->report.bytes_decoded;
       available += frame->report.bytes_available;
       ms += frame->report.decode_ms;
-      for (int c = 0; c < 3; ++c) min_planes[c] = std::min(min_planes[c], frame->report.bitplanes[c]);
+      for (int c = 0; c < 3; ++c)
+        min_planes[c] = std::min(min_planes[c], frame->report.bitplanes[c]);
       complete = complete && frame->report.complete;
     }
     for (uint32_t c = 0; c < frame->camera_count; ++c) {
@@ -128,7 +129,8 @@ int RunDecode(const DecodeArgs& a) {
     }
     nlohmann::json bones = nlohmann::json::array();
     for (uint32_t b = 0; b < frame->bone_count; ++b) {
-      bones.push_back(std::vector<float>(frame->bone_world + 16 * b, frame->bone_world + 16 * b + 16));
+      bones.push_back(
+          std::vector<float>(frame->bone_world + 16 * b, frame->bone_world + 16 * b + 16));
     }
     poses.push_back({{"frame", f}, {"bone_world", bones}});
   }
@@ -165,7 +167,8 @@ void AddDecodeCommand(CLI::App* app, int* exit_code) {
   d->add_option("--format", args->format, "Image format")
       ->check(CLI::IsMember({"png", "exr"}))
       ->capture_default_str();
-  d->add_option("--threads", args->threads, "Worker threads (0 = all cores)")->capture_default_str();
+  d->add_option("--threads", args->threads, "Worker threads (0 = all cores)")
+      ->capture_default_str();
   d->callback([args, exit_code] { *exit_code = RunDecode(*args); });
 }
 

@@ -31,7 +31,8 @@
  *     if (event == FVV_EVENT_FRAMES) ... frames up to fvv_decoder_frames_available() decode
  *     if (event == FVV_EVENT_END) ... the stream is complete
  *   }
- *   fvv_decoder_push_end(dec);                       // no more bytes: then process to FVV_EVENT_END
+ *   fvv_decoder_push_end(dec);                       // no more bytes: then process to
+ * FVV_EVENT_END
  *
  * Frames are decoded a GOP (all frames and cameras of a time span) at a time and kept, so
  * consecutive frames cost nothing extra; with settings.decode_ahead the next GOP is decoded on a
@@ -57,9 +58,9 @@ extern "C" {
 typedef struct fvv_decoder fvv_decoder;
 
 typedef struct {
-  uint32_t threads;           /* worker threads for decoding; 0 = one per core */
-  uint64_t memory_cap_bytes;  /* bound on buffered input and decoded GOPs; 0 = 1 GiB */
-  int decode_ahead;           /* non-zero: decode the next GOP in the background */
+  uint32_t threads;          /* worker threads for decoding; 0 = one per core */
+  uint64_t memory_cap_bytes; /* bound on buffered input and decoded GOPs; 0 = 1 GiB */
+  int decode_ahead;          /* non-zero: decode the next GOP in the background */
 } fvv_decoder_settings;
 
 FVV_EXPORT void fvv_decoder_default_settings(fvv_decoder_settings* settings);
@@ -113,14 +114,14 @@ FVV_EXPORT fvv_status fvv_decoder_get_camera(const fvv_decoder* decoder, uint32_
 /* The body model, as arrays owned by the decoder (valid while it lives). */
 typedef struct {
   uint32_t bone_count;
-  const int32_t* bone_parent;    /* [bone_count], -1 for roots */
-  const float* bone_rest_world;  /* [bone_count][16] column-major rest-pose joint transforms */
+  const int32_t* bone_parent;   /* [bone_count], -1 for roots */
+  const float* bone_rest_world; /* [bone_count][16] column-major rest-pose joint transforms */
   uint32_t vertex_count;
-  const float* positions;  /* [vertex_count][3] metres, bind pose */
-  const float* normals;    /* [vertex_count][3] */
-  const float* uvs;        /* [vertex_count][2] atlas coordinates in [0, 1] */
-  const uint16_t* joints;  /* [vertex_count][4] skin bones */
-  const float* weights;    /* [vertex_count][4] skin weights, sum 1 */
+  const float* positions; /* [vertex_count][3] metres, bind pose */
+  const float* normals;   /* [vertex_count][3] */
+  const float* uvs;       /* [vertex_count][2] atlas coordinates in [0, 1] */
+  const uint16_t* joints; /* [vertex_count][4] skin bones */
+  const float* weights;   /* [vertex_count][4] skin weights, sum 1 */
   uint32_t triangle_count;
   const uint32_t* triangles; /* [triangle_count][3] */
 } fvv_model;
@@ -134,7 +135,7 @@ typedef enum {
 typedef struct {
   uint64_t max_bytes_per_gop; /* texture bytes to decode per GOP fragment; 0 = all */
   double max_ms_per_gop;      /* stop texture decoding of a GOP after this; 0 = no limit */
-  fvv_pixel_format format;
+  uint32_t format;            /* an fvv_pixel_format (a plain integer: any value is checked) */
 } fvv_decode_budget;
 
 typedef struct {
@@ -152,14 +153,14 @@ typedef struct {
 } fvv_decode_report;
 
 typedef struct {
-  uint32_t index;        /* frame number */
+  uint32_t index; /* frame number */
   uint32_t bone_count;
   const float* bone_world; /* [bone_count][16] column-major bone-to-world transforms */
   const float* bone_skin;  /* [bone_count][16] bone_world * inverse(rest world): skinning */
   uint32_t camera_count;
-  uint32_t width, height;  /* atlas size */
+  uint32_t width, height; /* atlas size */
   fvv_pixel_format format;
-  const fvv_view* views;   /* [camera_count] */
+  const fvv_view* views; /* [camera_count] */
   fvv_decode_report report;
 } fvv_frame;
 
@@ -168,8 +169,7 @@ typedef struct {
  * everything). Frames of GOPs that were dropped under the memory cap (streaming) are
  * FVV_INVALID_ARGUMENT. */
 FVV_EXPORT fvv_status fvv_decoder_decode_frame(fvv_decoder* decoder, uint32_t index,
-                                               const fvv_decode_budget* budget,
-                                               fvv_frame** frame);
+                                               const fvv_decode_budget* budget, fvv_frame** frame);
 FVV_EXPORT void fvv_frame_release(fvv_frame* frame);
 
 #ifdef __cplusplus

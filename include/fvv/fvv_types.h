@@ -27,15 +27,15 @@ extern "C" {
 /* Status codes. Pinned: values never change between releases. */
 typedef enum {
   FVV_OK = 0,
-  FVV_INVALID_ARGUMENT = 1,   /* the caller passed something unusable (misuse of the API) */
-  FVV_TRUNCATED = 2,          /* input ended before a syntax element was complete */
-  FVV_CORRUPT = 3,            /* input violates the bitstream syntax */
-  FVV_LIMIT_EXCEEDED = 4,     /* a count or size beyond the profile/level limits */
-  FVV_UNSUPPORTED = 5,        /* valid syntax this library does not implement (newer version) */
-  FVV_CHECKSUM_MISMATCH = 6,  /* a fragment's checksum failed */
-  FVV_IO_ERROR = 7,           /* file system failure */
-  FVV_OUT_OF_MEMORY = 8,      /* allocation failed or the memory cap was reached */
-  FVV_INTERNAL = 9            /* a bug in fvv; please report it */
+  FVV_INVALID_ARGUMENT = 1,  /* the caller passed something unusable (misuse of the API) */
+  FVV_TRUNCATED = 2,         /* input ended before a syntax element was complete */
+  FVV_CORRUPT = 3,           /* input violates the bitstream syntax */
+  FVV_LIMIT_EXCEEDED = 4,    /* a count or size beyond the profile/level limits */
+  FVV_UNSUPPORTED = 5,       /* valid syntax this library does not implement (newer version) */
+  FVV_CHECKSUM_MISMATCH = 6, /* a fragment's checksum failed */
+  FVV_IO_ERROR = 7,          /* file system failure */
+  FVV_OUT_OF_MEMORY = 8,     /* allocation failed or the memory cap was reached */
+  FVV_INTERNAL = 9           /* a bug in fvv; please report it */
 } fvv_status;
 
 /* A short constant name for a status ("corrupt"). Never NULL. */

@@ -58,7 +58,8 @@ void BuildModel(fvv_decoder* d) {
       d->weights.push_back(m.mesh.weights[v][k] / 65535.0f);
     }
   }
-  for (const auto& t : m.mesh.triangles) d->triangles.insert(d->triangles.end(), t.begin(), t.end());
+  for (const auto& t : m.mesh.triangles)
+    d->triangles.insert(d->triangles.end(), t.begin(), t.end());
   d->model_built = true;
 }
 
@@ -259,7 +260,8 @@ fvv_status fvv_decoder_decode_frame(fvv_decoder* d, uint32_t index, const fvv_de
   for (uint32_t c = 0; c < cameras; ++c) {
     const uint32_t group = c / si.header.gop_cameras;
     const uint32_t local = c - g.groups[group].first_camera;
-    ConvertView(g.textures[group], t, local, b.format, &impl->pixels[c]);
+    ConvertView(g.textures[group], t, local, static_cast<fvv_pixel_format>(b.format),
+                &impl->pixels[c]);
     impl->views[c].pixels = impl->pixels[c].data();
     const auto& masks = g.masks[group];
     const uint32_t group_cameras = g.groups[group].camera_count;
@@ -274,7 +276,7 @@ fvv_status fvv_decoder_decode_frame(fvv_decoder* d, uint32_t index, const fvv_de
   f.camera_count = cameras;
   f.width = si.header.atlas_width;
   f.height = si.header.atlas_height;
-  f.format = b.format;
+  f.format = static_cast<fvv_pixel_format>(b.format);
   f.views = impl->views.data();
   f.report.bytes_decoded = g.bytes_decoded;
   f.report.bytes_available = g.bytes_available;

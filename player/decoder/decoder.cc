@@ -18,9 +18,7 @@ Decoder::Decoder(const fvv_decoder_settings& settings)
 
 Decoder::~Decoder() { WaitDecodeAhead(); }
 
-const StreamInfo& Decoder::info() const {
-  return file_ ? file_->info() : stream_->info();
-}
+const StreamInfo& Decoder::info() const { return file_ ? file_->info() : stream_->info(); }
 
 uint32_t Decoder::span_count() const { return info().header.time_spans(); }
 

@@ -28,9 +28,8 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
   gop->first_frame = first.info.first_frame;
   gop->frame_count = first.info.frame_count;
   gop->budget = budget;
-  FVV_RETURN_IF_ERROR(DecodeMotion(MotionBoxHeader(first), first.motion.data(),
-                                   info.model.skeleton, info.motion, first.info.frame_count,
-                                   &gop->motion));
+  FVV_RETURN_IF_ERROR(DecodeMotion(MotionBoxHeader(first), first.motion.data(), info.model.skeleton,
+                                   info.motion, first.info.frame_count, &gop->motion));
   gop->bitplanes = {99, 99, 99};
   for (const FragmentData& f : fragments) {
     gop->groups.push_back(f.info);

@@ -26,10 +26,10 @@ struct DecodedGop {
   uint32_t span = 0;
   uint32_t first_frame = 0, frame_count = 0;
   GopBudget budget;
-  std::vector<DecodedFrame> motion;          // frame_count entries
-  std::vector<FragmentInfo> groups;          // one per camera group
-  std::vector<Block> textures;               // decoded YUV, per camera group
-  std::vector<std::vector<uint8_t>> masks;   // per camera group; empty without masks
+  std::vector<DecodedFrame> motion;         // frame_count entries
+  std::vector<FragmentInfo> groups;         // one per camera group
+  std::vector<Block> textures;              // decoded YUV, per camera group
+  std::vector<std::vector<uint8_t>> masks;  // per camera group; empty without masks
   uint64_t bytes_decoded = 0, bytes_available = 0;
   std::array<int, 3> bitplanes{};  // fewest complete bitplanes over the groups
   double ms = 0;

@@ -1,0 +1,79 @@
+// Decoder-library benchmark: decode Msamples/s and real-time factor (decode time /
+// play time) through the C API, for a stream of 8 cameras x 512x512 at 25 fps at
+// four rates, with frames delivered as RGB8 (what a player uploads).
+//
+//   build/bench/decoder_bench [--frames N]
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "codec/thread_pool.h"
+#include "container/writer.h"
+#include "encoder/sample/sample_stream.h"
+#include "fvv/fvv_decoder.hpp"
+
+int main(int argc, char** argv) {
+  uint32_t frames = 16;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--frames" && i + 1 < argc) {
+      frames = static_cast<uint32_t>(std::atoi(argv[++i]));
+    } else {
+      std::printf("usage: %s [--frames N]\n", argv[0]);
+      return a == "-h" || a == "--help" ? 0 : 2;
+    }
+  }
+  using Clock = std::chrono::steady_clock;
+  fvv::ThreadPool pool(2);
+  std::printf(
+      "decoder library, %u frames x 8 cameras x 512x512 at 25 fps, 9/7 + arith, masks, "
+      "2 threads, RGB8 output\n",
+      frames);
+  std::printf("%6s %10s %10s %12s %10s %12s\n", "bpp", "bytes", "decode ms", "ms per GOP",
+              "Msamples/s", "real-time f.");
+  for (double bpp : {0.05, 0.1, 0.25, 0.5}) {
+    fvv::SampleStreamOptions o;
+    o.frames = frames;
+    o.cameras = 8;
+    o.atlas_width = o.atlas_height = 512;
+    o.bpp = bpp;
+    auto sample = fvv::MakeSampleStream(o, pool.runner());
+    if (!sample.ok()) {
+      std::fprintf(stderr, "decoder_bench: %s\n", sample.status().ToString().c_str());
+      return 1;
+    }
+    const std::string path = "/tmp/fvv_decoder_bench.fvv";
+    auto w = fvv::FileWriter::Create(path, sample->info);
+    if (!w.ok()) return 1;
+    for (const auto& f : sample->fragments) {
+      if (!(*w)->AddFragment(f).ok()) return 1;
+    }
+    if (!(*w)->Close().ok()) return 1;
+    double best = 1e30;
+    for (int rep = 0; rep < 2; ++rep) {
+      fvv_decoder_settings s;
+      fvv_decoder_default_settings(&s);
+      s.threads = 2;
+      fvv::DecoderPtr dec = fvv::MakeDecoder(&s);
+      if (fvv_decoder_open_file(dec.get(), path.c_str()) != FVV_OK) return 1;
+      const auto t0 = Clock::now();
+      for (uint32_t f = 0; f < frames; ++f) {
+        fvv::FramePtr frame = fvv::DecodeFrame(dec.get(), f, nullptr);
+        if (!frame) {
+          std::fprintf(stderr, "decoder_bench: %s\n", fvv_decoder_error(dec.get()));
+          return 1;
+        }
+      }
+      best = std::min(best, std::chrono::duration<double>(Clock::now() - t0).count());
+    }
+    const double samples = double(frames) * 8 * 512 * 512;
+    uint64_t bytes = 0;
+    for (const auto& f : sample->fragments) bytes += f.texture.total_bytes();
+    std::printf("%6.2f %10llu %10.0f %12.0f %10.1f %12.2f\n", bpp,
+                static_cast<unsigned long long>(bytes), best * 1e3, best * 1e3 / (frames / 8.0),
+                samples / best / 1e6, best / (frames / 25.0));
+    std::remove(path.c_str());
+  }
+  return 0;
+}
