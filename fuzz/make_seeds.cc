@@ -31,8 +31,8 @@ std::vector<uint8_t> Prefixed(std::vector<uint8_t> prefix, const std::vector<uin
 }
 
 int Run(const std::string& dir) {
-  for (const char* t :
-       {"", "/fuzz_decode", "/fuzz_stream_reader", "/fuzz_motion", "/fuzz_mask", "/fuzz_block"}) {
+  for (const char* t : {"", "/fuzz_decode", "/fuzz_stream_reader", "/fuzz_motion", "/fuzz_mask",
+                        "/fuzz_block", "/fuzz_decoder_api"}) {
     mkdir((dir + t).c_str(), 0755);
   }
   int n = 0;
@@ -88,6 +88,7 @@ int Run(const std::string& dir) {
     if (!bytes.ok()) return 1;
     put("fuzz_decode", v.name, Prefixed({0}, *bytes));
     put("fuzz_stream_reader", v.name, Prefixed({7}, *bytes));
+    put("fuzz_decoder_api", v.name, Prefixed({100, 0}, *bytes));
     const FragmentData& f = stream->fragments[0];
     const uint8_t mode = static_cast<uint8_t>((o.motion_coder == MotionCoder::kZstd ? 1 : 0) |
                                               ((o.key_interval - 1) << 1));
