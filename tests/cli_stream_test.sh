@@ -31,6 +31,15 @@ grep -q "decoded frames 4..5 (1 GOPs" <<<"$out" && grep -q "truncated" <<<"$out"
 out=$("$fvv" decode "$dir/s.fvv" -o "$dir/bad" --frames 7:99 2>&1) && fail "frames beyond the end accepted"
 grep -q "not a range" <<<"$out" || fail "range message: $out"
 
+# fvv render: headless Renderer II, an orbit and a capture camera's view.
+out=$("$fvv" render "$dir/s.fvv" -o "$dir/render" --size 96x64 --last 3 2>&1) || fail "render: $out"
+grep -q "rendered frames 0..3 at 96x64 (orbit)" <<<"$out" || fail "render report: $out"
+[ "$(ls "$dir"/render/render_*.png | wc -l)" = 4 ] || fail "render wrote $(ls "$dir"/render | wc -l) files"
+out=$("$fvv" render "$dir/s.fvv" -o "$dir/render_cam" --size 96x64 --camera 1 --first 2 --last 2 2>&1) ||
+  fail "render --camera: $out"
+out=$("$fvv" render "$dir/s.fvv" -o "$dir/render_bad" --camera 9 2>&1) && fail "render: camera 9 accepted"
+grep -q "the stream has 3 cameras" <<<"$out" || fail "camera message: $out"
+
 # A damaged byte inside the last fragment: exit 1, the fragment named.
 cp "$dir/s.fvv" "$dir/bad.fvv"
 size=$(stat -c %s "$dir/bad.fvv")

@@ -4,6 +4,7 @@
 
 #include "encoder/cli/block_command.h"
 #include "encoder/cli/decode_command.h"
+#include "encoder/cli/render_command.h"
 #include "encoder/cli/stream_command.h"
 
 int main(int argc, char** argv) {
@@ -13,6 +14,7 @@ int main(int argc, char** argv) {
   int exit_code = 0;
   fvv::AddStreamCommands(&app, &exit_code);
   fvv::AddDecodeCommand(&app, &exit_code);
+  fvv::AddRenderCommand(&app, &exit_code);
   fvv::AddBlockCommands(&app, &exit_code);
   CLI11_PARSE(app, argc, argv);
   return exit_code;

@@ -180,7 +180,8 @@ std::vector<double> SampleWalkPose(const Skeleton& skeleton, uint32_t frame) {
     } else if (name == "neck") {
       v = d.kind == 0 ? 0.05 * std::sin(2 * phase) : 0.08 * s;
     } else if (name.find("shoulder") != std::string::npos) {
-      v = d.kind == 0 ? -0.45 * side * s : d.kind == 2 ? side * (1.2 + 0.05 * c) : 0.0;
+      // Arms down from the rest T-pose (left arm along +x: negative z rotation).
+      v = d.kind == 0 ? -0.45 * side * s : d.kind == 2 ? -side * (1.2 + 0.05 * c) : 0.0;
     } else if (name.find("elbow") != std::string::npos) {
       v = side * (0.4 + 0.25 * std::max(0.0, -side * s));
     } else if (name.find("wrist") != std::string::npos) {

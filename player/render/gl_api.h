@@ -1,0 +1,76 @@
+// The OpenGL 3.3 core functions Renderer II uses, loaded through whatever the
+// context provides (OSMesaGetProcAddress headless, glfwGetProcAddress windowed),
+// so the same renderer code runs on both without linking two GL libraries.
+#ifndef FVV_PLAYER_RENDER_GL_API_H_
+#define FVV_PLAYER_RENDER_GL_API_H_
+
+#include <GL/glcorearb.h>
+
+#include "codec/status.h"
+
+namespace fvv {
+
+#define FVV_GL_FUNCTIONS(X)                                    \
+  X(PFNGLACTIVETEXTUREPROC, ActiveTexture)                     \
+  X(PFNGLATTACHSHADERPROC, AttachShader)                       \
+  X(PFNGLBINDBUFFERPROC, BindBuffer)                           \
+  X(PFNGLBINDBUFFERBASEPROC, BindBufferBase)                   \
+  X(PFNGLBINDTEXTUREPROC, BindTexture)                         \
+  X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray)                 \
+  X(PFNGLBUFFERDATAPROC, BufferData)                           \
+  X(PFNGLBUFFERSUBDATAPROC, BufferSubData)                     \
+  X(PFNGLCLEARPROC, Clear)                                     \
+  X(PFNGLCLEARCOLORPROC, ClearColor)                           \
+  X(PFNGLCOMPILESHADERPROC, CompileShader)                     \
+  X(PFNGLCREATEPROGRAMPROC, CreateProgram)                     \
+  X(PFNGLCREATESHADERPROC, CreateShader)                       \
+  X(PFNGLDELETEBUFFERSPROC, DeleteBuffers)                     \
+  X(PFNGLDELETEPROGRAMPROC, DeleteProgram)                     \
+  X(PFNGLDELETESHADERPROC, DeleteShader)                       \
+  X(PFNGLDELETETEXTURESPROC, DeleteTextures)                   \
+  X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays)           \
+  X(PFNGLDRAWELEMENTSPROC, DrawElements)                       \
+  X(PFNGLENABLEPROC, Enable)                                   \
+  X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray) \
+  X(PFNGLFINISHPROC, Finish)                                   \
+  X(PFNGLGENBUFFERSPROC, GenBuffers)                           \
+  X(PFNGLGENTEXTURESPROC, GenTextures)                         \
+  X(PFNGLGENVERTEXARRAYSPROC, GenVertexArrays)                 \
+  X(PFNGLGETERRORPROC, GetError)                               \
+  X(PFNGLGETPROGRAMINFOLOGPROC, GetProgramInfoLog)             \
+  X(PFNGLGETPROGRAMIVPROC, GetProgramiv)                       \
+  X(PFNGLGETSHADERINFOLOGPROC, GetShaderInfoLog)               \
+  X(PFNGLGETSHADERIVPROC, GetShaderiv)                         \
+  X(PFNGLGETSTRINGPROC, GetString)                             \
+  X(PFNGLGETUNIFORMBLOCKINDEXPROC, GetUniformBlockIndex)       \
+  X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation)           \
+  X(PFNGLLINKPROGRAMPROC, LinkProgram)                         \
+  X(PFNGLPIXELSTOREIPROC, PixelStorei)                         \
+  X(PFNGLREADPIXELSPROC, ReadPixels)                           \
+  X(PFNGLSHADERSOURCEPROC, ShaderSource)                       \
+  X(PFNGLTEXIMAGE3DPROC, TexImage3D)                           \
+  X(PFNGLTEXPARAMETERIPROC, TexParameteri)                     \
+  X(PFNGLTEXSUBIMAGE3DPROC, TexSubImage3D)                     \
+  X(PFNGLUNIFORM1FPROC, Uniform1f)                             \
+  X(PFNGLUNIFORM1IPROC, Uniform1i)                             \
+  X(PFNGLUNIFORM3FVPROC, Uniform3fv)                           \
+  X(PFNGLUNIFORMBLOCKBINDINGPROC, UniformBlockBinding)         \
+  X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv)               \
+  X(PFNGLUSEPROGRAMPROC, UseProgram)                           \
+  X(PFNGLVERTEXATTRIBIPOINTERPROC, VertexAttribIPointer)       \
+  X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer)         \
+  X(PFNGLVIEWPORTPROC, Viewport)
+
+struct GlApi {
+#define FVV_GL_MEMBER(type, name) type name = nullptr;
+  FVV_GL_FUNCTIONS(FVV_GL_MEMBER)
+#undef FVV_GL_MEMBER
+};
+
+using GlProcLoader = void* (*)(const char* name);
+// Loads every function; an error names the first one missing.
+Status LoadGlApi(GlProcLoader loader, GlApi* gl);
+
+}  // namespace fvv
+
+#endif  // FVV_PLAYER_RENDER_GL_API_H_

@@ -1,0 +1,305 @@
+#include "player/render/renderer.h"
+
+#include <algorithm>
+#include <cstddef>
+#include <glm/gtc/type_ptr.hpp>
+#include <string>
+
+namespace fvv {
+namespace {
+
+constexpr int kMaxBones = 256;   // one std140 block of mat4 (16 KiB, the GL minimum)
+constexpr int kMaxCameras = 64;  // level 4
+
+const char* kVertexShader = R"(#version 330 core
+layout(location = 0) in vec3 a_pos;
+layout(location = 1) in vec3 a_normal;
+layout(location = 2) in vec2 a_uv;
+layout(location = 3) in uvec4 a_joints;
+layout(location = 4) in vec4 a_weights;
+layout(std140) uniform Bones { mat4 u_skin[256]; };
+uniform mat4 u_view_proj;
+out vec3 v_world;
+out vec3 v_normal;
+out vec2 v_uv;
+void main() {
+  mat4 s = a_weights.x * u_skin[a_joints.x] + a_weights.y * u_skin[a_joints.y] +
+           a_weights.z * u_skin[a_joints.z] + a_weights.w * u_skin[a_joints.w];
+  vec4 w = s * vec4(a_pos, 1.0);
+  v_world = w.xyz;
+  v_normal = mat3(s) * a_normal;
+  v_uv = a_uv;
+  gl_Position = u_view_proj * w;
+}
+)";
+
+const char* kFragmentShader = R"(#version 330 core
+in vec3 v_world;
+in vec3 v_normal;
+in vec2 v_uv;
+uniform sampler2DArray u_textures;
+uniform sampler2DArray u_masks;
+uniform int u_has_masks;
+uniform vec3 u_cameras[64];
+uniform int u_camera_count;
+uniform vec3 u_eye;
+uniform float u_exponent;
+out vec4 o_color;
+void main() {
+  vec3 n = normalize(v_normal);
+  vec3 to_eye = normalize(u_eye - v_world);
+  vec3 sum = vec3(0.0);
+  float weight_sum = 0.0;
+  vec3 fallback = vec3(0.5);
+  float best = -2.0;
+  for (int i = 0; i < u_camera_count; ++i) {
+    vec3 to_camera = normalize(u_cameras[i] - v_world);
+    float facing = dot(n, to_camera);
+    vec3 colour = texture(u_textures, vec3(v_uv, float(i))).rgb;
+    // Without masks a camera "sees" the surfaces facing it.
+    float seen = u_has_masks != 0 ? texture(u_masks, vec3(v_uv, float(i))).r
+                                  : step(0.0, facing);
+    float angle = acos(clamp(dot(to_eye, to_camera), -1.0, 1.0));
+    float w = seen * pow(1.0 / (angle + 0.02), u_exponent);
+    sum += w * colour;
+    weight_sum += w;
+    if (facing > best) {
+      best = facing;
+      fallback = colour;
+    }
+  }
+  o_color = vec4(weight_sum > 1e-12 ? sum / weight_sum : fallback, 1.0);
+}
+)";
+
+}  // namespace
+
+Status Renderer::CheckGl(const char* where) {
+  const GLenum e = gl_.GetError();
+  if (e != GL_NO_ERROR)
+    return Internal(std::string("OpenGL error ") + std::to_string(e) + " in " + where);
+  return Status::Ok();
+}
+
+StatusOr<std::unique_ptr<Renderer>> Renderer::Create(const GlApi& gl, const fvv_model& model,
+                                                     const std::vector<glm::vec3>& centres,
+                                                     uint32_t atlas_width, uint32_t atlas_height) {
+  if (model.bone_count > kMaxBones) {
+    return Unsupported("renderer: " + std::to_string(model.bone_count) + " bones (at most 256)");
+  }
+  if (centres.empty() || centres.size() > kMaxCameras) {
+    return Unsupported("renderer: " + std::to_string(centres.size()) + " cameras (1..64)");
+  }
+  std::unique_ptr<Renderer> r(new Renderer(gl));
+  r->cameras_ = static_cast<uint32_t>(centres.size());
+  r->camera_centres_ = centres;
+  r->width_ = atlas_width;
+  r->height_ = atlas_height;
+  r->bones_ = model.bone_count;
+  const GlApi& g = r->gl_;
+
+  auto compile = [&](GLenum type, const char* src, GLuint* out) -> Status {
+    const GLuint s = g.CreateShader(type);
+    g.ShaderSource(s, 1, &src, nullptr);
+    g.CompileShader(s);
+    GLint ok = 0;
+    g.GetShaderiv(s, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+      char log[2048];
+      g.GetShaderInfoLog(s, sizeof(log), nullptr, log);
+      g.DeleteShader(s);
+      return Internal(std::string("renderer: shader does not compile: ") + log);
+    }
+    *out = s;
+    return Status::Ok();
+  };
+  GLuint vs = 0, fs = 0;
+  FVV_RETURN_IF_ERROR(compile(GL_VERTEX_SHADER, kVertexShader, &vs));
+  FVV_RETURN_IF_ERROR(compile(GL_FRAGMENT_SHADER, kFragmentShader, &fs));
+  r->program_ = g.CreateProgram();
+  g.AttachShader(r->program_, vs);
+  g.AttachShader(r->program_, fs);
+  g.LinkProgram(r->program_);
+  g.DeleteShader(vs);
+  g.DeleteShader(fs);
+  GLint linked = 0;
+  g.GetProgramiv(r->program_, GL_LINK_STATUS, &linked);
+  if (!linked) {
+    char log[2048];
+    g.GetProgramInfoLog(r->program_, sizeof(log), nullptr, log);
+    return Internal(std::string("renderer: program does not link: ") + log);
+  }
+
+  // Interleaved vertices: position 3, normal 3, uv 2, weights 4 floats; joints separately.
+  struct Vertex {
+    float p[3], n[3], uv[2], w[4];
+    uint32_t j[4];
+  };
+  std::vector<Vertex> vertices(model.vertex_count);
+  for (uint32_t v = 0; v < model.vertex_count; ++v) {
+    for (int k = 0; k < 3; ++k) {
+      vertices[v].p[k] = model.positions[3 * v + k];
+      vertices[v].n[k] = model.normals[3 * v + k];
+    }
+    for (int k = 0; k < 2; ++k) vertices[v].uv[k] = model.uvs[2 * v + k];
+    for (int k = 0; k < 4; ++k) {
+      vertices[v].w[k] = model.weights[4 * v + k];
+      vertices[v].j[k] = model.joints[4 * v + k] < model.bone_count ? model.joints[4 * v + k] : 0;
+    }
+  }
+  g.GenVertexArrays(1, &r->vao_);
+  g.BindVertexArray(r->vao_);
+  g.GenBuffers(1, &r->vbo_);
+  g.BindBuffer(GL_ARRAY_BUFFER, r->vbo_);
+  g.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(Vertex)),
+               vertices.data(), GL_STATIC_DRAW);
+  const GLsizei stride = sizeof(Vertex);
+  auto offset = [](size_t o) { return reinterpret_cast<const void*>(o); };
+  g.EnableVertexAttribArray(0);
+  g.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, offset(offsetof(Vertex, p)));
+  g.EnableVertexAttribArray(1);
+  g.VertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, offset(offsetof(Vertex, n)));
+  g.EnableVertexAttribArray(2);
+  g.VertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, stride, offset(offsetof(Vertex, uv)));
+  g.EnableVertexAttribArray(3);
+  g.VertexAttribIPointer(3, 4, GL_UNSIGNED_INT, stride, offset(offsetof(Vertex, j)));
+  g.EnableVertexAttribArray(4);
+  g.VertexAttribPointer(4, 4, GL_FLOAT, GL_FALSE, stride, offset(offsetof(Vertex, w)));
+  g.GenBuffers(1, &r->ibo_);
+  g.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ibo_);
+  g.BufferData(GL_ELEMENT_ARRAY_BUFFER,
+               static_cast<GLsizeiptr>(model.triangle_count * 3 * sizeof(uint32_t)),
+               model.triangles, GL_STATIC_DRAW);
+  r->index_count_ = static_cast<GLsizei>(model.triangle_count * 3);
+  g.BindVertexArray(0);
+
+  g.GenBuffers(1, &r->bones_ubo_);
+  g.BindBuffer(GL_UNIFORM_BUFFER, r->bones_ubo_);
+  g.BufferData(GL_UNIFORM_BUFFER, kMaxBones * 64, nullptr, GL_DYNAMIC_DRAW);
+  g.UniformBlockBinding(r->program_, g.GetUniformBlockIndex(r->program_, "Bones"), 0);
+
+  auto make_array = [&](GLuint* tex, GLint internal, GLenum format) {
+    g.GenTextures(1, tex);
+    g.BindTexture(GL_TEXTURE_2D_ARRAY, *tex);
+    g.TexImage3D(GL_TEXTURE_2D_ARRAY, 0, internal, static_cast<GLsizei>(atlas_width),
+                 static_cast<GLsizei>(atlas_height), static_cast<GLsizei>(r->cameras_), 0, format,
+                 GL_UNSIGNED_BYTE, nullptr);
+    g.TexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    g.TexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    g.TexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    g.TexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  };
+  make_array(&r->textures_, GL_RGB8, GL_RGB);
+  make_array(&r->masks_, GL_R8, GL_RED);
+  FVV_RETURN_IF_ERROR(r->CheckGl("renderer set-up"));
+  return r;
+}
+
+Renderer::~Renderer() {
+  if (textures_) gl_.DeleteTextures(1, &textures_);
+  if (masks_) gl_.DeleteTextures(1, &masks_);
+  if (bones_ubo_) gl_.DeleteBuffers(1, &bones_ubo_);
+  if (vbo_) gl_.DeleteBuffers(1, &vbo_);
+  if (ibo_) gl_.DeleteBuffers(1, &ibo_);
+  if (vao_) gl_.DeleteVertexArrays(1, &vao_);
+  if (program_) gl_.DeleteProgram(program_);
+}
+
+Status Renderer::SetFrame(const fvv_frame& frame) {
+  if (frame.format != FVV_FORMAT_RGB8) return InvalidArgument("renderer: frames must be RGB8");
+  if (frame.camera_count != cameras_ || frame.width != width_ || frame.height != height_ ||
+      frame.bone_count != bones_) {
+    return InvalidArgument("renderer: the frame does not match the stream it was set up for");
+  }
+  gl_.BindBuffer(GL_UNIFORM_BUFFER, bones_ubo_);
+  gl_.BufferSubData(GL_UNIFORM_BUFFER, 0, static_cast<GLsizeiptr>(bones_ * 64), frame.bone_skin);
+  gl_.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  has_masks_ = frame.camera_count > 0 && frame.views[0].mask != nullptr;
+  const size_t texels = size_t{width_} * height_;
+  mask_scratch_.resize(texels);
+  for (uint32_t c = 0; c < cameras_; ++c) {
+    gl_.BindTexture(GL_TEXTURE_2D_ARRAY, textures_);
+    gl_.TexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, static_cast<GLint>(c),
+                      static_cast<GLsizei>(width_), static_cast<GLsizei>(height_), 1, GL_RGB,
+                      GL_UNSIGNED_BYTE, frame.views[c].pixels);
+    if (has_masks_) {
+      for (size_t i = 0; i < texels; ++i) mask_scratch_[i] = frame.views[c].mask[i] ? 255 : 0;
+      gl_.BindTexture(GL_TEXTURE_2D_ARRAY, masks_);
+      gl_.TexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, static_cast<GLint>(c),
+                        static_cast<GLsizei>(width_), static_cast<GLsizei>(height_), 1, GL_RED,
+                        GL_UNSIGNED_BYTE, mask_scratch_.data());
+    }
+  }
+  has_frame_ = true;
+  return CheckGl("frame upload");
+}
+
+Status Renderer::Draw(const RenderView& view, int width, int height) {
+  if (!has_frame_) return InvalidArgument("renderer: Draw before SetFrame");
+  gl_.Viewport(0, 0, width, height);
+  gl_.ClearColor(view.background.r, view.background.g, view.background.b, 1.0f);
+  gl_.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  gl_.Enable(GL_DEPTH_TEST);
+  gl_.UseProgram(program_);
+  const glm::mat4 view_proj = view.projection * view.view;
+  gl_.UniformMatrix4fv(gl_.GetUniformLocation(program_, "u_view_proj"), 1, GL_FALSE,
+                       glm::value_ptr(view_proj));
+  gl_.Uniform3fv(gl_.GetUniformLocation(program_, "u_cameras"), static_cast<GLsizei>(cameras_),
+                 glm::value_ptr(camera_centres_[0]));
+  gl_.Uniform1i(gl_.GetUniformLocation(program_, "u_camera_count"), static_cast<GLint>(cameras_));
+  gl_.Uniform3fv(gl_.GetUniformLocation(program_, "u_eye"), 1, glm::value_ptr(view.eye));
+  gl_.Uniform1f(gl_.GetUniformLocation(program_, "u_exponent"), view.exponent);
+  gl_.Uniform1i(gl_.GetUniformLocation(program_, "u_has_masks"), has_masks_ ? 1 : 0);
+  gl_.Uniform1i(gl_.GetUniformLocation(program_, "u_textures"), 0);
+  gl_.Uniform1i(gl_.GetUniformLocation(program_, "u_masks"), 1);
+  gl_.ActiveTexture(GL_TEXTURE0);
+  gl_.BindTexture(GL_TEXTURE_2D_ARRAY, textures_);
+  gl_.ActiveTexture(GL_TEXTURE1);
+  gl_.BindTexture(GL_TEXTURE_2D_ARRAY, masks_);
+  gl_.BindBufferBase(GL_UNIFORM_BUFFER, 0, bones_ubo_);
+  gl_.BindVertexArray(vao_);
+  gl_.DrawElements(GL_TRIANGLES, index_count_, GL_UNSIGNED_INT, nullptr);
+  gl_.BindVertexArray(0);
+  gl_.ActiveTexture(GL_TEXTURE0);
+  return CheckGl("draw");
+}
+
+Status Renderer::ReadRgb(int width, int height, std::vector<uint8_t>* rgb) {
+  gl_.Finish();
+  std::vector<uint8_t> rows(size_t(width) * height * 3);
+  gl_.PixelStorei(GL_PACK_ALIGNMENT, 1);
+  gl_.ReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, rows.data());
+  rgb->resize(rows.size());
+  const size_t stride = size_t(width) * 3;
+  for (int y = 0; y < height; ++y) {  // GL rows run bottom-up
+    std::copy_n(rows.data() + size_t(height - 1 - y) * stride, stride,
+                rgb->data() + size_t(y) * stride);
+  }
+  return CheckGl("read-back");
+}
+
+void CameraViewProjection(const fvv_camera& c, float near_m, float far_m, glm::mat4* view,
+                          glm::mat4* projection) {
+  // World -> OpenCV camera (x right, y down, z forward), then flip y and z for GL.
+  glm::mat4 rt(1.0f);
+  for (int r = 0; r < 3; ++r) {
+    for (int k = 0; k < 3; ++k) rt[k][r] = static_cast<float>(c.rotation[3 * r + k]);
+    rt[3][r] = static_cast<float>(c.translation[r]);
+  }
+  glm::mat4 flip(1.0f);
+  flip[1][1] = -1.0f;
+  flip[2][2] = -1.0f;
+  *view = flip * rt;
+  const float w = static_cast<float>(c.width), h = static_cast<float>(c.height);
+  glm::mat4 p(0.0f);
+  p[0][0] = 2.0f * static_cast<float>(c.fx) / w;
+  p[1][1] = 2.0f * static_cast<float>(c.fy) / h;
+  p[2][0] = 1.0f - 2.0f * static_cast<float>(c.cx) / w;
+  p[2][1] = 2.0f * static_cast<float>(c.cy) / h - 1.0f;
+  p[2][2] = -(far_m + near_m) / (far_m - near_m);
+  p[2][3] = -1.0f;
+  p[3][2] = -2.0f * far_m * near_m / (far_m - near_m);
+  *projection = p;
+}
+
+}  // namespace fvv

@@ -1,0 +1,64 @@
+// Renderer II: the body model skinned into the decoded pose and textured from
+// every camera's atlas texture, blended per fragment by viewing angle
+// (DESIGN.md 1; issue 7): camera i's weight is its visibility mask at the texel
+// times (1 / (angle(view direction, camera direction) + eps))^exponent,
+// normalised; where no camera saw a texel the best-facing camera fills in.
+// OpenGL 3.3 core; the context (OSMesa or GLFW) belongs to the caller.
+#ifndef FVV_PLAYER_RENDER_RENDERER_H_
+#define FVV_PLAYER_RENDER_RENDERER_H_
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+#include <memory>
+#include <vector>
+
+#include "codec/status.h"
+#include "fvv/fvv_decoder.h"
+#include "player/render/gl_api.h"
+
+namespace fvv {
+
+struct RenderView {
+  glm::mat4 view{1.0f};
+  glm::mat4 projection{1.0f};
+  glm::vec3 eye{0.0f};
+  float exponent = 4.0f;  // higher: the best-aligned camera dominates more
+  glm::vec3 background{0.12f, 0.12f, 0.14f};
+};
+
+class Renderer {
+ public:
+  // Uploads the mesh; the GL context must be current.
+  static StatusOr<std::unique_ptr<Renderer>> Create(const GlApi& gl, const fvv_model& model,
+                                                    const std::vector<glm::vec3>& camera_centres,
+                                                    uint32_t atlas_width, uint32_t atlas_height);
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  // Bone matrices, textures and masks of a decoded frame (RGB8).
+  Status SetFrame(const fvv_frame& frame);
+  Status Draw(const RenderView& view, int width, int height);
+  // The framebuffer as top-down RGB8.
+  Status ReadRgb(int width, int height, std::vector<uint8_t>* rgb);
+
+ private:
+  explicit Renderer(const GlApi& gl) : gl_(gl) {}
+  Status CheckGl(const char* where);
+
+  GlApi gl_;
+  GLuint program_ = 0, vao_ = 0, vbo_ = 0, ibo_ = 0, bones_ubo_ = 0, textures_ = 0, masks_ = 0;
+  GLsizei index_count_ = 0;
+  uint32_t cameras_ = 0, width_ = 0, height_ = 0, bones_ = 0;
+  std::vector<glm::vec3> camera_centres_;
+  std::vector<uint8_t> mask_scratch_;
+  bool has_masks_ = false, has_frame_ = false;
+};
+
+// Capture camera -> GL view and projection (OpenCV conventions to GL).
+void CameraViewProjection(const fvv_camera& camera, float near_m, float far_m, glm::mat4* view,
+                          glm::mat4* projection);
+
+}  // namespace fvv
+
+#endif  // FVV_PLAYER_RENDER_RENDERER_H_

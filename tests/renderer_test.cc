@@ -1,0 +1,112 @@
+// Renderer II on OSMesa: draws the decoded model into a headless context.
+#include "player/render/renderer.h"
+
+#include <gtest/gtest.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "container/writer.h"
+#include "encoder/sample/sample_stream.h"
+#include "fvv/fvv_decoder.hpp"
+#include "player/render/headless.h"
+#include "tools/imageio/image_io.h"
+
+namespace fvv {
+namespace {
+
+constexpr int kW = 160, kH = 120;
+
+struct Scene {
+  DecoderPtr dec;
+  std::unique_ptr<HeadlessContext> ctx;
+  std::unique_ptr<Renderer> renderer;
+  std::vector<fvv_camera> cameras;
+};
+
+void MakeScene(Scene* s) {
+  SampleStreamOptions o = TinySampleOptions();
+  o.cameras = 4;
+  o.gop_cameras = 4;
+  o.atlas_width = o.atlas_height = 32;
+  auto bytes = MakeSampleStreamBytes(o);
+  ASSERT_TRUE(bytes.ok());
+  const std::string path = ::testing::TempDir() + "/fvv_renderer_test.fvv";
+  ASSERT_TRUE(WriteFileAtomic(path, bytes->data(), bytes->size()).ok());
+  s->dec = MakeDecoder();
+  ASSERT_EQ(fvv_decoder_open_file(s->dec.get(), path.c_str()), FVV_OK);
+  auto ctx = HeadlessContext::Create(kW, kH);
+  ASSERT_TRUE(ctx.ok()) << ctx.status().ToString();
+  s->ctx = std::move(ctx).value();
+  fvv_model model;
+  ASSERT_EQ(fvv_decoder_get_model(s->dec.get(), &model), FVV_OK);
+  std::vector<glm::vec3> centres;
+  s->cameras.resize(4);
+  for (uint32_t c = 0; c < 4; ++c) {
+    ASSERT_EQ(fvv_decoder_get_camera(s->dec.get(), c, &s->cameras[c]), FVV_OK);
+    centres.emplace_back(s->cameras[c].centre[0], s->cameras[c].centre[1], s->cameras[c].centre[2]);
+  }
+  auto r = Renderer::Create(s->ctx->gl(), model, centres, 32, 32);
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  s->renderer = std::move(r).value();
+}
+
+std::vector<uint8_t> RenderFromCamera(Scene* s, uint32_t frame_index, int camera) {
+  FramePtr frame = DecodeFrame(s->dec.get(), frame_index, nullptr);
+  EXPECT_TRUE(frame);
+  if (!frame) return {};
+  EXPECT_TRUE(s->renderer->SetFrame(*frame).ok());
+  RenderView view;
+  CameraViewProjection(s->cameras[camera], 0.05f, 50.0f, &view.view, &view.projection);
+  view.eye = glm::vec3(s->cameras[camera].centre[0], s->cameras[camera].centre[1],
+                       s->cameras[camera].centre[2]);
+  EXPECT_TRUE(s->renderer->Draw(view, kW, kH).ok());
+  std::vector<uint8_t> rgb;
+  EXPECT_TRUE(s->renderer->ReadRgb(kW, kH, &rgb).ok());
+  return rgb;
+}
+
+size_t ForegroundPixels(const std::vector<uint8_t>& rgb, const RenderView& v) {
+  const uint8_t bg[3] = {uint8_t(v.background.r * 255 + 0.5f), uint8_t(v.background.g * 255 + 0.5f),
+                         uint8_t(v.background.b * 255 + 0.5f)};
+  size_t n = 0;
+  for (size_t i = 0; i + 2 < rgb.size(); i += 3) {
+    n += std::abs(rgb[i] - bg[0]) + std::abs(rgb[i + 1] - bg[1]) + std::abs(rgb[i + 2] - bg[2]) > 6;
+  }
+  return n;
+}
+
+TEST(Renderer, DrawsTheActorFromACaptureCamera) {
+  Scene s;
+  MakeScene(&s);
+  if (HasFatalFailure()) return;
+  const std::vector<uint8_t> a = RenderFromCamera(&s, 0, 0);
+  ASSERT_EQ(a.size(), size_t{kW} * kH * 3);
+  const size_t fg = ForegroundPixels(a, RenderView());
+  // The stick figure covers a few percent of the view, not nothing and not all.
+  EXPECT_GT(fg, size_t{kW} * kH / 100);
+  EXPECT_LT(fg, size_t{kW} * kH / 3);
+  // Deterministic, and other viewpoints / poses give other images.
+  EXPECT_EQ(RenderFromCamera(&s, 0, 0), a);
+  EXPECT_NE(RenderFromCamera(&s, 0, 1), a);
+  EXPECT_NE(RenderFromCamera(&s, 2, 0), a);
+}
+
+TEST(Renderer, RefusesMismatchedFramesAndEarlyDraws) {
+  Scene s;
+  MakeScene(&s);
+  if (HasFatalFailure()) return;
+  EXPECT_EQ(s.renderer->Draw(RenderView(), kW, kH).code(), StatusCode::kInvalidArgument);
+  FramePtr frame = DecodeFrame(s.dec.get(), 0, nullptr);
+  ASSERT_TRUE(frame);
+  fvv_frame wrong = *frame;
+  wrong.camera_count = 3;
+  EXPECT_EQ(s.renderer->SetFrame(wrong).code(), StatusCode::kInvalidArgument);
+  fvv_decode_budget yuv{};
+  yuv.format = FVV_FORMAT_YUV444;
+  FramePtr yuv_frame = DecodeFrame(s.dec.get(), 0, &yuv);
+  ASSERT_TRUE(yuv_frame);
+  EXPECT_EQ(s.renderer->SetFrame(*yuv_frame).code(), StatusCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace fvv
