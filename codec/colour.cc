@@ -24,22 +24,6 @@ Yuv RgbToYuv(ColourSpace colour, int r, int g, int b) {
   return {Clamp(y, 0, 255), Clamp(u, 0, 255), Clamp(v, 0, 255)};
 }
 
-Rgb8 YuvToRgb(ColourSpace colour, int32_t y, int32_t u, int32_t v) {
-  int32_t r, g, b;
-  if (colour == ColourSpace::kRct) {
-    g = y - ((u + v) >> 2);
-    r = v + g;
-    b = u + g;
-  } else {
-    const int64_t cb = u - 128, cr = v - 128;
-    r = y + RoundQ16(91881LL * cr);
-    g = y + RoundQ16(-22554LL * cb - 46802LL * cr);
-    b = y + RoundQ16(116130LL * cb);
-  }
-  return {static_cast<uint8_t>(Clamp(r, 0, 255)), static_cast<uint8_t>(Clamp(g, 0, 255)),
-          static_cast<uint8_t>(Clamp(b, 0, 255))};
-}
-
 Block BlockFromRgb(const uint8_t* rgb, const Shape4D& shape, ColourSpace colour,
                    ChromaFormat chroma) {
   Block block;

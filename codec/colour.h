@@ -18,7 +18,18 @@ struct Rgb8 {
 };
 
 Yuv RgbToYuv(ColourSpace colour, int r, int g, int b);
-Rgb8 YuvToRgb(ColourSpace colour, int32_t y, int32_t u, int32_t v);
+// Inline: it runs for every texel of every frame a player shows (SPEC.md 9.7).
+inline Rgb8 YuvToRgb(ColourSpace colour, int32_t y, int32_t u, int32_t v) {
+  auto clamp8 = [](int32_t x) { return static_cast<uint8_t>(x < 0 ? 0 : x > 255 ? 255 : x); };
+  auto round_q16 = [](int64_t a) { return static_cast<int32_t>((a + 32768) >> 16); };
+  if (colour == ColourSpace::kRct) {
+    const int32_t g = y - ((u + v) >> 2);
+    return {clamp8(v + g), clamp8(g), clamp8(u + g)};
+  }
+  const int64_t cb = u - 128, cr = v - 128;
+  return {clamp8(y + round_q16(91881LL * cr)), clamp8(y + round_q16(-22554LL * cb - 46802LL * cr)),
+          clamp8(y + round_q16(116130LL * cb))};
+}
 
 // Interleaved RGB8 frames (one per (t, c), each h*w*3) <-> a block.
 // In 4:2:0 each chroma sample is the rounded mean of its (up to) 2x2 luma sites,

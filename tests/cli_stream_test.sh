@@ -40,6 +40,17 @@ out=$("$fvv" render "$dir/s.fvv" -o "$dir/render_cam" --size 96x64 --camera 1 --
 out=$("$fvv" render "$dir/s.fvv" -o "$dir/render_bad" --camera 9 2>&1) && fail "render: camera 9 accepted"
 grep -q "the stream has 3 cameras" <<<"$out" || fail "camera message: $out"
 
+# fvv play: the GLFW player, in a virtual X display when one can be had.
+if command -v xvfb-run >/dev/null; then
+  out=$(xvfb-run -a -s "-screen 0 640x480x24" "$fvv" play "$dir/s.fvv" --width 320 --height 240 \
+        --seconds 1.5 2>&1) || fail "play: $out"
+  grep -q "played 1.[5-9] s" <<<"$out" || fail "play summary: $out"
+else
+  echo "skip: fvv play (xvfb-run not installed; tools/setup.sh installs it)"
+fi
+out=$(DISPLAY= WAYLAND_DISPLAY= "$fvv" play "$dir/s.fvv" 2>&1) && fail "play without a display succeeded"
+grep -q "needs a display" <<<"$out" || fail "play without display: $out"
+
 # A damaged byte inside the last fragment: exit 1, the fragment named.
 cp "$dir/s.fvv" "$dir/bad.fvv"
 size=$(stat -c %s "$dir/bad.fvv")

@@ -3,8 +3,11 @@
 // streams give status codes.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <thread>
 #include <vector>
 
 #include "container/writer.h"
@@ -188,6 +191,31 @@ TEST(DecoderApi, StreamingGivesTheSameFrames) {
     }
   }
   EXPECT_EQ(decoded, 10u);
+}
+
+TEST(DecoderApi, PrefetchMakesAFrameReadyWithoutBlocking) {
+  const Fixture& fx = Shared();
+  fvv_decoder_settings settings;
+  fvv_decoder_default_settings(&settings);
+  settings.decode_ahead = 0;
+  DecoderPtr dec = MakeDecoder(&settings);
+  ASSERT_EQ(fvv_decoder_open_file(dec.get(), fx.path.c_str()), FVV_OK);
+  fvv_decode_budget budget{};
+  budget.max_ms_per_gop = 1000;
+  EXPECT_FALSE(fvv_decoder_frame_ready(dec.get(), 5, &budget));
+  ASSERT_EQ(fvv_decoder_prefetch(dec.get(), 5, &budget), FVV_OK);
+  for (int i = 0; i < 500 && !fvv_decoder_frame_ready(dec.get(), 5, &budget); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_TRUE(fvv_decoder_frame_ready(dec.get(), 5, &budget));
+  EXPECT_TRUE(fvv_decoder_frame_ready(dec.get(), 6, &budget));   // same GOP
+  EXPECT_FALSE(fvv_decoder_frame_ready(dec.get(), 9, &budget));  // the next one
+  FramePtr frame = DecodeFrame(dec.get(), 6, &budget);
+  ASSERT_TRUE(frame);
+  EXPECT_EQ(frame->index, 6u);
+  EXPECT_EQ(fvv_decoder_prefetch(dec.get(), 10, &budget), FVV_INVALID_ARGUMENT);
+  EXPECT_EQ(fvv_decoder_prefetch(nullptr, 0, &budget), FVV_INVALID_ARGUMENT);
+  EXPECT_FALSE(fvv_decoder_frame_ready(nullptr, 0, &budget));
 }
 
 TEST(DecoderApi, MisuseGivesInvalidArgument) {

@@ -6,7 +6,8 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config clang clang-format
   libpng-dev libopenexr-dev libgtest-dev libcli11-dev libzstd-dev nlohmann-json3-dev zstd libglm-dev
-  libosmesa6-dev libgl-dev  # OpenGL: OSMesa for headless rendering
+  libosmesa6-dev libgl-dev libglfw3-dev  # OpenGL: OSMesa headless, GLFW windowed
+  xvfb xauth  # a virtual display, so the windowed player is tested too
   assimp-testmodels  # CMU BVH motion: the motion-track benchmark and tests
   libopenjp2-tools  # opj_compress / opj_decompress: the JPEG 2000 peer in bench/
 )

@@ -4,6 +4,7 @@
 
 #include "encoder/cli/block_command.h"
 #include "encoder/cli/decode_command.h"
+#include "encoder/cli/play_command.h"
 #include "encoder/cli/render_command.h"
 #include "encoder/cli/stream_command.h"
 
@@ -15,6 +16,7 @@ int main(int argc, char** argv) {
   fvv::AddStreamCommands(&app, &exit_code);
   fvv::AddDecodeCommand(&app, &exit_code);
   fvv::AddRenderCommand(&app, &exit_code);
+  fvv::AddPlayCommand(&app, &exit_code);
   fvv::AddBlockCommands(&app, &exit_code);
   CLI11_PARSE(app, argc, argv);
   return exit_code;

@@ -165,12 +165,21 @@ typedef struct {
 } fvv_frame;
 
 /* Decodes (or takes from the GOP cache) frame `index`. The cached GOP is reused while the same
- * budget is asked for, and decoded again under a different one. budget may be NULL (decode
- * everything). Frames of GOPs that were dropped under the memory cap (streaming) are
- * FVV_INVALID_ARGUMENT. */
+ * budget is asked for, and decoded again under a different one; time budgets (max_ms_per_gop > 0)
+ * all count as the same, so a real-time player that retunes its budget every GOP keeps what was
+ * decoded ahead. budget may be NULL (decode everything). Frames of GOPs that were dropped under the
+ * memory cap (streaming) are FVV_INVALID_ARGUMENT. */
 FVV_EXPORT fvv_status fvv_decoder_decode_frame(fvv_decoder* decoder, uint32_t index,
                                                const fvv_decode_budget* budget, fvv_frame** frame);
 FVV_EXPORT void fvv_frame_release(fvv_frame* frame);
+
+/* For players that must not block: start decoding frame `index`'s GOP in the background
+ * (a no-op when it is cached or already under way), and ask whether fvv_decoder_decode_frame
+ * would return without decoding. While it is not ready, keep showing the last frame. */
+FVV_EXPORT fvv_status fvv_decoder_prefetch(fvv_decoder* decoder, uint32_t index,
+                                           const fvv_decode_budget* budget);
+FVV_EXPORT int fvv_decoder_frame_ready(fvv_decoder* decoder, uint32_t index,
+                                       const fvv_decode_budget* budget);
 
 #ifdef __cplusplus
 }

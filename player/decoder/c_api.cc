@@ -257,6 +257,8 @@ fvv_status fvv_decoder_decode_frame(fvv_decoder* d, uint32_t index, const fvv_de
   impl->pixels.resize(cameras);
   impl->views.resize(cameras);
   const size_t texels = size_t{si.header.atlas_width} * si.header.atlas_height;
+  // On the calling thread: the pool may be busy decoding the next GOP ahead,
+  // and waiting for it would stall the frame.
   for (uint32_t c = 0; c < cameras; ++c) {
     const uint32_t group = c / si.header.gop_cameras;
     const uint32_t local = c - g.groups[group].first_camera;
@@ -288,5 +290,25 @@ fvv_status fvv_decoder_decode_frame(fvv_decoder* d, uint32_t index, const fvv_de
 }
 
 void fvv_frame_release(fvv_frame* frame) { delete reinterpret_cast<FrameImpl*>(frame); }
+
+namespace {
+fvv::GopBudget ToGopBudget(const fvv_decode_budget* budget) {
+  fvv::GopBudget gb;
+  if (budget) {
+    gb.max_bytes = budget->max_bytes_per_gop;
+    gb.max_ms = budget->max_ms_per_gop > 0 ? budget->max_ms_per_gop : 0;
+  }
+  return gb;
+}
+}  // namespace
+
+fvv_status fvv_decoder_prefetch(fvv_decoder* d, uint32_t index, const fvv_decode_budget* budget) {
+  if (!d) return FVV_INVALID_ARGUMENT;
+  return Report(d, d->impl.Prefetch(index, ToGopBudget(budget)));
+}
+
+int fvv_decoder_frame_ready(fvv_decoder* d, uint32_t index, const fvv_decode_budget* budget) {
+  return d ? d->impl.Ready(index, ToGopBudget(budget)) : 0;
+}
 
 }  // extern "C"

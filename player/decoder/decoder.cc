@@ -153,6 +153,42 @@ void Decoder::WaitDecodeAhead() {
   if (ahead_.valid()) ahead_.wait();
 }
 
+// Budgets match when equal, or when both are time budgets: a player in
+// real-time mode retunes its time budget every GOP, and a GOP decoded ahead under
+// the previous one is what it wants (decoding it again would cost the very time
+// the budget protects).
+bool Decoder::SameBudget(const GopBudget& a, const GopBudget& b) {
+  return (a.Covers(b) && b.Covers(a)) || (a.max_ms > 0 && b.max_ms > 0);
+}
+
+Status Decoder::Prefetch(uint32_t frame, const GopBudget& budget) {
+  if (!ready_) return InvalidArgument("prefetch before the stream's header boxes were read");
+  if (frame >= frames_available_) return InvalidArgument("prefetch of an unavailable frame");
+  const uint32_t span = frame / info().header.gop_frames;
+  if (cache_ && cache_->span == span && SameBudget(cache_->budget, budget)) return Status::Ok();
+  if (ahead_.valid()) {
+    if (ahead_span_ == span) return Status::Ok();
+    if (ahead_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
+      return Status::Ok();  // one background decode at a time; ask again later
+    }
+    auto dropped = ahead_.get();
+    (void)dropped;
+  }
+  const bool was = settings_.decode_ahead != 0;
+  settings_.decode_ahead = 1;  // an explicit request, whatever the default
+  StartDecodeAhead(span, budget);
+  settings_.decode_ahead = was;
+  return Status::Ok();
+}
+
+bool Decoder::Ready(uint32_t frame, const GopBudget& budget) {
+  if (!ready_ || frame >= frames_available_) return false;
+  const uint32_t span = frame / info().header.gop_frames;
+  if (cache_ && cache_->span == span && SameBudget(cache_->budget, budget)) return true;
+  return ahead_.valid() && ahead_span_ == span && SameBudget(ahead_budget_, budget) &&
+         ahead_.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+}
+
 StatusOr<std::shared_ptr<const DecodedGop>> Decoder::Gop(uint32_t frame, const GopBudget& budget) {
   if (!ready_) return InvalidArgument("decode before the stream's header boxes were read");
   if (frame >= frames_available_) {
@@ -160,10 +196,9 @@ StatusOr<std::shared_ptr<const DecodedGop>> Decoder::Gop(uint32_t frame, const G
                            std::to_string(frames_available_) + " frames decodable)");
   }
   const uint32_t span = frame / info().header.gop_frames;
-  auto same = [](const GopBudget& a, const GopBudget& b) { return a.Covers(b) && b.Covers(a); };
-  if (cache_ && cache_->span == span && same(cache_->budget, budget)) return cache_;
+  if (cache_ && cache_->span == span && SameBudget(cache_->budget, budget)) return cache_;
   std::shared_ptr<DecodedGop> gop;
-  if (ahead_.valid() && ahead_span_ == span && same(ahead_budget_, budget)) {
+  if (ahead_.valid() && ahead_span_ == span && SameBudget(ahead_budget_, budget)) {
     auto result = ahead_.get();
     if (result.ok()) gop = std::move(result).value();
   } else if (ahead_.valid()) {

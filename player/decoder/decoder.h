@@ -33,10 +33,15 @@ class Decoder {
 
   // The decoded GOP holding `frame`, decoded at least as well as `budget` asks.
   StatusOr<std::shared_ptr<const DecodedGop>> Gop(uint32_t frame, const GopBudget& budget);
+  // Starts decoding the GOP holding `frame` in the background (if it is neither
+  // cached nor already being decoded); Ready says whether Gop would return at once.
+  Status Prefetch(uint32_t frame, const GopBudget& budget);
+  bool Ready(uint32_t frame, const GopBudget& budget);
 
  private:
   Status SpanFragments(uint32_t span, std::vector<FragmentData>* out);
   StatusOr<std::shared_ptr<DecodedGop>> DecodeSpan(uint32_t span, const GopBudget& budget);
+  static bool SameBudget(const GopBudget& a, const GopBudget& b);
   void StartDecodeAhead(uint32_t span, const GopBudget& budget);
   void WaitDecodeAhead();
   uint32_t span_count() const;

@@ -1,0 +1,26 @@
+// `fvv play`: the interactive player (GLFW window, Renderer II, real-time
+// quality control).
+#ifndef FVV_PLAYER_APP_PLAYER_H_
+#define FVV_PLAYER_APP_PLAYER_H_
+
+#include <string>
+
+namespace fvv {
+
+struct PlayerOptions {
+  std::string input;
+  int width = 1280, height = 720;
+  float exponent = 4.0f;
+  double decode_share = 0.8;  // of each GOP's play time less its render time
+  bool loop = true;
+  double seconds = 0;  // > 0: play this long, print a summary and exit (benchmarks, tests)
+};
+
+// The keys and mouse controls, for --help.
+const char* PlayerControlsHelp();
+// Runs until the window closes; returns the process exit status.
+int RunPlayer(const PlayerOptions& options);
+
+}  // namespace fvv
+
+#endif  // FVV_PLAYER_APP_PLAYER_H_
