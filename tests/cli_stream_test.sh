@@ -42,7 +42,10 @@ grep -q "the stream has 3 cameras" <<<"$out" || fail "camera message: $out"
 
 # fvv play: the GLFW player, in a virtual X display when one can be had.
 if command -v xvfb-run >/dev/null; then
-  out=$(xvfb-run -a -s "-screen 0 640x480x24" "$fvv" play "$dir/s.fvv" --width 320 --height 240 \
+  # The GLX driver GLFW dlopens keeps allocations LeakSanitizer cannot attribute
+  # (its module is gone at exit); leak checking of our GL code runs in renderer_test.
+  out=$(ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0" \
+        xvfb-run -a -s "-screen 0 640x480x24" "$fvv" play "$dir/s.fvv" --width 320 --height 240 \
         --seconds 1.5 2>&1) || fail "play: $out"
   grep -q "played 1.[5-9] s" <<<"$out" || fail "play summary: $out"
 else
