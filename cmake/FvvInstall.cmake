@@ -2,7 +2,11 @@
 # that find_package(fvv) works for embedding applications, and a pkg-config file.
 include(CMakePackageConfigHelpers)
 install(DIRECTORY include/fvv DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-install(TARGETS fvv_codec_dec fvv_codec fvv_thread_pool fvv_container_dec fvv_container EXPORT fvvTargets
+# Exported as fvv::dec, fvv::codec, ... (the same names as the build-tree aliases).
+foreach(t codec_dec codec thread_pool container_dec container dec)
+  set_target_properties(fvv_${t} PROPERTIES EXPORT_NAME ${t})
+endforeach()
+install(TARGETS fvv_codec_dec fvv_codec fvv_thread_pool fvv_container_dec fvv_container fvv_dec EXPORT fvvTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
@@ -11,7 +15,7 @@ if(TARGET fvv)
 endif()
 install(EXPORT fvvTargets NAMESPACE fvv:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/fvv)
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/fvvConfig.cmake.in
-     "@PACKAGE_INIT@\ninclude(CMakeFindDependencyMacro)\nfind_dependency(Threads)\nfind_dependency(zstd)\ninclude(\"\${CMAKE_CURRENT_LIST_DIR}/fvvTargets.cmake\")\n")
+     "@PACKAGE_INIT@\ninclude(CMakeFindDependencyMacro)\nfind_dependency(Threads)\nfind_dependency(zstd)\nfind_dependency(glm)\ninclude(\"\${CMAKE_CURRENT_LIST_DIR}/fvvTargets.cmake\")\n")
 configure_package_config_file(${CMAKE_CURRENT_BINARY_DIR}/fvvConfig.cmake.in
                               ${CMAKE_CURRENT_BINARY_DIR}/fvvConfig.cmake
                               INSTALL_DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/fvv)
@@ -21,5 +25,5 @@ install(FILES ${CMAKE_CURRENT_BINARY_DIR}/fvvConfig.cmake
               ${CMAKE_CURRENT_BINARY_DIR}/fvvConfigVersion.cmake
         DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/fvv)
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/fvv.pc
-     "prefix=${CMAKE_INSTALL_PREFIX}\nlibdir=\${prefix}/${CMAKE_INSTALL_LIBDIR}\nincludedir=\${prefix}/${CMAKE_INSTALL_INCLUDEDIR}\n\nName: fvv\nDescription: free-viewpoint video codec SDK\nVersion: ${PROJECT_VERSION}\nLibs: -L\${libdir} -lfvv_container -lfvv_container_dec -lfvv_codec -lfvv_codec_dec -lfvv_thread_pool -lzstd\nCflags: -I\${includedir}\n")
+     "prefix=${CMAKE_INSTALL_PREFIX}\nlibdir=\${prefix}/${CMAKE_INSTALL_LIBDIR}\nincludedir=\${prefix}/${CMAKE_INSTALL_INCLUDEDIR}\n\nName: fvv\nDescription: free-viewpoint video codec SDK\nVersion: ${PROJECT_VERSION}\nLibs: -L\${libdir} -lfvv_dec -lfvv_container -lfvv_container_dec -lfvv_codec -lfvv_codec_dec -lfvv_thread_pool -lzstd\nCflags: -I\${includedir}\n")
 install(FILES ${CMAKE_CURRENT_BINARY_DIR}/fvv.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
