@@ -1,10 +1,14 @@
 #include "codec/spiht4d_common.h"
 
+#include <algorithm>
+#include <vector>
+
 namespace fvv {
 
 const char* CoderName(EntropyCoder c) { return c == EntropyCoder::kArith ? "arith" : "binary"; }
 
 SpihtTree::SpihtTree(const WaveletGeometry& geometry) : g_(geometry) {
+  BuildPositionTable();
   // Tree tops, in order: the final low band R(L), then for l = L - 1 down to 1 the
   // detail coefficients of level l that have no parent: those whose every
   // high-pass axis makes its last split at l (so level l + 1 has no detail band of
@@ -92,13 +96,44 @@ bool SpihtTree::HasGrandchildren(uint32_t idx) const {
   return Level(p) >= 3;
 }
 
-int SpihtTree::LevelClass(uint32_t idx) const {
-  std::array<uint32_t, kAxes> p;
-  Coords(idx, &p);
-  const int l = Level(p);
-  if (l == g_.levels + 1) return 0;
-  if (l >= 4) return 1;
-  return 5 - l;  // 3 -> 2, 2 -> 3, 1 -> 4
+void SpihtTree::BuildPositionTable() {
+  const Shape4D& s = g_.shape;
+  const uint32_t w = s.n[3];
+  position_.resize(s.count());
+  const int root = g_.levels + 1;
+  // A row's entries depend only on the row's level over t, c, y and on whether it
+  // is the first or last row: build each distinct row once and copy it.
+  std::vector<std::vector<uint8_t>> rows(size_t(root + 1) * 4);
+  auto row_for = [&](int l, uint8_t vertical) -> const std::vector<uint8_t>& {
+    std::vector<uint8_t>& row = rows[size_t(l) * 4 + (vertical >> 5)];
+    if (row.empty()) {
+      row.resize(w);
+      for (uint32_t x = 0; x < w; ++x) {
+        const int bx = g_.axis[3].band[x];
+        const int lx = bx != 0 && bx < l ? bx : l;
+        const uint8_t cls = static_cast<uint8_t>(lx == root ? 0 : lx >= 4 ? 1 : 5 - lx);
+        row[x] =
+            static_cast<uint8_t>(cls | vertical | (x > 0 ? kLeft : 0) | (x + 1 < w ? kRight : 0));
+      }
+    }
+    return row;
+  };
+  uint8_t* out = position_.data();
+  for (uint32_t t = 0; t < s.n[0]; ++t) {
+    for (uint32_t c = 0; c < s.n[1]; ++c) {
+      for (uint32_t y = 0; y < s.n[2]; ++y, out += w) {
+        // Level: the smallest non-zero band code over the axes (root: none).
+        int l = root;
+        for (int b : {int{g_.axis[0].band[t]}, int{g_.axis[1].band[c]}, int{g_.axis[2].band[y]}}) {
+          if (b != 0 && b < l) l = b;
+        }
+        const uint8_t vertical =
+            static_cast<uint8_t>((y > 0 ? kUp : 0) | (y + 1 < s.n[2] ? kDown : 0));
+        const std::vector<uint8_t>& row = row_for(l, vertical);
+        std::copy(row.begin(), row.end(), out);
+      }
+    }
+  }
 }
 
 }  // namespace fvv

@@ -84,14 +84,24 @@ class SpihtTree {
   bool HasGrandchildren(uint32_t idx) const;
   // Context class of a coefficient's level: 0 root, 1 level >= 4, 2 level 3,
   // 3 level 2, 4 level 1.
-  int LevelClass(uint32_t idx) const;
+  int LevelClass(uint32_t idx) const { return position_[idx] & kClassMask; }
+  // Which spatial neighbours exist (the context model's hot path asks for every
+  // decision; a table saves the divisions of Coords).
+  bool HasLeft(uint32_t idx) const { return position_[idx] & kLeft; }
+  bool HasRight(uint32_t idx) const { return position_[idx] & kRight; }
+  bool HasUp(uint32_t idx) const { return position_[idx] & kUp; }
+  bool HasDown(uint32_t idx) const { return position_[idx] & kDown; }
 
  private:
   void AppendBox(const std::array<uint32_t, kAxes>& lo, const std::array<uint32_t, kAxes>& hi,
                  int level);
 
+  static constexpr uint8_t kClassMask = 7, kLeft = 8, kRight = 16, kUp = 32, kDown = 64;
+  void BuildPositionTable();
+
   WaveletGeometry g_;
-  std::vector<uint32_t> roots_;  // tree tops: the root band, then parentless detail bands
+  std::vector<uint32_t> roots_;    // tree tops: the root band, then parentless detail bands
+  std::vector<uint8_t> position_;  // per coefficient: level class | neighbour flags
 };
 
 // Context indices of the adaptive model.
@@ -118,25 +128,23 @@ constexpr int kCount = kRefine + 2;
 template <class Side>
 void SpihtTraverse(const SpihtTree& tree, int planes, Side* side) {
   const Shape4D& shape = tree.geometry().shape;
-  const uint32_t w = shape.width(), h = shape.height();
+  const uint32_t w = shape.width();
   // 0: not (yet) significant; 1: significant, positive; 2: significant, negative.
   std::vector<uint8_t> significant(tree.size(), 0);
   // Significant spatial neighbours (x +- 1, y +- 1), clipped to 2: the context.
   auto neighbours = [&](uint32_t idx) {
-    const uint32_t x = idx % w, y = (idx / w) % h;
     int k = 0;
-    if (x > 0) k += significant[idx - 1] != 0;
-    if (x + 1 < w) k += significant[idx + 1] != 0;
-    if (y > 0) k += significant[idx - w] != 0;
-    if (y + 1 < h) k += significant[idx + w] != 0;
+    if (tree.HasLeft(idx)) k += significant[idx - 1] != 0;
+    if (tree.HasRight(idx)) k += significant[idx + 1] != 0;
+    if (tree.HasUp(idx)) k += significant[idx - w] != 0;
+    if (tree.HasDown(idx)) k += significant[idx + w] != 0;
     return k < 2 ? k : 2;
   };
   // Signs of the left and upper neighbours: signs of neighbouring wavelet
   // coefficients are correlated along edges.
   auto sign_ctx = [&](uint32_t idx) {
-    const uint32_t x = idx % w, y = (idx / w) % h;
-    const int left = x > 0 ? significant[idx - 1] : 0;
-    const int up = y > 0 ? significant[idx - w] : 0;
+    const int left = tree.HasLeft(idx) ? significant[idx - 1] : 0;
+    const int up = tree.HasUp(idx) ? significant[idx - w] : 0;
     return ctx::kSign + tree.LevelClass(idx) * ctx::kSignStates + left * 3 + up;
   };
   auto code_sign = [&](uint32_t idx, int n) {
