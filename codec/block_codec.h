@@ -74,7 +74,12 @@ StatusOr<EncodedBlock> EncodeBlock(const Block& block, const UsedMask* mask,
 struct DecodeBudget {
   uint64_t max_bytes =
       0;              // all channels together; 0 = no limit. Split in proportion to stream sizes.
-  double max_ms = 0;  // 0 = no limit; stops SPIHT decoding when reached
+  double max_ms = 0;  // 0 = no limit; each channel's SPIHT decoding stops this long after it starts
+  // Runs the three channels' SPIHT decodes (empty: the main runner). Under a time
+  // budget, a runner that runs all three at once keeps them equally far along
+  // when the deadline comes; a pool with fewer threads would start the last
+  // channel late and leave it starved.
+  ParallelRunner channel_runner;
 };
 
 struct DecodeReport {

@@ -33,17 +33,18 @@ StatusOr<Block> DecodeBlock(const EncodedBlock& encoded, const DecodeBudget& bud
       limits[c].max_bytes = static_cast<uint64_t>(
           static_cast<double>(encoded.channels[c].data.size()) * budget.max_bytes / total);
     }
-    if (budget.max_ms > 0)
-      limits[c].deadline =
-          start + std::chrono::microseconds(static_cast<int64_t>(budget.max_ms * 1000));
   }
   std::array<SpihtDecodeResult, 3> results;
   std::array<std::vector<int32_t>, 3> coeffs;
-  runner(3, [&](uint32_t c) {
+  const ParallelRunner& channel_runner = budget.channel_runner ? budget.channel_runner : runner;
+  channel_runner(3, [&](uint32_t c) {
     const WaveletGeometry g(shapes[c]);
     const SpihtTree tree(g);
     const SubbandQuantisers q(p.kernel, g);
     const ChannelStream& s = encoded.channels[c];
+    // The time budget is for decoding decisions: it starts once the channel's
+    // set-up is done (which no budget could shorten).
+    limits[c].max_ms = budget.max_ms;
     results[c] = SpihtDecode(tree, q, s.data.data(), s.data.size(), s.planes, p.coder, limits[c],
                              &coeffs[c]);
   });

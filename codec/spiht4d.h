@@ -31,7 +31,9 @@ SpihtEncoded SpihtEncode(const SpihtTree& tree, const SubbandQuantisers& quantis
 struct SpihtDecodeLimits {
   uint64_t max_bytes = UINT64_MAX;
   // Stop when this time is reached (checked every few thousand decisions).
-  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
+  // Decoding stops this long after its first decision (set-up and the
+  // coefficient buffer are not counted); 0 = no limit.
+  double max_ms = 0;
 };
 
 struct SpihtDecodeResult {

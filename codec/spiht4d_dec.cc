@@ -15,10 +15,16 @@ class DecoderSide {
       : coder_(coder),
         bits_(data, budget),
         range_(data, budget),
-        deadline_(limits.deadline),
+        deadline_(std::chrono::steady_clock::time_point::max()),
         mag_(*magnitudes),
         state_(tree.size(), 0),
-        probs_(ctx::kCount, kProbInit) {}
+        probs_(ctx::kCount, kProbInit) {
+    // The clock starts after the buffers above exist: the budget is for decisions.
+    if (limits.max_ms > 0) {
+      deadline_ = std::chrono::steady_clock::now() +
+                  std::chrono::microseconds(static_cast<int64_t>(limits.max_ms * 1000));
+    }
+  }
 
   bool SigCoeff(uint32_t, int, int ctx, bool* sig) {
     uint32_t bit;

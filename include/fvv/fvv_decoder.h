@@ -134,7 +134,9 @@ typedef enum {
 
 typedef struct {
   uint64_t max_bytes_per_gop; /* texture bytes to decode per GOP fragment; 0 = all */
-  double max_ms_per_gop;      /* stop texture decoding of a GOP after this; 0 = no limit */
+  double max_ms_per_gop;      /* time for the GOP's embedded-stream (SPIHT) decoding, after which
+                                 it stops with what it has; set-up and the inverse transform come
+                                 on top. 0 = no limit */
   uint32_t format;            /* an fvv_pixel_format (a plain integer: any value is checked) */
 } fvv_decode_budget;
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <future>
+#include <thread>
 
 #include "codec/block_codec.h"
 #include "codec/mask_coder.h"
@@ -37,6 +38,11 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
     DecodeBudget b;
     b.max_bytes = budget.max_bytes;
     if (budget.max_ms > 0) {
+      b.channel_runner = [](uint32_t n, const std::function<void(uint32_t)>& task) {
+        std::vector<std::thread> threads;
+        for (uint32_t i = 0; i < n; ++i) threads.emplace_back(task, i);
+        for (std::thread& t : threads) t.join();
+      };
       const double spent =
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
               .count();
