@@ -37,6 +37,9 @@ grep -q "rendered frames 0..3 at 96x64 (orbit)" <<<"$out" || fail "render report
 [ "$(ls "$dir"/render/render_*.png | wc -l)" = 4 ] || fail "render wrote $(ls "$dir"/render | wc -l) files"
 out=$("$fvv" render "$dir/s.fvv" -o "$dir/render_cam" --size 96x64 --camera 1 --first 2 --last 2 2>&1) ||
   fail "render --camera: $out"
+out=$("$fvv" render "$dir/s.fvv" -o "$dir/sheet" --size 40x30 --first 3 --contact-sheet 5 2>&1) ||
+  fail "contact sheet: $out"
+[ -s "$dir/sheet/contact_sheet.png" ] || fail "no contact sheet"
 out=$("$fvv" render "$dir/s.fvv" -o "$dir/render_bad" --camera 9 2>&1) && fail "render: camera 9 accepted"
 grep -q "the stream has 3 cameras" <<<"$out" || fail "camera message: $out"
 

@@ -34,9 +34,11 @@ $fvv decode "$out/sample.fvv" -o "$out/sample_cut" --frames 0:7 --bytes 4000
 echo "== render it headless with Renderer II: an orbit, and capture camera 2's view"
 $fvv render "$out/sample.fvv" -o "$out/render_orbit" --size 640x480
 $fvv render "$out/sample.fvv" -o "$out/render_camera2" --size 640x480 --camera 2 --last 7
+$fvv render "$out/sample.fvv" -o "$out/render_orbit" --size 320x240 --first 10 --contact-sheet 12
 echo
 echo "outputs: $out/views (input views + masks), $out/block_*.fvb (coded blocks),"
 echo "         $out/decoded_full and $out/decoded_cut (decoded views, view_tTTT_cCC.png),"
 echo "         $out/sample.fvv (a stream; fvv info $out/sample.fvv --json),"
 echo "         $out/sample_decoded and $out/sample_cut (tex_/mask_fFFFFF_cCC.png, poses.json),"
-echo "         $out/render_orbit and $out/render_camera2 (render_fFFFFF.png)"
+echo "         $out/render_orbit and $out/render_camera2 (render_fFFFFF.png),"
+echo "         $out/render_orbit/contact_sheet.png (12 novel views of frame 10)"

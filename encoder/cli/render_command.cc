@@ -2,6 +2,7 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -22,7 +23,8 @@ namespace {
 struct RenderArgs {
   std::string input, output_dir, size = "640x480", format = "png";
   uint32_t first = 0, last = UINT32_MAX;
-  int camera = -1;  // -1: orbit
+  int camera = -1;     // -1: orbit
+  uint32_t sheet = 0;  // > 0: a contact sheet of this many novel views of --first
   float exponent = 4.0f;
   uint64_t bytes = 0;
   double max_ms = 0;
@@ -73,6 +75,45 @@ int RunRender(const RenderArgs& a) {
   using Clock = std::chrono::steady_clock;
   double decode_s = 0, render_s = 0;
   std::vector<uint8_t> rgb;
+  if (a.sheet > 0) {
+    // Novel views of one frame from evenly spaced directions around the actor,
+    // tiled into one image.
+    FramePtr frame = DecodeFrame(dec.get(), a.first, &budget);
+    if (!frame) return Fail(fvv_decoder_error(dec.get()));
+    Status s = (*renderer)->SetFrame(*frame);
+    if (!s.ok()) return Fail(s.ToString());
+    const uint32_t cols = static_cast<uint32_t>(std::ceil(std::sqrt(double(a.sheet))));
+    const uint32_t rows = (a.sheet + cols - 1) / cols;
+    Image sheet;
+    sheet.width = cols * static_cast<uint32_t>(width);
+    sheet.height = rows * static_cast<uint32_t>(height);
+    sheet.pixels.assign(size_t{sheet.width} * sheet.height * 3, 0);
+    const glm::vec3 target(frame->bone_world[12], frame->bone_world[13], frame->bone_world[14]);
+    for (uint32_t i = 0; i < a.sheet; ++i) {
+      RenderView view;
+      view.exponent = a.exponent;
+      const float angle = 6.2831853f * static_cast<float>(i) / static_cast<float>(a.sheet);
+      const float lift = 0.2f + 0.6f * static_cast<float>(i % 2);
+      view.eye = target + glm::vec3(3.5f * std::sin(angle), lift, 3.5f * std::cos(angle));
+      view.view = glm::lookAt(view.eye, target, glm::vec3(0, 1, 0));
+      view.projection =
+          glm::perspective(glm::radians(40.0f), float(width) / float(height), 0.05f, 50.0f);
+      s = (*renderer)->Draw(view, width, height);
+      if (s.ok()) s = (*renderer)->ReadRgb(width, height, &rgb);
+      if (!s.ok()) return Fail(s.ToString());
+      const size_t x0 = (i % cols) * size_t(width), y0 = (i / cols) * size_t(height);
+      for (int y = 0; y < height; ++y) {
+        std::copy_n(rgb.data() + size_t(y) * width * 3, size_t(width) * 3,
+                    sheet.pixels.data() + ((y0 + y) * sheet.width + x0) * 3);
+      }
+    }
+    const std::string path = a.output_dir + "/contact_sheet." + a.format;
+    s = WriteImage(path, sheet);
+    if (!s.ok()) return Fail(s.ToString());
+    std::printf("contact sheet of frame %u: %u views of %dx%d -> %s\n", a.first, a.sheet, width,
+                height, path.c_str());
+    return 0;
+  }
   const uint32_t count = last - a.first + 1;
   for (uint32_t f = a.first; f <= last; ++f) {
     auto t0 = Clock::now();
@@ -133,6 +174,9 @@ void AddRenderCommand(CLI::App* app, int* exit_code) {
   r->add_option("--first", args->first, "First frame")->capture_default_str();
   r->add_option("--last", args->last, "Last frame (default: the stream's last)");
   r->add_option("--camera", args->camera, "Render from capture camera K (default: an orbit)");
+  r->add_option("--contact-sheet", args->sheet,
+                "Instead: one image of N novel views of frame --first around the actor")
+      ->check(CLI::Range(1, 64));
   r->add_option("--exponent", args->exponent,
                 "Blend exponent: higher lets the best-aligned camera dominate")
       ->capture_default_str()
