@@ -93,6 +93,15 @@ void ConvertView(const fvv::Block& block, uint32_t t, uint32_t c, fvv_pixel_form
   }
 }
 
+fvv::GopBudget ToGopBudget(const fvv_decode_budget* budget) {
+  fvv::GopBudget gb;
+  if (budget) {
+    gb.max_bytes = budget->max_bytes_per_gop;
+    gb.max_ms = budget->max_ms_per_gop > 0 ? budget->max_ms_per_gop : 0;
+  }
+  return gb;
+}
+
 }  // namespace
 
 extern "C" {
@@ -234,10 +243,7 @@ fvv_status fvv_decoder_decode_frame(fvv_decoder* d, uint32_t index, const fvv_de
       (d->impl.info().header.tools & fvv::kToolReversibleColour)) {
     return Misuse(d, "decode_frame: RCT (lossless) streams have no 8-bit YUV form; ask for RGB8");
   }
-  fvv::GopBudget gb;
-  gb.max_bytes = b.max_bytes_per_gop;
-  gb.max_ms = b.max_ms_per_gop;
-  auto gop = d->impl.Gop(index, gb);
+  auto gop = d->impl.Gop(index, ToGopBudget(&b));
   if (!gop.ok()) return Report(d, gop.status());
   BuildModel(d);
   const fvv::StreamInfo& si = d->impl.info();
@@ -290,17 +296,6 @@ fvv_status fvv_decoder_decode_frame(fvv_decoder* d, uint32_t index, const fvv_de
 }
 
 void fvv_frame_release(fvv_frame* frame) { delete reinterpret_cast<FrameImpl*>(frame); }
-
-namespace {
-fvv::GopBudget ToGopBudget(const fvv_decode_budget* budget) {
-  fvv::GopBudget gb;
-  if (budget) {
-    gb.max_bytes = budget->max_bytes_per_gop;
-    gb.max_ms = budget->max_ms_per_gop > 0 ? budget->max_ms_per_gop : 0;
-  }
-  return gb;
-}
-}  // namespace
 
 fvv_status fvv_decoder_prefetch(fvv_decoder* d, uint32_t index, const fvv_decode_budget* budget) {
   if (!d) return FVV_INVALID_ARGUMENT;
