@@ -8,19 +8,18 @@ namespace {
 
 constexpr uint8_t kMaskModeContextCoded = 1;
 
-uint32_t ToolOfKernel(WaveletKernel k) {
-  switch (k) {
-    case WaveletKernel::kHaar:
-      return kToolHaar;
-    case WaveletKernel::kLeGall53:
-      return kToolLeGall53;
-    case WaveletKernel::kCdf97:
-      break;
-  }
-  return kToolCdf97;
-}
-
 }  // namespace
+
+uint32_t TextureTools(WaveletKernel kernel, EntropyCoder coder, ColourSpace colour,
+                      ChromaFormat chroma) {
+  uint32_t tools = kernel == WaveletKernel::kHaar       ? kToolHaar
+                   : kernel == WaveletKernel::kLeGall53 ? kToolLeGall53
+                                                        : kToolCdf97;
+  tools |= coder == EntropyCoder::kArith ? kToolSpihtArith : kToolSpihtBinary;
+  if (chroma == ChromaFormat::k420) tools |= kToolChroma420;
+  if (colour == ColourSpace::kRct) tools |= kToolReversibleColour;
+  return tools;
+}
 
 StatusOr<FragmentInfo> FragmentInfoFor(const FileHeader& h, uint32_t gop_index) {
   const uint32_t groups = h.camera_groups();
@@ -131,11 +130,7 @@ Status ReadTexture(const BoxHeader& b, const uint8_t* payload, const FileHeader&
   if (r.overrun()) return Corrupt(at + "too short");
   Status s = ValidateParams(p);
   if (!s.ok()) return Status(s.code(), at + s.message());
-  uint32_t tools = ToolOfKernel(p.kernel) |
-                   (p.coder == EntropyCoder::kArith ? kToolSpihtArith : kToolSpihtBinary);
-  if (p.chroma == ChromaFormat::k420) tools |= kToolChroma420;
-  if (p.colour == ColourSpace::kRct) tools |= kToolReversibleColour;
-  if ((tools & ~h.tools) != 0) {
+  if ((TextureTools(p.kernel, p.coder, p.colour, p.chroma) & ~h.tools) != 0) {
     return Corrupt(at + "uses coding tools the file header does not declare");
   }
   static const char* const kNames[3] = {"Y", "U", "V"};

@@ -40,6 +40,11 @@ struct FragmentData {
   uint32_t checksum = 0;                   // filled by the reader
 };
 
+// The coding tools (FileHeader::tools bits) a texture coded with these
+// parameters uses; the header must declare all of them.
+uint32_t TextureTools(WaveletKernel kernel, EntropyCoder coder, ColourSpace colour,
+                      ChromaFormat chroma);
+
 // The fragment info the header's GOP grid gives to fragment `gop_index`.
 StatusOr<FragmentInfo> FragmentInfoFor(const FileHeader& h, uint32_t gop_index);
 

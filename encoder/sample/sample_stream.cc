@@ -213,12 +213,8 @@ StatusOr<SampleStream> MakeSampleStream(const SampleStreamOptions& o,
   h.atlas_height = o.atlas_height;
   h.gop_frames = o.gop_frames;
   h.gop_cameras = o.gop_cameras;
-  const uint32_t kernel_tool = o.kernel == WaveletKernel::kHaar       ? kToolHaar
-                               : o.kernel == WaveletKernel::kLeGall53 ? kToolLeGall53
-                                                                      : kToolCdf97;
-  h.tools = kernel_tool | (o.coder == EntropyCoder::kArith ? kToolSpihtArith : kToolSpihtBinary);
-  if (o.chroma == ChromaFormat::k420) h.tools |= kToolChroma420;
-  if (o.lossless) h.tools |= kToolReversibleColour;
+  h.tools = TextureTools(o.kernel, o.coder, o.lossless ? ColourSpace::kRct : ColourSpace::kYCbCr601,
+                         o.chroma);
   if (o.masks) h.tools |= kToolMasks;
   if (o.vertex_visibility) h.tools |= kToolVertexVisibility;
   if (o.key_interval > 1) h.tools |= kToolMotionInterpolation;

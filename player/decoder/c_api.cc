@@ -93,6 +93,13 @@ void ConvertView(const fvv::Block& block, uint32_t t, uint32_t c, fvv_pixel_form
   }
 }
 
+// The getters' common precondition: a decoder and an output, after READY.
+fvv_status RequireReady(fvv_decoder* d, const void* out, const char* what) {
+  if (!d || !out) return Misuse(d, (std::string(what) + ": NULL argument").c_str());
+  if (!d->impl.ready()) return Misuse(d, (std::string(what) + " before FVV_EVENT_READY").c_str());
+  return FVV_OK;
+}
+
 fvv::GopBudget ToGopBudget(const fvv_decode_budget* budget) {
   fvv::GopBudget gb;
   if (budget) {
@@ -163,8 +170,7 @@ uint32_t fvv_decoder_frames_available(const fvv_decoder* d) {
 
 fvv_status fvv_decoder_get_info(const fvv_decoder* cd, fvv_stream_info* out) {
   fvv_decoder* d = const_cast<fvv_decoder*>(cd);
-  if (!d || !out) return Misuse(d, "get_info: NULL argument");
-  if (!d->impl.ready()) return Misuse(d, "get_info before FVV_EVENT_READY");
+  if (const fvv_status s = RequireReady(d, out, "get_info"); s != FVV_OK) return s;
   const fvv::StreamInfo& si = d->impl.info();
   const fvv::FileHeader& h = si.header;
   *out = fvv_stream_info{};
@@ -188,8 +194,7 @@ fvv_status fvv_decoder_get_info(const fvv_decoder* cd, fvv_stream_info* out) {
 
 fvv_status fvv_decoder_get_camera(const fvv_decoder* cd, uint32_t index, fvv_camera* out) {
   fvv_decoder* d = const_cast<fvv_decoder*>(cd);
-  if (!d || !out) return Misuse(d, "get_camera: NULL argument");
-  if (!d->impl.ready()) return Misuse(d, "get_camera before FVV_EVENT_READY");
+  if (const fvv_status s = RequireReady(d, out, "get_camera"); s != FVV_OK) return s;
   const auto& cams = d->impl.info().cameras;
   if (index >= cams.size()) return Misuse(d, "get_camera: index beyond the camera count");
   const fvv::Camera& c = cams[index];
@@ -212,8 +217,7 @@ fvv_status fvv_decoder_get_camera(const fvv_decoder* cd, uint32_t index, fvv_cam
 
 fvv_status fvv_decoder_get_model(const fvv_decoder* cd, fvv_model* out) {
   fvv_decoder* d = const_cast<fvv_decoder*>(cd);
-  if (!d || !out) return Misuse(d, "get_model: NULL argument");
-  if (!d->impl.ready()) return Misuse(d, "get_model before FVV_EVENT_READY");
+  if (const fvv_status s = RequireReady(d, out, "get_model"); s != FVV_OK) return s;
   BuildModel(d);
   out->bone_count = static_cast<uint32_t>(d->parents.size());
   out->bone_parent = d->parents.data();

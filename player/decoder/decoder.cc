@@ -132,8 +132,8 @@ StatusOr<std::shared_ptr<DecodedGop>> Decoder::DecodeSpan(uint32_t span, const G
   return DecodeGop(info(), fragments, budget, pool_.runner());
 }
 
-void Decoder::StartDecodeAhead(uint32_t span, const GopBudget& budget) {
-  if (!settings_.decode_ahead || ahead_.valid() || span >= span_count()) return;
+void Decoder::StartBackgroundDecode(uint32_t span, const GopBudget& budget, bool requested) {
+  if ((!requested && !settings_.decode_ahead) || ahead_.valid() || span >= span_count()) return;
   if (!file_ && (span + 1) * info().header.gop_frames > frames_available_ &&
       (span + 1) * info().header.gop_frames < info().header.frame_count) {
     return;  // not all of it has arrived
@@ -174,10 +174,7 @@ Status Decoder::Prefetch(uint32_t frame, const GopBudget& budget) {
     auto dropped = ahead_.get();
     (void)dropped;
   }
-  const bool was = settings_.decode_ahead != 0;
-  settings_.decode_ahead = 1;  // an explicit request, whatever the default
-  StartDecodeAhead(span, budget);
-  settings_.decode_ahead = was;
+  StartBackgroundDecode(span, budget, /*requested=*/true);
   return Status::Ok();
 }
 
@@ -209,7 +206,7 @@ StatusOr<std::shared_ptr<const DecodedGop>> Decoder::Gop(uint32_t frame, const G
     FVV_ASSIGN_OR_RETURN(gop, DecodeSpan(span, budget));
   }
   cache_ = gop;
-  StartDecodeAhead(span + 1, budget);
+  StartBackgroundDecode(span + 1, budget, /*requested=*/false);
   return cache_;
 }
 

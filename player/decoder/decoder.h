@@ -42,7 +42,9 @@ class Decoder {
   Status SpanFragments(uint32_t span, std::vector<FragmentData>* out);
   StatusOr<std::shared_ptr<DecodedGop>> DecodeSpan(uint32_t span, const GopBudget& budget);
   static bool SameBudget(const GopBudget& a, const GopBudget& b);
-  void StartDecodeAhead(uint32_t span, const GopBudget& budget);
+  // Decodes `span` in the background; `requested`: asked for by the caller
+  // (Prefetch), not the automatic decode-ahead that settings can turn off.
+  void StartBackgroundDecode(uint32_t span, const GopBudget& budget, bool requested);
   void WaitDecodeAhead();
   uint32_t span_count() const;
 
