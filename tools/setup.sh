@@ -10,6 +10,10 @@ packages=(
   xvfb xauth  # a virtual display, so the windowed player is tested too
   assimp-testmodels  # CMU BVH motion: the motion-track benchmark and tests
   libopenjp2-tools  # opj_compress / opj_decompress: the JPEG 2000 peer in bench/
+  libeigen3-dev  # body model kinematics, calibration, tracking
+  ffmpeg  # video frame sources of captures
+  libtinygltf-dev  # glTF 2.0 characters (fvv synth --actor)
+  libyaml-cpp-dev libtomlplusplus-dev  # OpenCV-style calibration files (fvv capture import-calib)
 )
 
 missing=()

@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "encoder/cli/block_command.h"
+#include "encoder/cli/capture_command.h"
 #include "encoder/cli/decode_command.h"
 #include "encoder/cli/play_command.h"
 #include "encoder/cli/render_command.h"
@@ -13,6 +14,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "fvv 0.1.0");
   int exit_code = 0;
+  fvv::AddCaptureCommands(&app, &exit_code);
   fvv::AddStreamCommands(&app, &exit_code);
   fvv::AddDecodeCommand(&app, &exit_code);
   fvv::AddRenderCommand(&app, &exit_code);

@@ -82,12 +82,7 @@ int RunRender(const RenderArgs& a) {
     if (!frame) return Fail(fvv_decoder_error(dec.get()));
     Status s = (*renderer)->SetFrame(*frame);
     if (!s.ok()) return Fail(s.ToString());
-    const uint32_t cols = static_cast<uint32_t>(std::ceil(std::sqrt(double(a.sheet))));
-    const uint32_t rows = (a.sheet + cols - 1) / cols;
-    Image sheet;
-    sheet.width = cols * static_cast<uint32_t>(width);
-    sheet.height = rows * static_cast<uint32_t>(height);
-    sheet.pixels.assign(size_t{sheet.width} * sheet.height * 3, 0);
+    std::vector<Image> views;
     const glm::vec3 target(frame->bone_world[12], frame->bone_world[13], frame->bone_world[14]);
     for (uint32_t i = 0; i < a.sheet; ++i) {
       RenderView view;
@@ -101,14 +96,14 @@ int RunRender(const RenderArgs& a) {
       s = (*renderer)->Draw(view, width, height);
       if (s.ok()) s = (*renderer)->ReadRgb(width, height, &rgb);
       if (!s.ok()) return Fail(s.ToString());
-      const size_t x0 = (i % cols) * size_t(width), y0 = (i / cols) * size_t(height);
-      for (int y = 0; y < height; ++y) {
-        std::copy_n(rgb.data() + size_t(y) * width * 3, size_t(width) * 3,
-                    sheet.pixels.data() + ((y0 + y) * sheet.width + x0) * 3);
-      }
+      Image view_image;
+      view_image.width = static_cast<uint32_t>(width);
+      view_image.height = static_cast<uint32_t>(height);
+      view_image.pixels = rgb;
+      views.push_back(std::move(view_image));
     }
     const std::string path = a.output_dir + "/contact_sheet." + a.format;
-    s = WriteImage(path, sheet);
+    s = WriteImage(path, MakeContactSheet(views));
     if (!s.ok()) return Fail(s.ToString());
     std::printf("contact sheet of frame %u: %u views of %dx%d -> %s\n", a.first, a.sheet, width,
                 height, path.c_str());

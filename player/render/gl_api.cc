@@ -1,5 +1,7 @@
 #include "player/render/gl_api.h"
 
+#include <algorithm>
+
 #include <string>
 
 namespace fvv {
@@ -12,6 +14,65 @@ Status LoadGlApi(GlProcLoader loader, GlApi* gl) {
   }
   FVV_GL_FUNCTIONS(FVV_GL_LOAD)
 #undef FVV_GL_LOAD
+  return Status::Ok();
+}
+
+StatusOr<GLuint> BuildProgram(const GlApi& g, const char* vertex_source,
+                              const char* fragment_source, const std::string& what) {
+  auto compile = [&](GLenum type, const char* src, GLuint* out) -> Status {
+    const GLuint s = g.CreateShader(type);
+    g.ShaderSource(s, 1, &src, nullptr);
+    g.CompileShader(s);
+    GLint ok = 0;
+    g.GetShaderiv(s, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+      char log[2048];
+      g.GetShaderInfoLog(s, sizeof(log), nullptr, log);
+      g.DeleteShader(s);
+      return Internal(what + ": shader does not compile: " + log);
+    }
+    *out = s;
+    return Status::Ok();
+  };
+  GLuint vs = 0, fs = 0;
+  FVV_RETURN_IF_ERROR(compile(GL_VERTEX_SHADER, vertex_source, &vs));
+  Status s = compile(GL_FRAGMENT_SHADER, fragment_source, &fs);
+  if (!s.ok()) {
+    g.DeleteShader(vs);
+    return s;
+  }
+  const GLuint program = g.CreateProgram();
+  g.AttachShader(program, vs);
+  g.AttachShader(program, fs);
+  g.LinkProgram(program);
+  g.DeleteShader(vs);
+  g.DeleteShader(fs);
+  GLint linked = 0;
+  g.GetProgramiv(program, GL_LINK_STATUS, &linked);
+  if (!linked) {
+    char log[2048];
+    g.GetProgramInfoLog(program, sizeof(log), nullptr, log);
+    g.DeleteProgram(program);
+    return Internal(what + ": program does not link: " + log);
+  }
+  return program;
+}
+
+Status ReadFramebuffer(const GlApi& gl, int width, int height, int channels,
+                       std::vector<uint8_t>* pixels) {
+  gl.Finish();
+  std::vector<uint8_t> rows(size_t(width) * height * channels);
+  gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
+  gl.ReadPixels(0, 0, width, height, channels == 1 ? GL_RED : GL_RGB, GL_UNSIGNED_BYTE,
+                rows.data());
+  pixels->resize(rows.size());
+  const size_t stride = size_t(width) * channels;
+  for (int y = 0; y < height; ++y) {  // GL rows run bottom-up
+    std::copy_n(rows.data() + size_t(height - 1 - y) * stride, stride,
+                pixels->data() + size_t(y) * stride);
+  }
+  const GLenum e = gl.GetError();
+  if (e != GL_NO_ERROR) return Internal("OpenGL error " + std::to_string(e) + " in read-back");
   return Status::Ok();
 }
 

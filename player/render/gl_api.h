@@ -6,6 +6,9 @@
 
 #include <GL/glcorearb.h>
 
+#include <string>
+#include <vector>
+
 #include "codec/status.h"
 
 namespace fvv {
@@ -70,6 +73,15 @@ struct GlApi {
 using GlProcLoader = void* (*)(const char* name);
 // Loads every function; an error names the first one missing.
 Status LoadGlApi(GlProcLoader loader, GlApi* gl);
+
+// Compiles and links a vertex + fragment shader pair; errors carry the GLSL log
+// and start with `what`.
+StatusOr<GLuint> BuildProgram(const GlApi& gl, const char* vertex_source,
+                              const char* fragment_source, const std::string& what);
+// The current framebuffer's lower-left width x height pixels as top-down rows
+// of `channels` (1: red, 3: RGB) bytes.
+Status ReadFramebuffer(const GlApi& gl, int width, int height, int channels,
+                       std::vector<uint8_t>* pixels);
 
 }  // namespace fvv
 

@@ -98,37 +98,9 @@ StatusOr<std::unique_ptr<Renderer>> Renderer::Create(const GlApi& gl, const fvv_
   r->bones_ = model.bone_count;
   const GlApi& g = r->gl_;
 
-  auto compile = [&](GLenum type, const char* src, GLuint* out) -> Status {
-    const GLuint s = g.CreateShader(type);
-    g.ShaderSource(s, 1, &src, nullptr);
-    g.CompileShader(s);
-    GLint ok = 0;
-    g.GetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-      char log[2048];
-      g.GetShaderInfoLog(s, sizeof(log), nullptr, log);
-      g.DeleteShader(s);
-      return Internal(std::string("renderer: shader does not compile: ") + log);
-    }
-    *out = s;
-    return Status::Ok();
-  };
-  GLuint vs = 0, fs = 0;
-  FVV_RETURN_IF_ERROR(compile(GL_VERTEX_SHADER, kVertexShader, &vs));
-  FVV_RETURN_IF_ERROR(compile(GL_FRAGMENT_SHADER, kFragmentShader, &fs));
-  r->program_ = g.CreateProgram();
-  g.AttachShader(r->program_, vs);
-  g.AttachShader(r->program_, fs);
-  g.LinkProgram(r->program_);
-  g.DeleteShader(vs);
-  g.DeleteShader(fs);
-  GLint linked = 0;
-  g.GetProgramiv(r->program_, GL_LINK_STATUS, &linked);
-  if (!linked) {
-    char log[2048];
-    g.GetProgramInfoLog(r->program_, sizeof(log), nullptr, log);
-    return Internal(std::string("renderer: program does not link: ") + log);
-  }
+  StatusOr<GLuint> program = BuildProgram(g, kVertexShader, kFragmentShader, "renderer");
+  if (!program.ok()) return program.status();
+  r->program_ = *program;
 
   // Interleaved vertices: position 3, normal 3, uv 2, weights 4 floats; joints separately.
   struct Vertex {
@@ -265,22 +237,14 @@ Status Renderer::Draw(const RenderView& view, int width, int height) {
 }
 
 Status Renderer::ReadRgb(int width, int height, std::vector<uint8_t>* rgb) {
-  gl_.Finish();
-  std::vector<uint8_t> rows(size_t(width) * height * 3);
-  gl_.PixelStorei(GL_PACK_ALIGNMENT, 1);
-  gl_.ReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, rows.data());
-  rgb->resize(rows.size());
-  const size_t stride = size_t(width) * 3;
-  for (int y = 0; y < height; ++y) {  // GL rows run bottom-up
-    std::copy_n(rows.data() + size_t(height - 1 - y) * stride, stride,
-                rgb->data() + size_t(y) * stride);
-  }
-  return CheckGl("read-back");
+  return ReadFramebuffer(gl_, width, height, 3, rgb);
 }
 
 void CameraViewProjection(const fvv_camera& c, float near_m, float far_m, glm::mat4* view,
                           glm::mat4* projection) {
   // World -> OpenCV camera (x right, y down, z forward), then flip y and z for GL.
+  // OpenCV puts pixel centres at integer coordinates, GL at half-integers: hence
+  // cx + 0.5 and cy + 0.5 below.
   glm::mat4 rt(1.0f);
   for (int r = 0; r < 3; ++r) {
     for (int k = 0; k < 3; ++k) rt[k][r] = static_cast<float>(c.rotation[3 * r + k]);
@@ -294,8 +258,8 @@ void CameraViewProjection(const fvv_camera& c, float near_m, float far_m, glm::m
   glm::mat4 p(0.0f);
   p[0][0] = 2.0f * static_cast<float>(c.fx) / w;
   p[1][1] = 2.0f * static_cast<float>(c.fy) / h;
-  p[2][0] = 1.0f - 2.0f * static_cast<float>(c.cx) / w;
-  p[2][1] = 2.0f * static_cast<float>(c.cy) / h - 1.0f;
+  p[2][0] = 1.0f - 2.0f * static_cast<float>(c.cx + 0.5) / w;
+  p[2][1] = 2.0f * static_cast<float>(c.cy + 0.5) / h - 1.0f;
   p[2][2] = -(far_m + near_m) / (far_m - near_m);
   p[2][3] = -1.0f;
   p[3][2] = -2.0f * far_m * near_m / (far_m - near_m);

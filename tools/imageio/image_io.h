@@ -26,6 +26,11 @@ Status WriteExr(const std::string& path, const Image& image);
 // By extension: .png or .exr.
 Status WriteImage(const std::string& path, const Image& image);
 
+// Tiles images (RGB or grey, shown as RGB) into a grid `columns` wide, each
+// cell the size of the largest tile, left-aligned and top-aligned, black between.
+// columns = 0: about square.
+Image MakeContactSheet(const std::vector<Image>& tiles, uint32_t columns = 0);
+
 // Whole-file helpers with the same atomic-write rule.
 StatusOr<std::vector<uint8_t>> ReadFileBytes(const std::string& path, uint64_t max_bytes);
 Status WriteFileAtomic(const std::string& path, const uint8_t* data, size_t size);

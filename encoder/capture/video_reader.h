@@ -1,0 +1,42 @@
+// Decoding a video file frame by frame through the ffmpeg program (a child
+// process writing raw RGB24 to a pipe), so any format ffmpeg reads works as a
+// capture's frame source without linking libavcodec.
+#ifndef FVV_ENCODER_CAPTURE_VIDEO_READER_H_
+#define FVV_ENCODER_CAPTURE_VIDEO_READER_H_
+
+#include <memory>
+#include <string>
+
+#include "codec/status.h"
+#include "tools/imageio/image_io.h"
+
+namespace fvv {
+
+class VideoReader {
+ public:
+  // Starts decoding `path`, whose frames must be width x height.
+  static StatusOr<std::unique_ptr<VideoReader>> Open(const std::string& path, uint32_t width,
+                                                     uint32_t height, int channels = 3);
+  ~VideoReader();
+  VideoReader(const VideoReader&) = delete;
+  VideoReader& operator=(const VideoReader&) = delete;
+
+  // The next frame; an error past the last frame (naming the frame index).
+  StatusOr<Image> Next();
+  uint32_t next_index() const { return next_; }
+
+ private:
+  VideoReader() = default;
+  std::string path_;
+  uint32_t width_ = 0, height_ = 0, next_ = 0;
+  int channels_ = 3;
+  int fd_ = -1;
+  int pid_ = -1;
+};
+
+// Whether an ffmpeg executable is on PATH.
+bool HaveFfmpeg();
+
+}  // namespace fvv
+
+#endif  // FVV_ENCODER_CAPTURE_VIDEO_READER_H_

@@ -1,0 +1,126 @@
+#include "encoder/cli/capture_command.h"
+
+#include <cstdio>
+#include <memory>
+
+#include "encoder/capture/capture.h"
+#include "encoder/synth/synth.h"
+
+namespace fvv {
+namespace {
+
+int Fail(const Status& s) {
+  std::fprintf(stderr, "fvv: %s\n", s.ToString().c_str());
+  return 1;
+}
+
+int RunSynthCommand(SynthOptions o) {
+  o.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+  StatusOr<SynthSummary> s = RunSynth(o);
+  if (!s.ok()) return Fail(s.status());
+  std::printf("synthetic capture: %s\n", o.output_dir.c_str());
+  std::printf("  actor:    %s\n", s->actor.c_str());
+  std::printf("  cameras:  %zu at %ux%u, %u held out (truth/heldout)\n", s->capture.cameras.size(),
+              o.width, o.height, o.held_out);
+  std::printf("  frames:   %u at %.3g fps\n", o.frames, o.fps);
+  std::printf("  truth:    %s/truth (poses, 3D joints, silhouettes, texture)\n", o.output_dir.c_str());
+  std::printf("  time:     %.1f s (%.2f s per frame)\n", s->seconds, s->seconds / o.frames);
+  return 0;
+}
+
+struct SheetArgs {
+  std::string capture, output;
+  uint32_t frame = 0;
+  bool silhouettes = false;
+};
+
+int RunSheet(const SheetArgs& a) {
+  StatusOr<Capture> c = LoadCapture(a.capture);
+  if (!c.ok()) return Fail(c.status());
+  CaptureReader reader(*c);
+  std::vector<Image> tiles;
+  for (uint32_t i = 0; i < c->cameras.size(); ++i) {
+    StatusOr<Image> img = a.silhouettes ? reader.ReadSilhouette(i, a.frame) : reader.ReadFrame(i, a.frame);
+    if (!img.ok()) return Fail(img.status());
+    tiles.push_back(std::move(*img));
+  }
+  Status s = WriteImage(a.output, MakeContactSheet(tiles));
+  if (!s.ok()) return Fail(s);
+  std::printf("contact sheet: %zu cameras at frame %u -> %s\n", tiles.size(), a.frame, a.output.c_str());
+  return 0;
+}
+
+int RunCheck(const std::string& path) {
+  StatusOr<Capture> c = LoadCapture(path);
+  if (!c.ok()) return Fail(c.status());
+  CaptureReader reader(*c);
+  Status s = reader.CheckFiles();
+  if (!s.ok()) return Fail(s);
+  // Decode the first and last frame of every camera: sizes and formats.
+  for (uint32_t i = 0; i < c->cameras.size(); ++i) {
+    for (uint32_t f : {0u, c->frame_count - 1}) {
+      StatusOr<Image> img = reader.ReadFrame(i, f);
+      if (!img.ok()) return Fail(img.status());
+    }
+  }
+  std::printf("capture %s: %zu cameras, %u frames at %.3g fps, up axis %c%s%s: OK\n", path.c_str(),
+              c->cameras.size(), c->frame_count, c->frame_rate, c->up_axis,
+              reader.HasBackgrounds() ? ", background plates" : "",
+              reader.HasSilhouettes() ? ", silhouettes" : "");
+  for (const CaptureCamera& cam : c->cameras) {
+    const Camera& k = cam.calibration;
+    const auto centre = k.Centre();
+    std::printf("  %-8s %ux%u  f=%.1f  centre (%.2f, %.2f, %.2f) m  %s\n", k.name.c_str(), k.width,
+                k.height, k.fx, centre[0], centre[1], centre[2],
+                cam.frames.kind == FrameSource::Kind::kVideo ? "video" : "images");
+  }
+  return 0;
+}
+
+}  // namespace
+
+void AddCaptureCommands(CLI::App* app, int* exit_code) {
+  auto o = std::make_shared<SynthOptions>();
+  CLI::App* s = app->add_subcommand(
+      "synth", "Render a synthetic multi-view capture with ground truth (OpenGL, headless)");
+  s->add_option("-o,--output", o->output_dir, "Output capture directory")->required();
+  s->add_option("--cameras", o->cameras, "Ring cameras")->capture_default_str()->check(CLI::Range(1, 64));
+  s->add_flag("--overhead", o->overhead, "Add a camera looking down from above");
+  s->add_option("--width", o->width, "Image width")->capture_default_str();
+  s->add_option("--height", o->height, "Image height")->capture_default_str();
+  s->add_option("--fps", o->fps, "Frame rate")->capture_default_str();
+  s->add_option("--frames", o->frames, "Frame count")->capture_default_str();
+  s->add_option("--seed", o->seed, "Seed (noise, texture detail)")->capture_default_str();
+  s->add_option("--motion", o->motion, "BVH motion file (default: a built-in walk)");
+  s->add_option("--actor", o->actor, "\"builtin\" or a glTF 2.0 character (.glb/.gltf)")
+      ->capture_default_str();
+  s->add_option("--stature", o->stature, "Built-in actor's size (1.0 = 1.75 m)")
+      ->capture_default_str()->check(CLI::Range(0.5, 1.4));
+  s->add_option("--noise", o->noise, "Sensor noise (std. dev., 8-bit levels)")->capture_default_str();
+  s->add_option("--colour-mismatch", o->colour_mismatch, "Per-camera gain spread (0.05 = 5 %)")
+      ->capture_default_str();
+  s->add_option("--held-out", o->held_out, "Extra cameras for novel-view evaluation")
+      ->capture_default_str();
+  s->add_flag("--with-silhouettes", o->link_silhouettes,
+              "List the true silhouettes in capture.json (skip background subtraction)");
+  s->add_flag_callback("--classic", [o] { o->width = 320, o->height = 240, o->fps = 15; },
+                       "320x240 at 15 fps, as in the original studio");
+  s->callback([o, exit_code] { *exit_code = RunSynthCommand(*o); });
+
+  CLI::App* cap = app->add_subcommand("capture", "Capture directories: check, contact sheet");
+  cap->require_subcommand(1);
+  auto check_path = std::make_shared<std::string>();
+  CLI::App* check = cap->add_subcommand("check", "Validate a capture: calibration, files, frame sizes");
+  check->add_option("capture", *check_path, "Capture directory or capture.json")->required();
+  check->callback([check_path, exit_code] { *exit_code = RunCheck(*check_path); });
+
+  auto sheet = std::make_shared<SheetArgs>();
+  CLI::App* sh = cap->add_subcommand("sheet", "A contact sheet (PNG) of all cameras at one frame");
+  sh->add_option("capture", sheet->capture, "Capture directory or capture.json")->required();
+  sh->add_option("-o,--output", sheet->output, "Output image (.png or .exr)")->required();
+  sh->add_option("--frame", sheet->frame, "Frame index")->capture_default_str();
+  sh->add_flag("--silhouettes", sheet->silhouettes, "Show the capture's silhouettes instead");
+  sh->callback([sheet, exit_code] { *exit_code = RunSheet(*sheet); });
+}
+
+}  // namespace fvv

@@ -1,0 +1,234 @@
+// Capture directories and calibration (issue 4): projection round trips,
+// calibration sanity checks, capture.json errors that name what is wrong,
+// frame sources (image sequences, ffmpeg-decoded video).
+#include <gtest/gtest.h>
+
+#include <sys/stat.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <random>
+
+#include <nlohmann/json.hpp>
+
+#include "encoder/capture/calibration.h"
+#include "encoder/capture/capture.h"
+#include "encoder/capture/video_reader.h"
+
+namespace fvv {
+namespace {
+
+Camera TestCamera(double k1 = -0.2, double k2 = 0.05) {
+  Camera c = LookAtCamera("a", 640, 480, 700, Eigen::Vector3d(2, 1.5, 3), Eigen::Vector3d(0, 1, 0),
+                          Eigen::Vector3d(0, 1, 0));
+  c.cx = 322.5;
+  c.cy = 236.0;
+  c.fy = 705;
+  c.distortion = {k1, k2, 0.001, -0.0015, 0.01};
+  return c;
+}
+
+TEST(Calibration, ProjectUnprojectRoundTrip) {
+  const Camera c = TestCamera();
+  ASSERT_TRUE(ValidateCalibration(c, "test").ok()) << ValidateCalibration(c, "test").ToString();
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-0.8, 0.8);
+  for (int i = 0; i < 200; ++i) {
+    const Eigen::Vector3d world(u(rng), 1 + u(rng), u(rng));
+    Eigen::Vector2d px;
+    double depth = 0;
+    ASSERT_TRUE(ProjectPoint(c, world, &px, &depth));
+    const Eigen::Vector3d back = UnprojectPixel(c, px, depth);
+    EXPECT_LT((back - world).norm(), 1e-8);
+  }
+  // The camera centre projects nowhere; the look-at target lands near the image centre.
+  Eigen::Vector2d px;
+  EXPECT_FALSE(ProjectPoint(c, CameraCentre(c), &px));
+  Camera plain = TestCamera(0, 0);
+  plain.distortion = {};
+  ASSERT_TRUE(ProjectPoint(plain, Eigen::Vector3d(0, 1, 0), &px));
+  EXPECT_NEAR(px.x(), plain.cx, 1e-9);
+  EXPECT_NEAR(px.y(), plain.cy, 1e-9);
+}
+
+TEST(Calibration, RejectsBrokenCalibrations) {
+  Camera c = TestCamera();
+  c.rotation[0] = -c.rotation[0], c.rotation[1] = -c.rotation[1], c.rotation[2] = -c.rotation[2];
+  EXPECT_NE(ValidateCalibration(c, "cam").message().find("reflection"), std::string::npos);
+  c = TestCamera();
+  c.rotation[4] *= 1.01;
+  EXPECT_NE(ValidateCalibration(c, "cam").message().find("orthonormal"), std::string::npos);
+  c = TestCamera();
+  c.fx = -5;
+  EXPECT_NE(ValidateCalibration(c, "cam").message().find("focal"), std::string::npos);
+  c = TestCamera(-1.5, 0.0);  // folds over inside the image
+  EXPECT_NE(ValidateCalibration(c, "cam").message().find("monotonic"), std::string::npos);
+}
+
+nlohmann::json ValidCaptureJson() {
+  const Camera c = TestCamera();
+  nlohmann::json cam = {
+      {"name", "left"},
+      {"width", 640},
+      {"height", 480},
+      {"K", {{c.fx, 0, c.cx}, {0, c.fy, c.cy}, {0, 0, 1}}},
+      {"distortion", c.distortion},
+      {"R", c.rotation},
+      {"t", c.translation},
+      {"frames", {{"images", "left/%04d.png"}, {"first", 1}}},
+  };
+  nlohmann::json cam2 = cam;
+  cam2["name"] = "right";
+  cam2["frames"] = {{"images", "right/f%d.png"}};
+  return {{"format", "fvv-capture"}, {"version", 1},       {"frame_rate", 25},
+          {"frame_count", 3},        {"up_axis", "y"},     {"cameras", {cam, cam2}}};
+}
+
+TEST(Capture, ParsesAndRoundTrips) {
+  StatusOr<Capture> c = ParseCapture(ValidCaptureJson().dump(), "/data/take1");
+  ASSERT_TRUE(c.ok()) << c.status().ToString();
+  ASSERT_EQ(c->cameras.size(), 2u);
+  EXPECT_EQ(FramePath(*c, c->cameras[0].frames, 2), "/data/take1/left/0003.png");
+  EXPECT_EQ(FramePath(*c, c->cameras[1].frames, 12), "/data/take1/right/f12.png");
+  StatusOr<Capture> again = ParseCapture(CaptureToJson(*c), "/data/take1");
+  ASSERT_TRUE(again.ok()) << again.status().ToString();
+  EXPECT_EQ(again->cameras[1].calibration.rotation, c->cameras[1].calibration.rotation);
+  EXPECT_EQ(again->cameras[0].frames.first, 1);
+}
+
+// Each malformed capture.json is refused with a message naming the problem.
+TEST(Capture, MalformedCapturesNameTheProblem) {
+  struct Case {
+    const char* what;
+    std::function<void(nlohmann::json*)> edit;
+    const char* expect;
+  };
+  const std::vector<Case> cases = {
+      {"not json", nullptr, "not valid JSON"},
+      {"wrong format", [](nlohmann::json* j) { (*j)["format"] = "x"; }, "\"format\""},
+      {"newer version", [](nlohmann::json* j) { (*j)["version"] = 2; }, "version 2"},
+      {"no cameras", [](nlohmann::json* j) { (*j)["cameras"] = nlohmann::json::array(); }, "cameras"},
+      {"zero frames", [](nlohmann::json* j) { (*j)["frame_count"] = 0; }, "frame_count"},
+      {"bad rate", [](nlohmann::json* j) { (*j)["frame_rate"] = -1; }, "frame_rate"},
+      {"bad up axis", [](nlohmann::json* j) { (*j)["up_axis"] = "x"; }, "up_axis"},
+      {"missing K", [](nlohmann::json* j) { (*j)["cameras"][1].erase("K"); }, "cameras[1] (\"right\"): missing \"K\""},
+      {"skewed K", [](nlohmann::json* j) { (*j)["cameras"][0]["K"][0][1] = 3; }, "no skew"},
+      {"K not 3x3", [](nlohmann::json* j) { (*j)["cameras"][0]["K"] = {1, 2, 3}; }, "3x3"},
+      {"R reflection",
+       [](nlohmann::json* j) {
+         for (int i = 0; i < 3; ++i) (*j)["cameras"][1]["R"][i] = -(*j)["cameras"][1]["R"][i].get<double>();
+       },
+       "cameras[1] (\"right\"): R is a reflection"},
+      {"t not numbers", [](nlohmann::json* j) { (*j)["cameras"][0]["t"] = {1, "a", 3}; }, "t: expected a number"},
+      {"bad size", [](nlohmann::json* j) { (*j)["cameras"][0]["width"] = 0; }, "width"},
+      {"duplicate names", [](nlohmann::json* j) { (*j)["cameras"][1]["name"] = "left"; }, "duplicate camera name"},
+      {"pattern without number",
+       [](nlohmann::json* j) { (*j)["cameras"][0]["frames"]["images"] = "left/a.png"; }, "exactly one frame number"},
+      {"pattern with %s",
+       [](nlohmann::json* j) { (*j)["cameras"][0]["frames"]["images"] = "left/%s.png"; }, "%d or %0Nd"},
+      {"images and video",
+       [](nlohmann::json* j) { (*j)["cameras"][0]["frames"]["video"] = "a.mp4"; }, "exactly one of"},
+      {"too many distortion terms",
+       [](nlohmann::json* j) { (*j)["cameras"][0]["distortion"] = {0, 0, 0, 0, 0, 0}; }, "up to 5"},
+  };
+  for (const Case& c : cases) {
+    std::string text = "{not json";
+    if (c.edit) {
+      nlohmann::json j = ValidCaptureJson();
+      c.edit(&j);
+      text = j.dump();
+    }
+    StatusOr<Capture> r = ParseCapture(text, ".");
+    ASSERT_FALSE(r.ok()) << c.what;
+    EXPECT_NE(r.status().message().find(c.expect), std::string::npos)
+        << c.what << ": " << r.status().message();
+  }
+}
+
+class CaptureFiles : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = ::testing::TempDir() + "/capture_files_" +
+           ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    std::system(("rm -rf '" + dir_ + "' && mkdir -p '" + dir_ + "/left' '" + dir_ + "/right'").c_str());
+  }
+  Image Frame(uint32_t w, uint32_t h, int seed) {
+    Image img;
+    img.width = w, img.height = h;
+    img.pixels.resize(size_t{w} * h * 3);
+    for (size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = uint8_t((i * 7 + seed * 31) % 251);
+    return img;
+  }
+  std::string dir_;
+};
+
+TEST_F(CaptureFiles, ReadsFramesAndNamesMissingOrWrongOnes) {
+  nlohmann::json j = ValidCaptureJson();
+  j["cameras"][0]["width"] = 64, j["cameras"][0]["height"] = 48;
+  j["cameras"][1]["width"] = 64, j["cameras"][1]["height"] = 48;
+  for (auto& cam : j["cameras"]) {
+    cam["K"] = {{60, 0, 32}, {0, 60, 24}, {0, 0, 1}};
+    cam["distortion"] = {0, 0, 0, 0, 0};
+  }
+  std::ofstream(dir_ + "/capture.json") << j.dump();
+  for (int f = 0; f < 3; ++f) {
+    char name[64];
+    std::snprintf(name, sizeof(name), "/left/%04d.png", f + 1);
+    ASSERT_TRUE(WritePng(dir_ + name, Frame(64, 48, f)).ok());
+  }
+  ASSERT_TRUE(WritePng(dir_ + "/right/f0.png", Frame(64, 48, 9)).ok());
+  ASSERT_TRUE(WritePng(dir_ + "/right/f1.png", Frame(32, 48, 9)).ok());  // wrong size
+  StatusOr<Capture> c = LoadCapture(dir_);
+  ASSERT_TRUE(c.ok()) << c.status().ToString();
+  CaptureReader reader(*c);
+  StatusOr<Image> f2 = reader.ReadFrame(0, 2);
+  ASSERT_TRUE(f2.ok()) << f2.status().ToString();
+  EXPECT_EQ(f2->pixels, Frame(64, 48, 2).pixels);
+  StatusOr<Image> wrong = reader.ReadFrame(1, 1);
+  ASSERT_FALSE(wrong.ok());
+  EXPECT_NE(wrong.status().message().find("camera \"right\", frame 1: image is 32x48"), std::string::npos)
+      << wrong.status().message();
+  StatusOr<Image> missing = reader.ReadFrame(1, 2);
+  ASSERT_FALSE(missing.ok());
+  EXPECT_NE(missing.status().message().find("camera \"right\", frame 2"), std::string::npos);
+  Status check = reader.CheckFiles();
+  EXPECT_NE(check.message().find("missing file"), std::string::npos) << check.message();
+  EXPECT_FALSE(reader.ReadFrame(0, 3).ok());  // beyond frame_count
+  EXPECT_FALSE(LoadCapture(dir_ + "/nowhere").ok());
+}
+
+TEST_F(CaptureFiles, VideoFramesDecodeThroughFfmpeg) {
+  if (!HaveFfmpeg()) GTEST_SKIP() << "ffmpeg not installed (tools/setup.sh installs it)";
+  for (int f = 0; f < 4; ++f) {
+    char name[64];
+    std::snprintf(name, sizeof(name), "/left/%04d.png", f);
+    ASSERT_TRUE(WritePng(dir_ + name, Frame(64, 48, f)).ok());
+  }
+  // A lossless RGB video, so decoded frames must equal the source exactly.
+  const std::string cmd = "ffmpeg -v error -y -framerate 25 -i '" + dir_ + "/left/%04d.png' -c:v png '" +
+                          dir_ + "/left.mkv'";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  nlohmann::json j = ValidCaptureJson();
+  j["frame_count"] = 4;
+  j["cameras"].erase(1);
+  j["cameras"][0]["width"] = 64, j["cameras"][0]["height"] = 48;
+  j["cameras"][0]["K"] = {{60, 0, 32}, {0, 60, 24}, {0, 0, 1}};
+  j["cameras"][0]["distortion"] = {0, 0, 0, 0, 0};
+  j["cameras"][0]["frames"] = {{"video", "left.mkv"}};
+  std::ofstream(dir_ + "/capture.json") << j.dump();
+  StatusOr<Capture> c = LoadCapture(dir_);
+  ASSERT_TRUE(c.ok()) << c.status().ToString();
+  CaptureReader reader(*c);
+  for (int f : {0, 1, 3, 2}) {  // forwards, a skip, and back again (restarts the decoder)
+    StatusOr<Image> img = reader.ReadFrame(0, f);
+    ASSERT_TRUE(img.ok()) << img.status().ToString();
+    EXPECT_EQ(img->pixels, Frame(64, 48, f).pixels) << "frame " << f;
+  }
+  // A video whose size differs from the calibration is named as such.
+  StatusOr<std::unique_ptr<VideoReader>> wrong = VideoReader::Open(dir_ + "/left.mkv", 32, 48);
+  ASSERT_FALSE(wrong.ok());
+  EXPECT_NE(wrong.status().message().find("64x48"), std::string::npos) << wrong.status().message();
+}
+
+}  // namespace
+}  // namespace fvv
