@@ -99,6 +99,14 @@ std::vector<Eigen::Vector3f> SkinPositions(const Mesh& mesh, const std::vector<A
   return out;
 }
 
+int DofIndex(const Skeleton& skeleton, int bone, int kind) {
+  const std::vector<DofRef> refs = skeleton.Dofs();
+  for (size_t d = 0; d < refs.size(); ++d) {
+    if (refs[d].bone == bone && refs[d].kind == kind) return static_cast<int>(d);
+  }
+  return -1;
+}
+
 std::vector<double> ClampToLimits(const Skeleton& skeleton, std::vector<double> dofs) {
   const std::vector<DofRef> refs = skeleton.Dofs();
   for (size_t d = 0; d < refs.size() && d < dofs.size(); ++d) {

@@ -34,6 +34,9 @@ std::vector<Affine> SkinningMatrices(const Skeleton& skeleton, const std::vector
 std::vector<Eigen::Vector3f> SkinPositions(const Mesh& mesh, const std::vector<Affine>& skinning,
                                            std::vector<Eigen::Vector3f>* normals = nullptr);
 
+// Index of the DOF (bone, kind) in Skeleton::Dofs() order, or -1.
+int DofIndex(const Skeleton& skeleton, int bone, int kind);
+
 // Each value clamped into its DOF's limits.
 std::vector<double> ClampToLimits(const Skeleton& skeleton, std::vector<double> dofs);
 

@@ -92,6 +92,8 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
   s->add_option("--frames", o->frames, "Frame count")->capture_default_str();
   s->add_option("--seed", o->seed, "Seed (noise, texture detail)")->capture_default_str();
   s->add_option("--motion", o->motion, "BVH motion file (default: a built-in walk)");
+  s->add_option("--motion-start", o->motion_start, "Seconds into the BVH clip to start from")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
   s->add_option("--actor", o->actor, "\"builtin\" or a glTF 2.0 character (.glb/.gltf)")
       ->capture_default_str();
   s->add_option("--stature", o->stature, "Built-in actor's size (1.0 = 1.75 m)")

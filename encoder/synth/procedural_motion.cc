@@ -7,14 +7,6 @@
 
 namespace fvv {
 
-int DofIndex(const Skeleton& skeleton, int bone, int kind) {
-  const std::vector<DofRef> refs = skeleton.Dofs();
-  for (size_t d = 0; d < refs.size(); ++d) {
-    if (refs[d].bone == bone && refs[d].kind == kind) return static_cast<int>(d);
-  }
-  return -1;
-}
-
 std::vector<std::vector<double>> ProceduralWalk(const Skeleton& skeleton, uint32_t frames,
                                                 double fps) {
   constexpr double kPi = 3.14159265358979323846;

@@ -10,9 +10,6 @@
 
 namespace fvv {
 
-// Index of the DOF (bone, kind) in Skeleton::Dofs() order, or -1.
-int DofIndex(const Skeleton& skeleton, int bone, int kind);
-
 // `frames` poses at `fps` for the generic body (Skeleton::Dofs() order).
 std::vector<std::vector<double>> ProceduralWalk(const Skeleton& skeleton, uint32_t frames,
                                                 double fps);

@@ -12,6 +12,8 @@
 #include "encoder/body/generic_body.h"
 #include "encoder/body/kinematics.h"
 #include "encoder/capture/calibration.h"
+#include "encoder/import/bvh.h"
+#include "encoder/import/retarget.h"
 #include "encoder/synth/body_texture.h"
 #include "encoder/synth/procedural_motion.h"
 #include "encoder/synth/synth_renderer.h"
@@ -104,9 +106,24 @@ StatusOr<std::unique_ptr<Actor>> MakeSynthActor(const SynthOptions& o) {
   std::vector<std::vector<double>> poses;
   std::string motion = "built-in walk";
   if (!o.motion.empty()) {
-    return Unsupported("synth: BVH motion is not available in this build");
+    // Only the proportions matter: the retargeter scales the root path by leg length.
+    StatusOr<BvhMotion> bvh = ReadBvhFile(o.motion, 1.0);
+    if (!bvh.ok()) return Status(bvh.status().code(), "synth: --motion: " + bvh.status().message());
+    RetargetOptions r;
+    r.fps = o.fps;
+    r.frames = o.frames;
+    r.start_seconds = o.motion_start;
+    StatusOr<std::vector<std::vector<double>>> retargeted =
+        RetargetToGenericBody(*bvh, model.skeleton, r);
+    if (!retargeted.ok()) {
+      return Status(retargeted.status().code(), "synth: " + o.motion + ": " + retargeted.status().message());
+    }
+    poses = std::move(*retargeted);
+    const size_t slash = o.motion.find_last_of('/');
+    motion = "BVH motion " + (slash == std::string::npos ? o.motion : o.motion.substr(slash + 1));
+  } else {
+    poses = ProceduralWalk(model.skeleton, o.frames, o.fps);
   }
-  poses = ProceduralWalk(model.skeleton, o.frames, o.fps);
   Image texture = BakeBodyTexture(model, static_cast<int>(o.texture_size), o.seed);
   return std::unique_ptr<Actor>(new BodyModelActor(std::move(model), std::move(poses),
                                                    std::move(texture),

@@ -30,6 +30,7 @@ struct SynthOptions {
   uint32_t frames = 50;
   uint32_t seed = 1;
   std::string motion;              // a BVH file; empty: the built-in walk
+  double motion_start = 0;         // seconds into the BVH clip
   std::string actor = "builtin";   // "builtin" or a glTF 2.0 file (.glb/.gltf)
   double stature = 1.0;            // the built-in actor's size (1.0 = 1.75 m)
   double noise = 1.5;              // sensor noise, standard deviation in 8-bit levels

@@ -1,0 +1,175 @@
+// BVH import and retargeting onto the generic body model (issue 4).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <sstream>
+#include <sys/stat.h>
+
+#include "encoder/body/generic_body.h"
+#include "encoder/body/kinematics.h"
+#include "encoder/import/bvh.h"
+#include "encoder/import/retarget.h"
+
+namespace fvv {
+namespace {
+
+constexpr double kDeg = 3.14159265358979323846 / 180;
+
+// A CMU-named skeleton in the generic model's rest pose (legs straight down,
+// arms along +-X), centimetres, two frames: rest, then bent.
+std::string TestBvh(const std::string& second_frame_override = "") {
+  std::ostringstream s;
+  auto joint = [&](const char* kind, const char* name, double x, double y, double z, bool end,
+                   double ex = 0, double ey = 0, double ez = 0) {
+    s << kind << " " << name << "\n{\nOFFSET " << x << " " << y << " " << z
+      << "\nCHANNELS " << (std::string(kind) == "ROOT" ? "6 Xposition Yposition Zposition " : "3 ")
+      << "Zrotation Yrotation Xrotation\n";
+    if (end) s << "End Site\n{\nOFFSET " << ex << " " << ey << " " << ez << "\n}\n";
+  };
+  s << "HIERARCHY\n";
+  joint("ROOT", "Hips", 0, 0, 0, false);
+  joint("JOINT", "Spine", 0, 10, 0, false);
+  joint("JOINT", "Spine1", 0, 19, 0, false);
+  joint("JOINT", "Neck", 0, 23, 0, false);
+  joint("JOINT", "Head", 0, 10, 0, true, 0, 18, 0);
+  s << "}\n}\n";  // Head, Neck
+  for (int side : {1, -1}) {
+    joint("JOINT", side > 0 ? "LeftArm" : "RightArm", side * 18, 19, 0, false);
+    joint("JOINT", side > 0 ? "LeftForeArm" : "RightForeArm", side * 29, 0, 0, false);
+    joint("JOINT", side > 0 ? "LeftHand" : "RightHand", side * 25, 0, 0, true, side * 18, 0, 0);
+    s << "}\n}\n}\n";
+  }
+  s << "}\n}\n";  // Spine1, Spine
+  for (int side : {1, -1}) {
+    joint("JOINT", side > 0 ? "LeftUpLeg" : "RightUpLeg", side * 9, -5, 0, false);
+    joint("JOINT", side > 0 ? "LeftLeg" : "RightLeg", 0, -42, 0, false);
+    joint("JOINT", side > 0 ? "LeftFoot" : "RightFoot", 0, -39.5, 0, true, 0, -4, 18);
+    s << "}\n}\n}\n";
+  }
+  s << "}\nMOTION\nFrames: 2\nFrame Time: 0.04\n";
+  // 6 root + 3 per joint (16 joints): rest, then the override (or rest again).
+  const int values = 6 + 3 * 16;
+  for (int f = 0; f < 2; ++f) {
+    if (f == 1 && !second_frame_override.empty()) {
+      s << second_frame_override << "\n";
+      continue;
+    }
+    s << "0 95 0";
+    for (int v = 3; v < values; ++v) s << " 0";
+    s << "\n";
+  }
+  return s.str();
+}
+
+// Channel order in TestBvh: Hips(6), Spine, Spine1, Neck, Head, LeftArm,
+// LeftForeArm, LeftHand, RightArm, RightForeArm, RightHand, LeftUpLeg, LeftLeg,
+// LeftFoot, RightUpLeg, RightLeg, RightFoot (3 each: Z Y X).
+std::string Frame(std::vector<std::pair<int, std::array<double, 3>>> zyx) {
+  std::vector<double> v(6 + 3 * 16, 0.0);
+  v[1] = 95;
+  for (const auto& [joint, angles] : zyx) {
+    for (int k = 0; k < 3; ++k) v[6 + 3 * joint + k] = angles[k];
+  }
+  std::ostringstream s;
+  for (double x : v) s << x << " ";
+  return s.str();
+}
+
+TEST(Retarget, TransfersJointAnglesOnAMatchingSkeleton) {
+  // Left knee bent 60 degrees, left arm lowered 80 degrees, spine bent 20 degrees.
+  const std::string text =
+      TestBvh(Frame({{11, {0, 0, 60}}, {4, {-80, 0, 0}}, {0, {0, 0, 20}}}));
+  StatusOr<BvhMotion> bvh = ParseBvh(text, 0.01);
+  ASSERT_TRUE(bvh.ok()) << bvh.status().ToString();
+  const BodyModel body = MakeGenericBody();
+  RetargetOptions o;
+  o.fps = 25;
+  o.centre = false;
+  StatusOr<std::vector<std::vector<double>>> poses = RetargetToGenericBody(*bvh, body.skeleton, o);
+  ASSERT_TRUE(poses.ok()) << poses.status().ToString();
+  ASSERT_EQ(poses->size(), 2u);
+  const auto& p = (*poses)[1];
+  EXPECT_NEAR(p[DofIndex(body.skeleton, kLeftKnee, 0)], 60 * kDeg, 1e-6);
+  EXPECT_NEAR(p[DofIndex(body.skeleton, kLeftShoulder, 2)], -80 * kDeg, 1e-6);
+  EXPECT_NEAR(p[DofIndex(body.skeleton, kLumbar, 0)], 20 * kDeg, 1e-6);
+  EXPECT_NEAR(p[DofIndex(body.skeleton, kRightKnee, 0)], 0.0, 1e-9);
+  // Standing at rest: ankles at their rest height (feet on the floor).
+  const std::vector<Eigen::Vector3d> rest = JointPositions(body.skeleton, {});
+  const std::vector<Eigen::Vector3d> j0 = JointPositions(body.skeleton, (*poses)[0]);
+  EXPECT_NEAR(j0[kLeftAnkle].y(), rest[kLeftAnkle].y(), 1e-6);
+}
+
+TEST(Retarget, NamesMissingJointsAndShortClips) {
+  std::string text = TestBvh();
+  text.replace(text.find("LeftLeg"), 7, "LeftBit");
+  StatusOr<BvhMotion> bvh = ParseBvh(text, 0.01);
+  ASSERT_TRUE(bvh.ok());
+  const BodyModel body = MakeGenericBody();
+  RetargetOptions o;
+  StatusOr<std::vector<std::vector<double>>> r = RetargetToGenericBody(*bvh, body.skeleton, o);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.status().message().find("l_knee"), std::string::npos) << r.status().message();
+  bvh = ParseBvh(TestBvh(), 0.01);
+  o.frames = 50;  // the clip holds two frames
+  r = RetargetToGenericBody(*bvh, body.skeleton, o);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.status().message().find("frames"), std::string::npos);
+}
+
+// The CMU clips in Debian's assimp-testmodels load, and their limbs' directions
+// carry over to the generic body: hinge planes are chosen so that even the
+// one-DOF elbows and knees reproduce the mocap limb directions.
+TEST(Retarget, CmuClipLimbDirectionsCarryOver) {
+  const std::string path = "/usr/share/assimp/models/BVH/01_01.bvh";
+  struct stat st;
+  if (stat(path.c_str(), &st) != 0) GTEST_SKIP() << path << " absent (apt-get install assimp-testmodels)";
+  for (const char* file : {"01_01.bvh", "01_03.bvh", "Boxing_Toes.bvh"}) {
+    StatusOr<BvhMotion> m = ReadBvhFile(std::string("/usr/share/assimp/models/BVH/") + file, 0.01);
+    ASSERT_TRUE(m.ok()) << file << ": " << m.status().ToString();
+    EXPECT_GT(m->frames.size(), 100u) << file;
+  }
+  StatusOr<BvhMotion> bvh = ReadBvhFile(path, 1.0);
+  ASSERT_TRUE(bvh.ok());
+  const BodyModel body = MakeGenericBody();
+  RetargetOptions o;
+  o.fps = 25;
+  o.frames = 150;
+  StatusOr<std::vector<std::vector<double>>> poses = RetargetToGenericBody(*bvh, body.skeleton, o);
+  ASSERT_TRUE(poses.ok()) << poses.status().ToString();
+  const std::vector<std::vector<double>> clip = ResampleMotion(*bvh, 25);
+  auto find = [&](const char* name) {
+    for (size_t b = 0; b < bvh->skeleton.bones.size(); ++b) {
+      if (bvh->skeleton.bones[b].name == name) return int(b);
+    }
+    return -1;
+  };
+  struct Limb {
+    int from, to;
+    const char *bvh_from, *bvh_to;
+    double max_mean_deg;
+  };
+  const Limb limbs[] = {{kLeftHip, kLeftKnee, "LeftUpLeg", "LeftLeg", 1},
+                        {kRightHip, kRightKnee, "RightUpLeg", "RightLeg", 1},
+                        {kLeftShoulder, kLeftElbow, "LeftArm", "LeftForeArm", 1},
+                        {kRightShoulder, kRightElbow, "RightArm", "RightForeArm", 1},
+                        {kLeftKnee, kLeftAnkle, "LeftLeg", "LeftFoot", 1},
+                        {kLeftElbow, kLeftWrist, "LeftForeArm", "LeftHand", 1}};
+  double lowest = 1e9;
+  for (const Limb& l : limbs) {
+    double sum = 0;
+    for (size_t f = 0; f < poses->size(); ++f) {
+      const std::vector<Eigen::Vector3d> g = JointPositions(body.skeleton, (*poses)[f]);
+      const std::vector<Eigen::Vector3d> b = JointPositions(bvh->skeleton, clip[f]);
+      const Eigen::Vector3d dg = (g[l.to] - g[l.from]).normalized();
+      const Eigen::Vector3d db = (b[find(l.bvh_to)] - b[find(l.bvh_from)]).normalized();
+      sum += std::acos(std::clamp(dg.dot(db), -1.0, 1.0)) / kDeg;
+      lowest = std::min({lowest, g[kLeftAnkle].y(), g[kRightAnkle].y()});
+    }
+    EXPECT_LT(sum / poses->size(), l.max_mean_deg) << GenericJointName(l.from);
+    std::printf("  %-12s mean direction error %.2f deg\n", GenericJointName(l.from), sum / poses->size());
+  }
+  EXPECT_NEAR(lowest, JointPositions(body.skeleton, {})[kLeftAnkle].y(), 1e-6);
+}
+
+}  // namespace
+}  // namespace fvv
