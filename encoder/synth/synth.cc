@@ -15,6 +15,7 @@
 #include "encoder/import/bvh.h"
 #include "encoder/import/retarget.h"
 #include "encoder/synth/body_texture.h"
+#include "encoder/synth/gltf_actor.h"
 #include "encoder/synth/procedural_motion.h"
 #include "encoder/synth/synth_renderer.h"
 #include "player/render/headless.h"
@@ -97,7 +98,12 @@ std::vector<Camera> MakeStudioCameras(uint32_t count, uint32_t width, uint32_t h
 
 StatusOr<std::unique_ptr<Actor>> MakeSynthActor(const SynthOptions& o) {
   if (o.actor != "builtin") {
-    return Unsupported("synth: glTF actors are not available in this build");
+    if (!o.motion.empty()) {
+      return InvalidArgument("synth: --motion drives the built-in actor; a glTF actor plays its own animation");
+    }
+    StatusOr<std::unique_ptr<GltfActor>> g = GltfActor::Load(o.actor, o.fps, o.frames);
+    if (!g.ok()) return Status(g.status().code(), "synth: --actor: " + g.status().message());
+    return std::unique_ptr<Actor>(std::move(*g));
   }
   BodyShape shape;
   shape.stature = o.stature;

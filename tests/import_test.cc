@@ -1,13 +1,17 @@
-// BVH import and retargeting onto the generic body model (issue 4).
+// Importers (issue 4): BVH motion and its retargeting onto the generic body
+// model; skinned, animated glTF 2.0 characters (CesiumMan from ../shared/data).
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
 #include <sstream>
 #include <sys/stat.h>
 
 #include "encoder/body/generic_body.h"
 #include "encoder/body/kinematics.h"
 #include "encoder/import/bvh.h"
+#include "encoder/import/gltf.h"
 #include "encoder/import/retarget.h"
 
 namespace fvv {
@@ -169,6 +173,57 @@ TEST(Retarget, CmuClipLimbDirectionsCarryOver) {
     std::printf("  %-12s mean direction error %.2f deg\n", GenericJointName(l.from), sum / poses->size());
   }
   EXPECT_NEAR(lowest, JointPositions(body.skeleton, {})[kLeftAnkle].y(), 1e-6);
+}
+
+std::string CesiumMan() {
+  const char* env = std::getenv("FVV_TEST_DATA");
+  return std::string(env ? env : FVV_TEST_DATA_DIR) + "/models/CesiumMan.glb";
+}
+
+TEST(Gltf, CesiumManLoadsWith19JointsAndAnimates) {
+  struct stat st;
+  if (stat(CesiumMan().c_str(), &st) != 0) GTEST_SKIP() << CesiumMan() << " absent (third-party data)";
+  StatusOr<GltfCharacter> c = LoadGltf(CesiumMan());
+  ASSERT_TRUE(c.ok()) << c.status().ToString();
+  EXPECT_EQ(c->joint_nodes.size(), 19u);
+  EXPECT_GT(c->indices.size() / 3, 1000u);
+  EXPECT_GT(c->texture.width, 16u);
+  ASSERT_GE(c->animations.size(), 1u);
+  EXPECT_GT(c->animations[0].duration, 0.5);
+  // The bind pose: rest joint transforms times inverse bind matrices are one
+  // common rigid transform (CesiumMan's root turns its Z-up mesh to Y-up).
+  const std::vector<Eigen::Matrix4d> rest = c->Skinning(-1, 0);
+  const Eigen::Matrix3d r = rest[0].topLeftCorner<3, 3>();
+  EXPECT_LT((r * r.transpose() - Eigen::Matrix3d::Identity()).norm(), 1e-4);
+  for (const Eigen::Matrix4d& m : rest) EXPECT_LT((m - rest[0]).norm(), 1e-3);
+  // The animation moves joints by centimetres to decimetres between two times.
+  const std::vector<Eigen::Matrix4d> a = c->NodeWorld(0, 0.1), b = c->NodeWorld(0, 0.6);
+  double most = 0;
+  for (int node : c->joint_nodes) most = std::max(most, (a[node].col(3) - b[node].col(3)).norm());
+  EXPECT_GT(most, 0.05);
+  // Sampling wraps: one duration later, the same pose.
+  const std::vector<Eigen::Matrix4d> again = c->NodeWorld(0, 0.1 + c->animations[0].duration);
+  for (int node : c->joint_nodes) EXPECT_LT((a[node] - again[node]).norm(), 1e-6);
+}
+
+TEST(Gltf, BrokenFilesGiveErrors) {
+  EXPECT_FALSE(LoadGltf("/nonexistent/character.glb").ok());
+  struct stat st;
+  if (stat(CesiumMan().c_str(), &st) != 0) GTEST_SKIP() << CesiumMan() << " absent (third-party data)";
+  std::ifstream in(CesiumMan(), std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string dir = ::testing::TempDir();
+  for (size_t cut : {size_t{12}, size_t{600}, bytes.size() / 2, bytes.size() - 1}) {
+    const std::string path = dir + "/truncated.glb";
+    std::ofstream(path, std::ios::binary).write(bytes.data(), std::streamsize(cut));
+    EXPECT_FALSE(LoadGltf(path).ok()) << "cut at " << cut;
+  }
+  // A valid glTF without a skin is not a character.
+  const std::string path = dir + "/static.gltf";
+  std::ofstream(path) << R"({"asset": {"version": "2.0"}, "nodes": [{"name": "a"}], "scenes": [{"nodes": [0]}]})";
+  StatusOr<GltfCharacter> c = LoadGltf(path);
+  ASSERT_FALSE(c.ok());
+  EXPECT_NE(c.status().message().find("skin"), std::string::npos) << c.status().message();
 }
 
 }  // namespace
