@@ -9,9 +9,11 @@
 #include <fstream>
 #include <random>
 
+#include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
 #include "encoder/capture/calibration.h"
+#include "encoder/capture/calibration_import.h"
 #include "encoder/capture/capture.h"
 #include "encoder/capture/video_reader.h"
 
@@ -228,6 +230,71 @@ TEST_F(CaptureFiles, VideoFramesDecodeThroughFfmpeg) {
   StatusOr<std::unique_ptr<VideoReader>> wrong = VideoReader::Open(dir_ + "/left.mkv", 32, 48);
   ASSERT_FALSE(wrong.ok());
   EXPECT_NE(wrong.status().message().find("64x48"), std::string::npos) << wrong.status().message();
+}
+
+std::string List(const double* v, int n) {
+  std::string s;
+  char buf[64];
+  for (int i = 0; i < n; ++i) {
+    std::snprintf(buf, sizeof(buf), "%s%.17g", i ? ", " : "", v[i]);
+    s += buf;
+  }
+  return s;
+}
+
+// OpenCV FileStorage YAML (rvec, tvec in millimetres) and TOML (two cameras,
+// R and t in metres) import to the same cameras: identical projections.
+TEST_F(CaptureFiles, ImportsOpenCvYamlAndToml) {
+  const Camera truth = TestCamera();
+  const Eigen::AngleAxisd aa(CameraRotation(truth));
+  const Eigen::Vector3d rvec = aa.angle() * aa.axis();
+  const double tvec_mm[3] = {truth.translation[0] * 1000, truth.translation[1] * 1000,
+                             truth.translation[2] * 1000};
+  const double k[9] = {truth.fx, 0, truth.cx, 0, truth.fy, truth.cy, 0, 0, 1};
+  std::ofstream(dir_ + "/left.yml")
+      << "%YAML:1.0\n---\nimage_width: 640\nimage_height: 480\n"
+      << "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ " << List(k, 9) << " ]\n"
+      << "distortion_coefficients: !!opencv-matrix\n   rows: 1\n   cols: 5\n   dt: d\n   data: [ "
+      << List(truth.distortion.data(), 5) << " ]\n"
+      << "rvec: !!opencv-matrix\n   rows: 3\n   cols: 1\n   dt: d\n   data: [ " << List(rvec.data(), 3) << " ]\n"
+      << "tvec: !!opencv-matrix\n   rows: 3\n   cols: 1\n   dt: d\n   data: [ " << List(tvec_mm, 3) << " ]\n";
+  std::ofstream toml(dir_ + "/rig.toml");
+  for (const char* name : {"cam_a", "cam_b"}) {
+    toml << "[" << name << "]\nwidth = 640\nheight = 480\nK = [" << List(k, 9) << "]\n"
+         << "dist = [" << List(truth.distortion.data(), 5) << "]\nR = [" << List(truth.rotation.data(), 9)
+         << "]\nt = [" << List(truth.translation.data(), 3) << "]\n\n";
+  }
+  toml.close();
+  StatusOr<std::vector<Camera>> yaml = ImportCalibrationFile(dir_ + "/left.yml", 0.001);
+  ASSERT_TRUE(yaml.ok()) << yaml.status().ToString();
+  StatusOr<std::vector<Camera>> rig = ImportCalibrationFile(dir_ + "/rig.toml", 1.0);
+  ASSERT_TRUE(rig.ok()) << rig.status().ToString();
+  ASSERT_EQ(yaml->size(), 1u);
+  ASSERT_EQ(rig->size(), 2u);
+  EXPECT_EQ((*yaml)[0].name, "left");
+  EXPECT_EQ((*rig)[1].name, "cam_b");
+  for (const Camera& c : {(*yaml)[0], (*rig)[0], (*rig)[1]}) {
+    for (const Eigen::Vector3d& p : {Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(0.3, 1.6, -0.2)}) {
+      Eigen::Vector2d a, b;
+      ASSERT_TRUE(ProjectPoint(truth, p, &a));
+      ASSERT_TRUE(ProjectPoint(c, p, &b));
+      EXPECT_LT((a - b).norm(), 1e-6) << c.name;
+    }
+  }
+  // Errors name the file and what is missing or wrong.
+  std::ofstream(dir_ + "/bad.yml") << "%YAML:1.0\n---\nimage_width: 640\nimage_height: 480\n"
+                                   << "rvec: [0, 0, 0]\ntvec: [0, 0, 1]\n";
+  StatusOr<std::vector<Camera>> bad = ImportCalibrationFile(dir_ + "/bad.yml", 1.0);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.status().message().find("bad.yml"), std::string::npos);
+  EXPECT_NE(bad.status().message().find("no camera"), std::string::npos) << bad.status().message();
+  std::ofstream(dir_ + "/mirror.toml") << "[x]\nwidth = 64\nheight = 48\nK = [60, 0, 32, 0, 60, 24, 0, 0, 1]\n"
+                                       << "R = [-1, 0, 0, 0, 1, 0, 0, 0, 1]\nt = [0, 0, 1]\n";
+  bad = ImportCalibrationFile(dir_ + "/mirror.toml", 1.0);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.status().message().find("reflection"), std::string::npos) << bad.status().message();
+  std::ofstream(dir_ + "/broken.toml") << "[x\nwidth = ";
+  EXPECT_FALSE(ImportCalibrationFile(dir_ + "/broken.toml", 1.0).ok());
 }
 
 }  // namespace

@@ -1,8 +1,10 @@
 #include "encoder/cli/capture_command.h"
 
 #include <cstdio>
+#include <fstream>
 #include <memory>
 
+#include "encoder/capture/calibration_import.h"
 #include "encoder/capture/capture.h"
 #include "encoder/synth/synth.h"
 
@@ -77,6 +79,73 @@ int RunCheck(const std::string& path) {
   return 0;
 }
 
+struct ImportArgs {
+  std::vector<std::string> files;
+  std::string output_dir;
+  std::string images = "{camera}/%06d.png";
+  std::string video;
+  int64_t first = 0;
+  uint32_t frame_count = 0;
+  double fps = 25;
+  std::string unit = "m";
+  std::string up = "y";
+};
+
+std::string ForCamera(std::string pattern, const std::string& camera) {
+  for (size_t i = pattern.find("{camera}"); i != std::string::npos; i = pattern.find("{camera}", i)) {
+    pattern.replace(i, 8, camera);
+    i += camera.size();
+  }
+  return pattern;
+}
+
+int RunImportCalib(const ImportArgs& a) {
+  const double unit = a.unit == "m" ? 1.0 : a.unit == "cm" ? 0.01 : a.unit == "mm" ? 0.001 : -1;
+  if (unit < 0) return Fail(InvalidArgument("--translation-unit must be m, cm or mm"));
+  Capture c;
+  c.directory = a.output_dir;
+  c.frame_rate = a.fps;
+  c.up_axis = a.up[0];
+  for (const std::string& f : a.files) {
+    StatusOr<std::vector<Camera>> cams = ImportCalibrationFile(f, unit);
+    if (!cams.ok()) return Fail(cams.status());
+    for (const Camera& k : *cams) {
+      CaptureCamera cc;
+      cc.calibration = k;
+      if (a.video.empty()) {
+        cc.frames.path = ForCamera(a.images, k.name);
+        cc.frames.first = a.first;
+      } else {
+        cc.frames.kind = FrameSource::Kind::kVideo;
+        cc.frames.path = ForCamera(a.video, k.name);
+      }
+      c.cameras.push_back(cc);
+    }
+  }
+  c.frame_count = a.frame_count;
+  if (c.frame_count == 0 && a.video.empty() && !c.cameras.empty()) {
+    // Count the first camera's consecutive frames on disk.
+    while (c.frame_count < kMaxCaptureFrames) {
+      std::ifstream probe(FramePath(c, c.cameras[0].frames, c.frame_count));
+      if (!probe) break;
+      ++c.frame_count;
+    }
+  }
+  if (c.frame_count == 0) {
+    return Fail(InvalidArgument("no frames found for camera \"" + c.cameras[0].calibration.name +
+                                "\" at " + FramePath(c, c.cameras[0].frames, 0) +
+                                "; give --frame-count (and --images or --video)"));
+  }
+  // Round trip through the parser: what we write must load.
+  StatusOr<Capture> check = ParseCapture(CaptureToJson(c), c.directory);
+  if (!check.ok()) return Fail(check.status());
+  Status s = SaveCapture(c);
+  if (!s.ok()) return Fail(s);
+  std::printf("imported %zu cameras from %zu files -> %s/capture.json (%u frames at %.3g fps)\n",
+              c.cameras.size(), a.files.size(), a.output_dir.c_str(), c.frame_count, c.frame_rate);
+  return 0;
+}
+
 }  // namespace
 
 void AddCaptureCommands(CLI::App* app, int* exit_code) {
@@ -109,7 +178,8 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
                        "320x240 at 15 fps, as in the original studio");
   s->callback([o, exit_code] { *exit_code = RunSynthCommand(*o); });
 
-  CLI::App* cap = app->add_subcommand("capture", "Capture directories: check, contact sheet");
+  CLI::App* cap = app->add_subcommand(
+      "capture", "Capture directories: check, contact sheet, calibration import");
   cap->require_subcommand(1);
   auto check_path = std::make_shared<std::string>();
   CLI::App* check = cap->add_subcommand("check", "Validate a capture: calibration, files, frame sizes");
@@ -123,6 +193,25 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
   sh->add_option("--frame", sheet->frame, "Frame index")->capture_default_str();
   sh->add_flag("--silhouettes", sheet->silhouettes, "Show the capture's silhouettes instead");
   sh->callback([sheet, exit_code] { *exit_code = RunSheet(*sheet); });
+
+  auto imp = std::make_shared<ImportArgs>();
+  CLI::App* ic = cap->add_subcommand(
+      "import-calib",
+      "Make capture.json from OpenCV-style calibration files (YAML FileStorage or TOML)");
+  ic->add_option("files", imp->files, "Calibration files: one camera each, or sections per camera")
+      ->required()->check(CLI::ExistingFile);
+  ic->add_option("-o,--output", imp->output_dir, "Capture directory to write capture.json into")
+      ->required()->check(CLI::ExistingDirectory);
+  ic->add_option("--images", imp->images, "Frame pattern per camera ({camera} = its name)")
+      ->capture_default_str();
+  ic->add_option("--video", imp->video, "Video file per camera instead ({camera} = its name)");
+  ic->add_option("--first", imp->first, "Number of the first image")->capture_default_str();
+  ic->add_option("--frame-count", imp->frame_count, "Frames (default: count the first camera's images)");
+  ic->add_option("--fps", imp->fps, "Frame rate")->capture_default_str()->check(CLI::PositiveNumber);
+  ic->add_option("--translation-unit", imp->unit, "Unit of t in the files: m, cm or mm")
+      ->capture_default_str()->check(CLI::IsMember({"m", "cm", "mm"}));
+  ic->add_option("--up", imp->up, "World up axis: y or z")->capture_default_str()->check(CLI::IsMember({"y", "z"}));
+  ic->callback([imp, exit_code] { *exit_code = RunImportCalib(*imp); });
 }
 
 }  // namespace fvv
