@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# The main job on the built-in default: installs dependencies, builds, makes the
-# built-in multi-view test volume (8 frames x 8 cameras, 256x256), codes it as one
-# 4D block at several rates, decodes, then writes a complete .fvv stream (model,
+# The main job on the built-in default: installs dependencies, builds, renders the
+# built-in sample capture (the generic body model driven by CMU motion, 8 studio
+# cameras, ground truth) and shows it as a contact sheet; makes the built-in
+# multi-view test volume (8 frames x 8 cameras, 256x256), codes it as one 4D
+# block at several rates, decodes, then writes a complete .fvv stream (model,
 # cameras, motion, masks, textures) and inspects it; prints figures and outputs.
 # Usage: tools/demo.sh [output dir, default out/demo]
 set -euo pipefail
@@ -12,6 +14,13 @@ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j2 --target fvv
 fvv=build/encoder/cli/fvv
 rm -rf "$out" && mkdir -p "$out"
+echo "== the sample capture: 8 cameras at 640x480, 50 frames, with ground truth"
+motion=()
+bvh=/usr/share/assimp/models/BVH/01_01.bvh  # CMU subject 1, trial 1 (assimp-testmodels)
+[ -f "$bvh" ] && motion=(--motion "$bvh")
+$fvv synth -o "$out/capture" --frames 50 "${motion[@]}"
+$fvv capture check "$out/capture"
+$fvv capture sheet "$out/capture" --frame 30 -o "$out/capture_sheet.png"
 echo "== sample capture volume"
 $fvv block sample -o "$out/views" --frames 8 --cameras 8 --width 256 --height 256
 for bpp in 0.05 0.1 0.25 0.5; do
@@ -36,7 +45,9 @@ $fvv render "$out/sample.fvv" -o "$out/render_orbit" --size 640x480
 $fvv render "$out/sample.fvv" -o "$out/render_camera2" --size 640x480 --camera 2 --last 7
 $fvv render "$out/sample.fvv" -o "$out/render_orbit" --size 320x240 --first 10 --contact-sheet 12
 echo
-echo "outputs: $out/views (input views + masks), $out/block_*.fvb (coded blocks),"
+echo "outputs: $out/capture (capture.json, camNN/ frames, background/ plates, truth/ poses,"
+echo "         joints, silhouettes, texture, held-out views), $out/capture_sheet.png,"
+echo "         $out/views (input views + masks), $out/block_*.fvb (coded blocks),"
 echo "         $out/decoded_full and $out/decoded_cut (decoded views, view_tTTT_cCC.png),"
 echo "         $out/sample.fvv (a stream; fvv info $out/sample.fvv --json),"
 echo "         $out/sample_decoded and $out/sample_cut (tex_/mask_fFFFFF_cCC.png, poses.json),"
