@@ -199,6 +199,41 @@ TEST_F(CaptureFiles, ReadsFramesAndNamesMissingOrWrongOnes) {
   EXPECT_FALSE(LoadCapture(dir_ + "/nowhere").ok());
 }
 
+TEST_F(CaptureFiles, ReadsExrSequencesAndSilhouettes) {
+  nlohmann::json j = ValidCaptureJson();
+  j["cameras"].erase(1);
+  j["cameras"][0]["width"] = 32, j["cameras"][0]["height"] = 24;
+  j["cameras"][0]["K"] = {{30, 0, 16}, {0, 30, 12}, {0, 0, 1}};
+  j["cameras"][0]["distortion"] = {0, 0, 0, 0, 0};
+  j["cameras"][0]["frames"] = {{"images", "left/%03d.exr"}};
+  j["cameras"][0]["silhouettes"] = {{"images", "left/s%03d.png"}};
+  std::ofstream(dir_ + "/capture.json") << j.dump();
+  Image sil;
+  sil.width = 32, sil.height = 24, sil.channels = 1;
+  sil.pixels.assign(32 * 24, 0);
+  sil.pixels[5] = 1;  // any non-zero value is the actor
+  for (int f = 0; f < 3; ++f) {
+    char name[64];
+    std::snprintf(name, sizeof(name), "/left/%03d.exr", f);
+    ASSERT_TRUE(WriteExr(dir_ + name, Frame(32, 24, f)).ok());
+    std::snprintf(name, sizeof(name), "/left/s%03d.png", f);
+    ASSERT_TRUE(WritePng(dir_ + name, sil).ok());
+  }
+  StatusOr<Capture> c = LoadCapture(dir_ + "/capture.json");
+  ASSERT_TRUE(c.ok()) << c.status().ToString();
+  CaptureReader reader(*c);
+  EXPECT_TRUE(reader.HasSilhouettes());
+  EXPECT_FALSE(reader.HasBackgrounds());
+  StatusOr<Image> f1 = reader.ReadFrame(0, 1);
+  ASSERT_TRUE(f1.ok()) << f1.status().ToString();
+  EXPECT_EQ(f1->pixels, Frame(32, 24, 1).pixels);  // 8-bit values survive EXR's half floats
+  StatusOr<Image> s1 = reader.ReadSilhouette(0, 1);
+  ASSERT_TRUE(s1.ok()) << s1.status().ToString();
+  EXPECT_EQ(s1->pixels[5], 255);
+  EXPECT_EQ(s1->pixels[6], 0);
+  EXPECT_FALSE(reader.ReadBackground(0).ok());
+}
+
 TEST_F(CaptureFiles, VideoFramesDecodeThroughFfmpeg) {
   if (!HaveFfmpeg()) GTEST_SKIP() << "ffmpeg not installed (tools/setup.sh installs it)";
   for (int f = 0; f < 4; ++f) {

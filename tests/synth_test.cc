@@ -11,6 +11,7 @@
 
 #include "encoder/body/kinematics.h"
 #include "encoder/capture/calibration.h"
+#include "encoder/capture/silhouette.h"
 #include "encoder/synth/synth.h"
 
 namespace fvv {
@@ -233,6 +234,59 @@ TEST_F(SynthTest, DeterministicForASeed) {
   ASSERT_TRUE(a.ok() && b.ok() && o.ok());
   EXPECT_EQ(a->pixels, b->pixels);
   EXPECT_NE(a->pixels, o->pixels);
+}
+
+// Background subtraction against the plates recovers the true silhouettes,
+// shadows excluded: what tracking starts from (issue 5).
+TEST_F(SynthTest, BackgroundSubtractionRecoversSilhouettes) {
+  ASSERT_TRUE(result_.ok()) << result_.ToString();
+  StatusOr<Capture> c = LoadCapture(dir_);
+  ASSERT_TRUE(c.ok());
+  CaptureReader reader(*c);
+  for (uint32_t cam = 0; cam < c->cameras.size(); ++cam) {
+    StatusOr<Image> plate = reader.ReadBackground(cam);
+    ASSERT_TRUE(plate.ok());
+    BackgroundModel bg{*plate};
+    for (uint32_t f : {0u, 2u}) {
+      StatusOr<Image> frame = reader.ReadFrame(cam, f);
+      ASSERT_TRUE(frame.ok());
+      StatusOr<Image> sil = ExtractSilhouette(*frame, bg);
+      ASSERT_TRUE(sil.ok()) << sil.status().ToString();
+      char name[128];
+      std::snprintf(name, sizeof(name), "/truth/silhouettes/cam%02u/%06u.png", cam, f);
+      StatusOr<Image> truth = ReadImage(dir_ + name);
+      ASSERT_TRUE(truth.ok());
+      const double iou = MaskIou(*sil, *truth);
+      std::printf("  camera %u frame %u: silhouette IoU %.3f\n", cam, f, iou);
+      EXPECT_GT(iou, 0.93) << name;
+    }
+  }
+}
+
+TEST(Silhouette, EmptyFrameGivesEmptyMaskAndSizesMustMatch) {
+  Image plate;
+  plate.width = 40, plate.height = 30;
+  plate.pixels.assign(40 * 30 * 3, 90);
+  StatusOr<Image> empty = ExtractSilhouette(plate, BackgroundModel{plate});
+  ASSERT_TRUE(empty.ok());
+  for (uint8_t p : empty->pixels) ASSERT_EQ(p, 0);
+  Image frame = plate;
+  for (int y = 5; y < 25; ++y) {
+    for (int x = 10; x < 20; ++x) {
+      for (int k = 0; k < 3; ++k) frame.pixels[(y * 40 + x) * 3 + k] = k == 0 ? 200 : 40;
+    }
+  }
+  for (int x = 25; x < 35; ++x) {  // a shadow: darker, same chroma
+    for (int k = 0; k < 3; ++k) frame.pixels[(20 * 40 + x) * 3 + k] = 60;
+  }
+  StatusOr<Image> sil = ExtractSilhouette(frame, BackgroundModel{plate});
+  ASSERT_TRUE(sil.ok());
+  EXPECT_EQ(sil->pixels[15 * 40 + 15], 255);
+  EXPECT_EQ(sil->pixels[20 * 40 + 30], 0);  // the shadow stays background
+  Image small = plate;
+  small.width = 20;
+  small.pixels.resize(20 * 30 * 3);
+  EXPECT_FALSE(ExtractSilhouette(small, BackgroundModel{plate}).ok());
 }
 
 TEST(Synth, RejectsBadOptions) {

@@ -262,8 +262,9 @@ void SetWeights(const std::map<int, double>& w, std::array<uint16_t, kMaxInfluen
   }
 }
 
-void AddSegment(int segment, const Geometry& g, const BodyShape& shape, Mesh* m,
-                std::vector<uint32_t>* canonical) {
+void AddSegment(int segment, const Geometry& g, const BodyShape& shape, const MeshResolution& res,
+                Mesh* m, std::vector<uint32_t>* canonical) {
+  const int sides = std::max(6, res.sides);
   const SegmentSpec s = Resolved(segment);
   const Vector3d a = V(s.axis).normalized();
   const Vector3d wdir = V(s.width_dir).normalized();
@@ -278,7 +279,8 @@ void AddSegment(int segment, const Geometry& g, const BodyShape& shape, Mesh* m,
     double axial, profile_s, scale, v;
   };
   std::vector<Ring> rings;
-  constexpr int kCapRings = 3, kBodyRings = kSegmentRings - 2 * kCapRings;
+  constexpr int kCapRings = 3;
+  const int body_rings = std::max(2, res.rings - 2 * kCapRings);
   double rw0, rd0, rw1, rd1;
   ProfileAt(s.profile, 0, &rw0, &rd0);
   ProfileAt(s.profile, 1, &rw1, &rd1);
@@ -288,9 +290,9 @@ void AddSegment(int segment, const Geometry& g, const BodyShape& shape, Mesh* m,
     const double phi = 0.5 * kPi * i / (kCapRings + 1);
     rings.push_back({a0 - cap0 * std::cos(phi), 0, std::sin(phi), 0});
   }
-  for (int i = 0; i < kBodyRings; ++i) {
+  for (int i = 0; i < body_rings; ++i) {
     // Cosine spacing: rings are densest near the joints, where skinning bends them.
-    const double t = 0.5 - 0.5 * std::cos(kPi * i / (kBodyRings - 1));
+    const double t = 0.5 - 0.5 * std::cos(kPi * i / (body_rings - 1));
     rings.push_back({a0 + t * (a1 - a0), t, 1.0, 0});
   }
   for (int i = kCapRings; i >= 1; --i) {
@@ -316,39 +318,39 @@ void AddSegment(int segment, const Geometry& g, const BodyShape& shape, Mesh* m,
   };
 
   const uint32_t base = static_cast<uint32_t>(m->positions.size());
-  const int cols = kSegmentSides + 1;  // the last column repeats the first (u = 1)
+  const int cols = sides + 1;  // the last column repeats the first (u = 1)
   for (size_t r = 0; r < rings.size(); ++r) {
     double rw, rd;
     ProfileAt(s.profile, rings[r].profile_s, &rw, &rd);
     rw *= girth * rings[r].scale;
     rd *= girth * rings[r].scale;
     for (int c = 0; c < cols; ++c) {
-      const double theta = 2 * kPi * (c % kSegmentSides) / kSegmentSides;
+      const double theta = 2 * kPi * (c % sides) / sides;
       const Vector3d p = origin + a * rings[r].axial + wdir * (rw * std::cos(theta)) +
                          ddir * (rd * std::sin(theta));
       const uint32_t ring_start = base + static_cast<uint32_t>(r * cols);
-      add_vertex(p, static_cast<double>(c) / kSegmentSides, rings[r].v,
-                 ring_start + (c % kSegmentSides));
+      add_vertex(p, static_cast<double>(c) / sides, rings[r].v,
+                 ring_start + (c % sides));
     }
   }
   const uint32_t pole0 = static_cast<uint32_t>(m->positions.size());
-  for (int c = 0; c < kSegmentSides; ++c) {
-    add_vertex(origin + a * (a0 - cap0), (c + 0.5) / kSegmentSides, 0.0, pole0);
+  for (int c = 0; c < sides; ++c) {
+    add_vertex(origin + a * (a0 - cap0), (c + 0.5) / sides, 0.0, pole0);
   }
   const uint32_t pole1 = static_cast<uint32_t>(m->positions.size());
-  for (int c = 0; c < kSegmentSides; ++c) {
-    add_vertex(origin + a * (a1 + cap1), (c + 0.5) / kSegmentSides, 1.0, pole1);
+  for (int c = 0; c < sides; ++c) {
+    add_vertex(origin + a * (a1 + cap1), (c + 0.5) / sides, 1.0, pole1);
   }
 
   auto at = [&](size_t r, int c) { return base + static_cast<uint32_t>(r * cols + c); };
   for (size_t r = 0; r + 1 < rings.size(); ++r) {
-    for (int c = 0; c < kSegmentSides; ++c) {
+    for (int c = 0; c < sides; ++c) {
       m->triangles.push_back({at(r, c), at(r, c + 1), at(r + 1, c + 1)});
       m->triangles.push_back({at(r, c), at(r + 1, c + 1), at(r + 1, c)});
     }
   }
   const size_t last = rings.size() - 1;
-  for (int c = 0; c < kSegmentSides; ++c) {
+  for (int c = 0; c < sides; ++c) {
     m->triangles.push_back({pole0 + c, at(0, c + 1), at(0, c)});
     m->triangles.push_back({pole1 + c, at(last, c), at(last, c + 1)});
   }
@@ -399,7 +401,7 @@ Status ValidateBodyShape(const BodyShape& shape) {
   return Status::Ok();
 }
 
-BodyModel MakeGenericBody(const BodyShape& shape) {
+BodyModel MakeGenericBody(const BodyShape& shape, const MeshResolution& resolution) {
   const Geometry g = JointPositions(shape);
   BodyModel model;
   for (int j = 0; j < kGenericJointCount; ++j) {
@@ -419,7 +421,9 @@ BodyModel MakeGenericBody(const BodyShape& shape) {
     model.skeleton.bones.push_back(bone);
   }
   std::vector<uint32_t> canonical;
-  for (int s = 0; s < kGenericSegmentCount; ++s) AddSegment(s, g, shape, &model.mesh, &canonical);
+  for (int s = 0; s < kGenericSegmentCount; ++s) {
+    AddSegment(s, g, shape, resolution, &model.mesh, &canonical);
+  }
   ComputeNormals(canonical, &model.mesh);
   return model;
 }

@@ -63,8 +63,14 @@ enum GenericSegment : int {
 
 constexpr int kGenericDofCount = 35;
 // Mesh resolution per segment: rings along the axis and vertices around it.
+// The full model (what is rendered and coded) has 18 x 40; tracking uses a
+// coarser mesh of the same shape (its silhouettes differ by under a pixel).
 constexpr int kSegmentRings = 18;
 constexpr int kSegmentSides = 40;
+struct MeshResolution {
+  int rings = kSegmentRings;  // >= 8 (3 per end cap, the rest along the body)
+  int sides = kSegmentSides;  // >= 6
+};
 
 const char* GenericJointName(int joint);
 const char* GenericSegmentName(int segment);
@@ -91,7 +97,8 @@ Status ValidateBodyShape(const BodyShape& shape);
 // in cell (s % 4, s / 4)); a chart's u runs around the segment, v along it.
 // Each chart column at u = 1 duplicates the one at u = 0, and each pole is one
 // vertex per column, so positions are shared exactly across those seams.
-BodyModel MakeGenericBody(const BodyShape& shape = BodyShape());
+BodyModel MakeGenericBody(const BodyShape& shape = BodyShape(),
+                          const MeshResolution& resolution = MeshResolution());
 
 }  // namespace fvv
 

@@ -8,6 +8,7 @@
 #include "encoder/cli/play_command.h"
 #include "encoder/cli/render_command.h"
 #include "encoder/cli/stream_command.h"
+#include "encoder/cli/track_command.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"fvv: free-viewpoint video of human actors (codec SDK tools)"};
@@ -15,6 +16,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "fvv 0.1.0");
   int exit_code = 0;
   fvv::AddCaptureCommands(&app, &exit_code);
+  fvv::AddTrackCommand(&app, &exit_code);
   fvv::AddStreamCommands(&app, &exit_code);
   fvv::AddDecodeCommand(&app, &exit_code);
   fvv::AddRenderCommand(&app, &exit_code);

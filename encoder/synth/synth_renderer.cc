@@ -9,32 +9,6 @@
 namespace fvv {
 namespace {
 
-const char* kVertexShader = R"(#version 330 core
-layout(location = 0) in vec3 a_pos;
-layout(location = 1) in vec3 a_normal;
-layout(location = 2) in vec2 a_uv;
-layout(location = 3) in uvec4 a_joints;
-layout(location = 4) in vec4 a_weights;
-layout(std140) uniform Bones { mat4 u_bones[128]; };
-uniform mat4 u_view_proj;
-uniform int u_skinned;
-out vec3 v_world;
-out vec3 v_normal;
-out vec2 v_uv;
-void main() {
-  mat4 s = mat4(1.0);
-  if (u_skinned == 1) {
-    s = a_weights.x * u_bones[a_joints.x] + a_weights.y * u_bones[a_joints.y] +
-        a_weights.z * u_bones[a_joints.z] + a_weights.w * u_bones[a_joints.w];
-  }
-  vec4 w = s * vec4(a_pos, 1.0);
-  v_world = w.xyz;
-  v_normal = mat3(s) * a_normal;
-  v_uv = a_uv;
-  gl_Position = u_view_proj * w;
-}
-)";
-
 // Mode 0: the actor, textured; 1: the studio, procedural; 2: silhouette.
 const char* kFragmentShader = R"(#version 330 core
 in vec3 v_world;
@@ -104,14 +78,14 @@ StatusOr<std::unique_ptr<SynthRenderer>> SynthRenderer::Create(const GlApi& gl,
                                                                const ActorMesh& mesh,
                                                                size_t bone_count) {
   if (bone_count == 0 || bone_count > kMaxBones) {
-    return Unsupported("synth: actor has " + std::to_string(bone_count) + " bones (1..128)");
+    return Unsupported("synth: actor has " + std::to_string(bone_count) + " bones (1..256)");
   }
   if (mesh.texture.channels != 3 || mesh.texture.width == 0) {
     return InvalidArgument("synth: actor texture must be a non-empty RGB image");
   }
   std::unique_ptr<SynthRenderer> r(new SynthRenderer(gl));
   const GlApi& g = r->gl_;
-  StatusOr<GLuint> program = BuildProgram(g, kVertexShader, kFragmentShader, "synth renderer");
+  StatusOr<GLuint> program = BuildProgram(g, kSkinningVertexShader, kFragmentShader, "synth renderer");
   if (!program.ok()) return program.status();
   r->program_ = *program;
   r->u_view_proj_ = g.GetUniformLocation(r->program_, "u_view_proj");

@@ -19,7 +19,7 @@ namespace fvv {
 
 class SynthRenderer {
  public:
-  static constexpr size_t kMaxBones = 128;
+  static constexpr size_t kMaxBones = kMaxSkinBones;
   static StatusOr<std::unique_ptr<SynthRenderer>> Create(const GlApi& gl, const ActorMesh& mesh,
                                                          size_t bone_count);
   ~SynthRenderer();

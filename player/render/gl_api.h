@@ -74,6 +74,14 @@ using GlProcLoader = void* (*)(const char* name);
 // Loads every function; an error names the first one missing.
 Status LoadGlApi(GlProcLoader loader, GlApi* gl);
 
+// The vertex shader both renderers use: linear-blend skinning with up to
+// kMaxSkinBones bones in a std140 uniform block "Bones" (binding it needs a
+// buffer of kMaxSkinBones * 64 bytes), attributes 0..4 = position, normal, uv,
+// joints (uvec4), weights; uniforms u_view_proj, u_skinned (0: static geometry).
+// Outputs v_world, v_normal, v_uv.
+constexpr int kMaxSkinBones = 256;  // one std140 block of mat4: 16 KiB, the GL minimum
+extern const char* const kSkinningVertexShader;
+
 // Compiles and links a vertex + fragment shader pair; errors carry the GLSL log
 // and start with `what`.
 StatusOr<GLuint> BuildProgram(const GlApi& gl, const char* vertex_source,

@@ -8,30 +8,8 @@
 namespace fvv {
 namespace {
 
-constexpr int kMaxBones = 256;   // one std140 block of mat4 (16 KiB, the GL minimum)
+constexpr int kMaxBones = kMaxSkinBones;
 constexpr int kMaxCameras = 64;  // level 4
-
-const char* kVertexShader = R"(#version 330 core
-layout(location = 0) in vec3 a_pos;
-layout(location = 1) in vec3 a_normal;
-layout(location = 2) in vec2 a_uv;
-layout(location = 3) in uvec4 a_joints;
-layout(location = 4) in vec4 a_weights;
-layout(std140) uniform Bones { mat4 u_skin[256]; };
-uniform mat4 u_view_proj;
-out vec3 v_world;
-out vec3 v_normal;
-out vec2 v_uv;
-void main() {
-  mat4 s = a_weights.x * u_skin[a_joints.x] + a_weights.y * u_skin[a_joints.y] +
-           a_weights.z * u_skin[a_joints.z] + a_weights.w * u_skin[a_joints.w];
-  vec4 w = s * vec4(a_pos, 1.0);
-  v_world = w.xyz;
-  v_normal = mat3(s) * a_normal;
-  v_uv = a_uv;
-  gl_Position = u_view_proj * w;
-}
-)";
 
 const char* kFragmentShader = R"(#version 330 core
 in vec3 v_world;
@@ -98,7 +76,7 @@ StatusOr<std::unique_ptr<Renderer>> Renderer::Create(const GlApi& gl, const fvv_
   r->bones_ = model.bone_count;
   const GlApi& g = r->gl_;
 
-  StatusOr<GLuint> program = BuildProgram(g, kVertexShader, kFragmentShader, "renderer");
+  StatusOr<GLuint> program = BuildProgram(g, kSkinningVertexShader, kFragmentShader, "renderer");
   if (!program.ok()) return program.status();
   r->program_ = *program;
 
@@ -214,6 +192,7 @@ Status Renderer::Draw(const RenderView& view, int width, int height) {
   gl_.Enable(GL_DEPTH_TEST);
   gl_.UseProgram(program_);
   const glm::mat4 view_proj = view.projection * view.view;
+  gl_.Uniform1i(gl_.GetUniformLocation(program_, "u_skinned"), 1);
   gl_.UniformMatrix4fv(gl_.GetUniformLocation(program_, "u_view_proj"), 1, GL_FALSE,
                        glm::value_ptr(view_proj));
   gl_.Uniform3fv(gl_.GetUniformLocation(program_, "u_cameras"), static_cast<GLsizei>(cameras_),

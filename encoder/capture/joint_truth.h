@@ -1,0 +1,31 @@
+// Joint position errors of tracked poses against ground truth (the truth.json
+// `fvv synth` writes). Joints are matched by name: the built-in actor's joints
+// are the body model's own; for glTF characters a table maps corresponding
+// joints (hips, knees, ankles, shoulders, elbows, wrists, neck).
+#ifndef FVV_ENCODER_CAPTURE_JOINT_TRUTH_H_
+#define FVV_ENCODER_CAPTURE_JOINT_TRUTH_H_
+
+#include <string>
+#include <vector>
+
+#include "codec/status.h"
+#include "container/body_model.h"
+
+namespace fvv {
+
+struct JointErrors {
+  double mean = 0, max = 0;         // metres, over frames and matched joints
+  std::vector<std::string> joints;  // generic joint names compared
+  std::vector<double> per_frame;    // mean per frame
+  std::string Describe() const;     // "l_hip, l_knee, ..."
+};
+
+// `truth`: a truth.json, or a directory holding truth.json or truth/truth.json.
+// poses[i] is frame first_frame + i.
+StatusOr<JointErrors> CompareWithTruth(const std::string& truth, const Skeleton& generic,
+                                       const std::vector<std::vector<double>>& poses,
+                                       uint32_t first_frame);
+
+}  // namespace fvv
+
+#endif  // FVV_ENCODER_CAPTURE_JOINT_TRUTH_H_

@@ -1,0 +1,652 @@
+#include "encoder/capture/tracker.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "codec/thread_pool.h"
+#include "encoder/body/kinematics.h"
+#include "encoder/capture/calibration.h"
+#include "encoder/capture/powell.h"
+
+namespace fvv {
+namespace {
+
+using Eigen::Vector2f;
+using Eigen::Vector3d;
+using Eigen::Vector3f;
+
+constexpr double kPi = 3.14159265358979323846;
+// The tracking mesh: the generic body's shape at a resolution whose
+// silhouettes match the full model's to well under a pixel at half resolution.
+const MeshResolution kTrackingMesh{10, 16};
+
+// One camera at one resolution: its scaled calibration, silhouette, and the
+// per-stage raster of the parts that stay fixed.
+struct View {
+  int w = 0, h = 0;
+  Eigen::Matrix3f r;
+  Vector3f t;
+  float fx = 0, fy = 0, cx = 0, cy = 0;
+  std::array<float, 5> k{};
+  bool distorted = false;
+  std::vector<uint8_t> sil;  // 0/1
+  int64_t sil_area = 0;
+  std::vector<uint8_t> fixed, scratch;
+  std::vector<int32_t> xor_integral;  // (w + 1) x (h + 1) prefix sums of fixed ^ sil
+  int64_t xor_total = 0;
+
+  Vector2f Project(const Vector3f& p) const {
+    const Vector3f c = r * p + t;
+    const float z = std::max(c.z(), 1e-4f);
+    float x = c.x() / z, y = c.y() / z;
+    if (distorted) {
+      const float r2 = x * x + y * y, rad = 1 + r2 * (k[0] + r2 * (k[1] + r2 * k[4]));
+      const float xd = x * rad + 2 * k[2] * x * y + k[3] * (r2 + 2 * x * x);
+      const float yd = y * rad + k[2] * (r2 + 2 * y * y) + 2 * k[3] * x * y;
+      x = xd, y = yd;
+    }
+    return {fx * x + cx, fy * y + cy};
+  }
+  int64_t IntegralSum(int x0, int y0, int x1, int y1) const {  // inclusive box
+    const int s = w + 1;
+    return int64_t(xor_integral[size_t(y1 + 1) * s + x1 + 1]) - xor_integral[size_t(y0) * s + x1 + 1] -
+           xor_integral[size_t(y1 + 1) * s + x0] + xor_integral[size_t(y0) * s + x0];
+  }
+};
+
+struct Box {
+  int x0, y0, x1, y1;  // inclusive; empty when x0 > x1
+};
+
+// Sets pixels whose centres lie inside front-facing triangles (pixel centres at
+// integer coordinates, as the calibration's); grows `box` by what it touches.
+void Rasterise(const std::vector<uint32_t>& tris, const std::vector<Vector2f>& px, int w, int h,
+               uint8_t* out, Box* box) {
+  for (size_t t = 0; t + 2 < tris.size(); t += 3) {
+    const Vector2f a = px[tris[t]], b = px[tris[t + 1]], c = px[tris[t + 2]];
+    const float area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+    // Outward counter-clockwise winding appears clockwise in y-down images: a
+    // closed mesh's silhouette is the union of its front faces (area < 0).
+    if (area >= 0) continue;
+    const int x0 = std::max(0, int(std::ceil(std::min({a.x(), b.x(), c.x()}))));
+    const int x1 = std::min(w - 1, int(std::floor(std::max({a.x(), b.x(), c.x()}))));
+    const int y0 = std::max(0, int(std::ceil(std::min({a.y(), b.y(), c.y()}))));
+    const int y1 = std::min(h - 1, int(std::floor(std::max({a.y(), b.y(), c.y()}))));
+    if (x0 > x1 || y0 > y1) continue;
+    box->x0 = std::min(box->x0, x0), box->x1 = std::max(box->x1, x1);
+    box->y0 = std::min(box->y0, y0), box->y1 = std::max(box->y1, y1);
+    const float inv = 1.0f / area;
+    for (int y = y0; y <= y1; ++y) {
+      for (int x = x0; x <= x1; ++x) {
+        const float w0 = ((c.x() - b.x()) * (y - b.y()) - (c.y() - b.y()) * (x - b.x())) * inv;
+        const float w1 = ((a.x() - c.x()) * (y - c.y()) - (a.y() - c.y()) * (x - c.x())) * inv;
+        if (w0 >= 0 && w1 >= 0 && w0 + w1 <= 1) out[size_t(y) * w + x] = 1;
+      }
+    }
+  }
+}
+
+// A set of DOFs optimised together, and what moves when they change.
+struct Stage {
+  std::string name;
+  std::vector<int> dofs;                // indices into the DOF vector
+  std::vector<uint32_t> moving_verts;   // vertices any moved bone influences
+  std::vector<uint32_t> moving_tris, fixed_tris;
+  int grid_dof_a = -1, grid_dof_b = -1, grid_dof_c = -1;  // grid search (indices into dofs)
+};
+
+struct Capsule {
+  Vector3d a, b;
+  double r;
+};
+
+double SegmentDistance(const Vector3d& p0, const Vector3d& p1, const Vector3d& q0, const Vector3d& q1) {
+  const Vector3d d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  double s = 0, t = 0;
+  if (a < 1e-12 && e < 1e-12) return r.norm();
+  if (a < 1e-12) {
+    t = std::clamp(f / e, 0.0, 1.0);
+  } else {
+    const double c = d1.dot(r);
+    if (e < 1e-12) {
+      s = std::clamp(-c / a, 0.0, 1.0);
+    } else {
+      const double b = d1.dot(d2), denom = a * e - b * b;
+      s = denom > 1e-12 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+      t = (b * s + f) / e;
+      if (t < 0) {
+        t = 0, s = std::clamp(-c / a, 0.0, 1.0);
+      } else if (t > 1) {
+        t = 1, s = std::clamp((b - c) / a, 0.0, 1.0);
+      }
+    }
+  }
+  return ((p0 + d1 * s) - (q0 + d2 * t)).norm();
+}
+
+}  // namespace
+
+struct Tracker::Impl {
+  TrackerOptions options;
+  std::vector<Camera> cameras;
+  ThreadPool pool;
+  BodyShape shape;
+  BodyModel model;  // tracking resolution
+  std::vector<DofRef> refs;
+  std::vector<double> lo, hi;
+  std::vector<Stage> stages;
+  // views[level][camera]; level 0 = quarter, 1 = half resolution.
+  std::vector<std::vector<View>> views;
+  std::vector<double> last, previous;
+  bool initialised = false;
+  int evaluations = 0;
+  double collision_weight = 0;  // pixels per metre of capsule overlap
+
+  explicit Impl(const TrackerOptions& o) : options(o), pool(std::max(1u, o.threads)) {}
+
+  int Dof(int bone, int kind) const { return DofIndex(model.skeleton, bone, kind); }
+
+  void BuildModel() {
+    model = MakeGenericBody(shape, kTrackingMesh);
+    refs = model.skeleton.Dofs();
+    lo.resize(refs.size()), hi.resize(refs.size());
+    for (size_t d = 0; d < refs.size(); ++d) {
+      lo[d] = model.skeleton.bones[refs[d].bone].dof_min[refs[d].kind];
+      hi[d] = model.skeleton.bones[refs[d].bone].dof_max[refs[d].kind];
+    }
+    BuildStages();
+  }
+
+  // Stages and what each one moves: a vertex moves when any bone in the
+  // subtree of the stage's bones influences it.
+  void BuildStages() {
+    struct Spec {
+      const char* name;
+      std::vector<std::pair<int, int>> dofs;  // (bone, kind)
+      int grid_a, grid_b, grid_c;
+    };
+    const std::vector<Spec> specs = {
+        {"torso", {{kRoot, 3}, {kRoot, 4}, {kRoot, 5}, {kRoot, 0}, {kRoot, 1}, {kRoot, 2},
+                   {kLumbar, 0}, {kLumbar, 2}, {kThoracic, 1}}, -1, -1, -1},
+        {"left arm", {{kLeftShoulder, 0}, {kLeftShoulder, 1}, {kLeftShoulder, 2}, {kLeftElbow, 1}}, 1, 2, 3},
+        {"right arm", {{kRightShoulder, 0}, {kRightShoulder, 1}, {kRightShoulder, 2}, {kRightElbow, 1}}, 1, 2, 3},
+        {"left leg", {{kLeftHip, 0}, {kLeftHip, 1}, {kLeftHip, 2}, {kLeftKnee, 0}}, 0, 2, 3},
+        {"right leg", {{kRightHip, 0}, {kRightHip, 1}, {kRightHip, 2}, {kRightKnee, 0}}, 0, 2, 3},
+        {"hands", {{kLeftWrist, 1}, {kLeftWrist, 2}, {kRightWrist, 1}, {kRightWrist, 2}}, -1, -1, -1},
+        {"feet", {{kLeftAnkle, 0}, {kLeftAnkle, 2}, {kRightAnkle, 0}, {kRightAnkle, 2}}, -1, -1, -1},
+        {"head", {{kNeck, 0}, {kHead, 1}}, -1, -1, -1},
+    };
+    stages.clear();
+    const Mesh& m = model.mesh;
+    for (const Spec& sp : specs) {
+      Stage st;
+      st.name = sp.name;
+      std::vector<char> moved(model.skeleton.bones.size(), 0);
+      for (const auto& [bone, kind] : sp.dofs) {
+        st.dofs.push_back(Dof(bone, kind));
+        moved[bone] = 1;
+      }
+      for (size_t b = 0; b < moved.size(); ++b) {  // parents come first
+        const int p = model.skeleton.bones[b].parent;
+        if (p >= 0 && moved[p]) moved[b] = 1;
+      }
+      std::vector<char> vmove(m.positions.size(), 0);
+      for (size_t v = 0; v < m.positions.size(); ++v) {
+        for (int k = 0; k < kMaxInfluences; ++k) {
+          if (m.weights[v][k] && moved[m.joints[v][k]]) vmove[v] = 1;
+        }
+        if (vmove[v]) st.moving_verts.push_back(uint32_t(v));
+      }
+      for (const auto& t : m.triangles) {
+        auto& list = (vmove[t[0]] || vmove[t[1]] || vmove[t[2]]) ? st.moving_tris : st.fixed_tris;
+        list.insert(list.end(), t.begin(), t.end());
+      }
+      st.grid_dof_a = sp.grid_a, st.grid_dof_b = sp.grid_b, st.grid_dof_c = sp.grid_c;
+      stages.push_back(std::move(st));
+    }
+  }
+
+  Status SetSilhouettes(const std::vector<Image>& silhouettes, int* usable) {
+    if (silhouettes.size() != cameras.size()) {
+      return InvalidArgument("tracker: " + std::to_string(silhouettes.size()) +
+                             " silhouettes for " + std::to_string(cameras.size()) + " cameras");
+    }
+    *usable = 0;
+    const float scales[2] = {0.25f, 0.5f};
+    views.assign(2, std::vector<View>(cameras.size()));
+    for (size_t c = 0; c < cameras.size(); ++c) {
+      const Camera& cam = cameras[c];
+      const Image& s = silhouettes[c];
+      if (s.width != cam.width || s.height != cam.height || s.channels != 1) {
+        return InvalidArgument("tracker: silhouette of camera \"" + cam.name + "\" is not a " +
+                               std::to_string(cam.width) + "x" + std::to_string(cam.height) +
+                               " grey image");
+      }
+      for (int level = 0; level < 2; ++level) {
+        View& v = views[level][c];
+        const int f = int(std::lround(1 / scales[level]));
+        v.w = int(cam.width) / f, v.h = int(cam.height) / f;
+        const float sc = 1.0f / f;
+        v.r = CameraRotation(cam).cast<float>();
+        v.t = CameraTranslation(cam).cast<float>();
+        v.fx = float(cam.fx) * sc, v.fy = float(cam.fy) * sc;
+        v.cx = (float(cam.cx) + 0.5f) * sc - 0.5f, v.cy = (float(cam.cy) + 0.5f) * sc - 0.5f;
+        for (int i = 0; i < 5; ++i) v.k[i] = float(cam.distortion[i]);
+        v.distorted = std::any_of(v.k.begin(), v.k.end(), [](float x) { return x != 0; });
+        v.sil.assign(size_t(v.w) * v.h, 0);
+        v.sil_area = 0;
+        for (int y = 0; y < v.h; ++y) {
+          for (int x = 0; x < v.w; ++x) {
+            int count = 0;
+            for (int dy = 0; dy < f; ++dy) {
+              const uint8_t* row = &s.pixels[size_t(y * f + dy) * s.width + size_t(x) * f];
+              for (int dx = 0; dx < f; ++dx) count += row[dx] != 0;
+            }
+            const bool on = 2 * count >= f * f;
+            v.sil[size_t(y) * v.w + x] = on;
+            v.sil_area += on;
+          }
+        }
+        v.fixed.assign(v.sil.size(), 0);
+        v.scratch.assign(v.sil.size(), 0);
+        v.xor_integral.assign(size_t(v.w + 1) * (v.h + 1), 0);
+      }
+      if (views[1][c].sil_area > 0) ++*usable;
+    }
+    return Status::Ok();
+  }
+
+  std::vector<Eigen::Matrix4f> Skinning(const std::vector<double>& dofs) const {
+    std::vector<Eigen::Matrix4f> out;
+    for (const Affine& a : SkinningMatrices(model.skeleton, dofs)) out.push_back(a.matrix().cast<float>());
+    return out;
+  }
+
+  void SkinVertices(const std::vector<uint32_t>& verts, const std::vector<Eigen::Matrix4f>& skin,
+                    std::vector<Vector3f>* out) const {
+    const Mesh& m = model.mesh;
+    out->resize(m.positions.size());
+    for (uint32_t v : verts) {
+      Eigen::Matrix4f s = Eigen::Matrix4f::Zero();
+      for (int k = 0; k < kMaxInfluences; ++k) {
+        if (m.weights[v][k]) s += (m.weights[v][k] / 65535.0f) * skin[m.joints[v][k]];
+      }
+      (*out)[v] = s.topLeftCorner<3, 3>() * Vector3f(m.positions[v][0], m.positions[v][1], m.positions[v][2]) +
+                  s.topRightCorner<3, 1>();
+    }
+  }
+
+  // Draws the fixed parts of `stage` at `dofs` into every view of `level`.
+  void PrepareStage(const Stage& stage, const std::vector<double>& dofs, int level) {
+    std::vector<uint32_t> all(model.mesh.positions.size());
+    std::iota(all.begin(), all.end(), 0u);
+    std::vector<Vector3f> posed;
+    SkinVertices(all, Skinning(dofs), &posed);
+    pool.Run(uint32_t(cameras.size()), [&](uint32_t c) {
+      View& v = views[level][c];
+      std::fill(v.fixed.begin(), v.fixed.end(), 0);
+      std::vector<Vector2f> px(posed.size());
+      for (size_t i = 0; i < posed.size(); ++i) px[i] = v.Project(posed[i]);
+      Box box{v.w, v.h, -1, -1};
+      Rasterise(stage.fixed_tris, px, v.w, v.h, v.fixed.data(), &box);
+      const int s = v.w + 1;
+      v.xor_total = 0;
+      for (int y = 0; y < v.h; ++y) {
+        int32_t row = 0;
+        for (int x = 0; x < v.w; ++x) {
+          const size_t i = size_t(y) * v.w + x;
+          row += v.fixed[i] ^ v.sil[i];
+          v.xor_integral[size_t(y + 1) * s + x + 1] = v.xor_integral[size_t(y) * s + x + 1] + row;
+        }
+        v.xor_total += row;
+      }
+    });
+  }
+
+  // Capsule overlap of forearms and hands with the torso, and of the legs
+  // with each other, in metres (0 when nothing interpenetrates).
+  double Overlap(const std::vector<double>& dofs) const {
+    const std::vector<Vector3d> j = JointPositions(model.skeleton, dofs);
+    const double g = shape.stature;
+    auto tip = [&](int from, int to, double len) { return Vector3d(j[to] + (j[to] - j[from]).normalized() * len * g); };
+    const Capsule torso{j[kRoot], j[kNeck], 0.1 * g};
+    const Capsule arms[] = {{j[kLeftElbow], j[kLeftWrist], 0.03 * g},
+                            {j[kLeftWrist], tip(kLeftElbow, kLeftWrist, 0.12), 0.025 * g},
+                            {j[kRightElbow], j[kRightWrist], 0.03 * g},
+                            {j[kRightWrist], tip(kRightElbow, kRightWrist, 0.12), 0.025 * g}};
+    const Capsule left[] = {{j[kLeftHip], j[kLeftKnee], 0.06 * g}, {j[kLeftKnee], j[kLeftAnkle], 0.04 * g}};
+    const Capsule right[] = {{j[kRightHip], j[kRightKnee], 0.06 * g}, {j[kRightKnee], j[kRightAnkle], 0.04 * g}};
+    double overlap = 0;
+    auto add = [&](const Capsule& a, const Capsule& b) {
+      overlap += std::max(0.0, a.r + b.r - SegmentDistance(a.a, a.b, b.a, b.b));
+    };
+    for (const Capsule& a : arms) add(a, torso);
+    for (const Capsule& a : left) {
+      for (const Capsule& b : right) add(a, b);
+    }
+    return overlap;
+  }
+
+  // XOR pixels of the model at `dofs` against the silhouettes of `level`,
+  // redrawing only `stage`'s moving parts, plus the collision penalty.
+  double Evaluate(const Stage& stage, const std::vector<double>& dofs, int level) {
+    ++evaluations;
+    std::vector<Vector3f> posed;
+    SkinVertices(stage.moving_verts, Skinning(dofs), &posed);
+    std::vector<int64_t> per_camera(cameras.size(), 0);
+    pool.Run(uint32_t(cameras.size()), [&](uint32_t c) {
+      View& v = views[level][c];
+      std::vector<Vector2f> px(posed.size());
+      for (uint32_t i : stage.moving_verts) px[i] = v.Project(posed[i]);
+      Box box{v.w, v.h, -1, -1};
+      // Clear the scratch where the last evaluation may have drawn: the whole
+      // image is cheap at these sizes only once; afterwards by box.
+      Rasterise(stage.moving_tris, px, v.w, v.h, v.scratch.data(), &box);
+      if (box.x0 > box.x1) {
+        per_camera[c] = v.xor_total;
+        return;
+      }
+      int64_t count = 0;
+      for (int y = box.y0; y <= box.y1; ++y) {
+        const size_t row = size_t(y) * v.w;
+        for (int x = box.x0; x <= box.x1; ++x) {
+          count += (v.fixed[row + x] | v.scratch[row + x]) ^ v.sil[row + x];
+          v.scratch[row + x] = 0;
+        }
+      }
+      per_camera[c] = v.xor_total - v.IntegralSum(box.x0, box.y0, box.x1, box.y1) + count;
+    });
+    double total = 0;
+    for (size_t c = 0; c < cameras.size(); ++c) {
+      if (views[level][c].sil_area > 0) total += double(per_camera[c]);
+    }
+    return total + collision_weight * (1 << (2 * level)) * Overlap(dofs);
+  }
+
+  void SetCollisionWeight() {
+    int64_t area = 0;
+    for (const View& v : views[0]) area += v.sil_area;
+    collision_weight = 0.5 * double(area) / 0.01 / 8;  // about a twentieth of the body per cm
+  }
+
+  // Powell over one stage's DOFs, after an optional grid search.
+  double FitStage(const Stage& stage, std::vector<double>* dofs, int level, double scale) {
+    PrepareStage(stage, *dofs, level);
+    const int n = int(stage.dofs.size());
+    Eigen::VectorXd x(n), step(n), vlo(n), vhi(n);
+    for (int i = 0; i < n; ++i) {
+      const int d = stage.dofs[i];
+      x[i] = (*dofs)[d];
+      const bool translation = refs[d].kind >= 3;
+      step[i] = (translation ? 0.03 : 0.12) * scale;
+      vlo[i] = lo[d], vhi[i] = hi[d];
+    }
+    std::vector<double> trial = *dofs;
+    auto f = [&](const Eigen::VectorXd& v) {
+      for (int i = 0; i < n; ++i) trial[stage.dofs[i]] = v[i];
+      return Evaluate(stage, trial, level);
+    };
+    if (stage.grid_dof_a >= 0 && scale >= 1) {
+      // A limited grid around the start over the upper joint's two main angles
+      // and the hinge, so the search starts in the right basin.
+      Eigen::VectorXd best = x;
+      double best_value = f(x);
+      for (double da : {-0.45, 0.0, 0.45}) {
+        for (double db : {-0.45, 0.0, 0.45}) {
+          for (double dc : {0.0, 0.7}) {
+            if (da == 0 && db == 0 && dc == 0) continue;
+            Eigen::VectorXd g = x;
+            g[stage.grid_dof_a] += da, g[stage.grid_dof_b] += db, g[stage.grid_dof_c] += dc;
+            g = g.cwiseMax(vlo).cwiseMin(vhi);
+            const double value = f(g);
+            if (value < best_value) best_value = value, best = g;
+          }
+        }
+      }
+      x = best;
+    }
+    PowellOptions po;
+    po.max_evaluations = options.stage_evaluations;
+    const PowellResult r = MinimisePowell(f, &x, step, vlo, vhi, po);
+    for (int i = 0; i < n; ++i) (*dofs)[stage.dofs[i]] = x[i];
+    return r.value;
+  }
+
+  void FitAll(std::vector<double>* dofs, double scale) {
+    for (int level = 0; level < (options.refine ? 2 : 1); ++level) {
+      for (const Stage& s : stages) FitStage(s, dofs, level, level == 0 ? scale : 0.35 * scale);
+    }
+  }
+
+  // Quality at half resolution, from a full redraw.
+  void Measure(const std::vector<double>& dofs, FrameFit* fit) {
+    Stage all;
+    all.moving_verts.resize(model.mesh.positions.size());
+    std::iota(all.moving_verts.begin(), all.moving_verts.end(), 0u);
+    for (const auto& t : model.mesh.triangles) all.moving_tris.insert(all.moving_tris.end(), t.begin(), t.end());
+    std::vector<Vector3f> posed;
+    SkinVertices(all.moving_verts, Skinning(dofs), &posed);
+    int64_t inter = 0, uni = 0, area = 0;
+    fit->cameras_used = 0;
+    for (View& v : views[1]) {
+      if (v.sil_area == 0) continue;
+      ++fit->cameras_used;
+      std::vector<Vector2f> px(posed.size());
+      for (size_t i = 0; i < posed.size(); ++i) px[i] = v.Project(posed[i]);
+      std::vector<uint8_t> m(v.sil.size(), 0);
+      Box box{v.w, v.h, -1, -1};
+      Rasterise(all.moving_tris, px, v.w, v.h, m.data(), &box);
+      for (size_t i = 0; i < m.size(); ++i) inter += m[i] & v.sil[i], uni += m[i] | v.sil[i];
+      area += v.sil_area;
+    }
+    fit->iou = uni ? double(inter) / uni : 0;
+    fit->xor_ratio = area ? double(uni - inter) / area : 1;
+    fit->dofs = dofs;
+    fit->poor = fit->xor_ratio > options.poor_fit;
+    if (fit->poor) fit->note = "poor fit (XOR " + std::to_string(int(100 * fit->xor_ratio)) + "% of the silhouette)";
+  }
+
+  // A rough global position and height from the silhouettes' geometry: the
+  // point nearest all rays through the silhouette centroids, and the top of
+  // the silhouettes above it.
+  bool Locate(const std::vector<Image>& sils, Vector3d* centre, double* height) {
+    Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+    Vector3d b = Vector3d::Zero();
+    int rays = 0;
+    std::vector<std::pair<const Camera*, Eigen::Vector2d>> tops;
+    for (size_t c = 0; c < cameras.size(); ++c) {
+      const Image& s = sils[c];
+      double sx = 0, sy = 0;
+      int64_t n = 0;
+      int top = -1, top_x = 0;
+      for (uint32_t y = 0; y < s.height; ++y) {
+        for (uint32_t x = 0; x < s.width; ++x) {
+          if (!s.pixels[size_t(y) * s.width + x]) continue;
+          sx += x, sy += y, ++n;
+          if (top < 0) top = int(y), top_x = int(x);
+        }
+      }
+      if (n == 0) continue;
+      const Vector3d o = CameraCentre(cameras[c]);
+      const Vector3d d = (UnprojectPixel(cameras[c], {sx / n, sy / n}, 1.0) - o).normalized();
+      const Eigen::Matrix3d p = Eigen::Matrix3d::Identity() - d * d.transpose();
+      a += p, b += p * o, ++rays;
+      tops.push_back({&cameras[c], Eigen::Vector2d(top_x, top)});
+    }
+    if (rays < 2) return false;
+    *centre = a.ldlt().solve(b);
+    std::vector<double> heights;
+    for (const auto& [cam, px] : tops) {
+      // The top pixel's ray, at the depth of the vertical through the centre.
+      const Vector3d o = CameraCentre(*cam);
+      const Vector3d d = (UnprojectPixel(*cam, px, 1.0) - o).normalized();
+      const Eigen::Vector2d flat(d.x(), d.z());
+      const double along = flat.squaredNorm() > 1e-9
+                               ? Eigen::Vector2d(centre->x() - o.x(), centre->z() - o.z()).dot(flat) / flat.squaredNorm()
+                               : 0;
+      heights.push_back(o.y() + along * d.y());
+    }
+    std::nth_element(heights.begin(), heights.begin() + heights.size() / 2, heights.end());
+    *height = heights[heights.size() / 2];
+    return true;
+  }
+
+  std::vector<double> NeutralPose(const Vector3d& centre, double yaw) const {
+    std::vector<double> p(refs.size(), 0.0);
+    const std::vector<Vector3d> rest = JointPositions(model.skeleton, {});
+    p[Dof(kRoot, 3)] = centre.x() - rest[kRoot].x();
+    p[Dof(kRoot, 5)] = centre.z() - rest[kRoot].z();
+    p[Dof(kRoot, 1)] = yaw;
+    p[Dof(kLeftShoulder, 2)] = -1.25;
+    p[Dof(kRightShoulder, 2)] = 1.25;
+    p[Dof(kLeftElbow, 1)] = -0.2;
+    p[Dof(kRightElbow, 1)] = 0.2;
+    return p;
+  }
+
+  // Fits stature, overall girth, arm and leg length to the silhouettes of the
+  // current frame with the pose held; lengths scale whole limbs symmetrically.
+  void FitShape(std::vector<double>* dofs) {
+    const std::vector<Vector3d> before = JointPositions(model.skeleton, *dofs);
+    Eigen::VectorXd x(4), step(4), vlo(4), vhi(4);
+    x << shape.stature, shape.girth[kSegChest], shape.length[kSegLeftUpperArm], shape.length[kSegLeftThigh];
+    step << 0.03, 0.06, 0.05, 0.05;
+    vlo << 0.6, 0.7, 0.8, 0.8;
+    vhi << 1.3, 1.5, 1.25, 1.25;
+    auto apply = [&](const Eigen::VectorXd& v) {
+      shape.stature = v[0];
+      shape.girth.fill(v[1]);
+      for (int s : {kSegLeftUpperArm, kSegLeftForearm, kSegRightUpperArm, kSegRightForearm}) shape.length[s] = v[2];
+      for (int s : {kSegLeftThigh, kSegLeftShank, kSegRightThigh, kSegRightShank}) shape.length[s] = v[3];
+      BuildModel();
+    };
+    std::vector<double> trial = *dofs;
+    auto f = [&](const Eigen::VectorXd& v) {
+      apply(v);
+      // Keep the feet where they were: the root height follows the stature.
+      trial = *dofs;
+      const std::vector<Vector3d> now = JointPositions(model.skeleton, trial);
+      trial[Dof(kRoot, 4)] += before[kLeftAnkle].y() - now[kLeftAnkle].y();
+      PrepareStage(stages[0], trial, 0);
+      return Evaluate(stages[0], trial, 0);
+    };
+    PowellOptions po;
+    po.max_evaluations = 60;
+    po.max_iterations = 2;
+    MinimisePowell(f, &x, step, vlo, vhi, po);
+    f(x);  // leave the model built for the best shape
+    *dofs = trial;
+  }
+};
+
+Tracker::Tracker(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Tracker::~Tracker() = default;
+
+StatusOr<std::unique_ptr<Tracker>> Tracker::Create(std::vector<Camera> cameras,
+                                                   const TrackerOptions& options) {
+  if (cameras.empty()) return InvalidArgument("tracker: no cameras");
+  for (const Camera& c : cameras) {
+    FVV_RETURN_IF_ERROR(ValidateCalibration(c, "tracker: camera \"" + c.name + "\""));
+    if (c.width < 16 || c.height < 16) return InvalidArgument("tracker: camera images under 16x16");
+  }
+  auto impl = std::make_unique<Impl>(options);
+  impl->cameras = std::move(cameras);
+  impl->BuildModel();
+  return std::unique_ptr<Tracker>(new Tracker(std::move(impl)));
+}
+
+StatusOr<FrameFit> Tracker::Initialise(const std::vector<Image>& silhouettes) {
+  Impl& m = *impl_;
+  int usable = 0;
+  FVV_RETURN_IF_ERROR(m.SetSilhouettes(silhouettes, &usable));
+  if (usable < 2) {
+    return InvalidArgument("tracker: initialisation needs the actor in at least 2 cameras, found " +
+                           std::to_string(usable));
+  }
+  m.SetCollisionWeight();
+  m.evaluations = 0;
+  Vector3d centre;
+  double height = 1.75;
+  if (!m.Locate(silhouettes, &centre, &height)) return InvalidArgument("tracker: cannot locate the actor");
+  m.shape = BodyShape();
+  if (m.options.adapt_shape) m.shape.stature = std::clamp(height / 1.75, 0.6, 1.3);
+  m.BuildModel();
+  // Yaw: the torso stage from eight headings, then the two best with every
+  // stage (front and back look alike in silhouettes until limbs disambiguate).
+  std::vector<std::pair<double, std::vector<double>>> starts;
+  for (int k = 0; k < 8; ++k) {
+    std::vector<double> p = m.NeutralPose(centre, 2 * kPi * k / 8 - kPi);
+    const double v = m.FitStage(m.stages[0], &p, 0, 1.0);
+    starts.push_back({v, p});
+  }
+  std::sort(starts.begin(), starts.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  double best_value = 1e300;
+  std::vector<double> best;
+  for (int k = 0; k < 2; ++k) {
+    std::vector<double> p = starts[k].second;
+    m.FitAll(&p, 1.0);
+    if (m.options.adapt_shape) {
+      m.FitShape(&p);
+      m.FitAll(&p, 0.5);
+    }
+    m.PrepareStage(m.stages[0], p, 1);
+    const double v = m.Evaluate(m.stages[0], p, 1);
+    if (v < best_value) best_value = v, best = p;
+    if (m.options.adapt_shape && k == 0) {
+      // The second heading starts from the same shape estimate as the first.
+      m.shape = BodyShape();
+      m.shape.stature = std::clamp(height / 1.75, 0.6, 1.3);
+      m.BuildModel();
+    }
+  }
+  if (m.options.adapt_shape) {
+    // Refit the shape for the chosen heading.
+    m.FitShape(&best);
+    m.FitAll(&best, 0.35);
+  }
+  FrameFit fit;
+  m.Measure(best, &fit);
+  fit.evaluations = m.evaluations;
+  m.last = m.previous = best;
+  m.initialised = true;
+  return fit;
+}
+
+StatusOr<FrameFit> Tracker::Track(const std::vector<Image>& silhouettes) {
+  Impl& m = *impl_;
+  if (!m.initialised) return Initialise(silhouettes);
+  int usable = 0;
+  FVV_RETURN_IF_ERROR(m.SetSilhouettes(silhouettes, &usable));
+  m.evaluations = 0;
+  // Damped constant-velocity prediction.
+  std::vector<double> p = m.last;
+  for (size_t d = 0; d < p.size(); ++d) {
+    p[d] = std::clamp(m.last[d] + 0.6 * (m.last[d] - m.previous[d]), m.lo[d], m.hi[d]);
+  }
+  FrameFit fit;
+  if (usable == 0) {
+    fit.dofs = p;
+    fit.poor = true;
+    fit.note = "no silhouette in any camera: pose predicted";
+  } else {
+    m.SetCollisionWeight();
+    m.FitAll(&p, 0.5);
+    m.Measure(p, &fit);
+    if (usable < 2) {
+      fit.poor = true;
+      fit.note = "actor seen by " + std::to_string(usable) + " camera only";
+    }
+  }
+  fit.evaluations = m.evaluations;
+  m.previous = m.last;
+  m.last = fit.dofs;
+  return fit;
+}
+
+const BodyShape& Tracker::shape() const { return impl_->shape; }
+
+BodyModel Tracker::Model() const { return MakeGenericBody(impl_->shape); }
+
+}  // namespace fvv
