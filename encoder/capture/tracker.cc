@@ -94,6 +94,7 @@ struct Stage {
   std::vector<uint32_t> moving_verts;   // vertices any moved bone influences
   std::vector<uint32_t> moving_tris, fixed_tris;
   int grid_dof_a = -1, grid_dof_b = -1, grid_dof_c = -1;  // grid search (indices into dofs)
+  int twist = -1;  // the upper joint's twist: reset by a wide grid search
 };
 
 struct Capsule {
@@ -165,18 +166,18 @@ struct Tracker::Impl {
     struct Spec {
       const char* name;
       std::vector<std::pair<int, int>> dofs;  // (bone, kind)
-      int grid_a, grid_b, grid_c;
+      int grid_a, grid_b, grid_c, twist;
     };
     const std::vector<Spec> specs = {
         {"torso", {{kRoot, 3}, {kRoot, 4}, {kRoot, 5}, {kRoot, 0}, {kRoot, 1}, {kRoot, 2},
-                   {kLumbar, 0}, {kLumbar, 2}, {kThoracic, 1}}, -1, -1, -1},
-        {"left arm", {{kLeftShoulder, 0}, {kLeftShoulder, 1}, {kLeftShoulder, 2}, {kLeftElbow, 1}}, 1, 2, 3},
-        {"right arm", {{kRightShoulder, 0}, {kRightShoulder, 1}, {kRightShoulder, 2}, {kRightElbow, 1}}, 1, 2, 3},
-        {"left leg", {{kLeftHip, 0}, {kLeftHip, 1}, {kLeftHip, 2}, {kLeftKnee, 0}}, 0, 2, 3},
-        {"right leg", {{kRightHip, 0}, {kRightHip, 1}, {kRightHip, 2}, {kRightKnee, 0}}, 0, 2, 3},
-        {"hands", {{kLeftWrist, 1}, {kLeftWrist, 2}, {kRightWrist, 1}, {kRightWrist, 2}}, -1, -1, -1},
-        {"feet", {{kLeftAnkle, 0}, {kLeftAnkle, 2}, {kRightAnkle, 0}, {kRightAnkle, 2}}, -1, -1, -1},
-        {"head", {{kNeck, 0}, {kHead, 1}}, -1, -1, -1},
+                   {kLumbar, 0}, {kLumbar, 2}, {kThoracic, 1}}, -1, -1, -1, -1},
+        {"left arm", {{kLeftShoulder, 0}, {kLeftShoulder, 1}, {kLeftShoulder, 2}, {kLeftElbow, 1}}, 1, 2, 3, 0},
+        {"right arm", {{kRightShoulder, 0}, {kRightShoulder, 1}, {kRightShoulder, 2}, {kRightElbow, 1}}, 1, 2, 3, 0},
+        {"left leg", {{kLeftHip, 0}, {kLeftHip, 1}, {kLeftHip, 2}, {kLeftKnee, 0}}, 0, 2, 3, 1},
+        {"right leg", {{kRightHip, 0}, {kRightHip, 1}, {kRightHip, 2}, {kRightKnee, 0}}, 0, 2, 3, 1},
+        {"hands", {{kLeftWrist, 1}, {kLeftWrist, 2}, {kRightWrist, 1}, {kRightWrist, 2}}, -1, -1, -1, -1},
+        {"feet", {{kLeftAnkle, 0}, {kLeftAnkle, 2}, {kRightAnkle, 0}, {kRightAnkle, 2}}, -1, -1, -1, -1},
+        {"head", {{kNeck, 0}, {kHead, 1}}, -1, -1, -1, -1},
     };
     stages.clear();
     const Mesh& m = model.mesh;
@@ -197,13 +198,21 @@ struct Tracker::Impl {
         for (int k = 0; k < kMaxInfluences; ++k) {
           if (m.weights[v][k] && moved[m.joints[v][k]]) vmove[v] = 1;
         }
-        if (vmove[v]) st.moving_verts.push_back(uint32_t(v));
       }
+      // Triangles with any moving vertex are redrawn; every vertex they use is
+      // skinned and projected (including ones that do not move themselves).
+      std::vector<char> used(m.positions.size(), 0);
       for (const auto& t : m.triangles) {
-        auto& list = (vmove[t[0]] || vmove[t[1]] || vmove[t[2]]) ? st.moving_tris : st.fixed_tris;
+        const bool moves = vmove[t[0]] || vmove[t[1]] || vmove[t[2]];
+        auto& list = moves ? st.moving_tris : st.fixed_tris;
         list.insert(list.end(), t.begin(), t.end());
+        if (moves) used[t[0]] = used[t[1]] = used[t[2]] = 1;
+      }
+      for (size_t v = 0; v < m.positions.size(); ++v) {
+        if (used[v]) st.moving_verts.push_back(uint32_t(v));
       }
       st.grid_dof_a = sp.grid_a, st.grid_dof_b = sp.grid_b, st.grid_dof_c = sp.grid_c;
+      st.twist = sp.twist;
       stages.push_back(std::move(st));
     }
   }
@@ -372,7 +381,9 @@ struct Tracker::Impl {
   }
 
   // Powell over one stage's DOFs, after an optional grid search.
-  double FitStage(const Stage& stage, std::vector<double>* dofs, int level, double scale) {
+  enum class Grid { kNone, kNarrow, kWide };
+  double FitStage(const Stage& stage, std::vector<double>* dofs, int level, double scale,
+                  Grid grid = Grid::kNone) {
     PrepareStage(stage, *dofs, level);
     const int n = int(stage.dofs.size());
     Eigen::VectorXd x(n), step(n), vlo(n), vhi(n);
@@ -388,20 +399,34 @@ struct Tracker::Impl {
       for (int i = 0; i < n; ++i) trial[stage.dofs[i]] = v[i];
       return Evaluate(stage, trial, level);
     };
-    if (stage.grid_dof_a >= 0 && scale >= 1) {
-      // A limited grid around the start over the upper joint's two main angles
-      // and the hinge, so the search starts in the right basin.
+    if (stage.grid_dof_a >= 0 && grid != Grid::kNone) {
+      // A limited grid over the upper joint's two main angles and the hinge, so
+      // the search starts in the right basin; wide (absolute angles) when
+      // nothing is known yet, narrow around the prediction while tracking.
+      const bool wide = grid == Grid::kWide;
+      const std::vector<double> as = wide ? std::vector<double>{-1.0, -0.5, 0.0, 0.5, 1.0}
+                                          : std::vector<double>{-0.35, 0.0, 0.35};
+      const std::vector<double> bs = wide ? std::vector<double>{-1.6, -0.8, 0.0, 0.8, 1.6}
+                                          : std::vector<double>{-0.35, 0.0, 0.35};
+      const std::vector<double> cs = wide ? std::vector<double>{-1.4, 0.0, 1.4}
+                                          : std::vector<double>{-0.6, 0.0, 0.6};
       Eigen::VectorXd best = x;
       double best_value = f(x);
-      for (double da : {-0.45, 0.0, 0.45}) {
-        for (double db : {-0.45, 0.0, 0.45}) {
-          for (double dc : {0.0, 0.7}) {
-            if (da == 0 && db == 0 && dc == 0) continue;
+      const std::vector<double> twists = wide && stage.twist >= 0 ? std::vector<double>{-0.8, 0.0, 0.8}
+                                                                 : std::vector<double>{0.0};
+      for (double da : as) {
+        for (double db : bs) {
+          for (double dc : cs) {
+           for (double tw : twists) {
             Eigen::VectorXd g = x;
-            g[stage.grid_dof_a] += da, g[stage.grid_dof_b] += db, g[stage.grid_dof_c] += dc;
+            if (wide && stage.twist >= 0) g[stage.twist] = tw;
+            g[stage.grid_dof_a] = (wide ? 0.0 : x[stage.grid_dof_a]) + da;
+            g[stage.grid_dof_b] = (wide ? 0.0 : x[stage.grid_dof_b]) + db;
+            g[stage.grid_dof_c] = (wide ? 0.0 : x[stage.grid_dof_c]) + dc;
             g = g.cwiseMax(vlo).cwiseMin(vhi);
             const double value = f(g);
             if (value < best_value) best_value = value, best = g;
+           }
           }
         }
       }
@@ -414,10 +439,29 @@ struct Tracker::Impl {
     return r.value;
   }
 
-  void FitAll(std::vector<double>* dofs, double scale) {
+  void FitAll(std::vector<double>* dofs, double scale, Grid grid) {
     for (int level = 0; level < (options.refine ? 2 : 1); ++level) {
-      for (const Stage& s : stages) FitStage(s, dofs, level, level == 0 ? scale : 0.35 * scale);
+      for (const Stage& s : stages) {
+        FitStage(s, dofs, level, level == 0 ? scale : 0.35 * scale, level == 0 ? grid : Grid::kNone);
+      }
     }
+  }
+
+  // A limb can move further in one frame than the narrow search reaches: when
+  // the fit is poor, each limb is searched again from a wide grid of absolute
+  // angles, and the result kept where it lowers the whole body's XOR.
+  void Recover(std::vector<double>* dofs, FrameFit* fit) {
+    for (size_t s = 1; s <= 4; ++s) {
+      std::vector<double> trial = *dofs;
+      FitStage(stages[s], &trial, 0, 1.0, Grid::kWide);
+      FitStage(stages[s], &trial, 1, 0.35, Grid::kNone);
+      PrepareStage(stages[0], *dofs, 1);
+      const double before = Evaluate(stages[0], *dofs, 1);
+      const double after = Evaluate(stages[0], trial, 1);
+      if (after < before) *dofs = trial;
+    }
+    FitStage(stages[0], dofs, 1, 0.35, Grid::kNone);
+    Measure(*dofs, fit);
   }
 
   // Quality at half resolution, from a full redraw.
@@ -586,10 +630,10 @@ StatusOr<FrameFit> Tracker::Initialise(const std::vector<Image>& silhouettes) {
   std::vector<double> best;
   for (int k = 0; k < 2; ++k) {
     std::vector<double> p = starts[k].second;
-    m.FitAll(&p, 1.0);
+    m.FitAll(&p, 1.0, Impl::Grid::kWide);
     if (m.options.adapt_shape) {
       m.FitShape(&p);
-      m.FitAll(&p, 0.5);
+      m.FitAll(&p, 0.5, Impl::Grid::kNarrow);
     }
     m.PrepareStage(m.stages[0], p, 1);
     const double v = m.Evaluate(m.stages[0], p, 1);
@@ -604,7 +648,7 @@ StatusOr<FrameFit> Tracker::Initialise(const std::vector<Image>& silhouettes) {
   if (m.options.adapt_shape) {
     // Refit the shape for the chosen heading.
     m.FitShape(&best);
-    m.FitAll(&best, 0.35);
+    m.FitAll(&best, 0.35, Impl::Grid::kNone);
   }
   FrameFit fit;
   m.Measure(best, &fit);
@@ -632,8 +676,9 @@ StatusOr<FrameFit> Tracker::Track(const std::vector<Image>& silhouettes) {
     fit.note = "no silhouette in any camera: pose predicted";
   } else {
     m.SetCollisionWeight();
-    m.FitAll(&p, 0.5);
+    m.FitAll(&p, 0.5, Impl::Grid::kNarrow);
     m.Measure(p, &fit);
+    if (fit.iou < m.options.retry_iou) m.Recover(&p, &fit);
     if (usable < 2) {
       fit.poor = true;
       fit.note = "actor seen by " + std::to_string(usable) + " camera only";

@@ -33,6 +33,7 @@ struct TrackerOptions {
   double poor_fit = 0.35;        // XOR / silhouette area above this flags a frame
   int stage_evaluations = 160;   // Powell budget per stage and resolution
   bool refine = true;            // second pass at half resolution
+  double retry_iou = 0.94;       // below this IoU, limbs are searched again from a wide grid
 };
 
 struct FrameFit {

@@ -127,8 +127,8 @@ int RunTrack(const TrackArgs& a) {
     if (!a.quiet) {
       const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
       const uint32_t done = f - first + 1, total = last - first + 1;
-      std::fprintf(stderr, "track: frame %u (%u/%u)  IoU %.3f  XOR %.1f%%  %s  %.2f s/frame, ETA %.0f s\n", f,
-                   done, total, fit->iou, 100 * fit->xor_ratio, fit->poor ? fit->note.c_str() : "ok",
+      std::fprintf(stderr, "track: frame %u (%u/%u)  IoU %.3f  XOR %.1f%%  %d evaluations  %s  %.2f s/frame, ETA %.0f s\n", f,
+                   done, total, fit->iou, 100 * fit->xor_ratio, fit->evaluations, fit->poor ? fit->note.c_str() : "ok",
                    elapsed / done, elapsed / done * (total - done));
     }
   }
