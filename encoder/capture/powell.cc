@@ -18,6 +18,7 @@ PowellResult MinimisePowell(const std::function<double(const Eigen::VectorXd&)>&
   };
   *x = clamp(*x);
   double best = eval(*x);
+  double shrink = 1;  // how far the steps have been refined
   // Directions start as the scaled axes.
   std::vector<Eigen::VectorXd> dirs;
   for (int i = 0; i < n; ++i) dirs.push_back(Eigen::VectorXd::Unit(n, i) * step[i]);
@@ -76,7 +77,15 @@ PowellResult MinimisePowell(const std::function<double(const Eigen::VectorXd&)>&
       dirs.erase(dirs.begin() + biggest);
       dirs.push_back(moved);
     }
-    if (start_value - best <= o.relative_tolerance * std::abs(start_value)) break;
+    if (best < start_value) {
+      if (start_value - best <= o.relative_tolerance * std::abs(start_value)) break;  // converged
+      continue;
+    }
+    // No progress at this scale: search finer (a narrow valley or a plateau
+    // edge), until the steps are a thousandth of the initial ones.
+    for (Eigen::VectorXd& d : dirs) d *= 0.25;
+    shrink *= 0.25;
+    if (shrink < 1e-3) break;
   }
   r.value = best;
   return r;

@@ -144,6 +144,11 @@ struct Tracker::Impl {
   bool initialised = false;
   int evaluations = 0;
   double collision_weight = 0;  // pixels per metre of capsule overlap
+  // A weak pull towards the predicted pose (pixels per squared radian) that
+  // decides between poses whose silhouettes are nearly alike (a forearm
+  // hidden in front of the torso); empty while initialising.
+  std::vector<double> prediction;
+  double smoothness_weight = 0;
 
   explicit Impl(const TrackerOptions& o) : options(o), pool(std::max(1u, o.threads)) {}
 
@@ -371,13 +376,20 @@ struct Tracker::Impl {
     for (size_t c = 0; c < cameras.size(); ++c) {
       if (views[level][c].sil_area > 0) total += double(per_camera[c]);
     }
-    return total + collision_weight * (1 << (2 * level)) * Overlap(dofs);
+    double prior = 0;
+    if (!prediction.empty()) {
+      for (int d : stage.dofs) {
+        if (refs[d].kind < 3) prior += (dofs[d] - prediction[d]) * (dofs[d] - prediction[d]);
+      }
+    }
+    return total + (1 << (2 * level)) * (collision_weight * Overlap(dofs) + smoothness_weight * prior);
   }
 
   void SetCollisionWeight() {
     int64_t area = 0;
     for (const View& v : views[0]) area += v.sil_area;
     collision_weight = 0.5 * double(area) / 0.01 / 8;  // about a twentieth of the body per cm
+    smoothness_weight = options.smoothness * double(area);
   }
 
   // Powell over one stage's DOFs, after an optional grid search.
@@ -626,6 +638,12 @@ StatusOr<FrameFit> Tracker::Initialise(const std::vector<Image>& silhouettes) {
     starts.push_back({v, p});
   }
   std::sort(starts.begin(), starts.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  // The best heading and its opposite: silhouettes barely tell front from back
+  // until the limbs are fitted (knees and elbows bend one way only).
+  const double yaw = starts[0].second[m.Dof(kRoot, 1)] + kPi;
+  std::vector<double> turned = m.NeutralPose(centre, std::atan2(std::sin(yaw), std::cos(yaw)));
+  m.FitStage(m.stages[0], &turned, 0, 1.0);
+  starts[1] = {0.0, turned};
   double best_value = 1e300;
   std::vector<double> best;
   for (int k = 0; k < 2; ++k) {
@@ -669,6 +687,7 @@ StatusOr<FrameFit> Tracker::Track(const std::vector<Image>& silhouettes) {
   for (size_t d = 0; d < p.size(); ++d) {
     p[d] = std::clamp(m.last[d] + 0.6 * (m.last[d] - m.previous[d]), m.lo[d], m.hi[d]);
   }
+  m.prediction = p;
   FrameFit fit;
   if (usable == 0) {
     fit.dofs = p;
@@ -684,10 +703,38 @@ StatusOr<FrameFit> Tracker::Track(const std::vector<Image>& silhouettes) {
       fit.note = "actor seen by " + std::to_string(usable) + " camera only";
     }
   }
+  m.prediction.clear();
   fit.evaluations = m.evaluations;
   m.previous = m.last;
   m.last = fit.dofs;
   return fit;
+}
+
+Image Tracker::ModelSilhouette(uint32_t camera, const std::vector<double>& dofs) const {
+  const Impl& m = *impl_;
+  const Camera& cam = m.cameras.at(camera);
+  View v;
+  v.w = int(cam.width), v.h = int(cam.height);
+  v.r = CameraRotation(cam).cast<float>();
+  v.t = CameraTranslation(cam).cast<float>();
+  v.fx = float(cam.fx), v.fy = float(cam.fy), v.cx = float(cam.cx), v.cy = float(cam.cy);
+  for (int i = 0; i < 5; ++i) v.k[i] = float(cam.distortion[i]);
+  v.distorted = std::any_of(v.k.begin(), v.k.end(), [](float x) { return x != 0; });
+  std::vector<uint32_t> all(m.model.mesh.positions.size());
+  std::iota(all.begin(), all.end(), 0u);
+  std::vector<Vector3f> posed;
+  m.SkinVertices(all, m.Skinning(dofs), &posed);
+  std::vector<Vector2f> px(posed.size());
+  for (size_t i = 0; i < posed.size(); ++i) px[i] = v.Project(posed[i]);
+  std::vector<uint32_t> tris;
+  for (const auto& t : m.model.mesh.triangles) tris.insert(tris.end(), t.begin(), t.end());
+  Image out;
+  out.width = cam.width, out.height = cam.height, out.channels = 1;
+  out.pixels.assign(size_t{cam.width} * cam.height, 0);
+  Box box{v.w, v.h, -1, -1};
+  Rasterise(tris, px, v.w, v.h, out.pixels.data(), &box);
+  for (uint8_t& p : out.pixels) p = p ? 255 : 0;
+  return out;
 }
 
 const BodyShape& Tracker::shape() const { return impl_->shape; }

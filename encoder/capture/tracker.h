@@ -34,6 +34,7 @@ struct TrackerOptions {
   int stage_evaluations = 160;   // Powell budget per stage and resolution
   bool refine = true;            // second pass at half resolution
   double retry_iou = 0.94;       // below this IoU, limbs are searched again from a wide grid
+  double smoothness = 0.02;      // pull towards the prediction: share of the silhouette area per rad^2
 };
 
 struct FrameFit {
@@ -58,6 +59,10 @@ class Tracker {
   StatusOr<FrameFit> Initialise(const std::vector<Image>& silhouettes);
   // Every later frame, from the prediction.
   StatusOr<FrameFit> Track(const std::vector<Image>& silhouettes);
+
+  // The tracking model's silhouette in camera `camera` at `dofs` (full image
+  // size, 0/255): for overlays that show how well a frame fits.
+  Image ModelSilhouette(uint32_t camera, const std::vector<double>& dofs) const;
 
   const BodyShape& shape() const;
   // The generic body (full resolution) with the fitted shape.

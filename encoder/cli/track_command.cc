@@ -18,7 +18,7 @@ namespace fvv {
 namespace {
 
 struct TrackArgs {
-  std::string capture, output, truth, save_silhouettes;
+  std::string capture, output, truth, save_silhouettes, overlays;
   std::string frames;  // "A:B"
   bool extract = false;
   bool no_shape = false;
@@ -115,6 +115,27 @@ int RunTrack(const TrackArgs& a) {
     silhouette_s += std::chrono::duration<double>(t1 - t0).count();
     fit_s += std::chrono::duration<double>(t2 - t1).count();
     flagged += fit->poor;
+    if (!a.overlays.empty()) {
+      // The camera images with the fit drawn over them: model only in red,
+      // silhouette only in blue, both unchanged.
+      std::vector<Image> tiles;
+      for (uint32_t c = 0; c < n_cams; ++c) {
+        StatusOr<Image> image = reader.ReadFrame(c, f);
+        if (!image.ok()) return Fail(image.status());
+        const Image model = (*tracker)->ModelSilhouette(c, fit->dofs);
+        for (size_t i = 0; i < model.pixels.size(); ++i) {
+          const bool m = model.pixels[i] != 0, s = sils[c].pixels[i] != 0;
+          if (m == s) continue;
+          uint8_t* p = &image->pixels[3 * i];
+          p[0] = m ? 255 : 0, p[1] = 0, p[2] = m ? 0 : 255;
+        }
+        tiles.push_back(std::move(*image));
+      }
+      char name[512];
+      std::snprintf(name, sizeof(name), "%s/overlay_%06u.png", a.overlays.c_str(), f);
+      Status s = WritePng(name, MakeContactSheet(tiles));
+      if (!s.ok()) return Fail(s);
+    }
     poses.push_back(fit->dofs);
     nlohmann::json jf;
     jf["frame"] = f;
@@ -189,6 +210,9 @@ void AddTrackCommand(CLI::App* app, int* exit_code) {
               "Background subtraction even when the capture lists silhouettes");
   t->add_flag("--fixed-shape", a->no_shape, "Keep the generic body's proportions");
   t->add_option("--save-silhouettes", a->save_silhouettes, "Write the silhouettes used (PNG) here")
+      ->check(CLI::ExistingDirectory);
+  t->add_option("--overlays", a->overlays,
+                "Write each frame's cameras with the fit drawn over them (PNG) here")
       ->check(CLI::ExistingDirectory);
   t->add_flag("-q,--quiet", a->quiet, "No per-frame progress");
   t->callback([a, exit_code] { *exit_code = RunTrack(*a); });

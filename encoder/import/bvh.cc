@@ -191,12 +191,13 @@ StatusOr<BvhMotion> ReadBvhFile(const std::string& path, double unit_metres) {
   return m;
 }
 
-std::vector<std::vector<double>> ResampleMotion(const BvhMotion& motion, double fps) {
+std::vector<std::vector<double>> ResampleMotion(const BvhMotion& motion, double fps,
+                                                double start_seconds) {
   std::vector<std::vector<double>> out;
   if (motion.frames.empty()) return out;
   const double duration = (motion.frames.size() - 1) * motion.frame_time;
   for (size_t k = 0;; ++k) {
-    const double t = k / fps;
+    const double t = start_seconds + k / fps;
     if (t > duration + 1e-9) break;
     const double pos = t / motion.frame_time;
     const size_t i = std::min(static_cast<size_t>(pos), motion.frames.size() - 1);

@@ -25,8 +25,10 @@ struct BvhMotion {
 StatusOr<BvhMotion> ParseBvh(const std::string& text, double unit_metres);
 StatusOr<BvhMotion> ReadBvhFile(const std::string& path, double unit_metres);
 
-// Resamples to `fps` by linear interpolation between the two nearest frames.
-std::vector<std::vector<double>> ResampleMotion(const BvhMotion& motion, double fps);
+// Resamples to `fps`, starting `start_seconds` into the clip, by linear
+// interpolation between the two nearest frames.
+std::vector<std::vector<double>> ResampleMotion(const BvhMotion& motion, double fps,
+                                                double start_seconds = 0);
 
 }  // namespace fvv
 

@@ -194,17 +194,16 @@ StatusOr<std::vector<std::vector<double>>> RetargetToGenericBody(const BvhMotion
   if (!(bvh_leg > 1e-9)) return InvalidArgument("retarget: the BVH skeleton's legs have no length");
   const double scale = gen_leg / bvh_leg;
 
-  const std::vector<std::vector<double>> clip = ResampleMotion(bvh, o.fps);
-  const size_t first = static_cast<size_t>(std::llround(o.start_seconds * o.fps));
-  if (first >= clip.size()) {
-    return InvalidArgument("retarget: the motion lasts " + std::to_string(clip.size() / o.fps) +
-                           " s, less than the start time");
+  const std::vector<std::vector<double>> clip = ResampleMotion(bvh, o.fps, o.start_seconds);
+  if (clip.empty()) {
+    return InvalidArgument("retarget: the motion lasts less than the start time (" +
+                           std::to_string(o.start_seconds) + " s)");
   }
-  const size_t count = o.frames ? o.frames : clip.size() - first;
-  if (first + count > clip.size()) {
-    return InvalidArgument("retarget: the motion holds " + std::to_string(clip.size() - first) +
-                           " frames at " + std::to_string(o.fps) + " fps from the start time, " +
-                           std::to_string(count) + " asked for");
+  const size_t count = o.frames ? o.frames : clip.size();
+  if (count > clip.size()) {
+    return InvalidArgument("retarget: the motion holds " + std::to_string(clip.size()) + " frames at " +
+                           std::to_string(o.fps) + " fps from the start time, " + std::to_string(count) +
+                           " asked for");
   }
 
   // Rest direction of each generic bone's segment.
@@ -232,7 +231,7 @@ StatusOr<std::vector<std::vector<double>>> RetargetToGenericBody(const BvhMotion
 
   const std::vector<DofRef> refs = generic.Dofs();
   std::vector<std::vector<double>> out;
-  for (size_t f = first; f < first + count; ++f) {
+  for (size_t f = 0; f < count; ++f) {
     const std::vector<Affine> world = BoneWorldTransforms(bvh.skeleton, clip[f]);
     std::vector<Matrix3d> target(kGenericJointCount);
     for (int g = 0; g < kGenericJointCount; ++g) target[g] = world[map[g]].linear() * correction[g];

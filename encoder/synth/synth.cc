@@ -119,6 +119,17 @@ StatusOr<std::unique_ptr<Actor>> MakeSynthActor(const SynthOptions& o) {
     r.fps = o.fps;
     r.frames = o.frames;
     r.start_seconds = o.motion_start;
+    // CMU's BVH conversions open with a T-pose reference frame that is not part
+    // of the performance: the next frame jumps away from it (tens of degrees
+    // within one capture interval, which no real motion does): start after it.
+    const std::vector<DofRef> bvh_dofs = bvh->skeleton.Dofs();
+    bool reference_frame = false;
+    for (size_t d = 0; bvh->frames.size() > 1 && d < bvh_dofs.size(); ++d) {
+      if (IsRotationDof(bvh_dofs[d].kind) && std::abs(bvh->frames[1][d] - bvh->frames[0][d]) > 0.5) {
+        reference_frame = true;
+      }
+    }
+    if (reference_frame && r.start_seconds < bvh->frame_time) r.start_seconds = bvh->frame_time;
     StatusOr<std::vector<std::vector<double>>> retargeted =
         RetargetToGenericBody(*bvh, model.skeleton, r);
     if (!retargeted.ok()) {

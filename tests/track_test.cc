@@ -1,0 +1,161 @@
+// Marker-free motion capture (issue 5): on a short synthetic capture with
+// known motion, silhouettes from background subtraction and the tracker recover
+// the joints within a bound; empty silhouettes and bad inputs are flagged or
+// refused, never a crash or a wild pose. Also Powell's method on its own.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+
+#include "encoder/body/kinematics.h"
+#include "encoder/capture/joint_truth.h"
+#include "encoder/capture/powell.h"
+#include "encoder/capture/silhouette.h"
+#include "encoder/capture/tracker.h"
+#include "encoder/synth/synth.h"
+
+namespace fvv {
+namespace {
+
+TEST(Powell, MinimisesWithinBounds) {
+  // A curved valley (Rosenbrock); the bound x0 <= 0.5 is active at the optimum.
+  auto f = [](const Eigen::VectorXd& x) {
+    return 100 * std::pow(x[1] - x[0] * x[0], 2) + std::pow(1 - x[0], 2);
+  };
+  Eigen::VectorXd x(2), step(2), lo(2), hi(2);
+  x << -1.2, 1.0;
+  step << 0.2, 0.2;
+  lo << -2, -2;
+  hi << 0.5, 2;
+  PowellOptions o;
+  o.max_evaluations = 4000;
+  o.max_iterations = 60;
+  o.relative_tolerance = 0;
+  const PowellResult r = MinimisePowell(f, &x, step, lo, hi, o);
+  EXPECT_LE(x[0], 0.5);
+  EXPECT_NEAR(x[0], 0.5, 0.02);
+  EXPECT_NEAR(x[1], 0.25, 0.03);
+  EXPECT_LT(r.value, 0.26);  // f(0.5, 0.25) = 0.25
+  EXPECT_LE(r.evaluations, o.max_evaluations);
+}
+
+class TrackTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    options_.output_dir = ::testing::TempDir() + "/track_test";
+    std::system(("rm -rf '" + options_.output_dir + "'").c_str());
+    options_.cameras = 6;
+    options_.width = 320;
+    options_.height = 240;
+    options_.frames = 4;
+    options_.held_out = 0;
+    options_.texture_size = 512;
+    options_.seed = 11;
+    status_ = RunSynth(options_).status();
+  }
+  // Silhouettes of frame f by background subtraction against the plates.
+  static std::vector<Image> Silhouettes(CaptureReader* reader, uint32_t f) {
+    std::vector<Image> out;
+    for (uint32_t c = 0; c < reader->capture().cameras.size(); ++c) {
+      StatusOr<Image> plate = reader->ReadBackground(c), frame = reader->ReadFrame(c, f);
+      EXPECT_TRUE(plate.ok() && frame.ok());
+      StatusOr<Image> s = ExtractSilhouette(*frame, BackgroundModel{*plate});
+      EXPECT_TRUE(s.ok());
+      out.push_back(*s);
+    }
+    return out;
+  }
+  static std::vector<Camera> Cameras(const Capture& c) {
+    std::vector<Camera> out;
+    for (const CaptureCamera& cam : c.cameras) out.push_back(cam.calibration);
+    return out;
+  }
+  static SynthOptions options_;
+  static Status status_;
+};
+SynthOptions TrackTest::options_;
+Status TrackTest::status_;
+
+TEST_F(TrackTest, RecoversKnownMotionWithinBounds) {
+  ASSERT_TRUE(status_.ok()) << status_.ToString();
+  StatusOr<Capture> c = LoadCapture(options_.output_dir);
+  ASSERT_TRUE(c.ok());
+  CaptureReader reader(*c);
+  StatusOr<std::unique_ptr<Tracker>> tracker = Tracker::Create(Cameras(*c));
+  ASSERT_TRUE(tracker.ok()) << tracker.status().ToString();
+  std::vector<std::vector<double>> poses;
+  for (uint32_t f = 0; f < c->frame_count; ++f) {
+    StatusOr<FrameFit> fit = f == 0 ? (*tracker)->Initialise(Silhouettes(&reader, f))
+                                    : (*tracker)->Track(Silhouettes(&reader, f));
+    ASSERT_TRUE(fit.ok()) << fit.status().ToString();
+    EXPECT_FALSE(fit->poor) << "frame " << f << ": " << fit->note;
+    EXPECT_GT(fit->iou, 0.85) << "frame " << f;
+    EXPECT_EQ(fit->cameras_used, 6);
+    poses.push_back(fit->dofs);
+  }
+  EXPECT_NEAR((*tracker)->shape().stature, 1.0, 0.05);
+  StatusOr<JointErrors> e =
+      CompareWithTruth(options_.output_dir, (*tracker)->Model().skeleton, poses, 0);
+  ASSERT_TRUE(e.ok()) << e.status().ToString();
+  EXPECT_EQ(e->joints.size(), 17u);
+  std::printf("  joint error: mean %.2f cm, max %.2f cm\n", 100 * e->mean, 100 * e->max);
+  EXPECT_LT(e->mean, 0.03);
+  EXPECT_LT(e->max, 0.10);
+}
+
+TEST_F(TrackTest, EmptyOrMissingSilhouettesAreFlaggedNotWild) {
+  ASSERT_TRUE(status_.ok()) << status_.ToString();
+  StatusOr<Capture> c = LoadCapture(options_.output_dir);
+  ASSERT_TRUE(c.ok());
+  CaptureReader reader(*c);
+  TrackerOptions o;
+  o.adapt_shape = false;
+  StatusOr<std::unique_ptr<Tracker>> tracker = Tracker::Create(Cameras(*c), o);
+  ASSERT_TRUE(tracker.ok());
+  std::vector<Image> empty = Silhouettes(&reader, 0);
+  for (Image& s : empty) std::fill(s.pixels.begin(), s.pixels.end(), 0);
+  // Initialising without the actor in view is refused with a message.
+  StatusOr<FrameFit> init = (*tracker)->Initialise(empty);
+  ASSERT_FALSE(init.ok());
+  EXPECT_NE(init.status().message().find("at least 2 cameras"), std::string::npos);
+  StatusOr<FrameFit> first = (*tracker)->Initialise(Silhouettes(&reader, 0));
+  ASSERT_TRUE(first.ok());
+  // A frame with nothing in view: flagged, pose predicted (finite, within limits).
+  StatusOr<FrameFit> blind = (*tracker)->Track(empty);
+  ASSERT_TRUE(blind.ok());
+  EXPECT_TRUE(blind->poor);
+  EXPECT_NE(blind->note.find("no silhouette"), std::string::npos);
+  const BodyModel model = (*tracker)->Model();
+  const std::vector<double> clamped = ClampToLimits(model.skeleton, blind->dofs);
+  for (size_t d = 0; d < clamped.size(); ++d) {
+    ASSERT_TRUE(std::isfinite(blind->dofs[d]));
+    EXPECT_EQ(clamped[d], blind->dofs[d]);
+  }
+  const double drift = std::abs(blind->dofs[0] - first->dofs[0]) + std::abs(blind->dofs[2] - first->dofs[2]);
+  EXPECT_LT(drift, 0.2);
+  // Only one camera sees the actor: flagged.
+  std::vector<Image> one = empty;
+  one[2] = Silhouettes(&reader, 1)[2];
+  StatusOr<FrameFit> single = (*tracker)->Track(one);
+  ASSERT_TRUE(single.ok());
+  EXPECT_TRUE(single->poor);
+  // Wrong inputs: a camera's silhouette missing, or of the wrong size.
+  std::vector<Image> fewer = Silhouettes(&reader, 1);
+  fewer.pop_back();
+  EXPECT_FALSE((*tracker)->Track(fewer).ok());
+  std::vector<Image> wrong = Silhouettes(&reader, 1);
+  wrong[1].width /= 2;
+  wrong[1].pixels.resize(wrong[1].pixels.size() / 2);
+  StatusOr<FrameFit> w = (*tracker)->Track(wrong);
+  ASSERT_FALSE(w.ok());
+  EXPECT_NE(w.status().message().find("cam01"), std::string::npos) << w.status().message();
+}
+
+TEST(Tracker, RejectsBrokenCalibration) {
+  std::vector<Camera> cams = MakeStudioCameras(2, 64, 48, 0, "c");
+  cams[1].rotation[0] = 3;
+  EXPECT_FALSE(Tracker::Create(cams).ok());
+  EXPECT_FALSE(Tracker::Create({}).ok());
+}
+
+}  // namespace
+}  // namespace fvv
