@@ -1,0 +1,160 @@
+#include "encoder/capture/track_capture.h"
+
+#include <chrono>
+#include <cstdio>
+
+#include <nlohmann/json.hpp>
+
+#include "codec/thread_pool.h"
+#include "encoder/capture/silhouette.h"
+
+namespace fvv {
+
+std::vector<std::vector<double>> TrackCaptureResult::Poses() const {
+  std::vector<std::vector<double>> out;
+  for (const FrameFit& f : fits) out.push_back(f.dofs);
+  return out;
+}
+
+std::string TrackCaptureResult::ToJson() const {
+  nlohmann::json out;
+  out["generator"] = "fvv track";
+  out["capture"] = capture.directory;
+  out["silhouettes"] = given_silhouettes ? "given" : "background subtraction";
+  nlohmann::json names = nlohmann::json::array();
+  for (const DofRef& d : model.skeleton.Dofs()) {
+    static const char* kKinds[] = {"rx", "ry", "rz", "tx", "ty", "tz"};
+    names.push_back(model.skeleton.bones[d.bone].name + "." + kKinds[d.kind]);
+  }
+  out["dof_names"] = names;
+  out["body_shape"] = {{"stature", shape.stature}, {"length", shape.length}, {"girth", shape.girth}};
+  out["frame_rate"] = capture.frame_rate;
+  nlohmann::json frames = nlohmann::json::array();
+  for (size_t i = 0; i < fits.size(); ++i) {
+    const FrameFit& f = fits[i];
+    frames.push_back({{"frame", first + i},
+                      {"dofs", f.dofs},
+                      {"xor_ratio", f.xor_ratio},
+                      {"iou", f.iou},
+                      {"cameras_used", f.cameras_used},
+                      {"flag", f.poor ? f.note : "ok"}});
+  }
+  out["frames"] = frames;
+  return out.dump(1) + "\n";
+}
+
+StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCaptureOptions& o) {
+  using Clock = std::chrono::steady_clock;
+  StatusOr<Capture> loaded = LoadCapture(path);
+  if (!loaded.ok()) return loaded.status();
+  TrackCaptureResult r;
+  r.capture = *loaded;
+  const Capture& cap = r.capture;
+  CaptureReader reader(cap);
+  r.first = o.first;
+  r.last = std::min(o.last, cap.frame_count - 1);
+  if (r.first > r.last) {
+    return InvalidArgument("frames " + std::to_string(o.first) + ".." + std::to_string(o.last) +
+                           " are not within 0.." + std::to_string(cap.frame_count - 1));
+  }
+  const size_t n = cap.cameras.size();
+  r.given_silhouettes = reader.HasSilhouettes() && !o.extract;
+  std::vector<BackgroundModel> backgrounds(n);
+  if (!r.given_silhouettes) {
+    for (uint32_t c = 0; c < n; ++c) {
+      if (cap.cameras[c].background) {
+        StatusOr<Image> plate = reader.ReadBackground(c);
+        if (!plate.ok()) return plate.status();
+        backgrounds[c].colour = std::move(*plate);
+        continue;
+      }
+      // No plate: the temporal median of up to 15 frames spread over the take.
+      std::vector<Image> samples;
+      const uint32_t count = std::min<uint32_t>(15, cap.frame_count);
+      for (uint32_t k = 0; k < count; ++k) {
+        const uint32_t f = uint32_t(uint64_t(k) * (cap.frame_count - 1) / std::max(1u, count - 1));
+        StatusOr<Image> image = reader.ReadFrame(c, f);
+        if (!image.ok()) return image.status();
+        samples.push_back(std::move(*image));
+      }
+      backgrounds[c].colour = TemporalMedian(samples);
+    }
+  }
+  std::vector<Camera> cameras;
+  for (const CaptureCamera& c : cap.cameras) cameras.push_back(c.calibration);
+  StatusOr<std::unique_ptr<Tracker>> tracker = Tracker::Create(cameras, o.tracker);
+  if (!tracker.ok()) return tracker.status();
+
+  ThreadPool pool(2);
+  const auto start = Clock::now();
+  for (uint32_t f = r.first; f <= r.last; ++f) {
+    const auto t0 = Clock::now();
+    std::vector<Image> sils(n);
+    std::vector<Status> errors(n);
+    pool.Run(uint32_t(n), [&](uint32_t c) {
+      StatusOr<Image> s = r.given_silhouettes ? reader.ReadSilhouette(c, f) : reader.ReadFrame(c, f);
+      if (s.ok() && !r.given_silhouettes) s = ExtractSilhouette(*s, backgrounds[c]);
+      if (!s.ok()) {
+        errors[c] = s.status();
+        return;
+      }
+      sils[c] = std::move(*s);
+    });
+    for (const Status& s : errors) FVV_RETURN_IF_ERROR(s);
+    if (!o.save_silhouettes.empty()) {
+      for (uint32_t c = 0; c < n; ++c) {
+        char name[64];
+        std::snprintf(name, sizeof(name), "_%06u.png", f);
+        FVV_RETURN_IF_ERROR(
+            WritePng(o.save_silhouettes + "/" + cap.cameras[c].calibration.name + name, sils[c]));
+      }
+    }
+    const auto t1 = Clock::now();
+    StatusOr<FrameFit> fit = f == r.first ? (*tracker)->Initialise(sils) : (*tracker)->Track(sils);
+    if (!fit.ok()) {
+      return Status(fit.status().code(), "frame " + std::to_string(f) + ": " + fit.status().message());
+    }
+    const auto t2 = Clock::now();
+    r.silhouette_seconds += std::chrono::duration<double>(t1 - t0).count();
+    r.fit_seconds += std::chrono::duration<double>(t2 - t1).count();
+    r.flagged += fit->poor;
+    r.mean_iou += fit->iou;
+    if (!o.overlays.empty()) {
+      // The camera images with the fit drawn over them: model only in red,
+      // silhouette only in blue, agreement unchanged.
+      std::vector<Image> tiles;
+      for (uint32_t c = 0; c < n; ++c) {
+        StatusOr<Image> image = reader.ReadFrame(c, f);
+        if (!image.ok()) return image.status();
+        const Image model = (*tracker)->ModelSilhouette(c, fit->dofs);
+        for (size_t i = 0; i < model.pixels.size(); ++i) {
+          const bool m = model.pixels[i] != 0, s = sils[c].pixels[i] != 0;
+          if (m == s) continue;
+          uint8_t* p = &image->pixels[3 * i];
+          p[0] = m ? 255 : 0, p[1] = 0, p[2] = m ? 0 : 255;
+        }
+        tiles.push_back(std::move(*image));
+      }
+      char name[64];
+      std::snprintf(name, sizeof(name), "/overlay_%06u.png", f);
+      FVV_RETURN_IF_ERROR(WritePng(o.overlays + name, MakeContactSheet(tiles)));
+    }
+    if (o.progress) {
+      const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
+      const uint32_t done = f - r.first + 1, total = r.last - r.first + 1;
+      char line[256];
+      std::snprintf(line, sizeof(line),
+                    "track: frame %u (%u/%u)  IoU %.3f  XOR %.1f%%  %d evaluations  %s  %.2f s/frame, ETA %.0f s",
+                    f, done, total, fit->iou, 100 * fit->xor_ratio, fit->evaluations,
+                    fit->poor ? fit->note.c_str() : "ok", elapsed / done, elapsed / done * (total - done));
+      o.progress(line);
+    }
+    r.fits.push_back(std::move(*fit));
+  }
+  r.mean_iou /= r.fits.size();
+  r.shape = (*tracker)->shape();
+  r.model = (*tracker)->Model();
+  return r;
+}
+
+}  // namespace fvv
