@@ -23,6 +23,11 @@ out=$("$fvv" capture sheet "$dir/cap" --frame 2 -o "$dir/sheet.png" 2>&1) || fai
 [ -f "$dir/sheet.png" ] || fail "no contact sheet"
 "$fvv" capture sheet "$dir/cap/truth/heldout" --silhouettes -o "$dir/sil.png" >/dev/null || fail "silhouette sheet"
 
+# fvv track: runs end to end on the capture, writes poses and reports errors against the truth.
+out=$("$fvv" track "$dir/cap" -o "$dir/poses.json" --truth "$dir/cap" -q 2>&1) || fail "track: $out"
+grep -q "tracked frames 0..2" <<<"$out" && grep -q "joint error against" <<<"$out" || fail "track report: $out"
+grep -q '"dof_names"' "$dir/poses.json" && [ "$(grep -c '"iou"' "$dir/poses.json")" = 3 ] || fail "poses.json"
+
 # Bad inputs.
 out=$("$fvv" capture check "$dir/nowhere" 2>&1) && fail "missing capture accepted"
 grep -q "cannot read" <<<"$out" || fail "missing capture message: $out"
@@ -32,6 +37,9 @@ grep -q "not valid JSON" <<<"$out" || fail "truncated capture.json message: $out
 cp -r "$dir/cap" "$dir/gone" && rm "$dir/gone/cam01/000001.png"
 out=$("$fvv" capture check "$dir/gone" 2>&1) && fail "missing frame accepted"
 grep -q 'camera "cam01", frame 1: missing file' <<<"$out" || fail "missing frame message: $out"
+out=$("$fvv" track "$dir/gone" -o "$dir/gone.json" -q 2>&1) && fail "track with a missing frame accepted"
+grep -q 'camera "cam01", frame 1' <<<"$out" || fail "track missing frame message: $out"
+[ ! -e "$dir/gone.json" ] || fail "a failed track left a poses file"
 out=$("$fvv" synth -o "$dir/x" --motion "$dir/none.bvh" 2>&1) && fail "missing BVH accepted"
 grep -q "none.bvh" <<<"$out" || fail "missing BVH message: $out"
 
