@@ -30,13 +30,20 @@ int main(int argc, char** argv) {
   uint32_t frames = 50, width = 640, height = 480;
   std::string data = FVV_TEST_DATA_DIR, out = "out/bench/track";
   for (int i = 1; i + 1 < argc; i += 2) {
-    if (!std::strcmp(argv[i], "--frames")) frames = uint32_t(std::atoi(argv[i + 1]));
-    else if (!std::strcmp(argv[i], "--data")) data = argv[i + 1];
-    else if (!std::strcmp(argv[i], "--out")) out = argv[i + 1];
-    else if (!std::strcmp(argv[i], "--width")) width = uint32_t(std::atoi(argv[i + 1]));
-    else if (!std::strcmp(argv[i], "--height")) height = uint32_t(std::atoi(argv[i + 1]));
+    if (!std::strcmp(argv[i], "--frames"))
+      frames = uint32_t(std::atoi(argv[i + 1]));
+    else if (!std::strcmp(argv[i], "--data"))
+      data = argv[i + 1];
+    else if (!std::strcmp(argv[i], "--out"))
+      out = argv[i + 1];
+    else if (!std::strcmp(argv[i], "--width"))
+      width = uint32_t(std::atoi(argv[i + 1]));
+    else if (!std::strcmp(argv[i], "--height"))
+      height = uint32_t(std::atoi(argv[i + 1]));
     else {
-      std::fprintf(stderr, "usage: track_bench [--frames N] [--data DIR] [--out DIR] [--width W --height H]\n");
+      std::fprintf(
+          stderr,
+          "usage: track_bench [--frames N] [--data DIR] [--out DIR] [--width W --height H]\n");
       return 2;
     }
   }
@@ -47,13 +54,14 @@ int main(int argc, char** argv) {
     std::string actor, motion;
     uint32_t cameras;
   };
-  std::vector<Case> cases = {{"(a) built-in actor, CMU 01_01", "builtin", Exists(bvh) ? bvh : "", 8},
-                             {"(b) CesiumMan (glTF)", cesium, "", 8},
-                             {"(c) built-in actor, CMU 01_01", "builtin", Exists(bvh) ? bvh : "", 4}};
-  std::printf("track_bench: %u frames at %ux%u, 25 fps, silhouettes by background subtraction\n", frames,
-              width, height);
-  std::printf("%-32s %7s %9s %12s %11s %10s %8s %s\n", "case", "cameras", "s/frame", "mean (cm)", "max (cm)",
-              "IoU", "flagged", "joints");
+  std::vector<Case> cases = {
+      {"(a) built-in actor, CMU 01_01", "builtin", Exists(bvh) ? bvh : "", 8},
+      {"(b) CesiumMan (glTF)", cesium, "", 8},
+      {"(c) built-in actor, CMU 01_01", "builtin", Exists(bvh) ? bvh : "", 4}};
+  std::printf("track_bench: %u frames at %ux%u, 25 fps, silhouettes by background subtraction\n",
+              frames, width, height);
+  std::printf("%-32s %7s %9s %12s %11s %10s %8s %s\n", "case", "cameras", "s/frame", "mean (cm)",
+              "max (cm)", "IoU", "flagged", "joints");
   for (size_t k = 0; k < cases.size(); ++k) {
     const Case& c = cases[k];
     if (c.actor != "builtin" && !Exists(c.actor)) {
@@ -80,17 +88,20 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "track: %s\n", r.status().ToString().c_str());
       return 1;
     }
-    fvv::StatusOr<fvv::JointErrors> e = fvv::CompareWithTruth(s.output_dir, r->model.skeleton, r->Poses(), 0);
+    fvv::StatusOr<fvv::JointErrors> e =
+        fvv::CompareWithTruth(s.output_dir, r->model.skeleton, r->Poses(), 0);
     if (!e.ok()) {
       std::fprintf(stderr, "truth: %s\n", e.status().ToString().c_str());
       return 1;
     }
     const double spf = (r->silhouette_seconds + r->fit_seconds) / r->fits.size();
-    std::printf("%-32s %7u %9.3f %12.2f %11.2f %10.3f %8d %zu%s\n", c.label, c.cameras, spf, 100 * e->mean,
-                100 * e->max, r->mean_iou, r->flagged, e->joints.size(),
-                c.motion.empty() && c.actor == "builtin" ? " (built-in walk: CMU files absent)" : "");
+    std::printf(
+        "%-32s %7u %9.3f %12.2f %11.2f %10.3f %8d %zu%s\n", c.label, c.cameras, spf, 100 * e->mean,
+        100 * e->max, r->mean_iou, r->flagged, e->joints.size(),
+        c.motion.empty() && c.actor == "builtin" ? " (built-in walk: CMU files absent)" : "");
     std::fflush(stdout);
   }
-  std::printf("targets: mean <= 2 cm on (a), <= 5 cm on (b); <= 1 s per frame on this 2-core machine\n");
+  std::printf(
+      "targets: mean <= 2 cm on (a), <= 5 cm on (b); <= 1 s per frame on this 2-core machine\n");
   return 0;
 }

@@ -37,7 +37,9 @@ TEST(GenericBody, SegmentsAreClosedOutwardMeshes) {
   const BodyModel m = MakeGenericBody();
   for (int s = 0; s < kGenericSegmentCount; ++s) {
     std::map<std::array<float, 3>, uint32_t> weld;
-    auto id = [&](uint32_t v) { return weld.emplace(m.mesh.positions[v], weld.size()).first->second; };
+    auto id = [&](uint32_t v) {
+      return weld.emplace(m.mesh.positions[v], weld.size()).first->second;
+    };
     std::map<std::pair<uint32_t, uint32_t>, int> directed;
     double volume = 0;
     for (const auto& t : m.mesh.triangles) {
@@ -168,9 +170,9 @@ TEST(GenericBody, SkinWeightsVarySmoothly) {
         wb[m.mesh.joints[b][k]] += m.mesh.weights[b][k] / 65535.0;
       }
       for (const auto& [bone, w] : wa) {
-        ASSERT_LT(std::abs(w - wb[bone]), 0.5) << "bone " << bone << " segment "
-                                               << GenericSegmentName(m.mesh.segments[a]) << " y "
-                                               << m.mesh.positions[a][1] << " " << m.mesh.positions[b][1];
+        ASSERT_LT(std::abs(w - wb[bone]), 0.5)
+            << "bone " << bone << " segment " << GenericSegmentName(m.mesh.segments[a]) << " y "
+            << m.mesh.positions[a][1] << " " << m.mesh.positions[b][1];
       }
     }
   }

@@ -1,20 +1,19 @@
 // Capture directories and calibration (issue 4): projection round trips,
 // calibration sanity checks, capture.json errors that name what is wrong,
 // frame sources (image sequences, ffmpeg-decoded video).
-#include <gtest/gtest.h>
+#include "encoder/capture/capture.h"
 
+#include <gtest/gtest.h>
 #include <sys/stat.h>
 
+#include <Eigen/Geometry>
 #include <cstdlib>
 #include <fstream>
-#include <random>
-
-#include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
+#include <random>
 
 #include "encoder/capture/calibration.h"
 #include "encoder/capture/calibration_import.h"
-#include "encoder/capture/capture.h"
 #include "encoder/capture/video_reader.h"
 
 namespace fvv {
@@ -82,8 +81,8 @@ nlohmann::json ValidCaptureJson() {
   nlohmann::json cam2 = cam;
   cam2["name"] = "right";
   cam2["frames"] = {{"images", "right/f%d.png"}};
-  return {{"format", "fvv-capture"}, {"version", 1},       {"frame_rate", 25},
-          {"frame_count", 3},        {"up_axis", "y"},     {"cameras", {cam, cam2}}};
+  return {{"format", "fvv-capture"}, {"version", 1},   {"frame_rate", 25},
+          {"frame_count", 3},        {"up_axis", "y"}, {"cameras", {cam, cam2}}};
 }
 
 TEST(Capture, ParsesAndRoundTrips) {
@@ -109,27 +108,42 @@ TEST(Capture, MalformedCapturesNameTheProblem) {
       {"not json", nullptr, "not valid JSON"},
       {"wrong format", [](nlohmann::json* j) { (*j)["format"] = "x"; }, "\"format\""},
       {"newer version", [](nlohmann::json* j) { (*j)["version"] = 2; }, "version 2"},
-      {"no cameras", [](nlohmann::json* j) { (*j)["cameras"] = nlohmann::json::array(); }, "cameras"},
+      {"no cameras", [](nlohmann::json* j) { (*j)["cameras"] = nlohmann::json::array(); },
+       "cameras"},
       {"zero frames", [](nlohmann::json* j) { (*j)["frame_count"] = 0; }, "frame_count"},
       {"bad rate", [](nlohmann::json* j) { (*j)["frame_rate"] = -1; }, "frame_rate"},
       {"bad up axis", [](nlohmann::json* j) { (*j)["up_axis"] = "x"; }, "up_axis"},
-      {"missing K", [](nlohmann::json* j) { (*j)["cameras"][1].erase("K"); }, "cameras[1] (\"right\"): missing \"K\""},
+      {"missing K", [](nlohmann::json* j) { (*j)["cameras"][1].erase("K"); },
+       "cameras[1] (\"right\"): missing \"K\""},
       {"skewed K", [](nlohmann::json* j) { (*j)["cameras"][0]["K"][0][1] = 3; }, "no skew"},
-      {"K not 3x3", [](nlohmann::json* j) { (*j)["cameras"][0]["K"] = {1, 2, 3}; }, "3x3"},
+      {"K not 3x3",
+       [](nlohmann::json* j) {
+         (*j)["cameras"][0]["K"] = {1, 2, 3};
+       },
+       "3x3"},
       {"R reflection",
        [](nlohmann::json* j) {
-         for (int i = 0; i < 3; ++i) (*j)["cameras"][1]["R"][i] = -(*j)["cameras"][1]["R"][i].get<double>();
+         for (int i = 0; i < 3; ++i)
+           (*j)["cameras"][1]["R"][i] = -(*j)["cameras"][1]["R"][i].get<double>();
        },
        "cameras[1] (\"right\"): R is a reflection"},
-      {"t not numbers", [](nlohmann::json* j) { (*j)["cameras"][0]["t"] = {1, "a", 3}; }, "t: expected a number"},
+      {"t not numbers",
+       [](nlohmann::json* j) {
+         (*j)["cameras"][0]["t"] = {1, "a", 3};
+       },
+       "t: expected a number"},
       {"bad size", [](nlohmann::json* j) { (*j)["cameras"][0]["width"] = 0; }, "width"},
-      {"duplicate names", [](nlohmann::json* j) { (*j)["cameras"][1]["name"] = "left"; }, "duplicate camera name"},
+      {"duplicate names", [](nlohmann::json* j) { (*j)["cameras"][1]["name"] = "left"; },
+       "duplicate camera name"},
       {"pattern without number",
-       [](nlohmann::json* j) { (*j)["cameras"][0]["frames"]["images"] = "left/a.png"; }, "exactly one frame number"},
+       [](nlohmann::json* j) { (*j)["cameras"][0]["frames"]["images"] = "left/a.png"; },
+       "exactly one frame number"},
       {"pattern with %s",
-       [](nlohmann::json* j) { (*j)["cameras"][0]["frames"]["images"] = "left/%s.png"; }, "%d or %0Nd"},
+       [](nlohmann::json* j) { (*j)["cameras"][0]["frames"]["images"] = "left/%s.png"; },
+       "%d or %0Nd"},
       {"images and video",
-       [](nlohmann::json* j) { (*j)["cameras"][0]["frames"]["video"] = "a.mp4"; }, "exactly one of"},
+       [](nlohmann::json* j) { (*j)["cameras"][0]["frames"]["video"] = "a.mp4"; },
+       "exactly one of"},
       {"too many distortion terms",
        [](nlohmann::json* j) { (*j)["cameras"][0]["distortion"] = {0, 0, 0, 0, 0, 0}; }, "up to 5"},
   };
@@ -152,13 +166,15 @@ class CaptureFiles : public ::testing::Test {
   void SetUp() override {
     dir_ = ::testing::TempDir() + "/capture_files_" +
            ::testing::UnitTest::GetInstance()->current_test_info()->name();
-    std::system(("rm -rf '" + dir_ + "' && mkdir -p '" + dir_ + "/left' '" + dir_ + "/right'").c_str());
+    std::system(
+        ("rm -rf '" + dir_ + "' && mkdir -p '" + dir_ + "/left' '" + dir_ + "/right'").c_str());
   }
   Image Frame(uint32_t w, uint32_t h, int seed) {
     Image img;
     img.width = w, img.height = h;
     img.pixels.resize(size_t{w} * h * 3);
-    for (size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = uint8_t((i * 7 + seed * 31) % 251);
+    for (size_t i = 0; i < img.pixels.size(); ++i)
+      img.pixels[i] = uint8_t((i * 7 + seed * 31) % 251);
     return img;
   }
   std::string dir_;
@@ -188,7 +204,8 @@ TEST_F(CaptureFiles, ReadsFramesAndNamesMissingOrWrongOnes) {
   EXPECT_EQ(f2->pixels, Frame(64, 48, 2).pixels);
   StatusOr<Image> wrong = reader.ReadFrame(1, 1);
   ASSERT_FALSE(wrong.ok());
-  EXPECT_NE(wrong.status().message().find("camera \"right\", frame 1: image is 32x48"), std::string::npos)
+  EXPECT_NE(wrong.status().message().find("camera \"right\", frame 1: image is 32x48"),
+            std::string::npos)
       << wrong.status().message();
   StatusOr<Image> missing = reader.ReadFrame(1, 2);
   ASSERT_FALSE(missing.ok());
@@ -242,8 +259,8 @@ TEST_F(CaptureFiles, VideoFramesDecodeThroughFfmpeg) {
     ASSERT_TRUE(WritePng(dir_ + name, Frame(64, 48, f)).ok());
   }
   // A lossless RGB video, so decoded frames must equal the source exactly.
-  const std::string cmd = "ffmpeg -v error -y -framerate 25 -i '" + dir_ + "/left/%04d.png' -c:v png '" +
-                          dir_ + "/left.mkv'";
+  const std::string cmd = "ffmpeg -v error -y -framerate 25 -i '" + dir_ +
+                          "/left/%04d.png' -c:v png '" + dir_ + "/left.mkv'";
   ASSERT_EQ(std::system(cmd.c_str()), 0);
   nlohmann::json j = ValidCaptureJson();
   j["frame_count"] = 4;
@@ -288,16 +305,20 @@ TEST_F(CaptureFiles, ImportsOpenCvYamlAndToml) {
   const double k[9] = {truth.fx, 0, truth.cx, 0, truth.fy, truth.cy, 0, 0, 1};
   std::ofstream(dir_ + "/left.yml")
       << "%YAML:1.0\n---\nimage_width: 640\nimage_height: 480\n"
-      << "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ " << List(k, 9) << " ]\n"
+      << "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ "
+      << List(k, 9) << " ]\n"
       << "distortion_coefficients: !!opencv-matrix\n   rows: 1\n   cols: 5\n   dt: d\n   data: [ "
       << List(truth.distortion.data(), 5) << " ]\n"
-      << "rvec: !!opencv-matrix\n   rows: 3\n   cols: 1\n   dt: d\n   data: [ " << List(rvec.data(), 3) << " ]\n"
-      << "tvec: !!opencv-matrix\n   rows: 3\n   cols: 1\n   dt: d\n   data: [ " << List(tvec_mm, 3) << " ]\n";
+      << "rvec: !!opencv-matrix\n   rows: 3\n   cols: 1\n   dt: d\n   data: [ "
+      << List(rvec.data(), 3) << " ]\n"
+      << "tvec: !!opencv-matrix\n   rows: 3\n   cols: 1\n   dt: d\n   data: [ " << List(tvec_mm, 3)
+      << " ]\n";
   std::ofstream toml(dir_ + "/rig.toml");
   for (const char* name : {"cam_a", "cam_b"}) {
     toml << "[" << name << "]\nwidth = 640\nheight = 480\nK = [" << List(k, 9) << "]\n"
-         << "dist = [" << List(truth.distortion.data(), 5) << "]\nR = [" << List(truth.rotation.data(), 9)
-         << "]\nt = [" << List(truth.translation.data(), 3) << "]\n\n";
+         << "dist = [" << List(truth.distortion.data(), 5) << "]\nR = ["
+         << List(truth.rotation.data(), 9) << "]\nt = [" << List(truth.translation.data(), 3)
+         << "]\n\n";
   }
   toml.close();
   StatusOr<std::vector<Camera>> yaml = ImportCalibrationFile(dir_ + "/left.yml", 0.001);
@@ -323,8 +344,9 @@ TEST_F(CaptureFiles, ImportsOpenCvYamlAndToml) {
   ASSERT_FALSE(bad.ok());
   EXPECT_NE(bad.status().message().find("bad.yml"), std::string::npos);
   EXPECT_NE(bad.status().message().find("no camera"), std::string::npos) << bad.status().message();
-  std::ofstream(dir_ + "/mirror.toml") << "[x]\nwidth = 64\nheight = 48\nK = [60, 0, 32, 0, 60, 24, 0, 0, 1]\n"
-                                       << "R = [-1, 0, 0, 0, 1, 0, 0, 0, 1]\nt = [0, 0, 1]\n";
+  std::ofstream(dir_ + "/mirror.toml")
+      << "[x]\nwidth = 64\nheight = 48\nK = [60, 0, 32, 0, 60, 24, 0, 0, 1]\n"
+      << "R = [-1, 0, 0, 0, 1, 0, 0, 0, 1]\nt = [0, 0, 1]\n";
   bad = ImportCalibrationFile(dir_ + "/mirror.toml", 1.0);
   ASSERT_FALSE(bad.ok());
   EXPECT_NE(bad.status().message().find("reflection"), std::string::npos) << bad.status().message();

@@ -1,12 +1,12 @@
 // Importers (issue 4): BVH motion and its retargeting onto the generic body
 // model; skinned, animated glTF 2.0 characters (CesiumMan from ../shared/data).
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
-#include <sys/stat.h>
 
 #include "encoder/body/generic_body.h"
 #include "encoder/body/kinematics.h"
@@ -25,8 +25,8 @@ std::string TestBvh(const std::string& second_frame_override = "") {
   std::ostringstream s;
   auto joint = [&](const char* kind, const char* name, double x, double y, double z, bool end,
                    double ex = 0, double ey = 0, double ez = 0) {
-    s << kind << " " << name << "\n{\nOFFSET " << x << " " << y << " " << z
-      << "\nCHANNELS " << (std::string(kind) == "ROOT" ? "6 Xposition Yposition Zposition " : "3 ")
+    s << kind << " " << name << "\n{\nOFFSET " << x << " " << y << " " << z << "\nCHANNELS "
+      << (std::string(kind) == "ROOT" ? "6 Xposition Yposition Zposition " : "3 ")
       << "Zrotation Yrotation Xrotation\n";
     if (end) s << "End Site\n{\nOFFSET " << ex << " " << ey << " " << ez << "\n}\n";
   };
@@ -81,8 +81,7 @@ std::string Frame(std::vector<std::pair<int, std::array<double, 3>>> zyx) {
 
 TEST(Retarget, TransfersJointAnglesOnAMatchingSkeleton) {
   // Left knee bent 60 degrees, left arm lowered 80 degrees, spine bent 20 degrees.
-  const std::string text =
-      TestBvh(Frame({{11, {0, 0, 60}}, {4, {-80, 0, 0}}, {0, {0, 0, 20}}}));
+  const std::string text = TestBvh(Frame({{11, {0, 0, 60}}, {4, {-80, 0, 0}}, {0, {0, 0, 20}}}));
   StatusOr<BvhMotion> bvh = ParseBvh(text, 0.01);
   ASSERT_TRUE(bvh.ok()) << bvh.status().ToString();
   const BodyModel body = MakeGenericBody();
@@ -126,7 +125,8 @@ TEST(Retarget, NamesMissingJointsAndShortClips) {
 TEST(Retarget, CmuClipLimbDirectionsCarryOver) {
   const std::string path = "/usr/share/assimp/models/BVH/01_01.bvh";
   struct stat st;
-  if (stat(path.c_str(), &st) != 0) GTEST_SKIP() << path << " absent (apt-get install assimp-testmodels)";
+  if (stat(path.c_str(), &st) != 0)
+    GTEST_SKIP() << path << " absent (apt-get install assimp-testmodels)";
   for (const char* file : {"01_01.bvh", "01_03.bvh", "Boxing_Toes.bvh"}) {
     StatusOr<BvhMotion> m = ReadBvhFile(std::string("/usr/share/assimp/models/BVH/") + file, 0.01);
     ASSERT_TRUE(m.ok()) << file << ": " << m.status().ToString();
@@ -170,7 +170,8 @@ TEST(Retarget, CmuClipLimbDirectionsCarryOver) {
       lowest = std::min({lowest, g[kLeftAnkle].y(), g[kRightAnkle].y()});
     }
     EXPECT_LT(sum / poses->size(), l.max_mean_deg) << GenericJointName(l.from);
-    std::printf("  %-12s mean direction error %.2f deg\n", GenericJointName(l.from), sum / poses->size());
+    std::printf("  %-12s mean direction error %.2f deg\n", GenericJointName(l.from),
+                sum / poses->size());
   }
   EXPECT_NEAR(lowest, JointPositions(body.skeleton, {})[kLeftAnkle].y(), 1e-6);
 }
@@ -182,7 +183,8 @@ std::string CesiumMan() {
 
 TEST(Gltf, CesiumManLoadsWith19JointsAndAnimates) {
   struct stat st;
-  if (stat(CesiumMan().c_str(), &st) != 0) GTEST_SKIP() << CesiumMan() << " absent (third-party data)";
+  if (stat(CesiumMan().c_str(), &st) != 0)
+    GTEST_SKIP() << CesiumMan() << " absent (third-party data)";
   StatusOr<GltfCharacter> c = LoadGltf(CesiumMan());
   ASSERT_TRUE(c.ok()) << c.status().ToString();
   EXPECT_EQ(c->joint_nodes.size(), 19u);
@@ -209,7 +211,8 @@ TEST(Gltf, CesiumManLoadsWith19JointsAndAnimates) {
 TEST(Gltf, BrokenFilesGiveErrors) {
   EXPECT_FALSE(LoadGltf("/nonexistent/character.glb").ok());
   struct stat st;
-  if (stat(CesiumMan().c_str(), &st) != 0) GTEST_SKIP() << CesiumMan() << " absent (third-party data)";
+  if (stat(CesiumMan().c_str(), &st) != 0)
+    GTEST_SKIP() << CesiumMan() << " absent (third-party data)";
   std::ifstream in(CesiumMan(), std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const std::string dir = ::testing::TempDir();
@@ -220,7 +223,8 @@ TEST(Gltf, BrokenFilesGiveErrors) {
   }
   // A valid glTF without a skin is not a character.
   const std::string path = dir + "/static.gltf";
-  std::ofstream(path) << R"({"asset": {"version": "2.0"}, "nodes": [{"name": "a"}], "scenes": [{"nodes": [0]}]})";
+  std::ofstream(path)
+      << R"({"asset": {"version": "2.0"}, "nodes": [{"name": "a"}], "scenes": [{"nodes": [0]}]})";
   StatusOr<GltfCharacter> c = LoadGltf(path);
   ASSERT_FALSE(c.ok());
   EXPECT_NE(c.status().message().find("skin"), std::string::npos) << c.status().message();

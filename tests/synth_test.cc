@@ -2,17 +2,17 @@
 // (silhouettes equal the projected posed mesh within a pixel; joints are the
 // body model's), images look like a capture (actor differs from the plate only
 // inside its silhouette and shadow), and output is deterministic for a seed.
+#include "encoder/synth/synth.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdlib>
 #include <fstream>
-
 #include <nlohmann/json.hpp>
 
 #include "encoder/body/kinematics.h"
 #include "encoder/capture/calibration.h"
 #include "encoder/capture/silhouette.h"
-#include "encoder/synth/synth.h"
 
 namespace fvv {
 namespace {
@@ -45,8 +45,8 @@ std::vector<uint8_t> ProjectMesh(const Camera& cam, const std::vector<Eigen::Vec
 
 // Every pixel where a and b disagree has a pixel within one step (8-neighbourhood)
 // where they agree with the other mask's value: the masks differ only along edges.
-int DisagreementsBeyondOnePixel(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b,
-                                int w, int h) {
+int DisagreementsBeyondOnePixel(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b, int w,
+                                int h) {
   int bad = 0;
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
@@ -118,7 +118,8 @@ void ExpectSilhouettesMatchMesh(const std::string& dir, const Actor& actor,
   for (const auto& cam : c->cameras) {
     for (uint32_t f : frames) {
       char name[128];
-      std::snprintf(name, sizeof(name), "/truth/silhouettes/%s/%06u.png", cam.calibration.name.c_str(), f);
+      std::snprintf(name, sizeof(name), "/truth/silhouettes/%s/%06u.png",
+                    cam.calibration.name.c_str(), f);
       StatusOr<Image> sil = ReadImage(dir + name);
       ASSERT_TRUE(sil.ok()) << sil.status().ToString();
       std::vector<uint8_t> rendered(sil->pixels.size());
@@ -189,7 +190,9 @@ TEST_F(SynthTest, TruthJointsArePosedBodyJoints) {
   // The motion moves: the root travels between the first and last frame.
   const auto& a = truth["frames"][0]["joints"]["root"];
   const auto& b = truth["frames"][3]["joints"]["root"];
-  EXPECT_GT(std::hypot(a[0].get<double>() - b[0].get<double>(), a[2].get<double>() - b[2].get<double>()), 0.02);
+  EXPECT_GT(
+      std::hypot(a[0].get<double>() - b[0].get<double>(), a[2].get<double>() - b[2].get<double>()),
+      0.02);
 }
 
 // Frames differ from the background plate inside the silhouette (the actor)
@@ -207,9 +210,12 @@ TEST_F(SynthTest, FramesDifferFromPlatesWhereTheActorIs) {
   size_t n_in = 0, n_out = 0;
   for (size_t i = 0; i < sil->pixels.size(); ++i) {
     double d = 0;
-    for (int k = 0; k < 3; ++k) d += std::abs(int(frame->pixels[3 * i + k]) - int(plate->pixels[3 * i + k]));
-    if (sil->pixels[i]) inside += d, ++n_in;
-    else outside += d, ++n_out;
+    for (int k = 0; k < 3; ++k)
+      d += std::abs(int(frame->pixels[3 * i + k]) - int(plate->pixels[3 * i + k]));
+    if (sil->pixels[i])
+      inside += d, ++n_in;
+    else
+      outside += d, ++n_out;
   }
   EXPECT_GT(inside / n_in, 40.0);
   EXPECT_LT(outside / n_out, 8.0);  // noise (sigma 2 per channel, two images) and shadow

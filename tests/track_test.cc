@@ -130,7 +130,8 @@ TEST_F(TrackTest, EmptyOrMissingSilhouettesAreFlaggedNotWild) {
     ASSERT_TRUE(std::isfinite(blind->dofs[d]));
     EXPECT_EQ(clamped[d], blind->dofs[d]);
   }
-  const double drift = std::abs(blind->dofs[0] - first->dofs[0]) + std::abs(blind->dofs[2] - first->dofs[2]);
+  const double drift =
+      std::abs(blind->dofs[0] - first->dofs[0]) + std::abs(blind->dofs[2] - first->dofs[2]);
   EXPECT_LT(drift, 0.2);
   // Only one camera sees the actor: flagged.
   std::vector<Image> one = empty;

@@ -1,12 +1,11 @@
 #include "encoder/body/generic_body.h"
 
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <vector>
-
-#include <Eigen/Core>
-#include <Eigen/Geometry>
 
 namespace fvv {
 namespace {
@@ -37,20 +36,48 @@ const JointSpec kJoints[kGenericJointCount] = {
     {"head", kNeck, 0, 1.57, 0, kDofRotY, {0, -1.4, 0}, {0, 1.4, 0}, 0.05},
     {"l_shoulder", kThoracic, 0.18, 1.43, 0, kRot3, {-1.8, -2.4, -1.9}, {1.8, 1.3, 1.7}, 0.055},
     {"l_elbow", kLeftShoulder, 0.47, 1.43, 0, kDofRotY, {0, -2.7, 0}, {0, 0.1, 0}, 0.04},
-    {"l_wrist", kLeftElbow, 0.72, 1.43, 0, kDofRotY | kDofRotZ, {0, -0.6, -1.3}, {0, 0.6, 1.3},
+    {"l_wrist",
+     kLeftElbow,
+     0.72,
+     1.43,
+     0,
+     kDofRotY | kDofRotZ,
+     {0, -0.6, -1.3},
+     {0, 0.6, 1.3},
      0.03},
     {"r_shoulder", kThoracic, -0.18, 1.43, 0, kRot3, {-1.8, -1.3, -1.7}, {1.8, 2.4, 1.9}, 0.055},
     {"r_elbow", kRightShoulder, -0.47, 1.43, 0, kDofRotY, {0, -0.1, 0}, {0, 2.7, 0}, 0.04},
-    {"r_wrist", kRightElbow, -0.72, 1.43, 0, kDofRotY | kDofRotZ, {0, -0.6, -1.3}, {0, 0.6, 1.3},
+    {"r_wrist",
+     kRightElbow,
+     -0.72,
+     1.43,
+     0,
+     kDofRotY | kDofRotZ,
+     {0, -0.6, -1.3},
+     {0, 0.6, 1.3},
      0.03},
     {"l_hip", kRoot, 0.09, 0.9, 0, kRot3, {-2.2, -0.9, -0.6}, {0.8, 0.9, 1.2}, 0.07},
     {"l_knee", kLeftHip, 0.09, 0.48, 0, kDofRotX, {-0.1, 0, 0}, {2.7, 0, 0}, 0.05},
-    {"l_ankle", kLeftKnee, 0.09, 0.085, 0, kDofRotX | kDofRotZ, {-0.9, 0, -0.5}, {0.8, 0, 0.5},
+    {"l_ankle",
+     kLeftKnee,
+     0.09,
+     0.085,
+     0,
+     kDofRotX | kDofRotZ,
+     {-0.9, 0, -0.5},
+     {0.8, 0, 0.5},
      0.035},
     {"r_hip", kRoot, -0.09, 0.9, 0, kRot3, {-2.2, -0.9, -1.2}, {0.8, 0.9, 0.6}, 0.07},
     {"r_knee", kRightHip, -0.09, 0.48, 0, kDofRotX, {-0.1, 0, 0}, {2.7, 0, 0}, 0.05},
-    {"r_ankle", kRightKnee, -0.09, 0.085, 0, kDofRotX | kDofRotZ, {-0.9, 0, -0.5},
-     {0.8, 0, 0.5}, 0.035},
+    {"r_ankle",
+     kRightKnee,
+     -0.09,
+     0.085,
+     0,
+     kDofRotX | kDofRotZ,
+     {-0.9, 0, -0.5},
+     {0.8, 0, 0.5},
+     0.035},
 };
 
 struct ProfilePoint {
@@ -72,33 +99,123 @@ struct SegmentSpec {
 
 const std::vector<SegmentSpec>& Segments() {
   static const std::vector<SegmentSpec> kSegments = {
-      {"pelvis", kRoot, -1, {0, 1, 0}, {1, 0, 0}, {0, 0, 0}, -0.13, 0.11, 0.45, 0.3,
+      {"pelvis",
+       kRoot,
+       -1,
+       {0, 1, 0},
+       {1, 0, 0},
+       {0, 0, 0},
+       -0.13,
+       0.11,
+       0.45,
+       0.3,
        {{0, 0.15, 0.1}, {0.45, 0.168, 0.112}, {1, 0.145, 0.1}}},
-      {"abdomen", kLumbar, -1, {0, 1, 0}, {1, 0, 0}, {0, 0, 0}, -0.05, 0.23, 0.3, 0.3,
+      {"abdomen",
+       kLumbar,
+       -1,
+       {0, 1, 0},
+       {1, 0, 0},
+       {0, 0, 0},
+       -0.05,
+       0.23,
+       0.3,
+       0.3,
        {{0, 0.142, 0.1}, {0.5, 0.135, 0.096}, {1, 0.15, 0.1}}},
-      {"chest", kThoracic, -1, {0, 1, 0}, {1, 0, 0}, {0, 0, 0}, -0.03, 0.22, 0.3, 0.45,
+      {"chest",
+       kThoracic,
+       -1,
+       {0, 1, 0},
+       {1, 0, 0},
+       {0, 0, 0},
+       -0.03,
+       0.22,
+       0.3,
+       0.45,
        {{0, 0.15, 0.1}, {0.55, 0.165, 0.11}, {0.85, 0.17, 0.1}, {1, 0.125, 0.08}}},
-      {"head", kNeck, -1, {0, 1, 0}, {1, 0, 0}, {0, 0, 0.01}, -0.05, 0.23, 0.3, 0.9,
+      {"head",
+       kNeck,
+       -1,
+       {0, 1, 0},
+       {1, 0, 0},
+       {0, 0, 0.01},
+       -0.05,
+       0.23,
+       0.3,
+       0.9,
        {{0, 0.055, 0.055},
         {0.3, 0.054, 0.058},
         {0.45, 0.07, 0.082},
         {0.62, 0.082, 0.098},
         {0.85, 0.08, 0.095},
         {1, 0.062, 0.072}}},
-      {"l_upper_arm", kLeftShoulder, -1, {1, 0, 0}, {0, 0, 1}, {0, 0, 0}, -0.03, 0.31, 0.8, 0.6,
+      {"l_upper_arm",
+       kLeftShoulder,
+       -1,
+       {1, 0, 0},
+       {0, 0, 1},
+       {0, 0, 0},
+       -0.03,
+       0.31,
+       0.8,
+       0.6,
        {{0, 0.06, 0.055}, {0.3, 0.052, 0.05}, {1, 0.042, 0.04}}},
-      {"l_forearm", kLeftElbow, -1, {1, 0, 0}, {0, 0, 1}, {0, 0, 0}, -0.02, 0.26, 0.6, 0.5,
+      {"l_forearm",
+       kLeftElbow,
+       -1,
+       {1, 0, 0},
+       {0, 0, 1},
+       {0, 0, 0},
+       -0.02,
+       0.26,
+       0.6,
+       0.5,
        {{0, 0.042, 0.04}, {0.3, 0.043, 0.038}, {1, 0.031, 0.024}}},
-      {"l_hand", kLeftWrist, -1, {1, 0, 0}, {0, 0, 1}, {0, 0, 0}, -0.01, 0.16, 0.5, 0.9,
+      {"l_hand",
+       kLeftWrist,
+       -1,
+       {1, 0, 0},
+       {0, 0, 1},
+       {0, 0, 0},
+       -0.01,
+       0.16,
+       0.5,
+       0.9,
        {{0, 0.03, 0.018}, {0.4, 0.045, 0.02}, {1, 0.036, 0.013}}},
       {"r_upper_arm", kRightShoulder, 4, {}, {}, {}, 0, 0, 0, 0, {}},
       {"r_forearm", kRightElbow, 5, {}, {}, {}, 0, 0, 0, 0, {}},
       {"r_hand", kRightWrist, 6, {}, {}, {}, 0, 0, 0, 0, {}},
-      {"l_thigh", kLeftHip, -1, {0, -1, 0}, {1, 0, 0}, {0, 0, 0}, -0.06, 0.44, 0.6, 0.6,
+      {"l_thigh",
+       kLeftHip,
+       -1,
+       {0, -1, 0},
+       {1, 0, 0},
+       {0, 0, 0},
+       -0.06,
+       0.44,
+       0.6,
+       0.6,
        {{0, 0.085, 0.09}, {0.3, 0.08, 0.085}, {1, 0.053, 0.055}}},
-      {"l_shank", kLeftKnee, -1, {0, -1, 0}, {1, 0, 0}, {0, 0, 0}, -0.02, 0.39, 0.6, 0.6,
+      {"l_shank",
+       kLeftKnee,
+       -1,
+       {0, -1, 0},
+       {1, 0, 0},
+       {0, 0, 0},
+       -0.02,
+       0.39,
+       0.6,
+       0.6,
        {{0, 0.05, 0.052}, {0.3, 0.055, 0.06}, {1, 0.034, 0.036}}},
-      {"l_foot", kLeftAnkle, -1, {0, 0, 1}, {1, 0, 0}, {0, -0.04, 0}, -0.06, 0.2, 0.7, 0.5,
+      {"l_foot",
+       kLeftAnkle,
+       -1,
+       {0, 0, 1},
+       {1, 0, 0},
+       {0, -0.04, 0},
+       -0.06,
+       0.2,
+       0.7,
+       0.5,
        {{0, 0.035, 0.04}, {0.4, 0.045, 0.04}, {1, 0.04, 0.02}}},
       {"r_thigh", kRightHip, 10, {}, {}, {}, 0, 0, 0, 0, {}},
       {"r_shank", kRightKnee, 11, {}, {}, {}, 0, 0, 0, 0, {}},
@@ -188,8 +305,8 @@ Geometry JointPositions(const BodyShape& shape) {
     }
     // The offset from the parent joint lies inside the parent's segment: its
     // component along that segment's axis scales with length, the rest with girth.
-    const Vector3d offset = own - Vector3d(kJoints[js.parent].x, kJoints[js.parent].y,
-                                           kJoints[js.parent].z);
+    const Vector3d offset =
+        own - Vector3d(kJoints[js.parent].x, kJoints[js.parent].y, kJoints[js.parent].z);
     const int ps = SegmentOfBone(js.parent);
     const Vector3d a = BoneAxis(js.parent);
     const Vector3d axial = a * a.dot(offset);
@@ -253,9 +370,10 @@ void SetWeights(const std::map<int, double>& w, std::array<uint16_t, kMaxInfluen
   weights->fill(0);
   int left = 65535;
   for (size_t i = 0; i < sorted.size(); ++i) {
-    const int q = i + 1 == sorted.size()
-                      ? left
-                      : std::min(left, static_cast<int>(std::lround(65535 * sorted[i].first / total)));
+    const int q =
+        i + 1 == sorted.size()
+            ? left
+            : std::min(left, static_cast<int>(std::lround(65535 * sorted[i].first / total)));
     (*joints)[i] = static_cast<uint16_t>(sorted[i].second);
     (*weights)[i] = static_cast<uint16_t>(q);
     left -= q;
@@ -329,8 +447,7 @@ void AddSegment(int segment, const Geometry& g, const BodyShape& shape, const Me
       const Vector3d p = origin + a * rings[r].axial + wdir * (rw * std::cos(theta)) +
                          ddir * (rd * std::sin(theta));
       const uint32_t ring_start = base + static_cast<uint32_t>(r * cols);
-      add_vertex(p, static_cast<double>(c) / sides, rings[r].v,
-                 ring_start + (c % sides));
+      add_vertex(p, static_cast<double>(c) / sides, rings[r].v, ring_start + (c % sides));
     }
   }
   const uint32_t pole0 = static_cast<uint32_t>(m->positions.size());
@@ -385,9 +502,9 @@ int SegmentBone(int segment) { return Segments()[segment].bone; }
 
 Status ValidateBodyShape(const BodyShape& shape) {
   if (!std::isfinite(shape.stature) || shape.stature < 0.5 || shape.stature > 1.4) {
-    return Status(StatusCode::kInvalidArgument,
-                  "body shape: stature scale must lie in [0.5, 1.4], got " +
-                      std::to_string(shape.stature));
+    return Status(
+        StatusCode::kInvalidArgument,
+        "body shape: stature scale must lie in [0.5, 1.4], got " + std::to_string(shape.stature));
   }
   for (int s = 0; s < kGenericSegmentCount; ++s) {
     for (double v : {shape.length[s], shape.girth[s]}) {

@@ -111,8 +111,8 @@ std::vector<double> ClampToLimits(const Skeleton& skeleton, std::vector<double> 
   const std::vector<DofRef> refs = skeleton.Dofs();
   for (size_t d = 0; d < refs.size() && d < dofs.size(); ++d) {
     const Bone& bone = skeleton.bones[refs[d].bone];
-    dofs[d] = std::clamp(dofs[d], double(bone.dof_min[refs[d].kind]),
-                         double(bone.dof_max[refs[d].kind]));
+    dofs[d] =
+        std::clamp(dofs[d], double(bone.dof_min[refs[d].kind]), double(bone.dof_max[refs[d].kind]));
   }
   return dofs;
 }

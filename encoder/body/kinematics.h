@@ -5,10 +5,9 @@
 #ifndef FVV_ENCODER_BODY_KINEMATICS_H_
 #define FVV_ENCODER_BODY_KINEMATICS_H_
 
-#include <vector>
-
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <vector>
 
 #include "container/body_model.h"
 

@@ -1,7 +1,7 @@
 #include "encoder/capture/calibration.h"
 
-#include <cmath>
 #include <Eigen/Geometry>
+#include <cmath>
 
 namespace fvv {
 
@@ -37,8 +37,10 @@ Eigen::Vector2d Undistort(const Camera& c, const Eigen::Vector2d& d) {
     if (r.squaredNorm() < 1e-24) break;
     constexpr double h = 1e-7;
     Eigen::Matrix2d j;
-    j.col(0) = (Distort(c, n + Eigen::Vector2d(h, 0)) - Distort(c, n - Eigen::Vector2d(h, 0))) / (2 * h);
-    j.col(1) = (Distort(c, n + Eigen::Vector2d(0, h)) - Distort(c, n - Eigen::Vector2d(0, h))) / (2 * h);
+    j.col(0) =
+        (Distort(c, n + Eigen::Vector2d(h, 0)) - Distort(c, n - Eigen::Vector2d(h, 0))) / (2 * h);
+    j.col(1) =
+        (Distort(c, n + Eigen::Vector2d(0, h)) - Distort(c, n - Eigen::Vector2d(0, h))) / (2 * h);
     n -= j.inverse() * r;
   }
   return n;
@@ -87,7 +89,8 @@ Status ValidateCalibration(const Camera& c, const std::string& what) {
   }
   const Eigen::Matrix3d r = CameraRotation(c);
   const double ortho = (r * r.transpose() - Eigen::Matrix3d::Identity()).norm();
-  if (ortho > 1e-4) return bad("R is not orthonormal (|R R^T - I| = " + std::to_string(ortho) + ")");
+  if (ortho > 1e-4)
+    return bad("R is not orthonormal (|R R^T - I| = " + std::to_string(ortho) + ")");
   if (r.determinant() < 0) return bad("R is a reflection (determinant -1), not a rotation");
   // Distortion must stay monotonic out to the image corners, or undistortion is ambiguous.
   const double corner_x = std::max(c.cx, c.width - c.cx) / c.fx;
@@ -112,8 +115,8 @@ Camera LookAtCamera(const std::string& name, uint32_t width, uint32_t height, do
   c.fx = c.fy = focal_px;
   c.cx = (width - 1) / 2.0;
   c.cy = (height - 1) / 2.0;
-  const Eigen::Vector3d f = (target - centre).normalized();  // camera +z
-  Eigen::Vector3d side = f.cross(up);                        // camera +x (image right)
+  const Eigen::Vector3d f = (target - centre).normalized();          // camera +z
+  Eigen::Vector3d side = f.cross(up);                                // camera +x (image right)
   if (side.norm() < 1e-9) side = f.cross(Eigen::Vector3d::UnitX());  // looking straight down
   side.normalize();
   const Eigen::Vector3d down = f.cross(side);  // camera +y (image down)

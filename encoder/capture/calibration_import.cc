@@ -1,12 +1,12 @@
 #include "encoder/capture/calibration_import.h"
 
+#include <toml++/toml.h>
 #include <yaml-cpp/yaml.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstdlib>
-#include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
-#include <toml++/toml.h>
 
 #include "encoder/capture/calibration.h"
 #include "tools/imageio/image_io.h"
@@ -99,8 +99,8 @@ StatusOr<Camera> CameraFrom(const json& c, const std::string& name, double unit,
   FVV_RETURN_IF_ERROR(Numbers(*k, where + ": K", &v));
   if (v.size() != 9) return InvalidArgument(where + ": K must have 9 entries");
   cam.fx = v[0], cam.cx = v[2], cam.fy = v[4], cam.cy = v[5];
-  if (const json* d = Find(c, {"D", "dist", "distortion", "dist_coeffs", "distortion_coefficients",
-                               "distCoeffs"})) {
+  if (const json* d = Find(
+          c, {"D", "dist", "distortion", "dist_coeffs", "distortion_coefficients", "distCoeffs"})) {
     FVV_RETURN_IF_ERROR(Numbers(*d, where + ": distortion", &v));
     if (v.size() > 5) {
       // Rational and thin-prism terms beyond k3 must be zero: fvv models k1 k2 p1 p2 k3.
@@ -167,7 +167,8 @@ StatusOr<std::vector<Camera>> ImportCalibrationFile(const std::string& path, dou
       root = FromYaml(YAML::Load(text));
     }
   } catch (const std::exception& e) {
-    return InvalidArgument(path + ": cannot parse " + (is_toml ? "TOML" : "YAML") + ": " + e.what());
+    return InvalidArgument(path + ": cannot parse " + (is_toml ? "TOML" : "YAML") + ": " +
+                           e.what());
   }
   if (!root.is_object()) return InvalidArgument(path + ": expected a map of calibration entries");
   std::string stem = path.substr(path.find_last_of('/') + 1);
@@ -186,7 +187,8 @@ StatusOr<std::vector<Camera>> ImportCalibrationFile(const std::string& path, dou
     if (!c.ok()) return c.status();
     out.push_back(*c);
   }
-  if (out.empty()) return InvalidArgument(path + ": no camera found (no K / camera_matrix anywhere)");
+  if (out.empty())
+    return InvalidArgument(path + ": no camera found (no K / camera_matrix anywhere)");
   return out;
 }
 

@@ -7,10 +7,9 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
-
-#include <nlohmann/json.hpp>
 
 #include "encoder/capture/calibration.h"
 #include "encoder/capture/video_reader.h"
@@ -219,10 +218,12 @@ StatusOr<Capture> ParseCapture(const std::string& json_text, const std::string& 
   if (!j.contains("frame_rate")) return top.Bad("missing \"frame_rate\"");
   Status s = GetNumber(j["frame_rate"], Where("frame_rate"), &c.frame_rate);
   if (!s.ok()) return s;
-  if (c.frame_rate <= 0 || c.frame_rate > 1000) return Where("frame_rate").Bad("must lie in (0, 1000]");
+  if (c.frame_rate <= 0 || c.frame_rate > 1000)
+    return Where("frame_rate").Bad("must lie in (0, 1000]");
   if (!j.contains("frame_count") || !j["frame_count"].is_number_integer() ||
       j["frame_count"].get<int64_t>() < 1 || j["frame_count"].get<int64_t>() > kMaxCaptureFrames) {
-    return Where("frame_count").Bad("expected an integer in 1.." + std::to_string(kMaxCaptureFrames));
+    return Where("frame_count")
+        .Bad("expected an integer in 1.." + std::to_string(kMaxCaptureFrames));
   }
   c.frame_count = j["frame_count"].get<uint32_t>();
   if (j.contains("up_axis")) {
@@ -266,8 +267,8 @@ StatusOr<Capture> LoadCapture(const std::string& path) {
   }
   StatusOr<std::vector<uint8_t>> bytes = ReadFileBytes(file, 64u << 20);
   if (!bytes.ok()) {
-    return IoError("capture " + path + ": cannot read " + file + " (" +
-                   bytes.status().message() + ")");
+    return IoError("capture " + path + ": cannot read " + file + " (" + bytes.status().message() +
+                   ")");
   }
   StatusOr<Capture> c = ParseCapture(std::string(bytes->begin(), bytes->end()), dir);
   if (!c.ok()) return Status(c.status().code(), file + ": " + c.status().message());
@@ -364,8 +365,8 @@ StatusOr<Image> CaptureReader::Read(uint32_t camera, const FrameSource& source, 
                            std::to_string(capture_.cameras.size()) + ")");
   }
   const Camera& cal = capture_.cameras[camera].calibration;
-  const std::string label = std::string(what) + " of camera \"" + cal.name + "\", frame " +
-                            std::to_string(frame);
+  const std::string label =
+      std::string(what) + " of camera \"" + cal.name + "\", frame " + std::to_string(frame);
   if (frame >= capture_.frame_count) {
     return InvalidArgument(label + ": beyond frame_count " + std::to_string(capture_.frame_count));
   }
@@ -377,7 +378,8 @@ StatusOr<Image> CaptureReader::Read(uint32_t camera, const FrameSource& source, 
       reader.reset();
       StatusOr<std::unique_ptr<VideoReader>> opened =
           VideoReader::Open(FramePath(capture_, source, frame), cal.width, cal.height, channels);
-      if (!opened.ok()) return Status(opened.status().code(), label + ": " + opened.status().message());
+      if (!opened.ok())
+        return Status(opened.status().code(), label + ": " + opened.status().message());
       reader = std::move(*opened);
     }
     while (true) {
@@ -413,8 +415,8 @@ StatusOr<Image> CaptureReader::Read(uint32_t camera, const FrameSource& source, 
       if (channels == 3) {
         for (int k = 0; k < 3; ++k) converted.pixels[3 * i + k] = image.pixels[i];
       } else {
-        converted.pixels[i] = std::max({image.pixels[3 * i], image.pixels[3 * i + 1],
-                                        image.pixels[3 * i + 2]});
+        converted.pixels[i] =
+            std::max({image.pixels[3 * i], image.pixels[3 * i + 1], image.pixels[3 * i + 2]});
       }
     }
     image = std::move(converted);
@@ -423,12 +425,14 @@ StatusOr<Image> CaptureReader::Read(uint32_t camera, const FrameSource& source, 
 }
 
 StatusOr<Image> CaptureReader::ReadFrame(uint32_t camera, uint32_t frame) {
-  if (camera >= capture_.cameras.size()) return InvalidArgument("no camera " + std::to_string(camera));
+  if (camera >= capture_.cameras.size())
+    return InvalidArgument("no camera " + std::to_string(camera));
   return Read(camera, capture_.cameras[camera].frames, frame, 3, "frame");
 }
 
 StatusOr<Image> CaptureReader::ReadSilhouette(uint32_t camera, uint32_t frame) {
-  if (camera >= capture_.cameras.size()) return InvalidArgument("no camera " + std::to_string(camera));
+  if (camera >= capture_.cameras.size())
+    return InvalidArgument("no camera " + std::to_string(camera));
   const CaptureCamera& cam = capture_.cameras[camera];
   if (!cam.silhouettes) {
     return InvalidArgument("camera \"" + cam.calibration.name + "\" has no silhouettes");
@@ -440,7 +444,8 @@ StatusOr<Image> CaptureReader::ReadSilhouette(uint32_t camera, uint32_t frame) {
 }
 
 StatusOr<Image> CaptureReader::ReadBackground(uint32_t camera) {
-  if (camera >= capture_.cameras.size()) return InvalidArgument("no camera " + std::to_string(camera));
+  if (camera >= capture_.cameras.size())
+    return InvalidArgument("no camera " + std::to_string(camera));
   const CaptureCamera& cam = capture_.cameras[camera];
   const std::string label = "background of camera \"" + cam.calibration.name + "\"";
   if (!cam.background) return InvalidArgument(label + ": none given");
@@ -462,7 +467,9 @@ Status CaptureReader::CheckFiles() {
       if (s->kind == FrameSource::Kind::kVideo) {
         StatusOr<std::unique_ptr<VideoReader>> v = VideoReader::Open(
             FramePath(capture_, *s, 0), cam.calibration.width, cam.calibration.height);
-        if (!v.ok()) return Status(v.status().code(), "camera \"" + cam.calibration.name + "\": " + v.status().message());
+        if (!v.ok())
+          return Status(v.status().code(),
+                        "camera \"" + cam.calibration.name + "\": " + v.status().message());
         continue;
       }
       for (uint32_t f = 0; f < capture_.frame_count; ++f) {

@@ -68,9 +68,9 @@ class CaptureReader {
   ~CaptureReader();
   const Capture& capture() const { return capture_; }
 
-  StatusOr<Image> ReadFrame(uint32_t camera, uint32_t frame);        // RGB
-  StatusOr<Image> ReadBackground(uint32_t camera);                   // RGB
-  StatusOr<Image> ReadSilhouette(uint32_t camera, uint32_t frame);   // grey, 0 or 255
+  StatusOr<Image> ReadFrame(uint32_t camera, uint32_t frame);       // RGB
+  StatusOr<Image> ReadBackground(uint32_t camera);                  // RGB
+  StatusOr<Image> ReadSilhouette(uint32_t camera, uint32_t frame);  // grey, 0 or 255
   bool HasSilhouettes() const;
   bool HasBackgrounds() const;
   // Checks that every image file exists (videos: that the file exists and

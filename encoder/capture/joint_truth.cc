@@ -3,7 +3,6 @@
 #include <sys/stat.h>
 
 #include <map>
-
 #include <nlohmann/json.hpp>
 
 #include "encoder/body/kinematics.h"
@@ -49,7 +48,8 @@ StatusOr<JointErrors> CompareWithTruth(const std::string& truth, const Skeleton&
                                        const std::vector<std::vector<double>>& poses,
                                        uint32_t first_frame) {
   std::string path = truth;
-  if (IsDir(path)) path = IsDir(path + "/truth") ? path + "/truth/truth.json" : path + "/truth.json";
+  if (IsDir(path))
+    path = IsDir(path + "/truth") ? path + "/truth/truth.json" : path + "/truth.json";
   StatusOr<std::vector<uint8_t>> bytes = ReadFileBytes(path, 512u << 20);
   if (!bytes.ok()) return Status(bytes.status().code(), "truth: " + bytes.status().message());
   const nlohmann::json j = nlohmann::json::parse(bytes->begin(), bytes->end(), nullptr, false);
@@ -58,8 +58,8 @@ StatusOr<JointErrors> CompareWithTruth(const std::string& truth, const Skeleton&
   }
   const nlohmann::json& frames = j["frames"];
   if (first_frame + poses.size() > frames.size()) {
-    return InvalidArgument("truth " + path + ": has " + std::to_string(frames.size()) + " frames, poses reach " +
-                           std::to_string(first_frame + poses.size()));
+    return InvalidArgument("truth " + path + ": has " + std::to_string(frames.size()) +
+                           " frames, poses reach " + std::to_string(first_frame + poses.size()));
   }
   // Which truth joint each generic joint is compared with.
   const nlohmann::json& names = frames[0]["joints"];
@@ -79,7 +79,8 @@ StatusOr<JointErrors> CompareWithTruth(const std::string& truth, const Skeleton&
       }
     }
   }
-  if (pairs.empty()) return InvalidArgument("truth " + path + ": no joint corresponds to the body model's");
+  if (pairs.empty())
+    return InvalidArgument("truth " + path + ": no joint corresponds to the body model's");
   JointErrors e;
   for (const auto& p : pairs) e.joints.push_back(generic.bones[p.first].name);
   double sum = 0;

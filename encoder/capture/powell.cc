@@ -40,7 +40,8 @@ PowellResult MinimisePowell(const std::function<double(const Eigen::VectorXd&)>&
       if (t_best != 0) break;  // improved going this way: no need to try the other
     }
     // Golden section in [t_best - h, t_best + h], h = half the last step.
-    double a = t_best - (t_best == 0 ? 1.0 : std::abs(t_best) / 2), b = t_best + (t_best == 0 ? 1.0 : std::abs(t_best) / 2);
+    double a = t_best - (t_best == 0 ? 1.0 : std::abs(t_best) / 2),
+           b = t_best + (t_best == 0 ? 1.0 : std::abs(t_best) / 2);
     const double g = 0.6180339887498949;
     for (int k = 0; k < o.golden_steps && r.evaluations < o.max_evaluations; ++k) {
       const double c = b - g * (b - a), e = a + g * (b - a);

@@ -5,15 +5,14 @@
 #ifndef FVV_ENCODER_CAPTURE_POWELL_H_
 #define FVV_ENCODER_CAPTURE_POWELL_H_
 
-#include <functional>
-
 #include <Eigen/Core>
+#include <functional>
 
 namespace fvv {
 
 struct PowellOptions {
   int max_evaluations = 300;
-  int max_iterations = 3;      // passes over the direction set
+  int max_iterations = 3;            // passes over the direction set
   double relative_tolerance = 1e-3;  // stop when a pass improves less than this share
   int golden_steps = 5;
 };

@@ -109,7 +109,8 @@ void CleanMask(Image* mask, const SilhouetteParams& p) {
 StatusOr<Image> ExtractSilhouette(const Image& frame, const BackgroundModel& bg,
                                   const SilhouetteParams& p) {
   const Image& b = bg.colour;
-  if (frame.channels != 3 || b.channels != 3 || frame.width != b.width || frame.height != b.height) {
+  if (frame.channels != 3 || b.channels != 3 || frame.width != b.width ||
+      frame.height != b.height) {
     return InvalidArgument("silhouette: frame and background must be RGB images of one size");
   }
   Image mask;
@@ -118,15 +119,16 @@ StatusOr<Image> ExtractSilhouette(const Image& frame, const BackgroundModel& bg,
   mask.channels = 1;
   mask.pixels.assign(size_t{frame.width} * frame.height, 0);
   for (size_t i = 0; i < mask.pixels.size(); ++i) {
-    const double ir = frame.pixels[3 * i], ig = frame.pixels[3 * i + 1], ib = frame.pixels[3 * i + 2];
+    const double ir = frame.pixels[3 * i], ig = frame.pixels[3 * i + 1],
+                 ib = frame.pixels[3 * i + 2];
     const double br = b.pixels[3 * i], bgc = b.pixels[3 * i + 1], bb = b.pixels[3 * i + 2];
     if (std::abs(ir - br) + std::abs(ig - bgc) + std::abs(ib - bb) < p.min_difference) continue;
     // Brightness distortion alpha (I ~ alpha B) and chroma distortion |I - alpha B|.
     const double bnorm2 = br * br + bgc * bgc + bb * bb + 1e-6;
     const double alpha = (ir * br + ig * bgc + ib * bb) / bnorm2;
-    const double cd = std::sqrt((ir - alpha * br) * (ir - alpha * br) +
-                                (ig - alpha * bgc) * (ig - alpha * bgc) +
-                                (ib - alpha * bb) * (ib - alpha * bb));
+    const double cd =
+        std::sqrt((ir - alpha * br) * (ir - alpha * br) + (ig - alpha * bgc) * (ig - alpha * bgc) +
+                  (ib - alpha * bb) * (ib - alpha * bb));
     // Relative to the pixel's expected brightness (alpha |B|): a dark, shaded
     // actor has little absolute chroma but still differs in direction.
     const double chroma_limit = p.chroma + p.chroma_relative * alpha * std::sqrt(bnorm2);

@@ -13,13 +13,13 @@
 namespace fvv {
 
 struct SilhouetteParams {
-  double min_difference = 18;    // |I - B| (summed RGB levels) below this: background
-  double chroma = 8;             // chroma distortion (8-bit levels) above this: foreground
-  double chroma_relative = 0.07; // ... plus this fraction of the expected brightness alpha |B|
-  double shadow_low = 0.45;      // brightness ratio I/B in [shadow_low, highlight_high] with
-  double highlight_high = 1.25;  //   little chroma change: shadow or highlight, background
-  double min_component = 0.0004; // components smaller than this share of the image are dropped
-  double keep_relative = 0.02;   // ... and those below this share of the largest component
+  double min_difference = 18;     // |I - B| (summed RGB levels) below this: background
+  double chroma = 8;              // chroma distortion (8-bit levels) above this: foreground
+  double chroma_relative = 0.07;  // ... plus this fraction of the expected brightness alpha |B|
+  double shadow_low = 0.45;       // brightness ratio I/B in [shadow_low, highlight_high] with
+  double highlight_high = 1.25;   //   little chroma change: shadow or highlight, background
+  double min_component = 0.0004;  // components smaller than this share of the image are dropped
+  double keep_relative = 0.02;    // ... and those below this share of the largest component
 };
 
 // Per-pixel background colour of one camera (RGB).

@@ -2,7 +2,6 @@
 
 #include <chrono>
 #include <cstdio>
-
 #include <nlohmann/json.hpp>
 
 #include "codec/thread_pool.h"
@@ -27,7 +26,8 @@ std::string TrackCaptureResult::ToJson() const {
     names.push_back(model.skeleton.bones[d.bone].name + "." + kKinds[d.kind]);
   }
   out["dof_names"] = names;
-  out["body_shape"] = {{"stature", shape.stature}, {"length", shape.length}, {"girth", shape.girth}};
+  out["body_shape"] = {
+      {"stature", shape.stature}, {"length", shape.length}, {"girth", shape.girth}};
   out["frame_rate"] = capture.frame_rate;
   nlohmann::json frames = nlohmann::json::array();
   for (size_t i = 0; i < fits.size(); ++i) {
@@ -92,7 +92,8 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
     std::vector<Image> sils(n);
     std::vector<Status> errors(n);
     pool.Run(uint32_t(n), [&](uint32_t c) {
-      StatusOr<Image> s = r.given_silhouettes ? reader.ReadSilhouette(c, f) : reader.ReadFrame(c, f);
+      StatusOr<Image> s =
+          r.given_silhouettes ? reader.ReadSilhouette(c, f) : reader.ReadFrame(c, f);
       if (s.ok() && !r.given_silhouettes) s = ExtractSilhouette(*s, backgrounds[c]);
       if (!s.ok()) {
         errors[c] = s.status();
@@ -112,7 +113,8 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
     const auto t1 = Clock::now();
     StatusOr<FrameFit> fit = f == r.first ? (*tracker)->Initialise(sils) : (*tracker)->Track(sils);
     if (!fit.ok()) {
-      return Status(fit.status().code(), "frame " + std::to_string(f) + ": " + fit.status().message());
+      return Status(fit.status().code(),
+                    "frame " + std::to_string(f) + ": " + fit.status().message());
     }
     const auto t2 = Clock::now();
     r.silhouette_seconds += std::chrono::duration<double>(t1 - t0).count();
@@ -144,9 +146,11 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
       const uint32_t done = f - r.first + 1, total = r.last - r.first + 1;
       char line[256];
       std::snprintf(line, sizeof(line),
-                    "track: frame %u (%u/%u)  IoU %.3f  XOR %.1f%%  %d evaluations  %s  %.2f s/frame, ETA %.0f s",
+                    "track: frame %u (%u/%u)  IoU %.3f  XOR %.1f%%  %d evaluations  %s  %.2f "
+                    "s/frame, ETA %.0f s",
                     f, done, total, fit->iou, 100 * fit->xor_ratio, fit->evaluations,
-                    fit->poor ? fit->note.c_str() : "ok", elapsed / done, elapsed / done * (total - done));
+                    fit->poor ? fit->note.c_str() : "ok", elapsed / done,
+                    elapsed / done * (total - done));
       o.progress(line);
     }
     r.fits.push_back(std::move(*fit));

@@ -32,7 +32,7 @@ struct TrackCaptureResult {
   bool given_silhouettes = false;
   std::vector<FrameFit> fits;  // per frame first..last
   BodyShape shape;
-  BodyModel model;             // the generic body with the fitted shape
+  BodyModel model;  // the generic body with the fitted shape
   double silhouette_seconds = 0, fit_seconds = 0;
   int flagged = 0;
   double mean_iou = 0;

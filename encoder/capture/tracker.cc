@@ -50,8 +50,9 @@ struct View {
   }
   int64_t IntegralSum(int x0, int y0, int x1, int y1) const {  // inclusive box
     const int s = w + 1;
-    return int64_t(xor_integral[size_t(y1 + 1) * s + x1 + 1]) - xor_integral[size_t(y0) * s + x1 + 1] -
-           xor_integral[size_t(y1 + 1) * s + x0] + xor_integral[size_t(y0) * s + x0];
+    return int64_t(xor_integral[size_t(y1 + 1) * s + x1 + 1]) -
+           xor_integral[size_t(y0) * s + x1 + 1] - xor_integral[size_t(y1 + 1) * s + x0] +
+           xor_integral[size_t(y0) * s + x0];
   }
 };
 
@@ -90,8 +91,8 @@ void Rasterise(const std::vector<uint32_t>& tris, const std::vector<Vector2f>& p
 // A set of DOFs optimised together, and what moves when they change.
 struct Stage {
   std::string name;
-  std::vector<int> dofs;                // indices into the DOF vector
-  std::vector<uint32_t> moving_verts;   // vertices any moved bone influences
+  std::vector<int> dofs;               // indices into the DOF vector
+  std::vector<uint32_t> moving_verts;  // vertices any moved bone influences
   std::vector<uint32_t> moving_tris, fixed_tris;
   int grid_dof_a = -1, grid_dof_b = -1, grid_dof_c = -1;  // grid search (indices into dofs)
   int twist = -1;  // the upper joint's twist: reset by a wide grid search
@@ -102,7 +103,8 @@ struct Capsule {
   double r;
 };
 
-double SegmentDistance(const Vector3d& p0, const Vector3d& p1, const Vector3d& q0, const Vector3d& q1) {
+double SegmentDistance(const Vector3d& p0, const Vector3d& p1, const Vector3d& q0,
+                       const Vector3d& q1) {
   const Vector3d d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
   const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
   double s = 0, t = 0;
@@ -174,14 +176,51 @@ struct Tracker::Impl {
       int grid_a, grid_b, grid_c, twist;
     };
     const std::vector<Spec> specs = {
-        {"torso", {{kRoot, 3}, {kRoot, 4}, {kRoot, 5}, {kRoot, 0}, {kRoot, 1}, {kRoot, 2},
-                   {kLumbar, 0}, {kLumbar, 2}, {kThoracic, 1}}, -1, -1, -1, -1},
-        {"left arm", {{kLeftShoulder, 0}, {kLeftShoulder, 1}, {kLeftShoulder, 2}, {kLeftElbow, 1}}, 1, 2, 3, 0},
-        {"right arm", {{kRightShoulder, 0}, {kRightShoulder, 1}, {kRightShoulder, 2}, {kRightElbow, 1}}, 1, 2, 3, 0},
+        {"torso",
+         {{kRoot, 3},
+          {kRoot, 4},
+          {kRoot, 5},
+          {kRoot, 0},
+          {kRoot, 1},
+          {kRoot, 2},
+          {kLumbar, 0},
+          {kLumbar, 2},
+          {kThoracic, 1}},
+         -1,
+         -1,
+         -1,
+         -1},
+        {"left arm",
+         {{kLeftShoulder, 0}, {kLeftShoulder, 1}, {kLeftShoulder, 2}, {kLeftElbow, 1}},
+         1,
+         2,
+         3,
+         0},
+        {"right arm",
+         {{kRightShoulder, 0}, {kRightShoulder, 1}, {kRightShoulder, 2}, {kRightElbow, 1}},
+         1,
+         2,
+         3,
+         0},
         {"left leg", {{kLeftHip, 0}, {kLeftHip, 1}, {kLeftHip, 2}, {kLeftKnee, 0}}, 0, 2, 3, 1},
-        {"right leg", {{kRightHip, 0}, {kRightHip, 1}, {kRightHip, 2}, {kRightKnee, 0}}, 0, 2, 3, 1},
-        {"hands", {{kLeftWrist, 1}, {kLeftWrist, 2}, {kRightWrist, 1}, {kRightWrist, 2}}, -1, -1, -1, -1},
-        {"feet", {{kLeftAnkle, 0}, {kLeftAnkle, 2}, {kRightAnkle, 0}, {kRightAnkle, 2}}, -1, -1, -1, -1},
+        {"right leg",
+         {{kRightHip, 0}, {kRightHip, 1}, {kRightHip, 2}, {kRightKnee, 0}},
+         0,
+         2,
+         3,
+         1},
+        {"hands",
+         {{kLeftWrist, 1}, {kLeftWrist, 2}, {kRightWrist, 1}, {kRightWrist, 2}},
+         -1,
+         -1,
+         -1,
+         -1},
+        {"feet",
+         {{kLeftAnkle, 0}, {kLeftAnkle, 2}, {kRightAnkle, 0}, {kRightAnkle, 2}},
+         -1,
+         -1,
+         -1,
+         -1},
         {"head", {{kNeck, 0}, {kHead, 1}}, -1, -1, -1, -1},
     };
     stages.clear();
@@ -274,7 +313,8 @@ struct Tracker::Impl {
 
   std::vector<Eigen::Matrix4f> Skinning(const std::vector<double>& dofs) const {
     std::vector<Eigen::Matrix4f> out;
-    for (const Affine& a : SkinningMatrices(model.skeleton, dofs)) out.push_back(a.matrix().cast<float>());
+    for (const Affine& a : SkinningMatrices(model.skeleton, dofs))
+      out.push_back(a.matrix().cast<float>());
     return out;
   }
 
@@ -287,7 +327,8 @@ struct Tracker::Impl {
       for (int k = 0; k < kMaxInfluences; ++k) {
         if (m.weights[v][k]) s += (m.weights[v][k] / 65535.0f) * skin[m.joints[v][k]];
       }
-      (*out)[v] = s.topLeftCorner<3, 3>() * Vector3f(m.positions[v][0], m.positions[v][1], m.positions[v][2]) +
+      (*out)[v] = s.topLeftCorner<3, 3>() *
+                      Vector3f(m.positions[v][0], m.positions[v][1], m.positions[v][2]) +
                   s.topRightCorner<3, 1>();
     }
   }
@@ -324,14 +365,18 @@ struct Tracker::Impl {
   double Overlap(const std::vector<double>& dofs) const {
     const std::vector<Vector3d> j = JointPositions(model.skeleton, dofs);
     const double g = shape.stature;
-    auto tip = [&](int from, int to, double len) { return Vector3d(j[to] + (j[to] - j[from]).normalized() * len * g); };
+    auto tip = [&](int from, int to, double len) {
+      return Vector3d(j[to] + (j[to] - j[from]).normalized() * len * g);
+    };
     const Capsule torso{j[kRoot], j[kNeck], 0.1 * g};
     const Capsule arms[] = {{j[kLeftElbow], j[kLeftWrist], 0.03 * g},
                             {j[kLeftWrist], tip(kLeftElbow, kLeftWrist, 0.12), 0.025 * g},
                             {j[kRightElbow], j[kRightWrist], 0.03 * g},
                             {j[kRightWrist], tip(kRightElbow, kRightWrist, 0.12), 0.025 * g}};
-    const Capsule left[] = {{j[kLeftHip], j[kLeftKnee], 0.06 * g}, {j[kLeftKnee], j[kLeftAnkle], 0.04 * g}};
-    const Capsule right[] = {{j[kRightHip], j[kRightKnee], 0.06 * g}, {j[kRightKnee], j[kRightAnkle], 0.04 * g}};
+    const Capsule left[] = {{j[kLeftHip], j[kLeftKnee], 0.06 * g},
+                            {j[kLeftKnee], j[kLeftAnkle], 0.04 * g}};
+    const Capsule right[] = {{j[kRightHip], j[kRightKnee], 0.06 * g},
+                             {j[kRightKnee], j[kRightAnkle], 0.04 * g}};
     double overlap = 0;
     auto add = [&](const Capsule& a, const Capsule& b) {
       overlap += std::max(0.0, a.r + b.r - SegmentDistance(a.a, a.b, b.a, b.b));
@@ -382,7 +427,8 @@ struct Tracker::Impl {
         if (refs[d].kind < 3) prior += (dofs[d] - prediction[d]) * (dofs[d] - prediction[d]);
       }
     }
-    return total + (1 << (2 * level)) * (collision_weight * Overlap(dofs) + smoothness_weight * prior);
+    return total +
+           (1 << (2 * level)) * (collision_weight * Overlap(dofs) + smoothness_weight * prior);
   }
 
   void SetCollisionWeight() {
@@ -420,25 +466,25 @@ struct Tracker::Impl {
                                           : std::vector<double>{-0.35, 0.0, 0.35};
       const std::vector<double> bs = wide ? std::vector<double>{-1.6, -0.8, 0.0, 0.8, 1.6}
                                           : std::vector<double>{-0.35, 0.0, 0.35};
-      const std::vector<double> cs = wide ? std::vector<double>{-1.4, 0.0, 1.4}
-                                          : std::vector<double>{-0.6, 0.0, 0.6};
+      const std::vector<double> cs =
+          wide ? std::vector<double>{-1.4, 0.0, 1.4} : std::vector<double>{-0.6, 0.0, 0.6};
       Eigen::VectorXd best = x;
       double best_value = f(x);
-      const std::vector<double> twists = wide && stage.twist >= 0 ? std::vector<double>{-0.8, 0.0, 0.8}
-                                                                 : std::vector<double>{0.0};
+      const std::vector<double> twists =
+          wide && stage.twist >= 0 ? std::vector<double>{-0.8, 0.0, 0.8} : std::vector<double>{0.0};
       for (double da : as) {
         for (double db : bs) {
           for (double dc : cs) {
-           for (double tw : twists) {
-            Eigen::VectorXd g = x;
-            if (wide && stage.twist >= 0) g[stage.twist] = tw;
-            g[stage.grid_dof_a] = (wide ? 0.0 : x[stage.grid_dof_a]) + da;
-            g[stage.grid_dof_b] = (wide ? 0.0 : x[stage.grid_dof_b]) + db;
-            g[stage.grid_dof_c] = (wide ? 0.0 : x[stage.grid_dof_c]) + dc;
-            g = g.cwiseMax(vlo).cwiseMin(vhi);
-            const double value = f(g);
-            if (value < best_value) best_value = value, best = g;
-           }
+            for (double tw : twists) {
+              Eigen::VectorXd g = x;
+              if (wide && stage.twist >= 0) g[stage.twist] = tw;
+              g[stage.grid_dof_a] = (wide ? 0.0 : x[stage.grid_dof_a]) + da;
+              g[stage.grid_dof_b] = (wide ? 0.0 : x[stage.grid_dof_b]) + db;
+              g[stage.grid_dof_c] = (wide ? 0.0 : x[stage.grid_dof_c]) + dc;
+              g = g.cwiseMax(vlo).cwiseMin(vhi);
+              const double value = f(g);
+              if (value < best_value) best_value = value, best = g;
+            }
           }
         }
       }
@@ -454,7 +500,8 @@ struct Tracker::Impl {
   void FitAll(std::vector<double>* dofs, double scale, Grid grid) {
     for (int level = 0; level < (options.refine ? 2 : 1); ++level) {
       for (const Stage& s : stages) {
-        FitStage(s, dofs, level, level == 0 ? scale : 0.35 * scale, level == 0 ? grid : Grid::kNone);
+        FitStage(s, dofs, level, level == 0 ? scale : 0.35 * scale,
+                 level == 0 ? grid : Grid::kNone);
       }
     }
   }
@@ -481,7 +528,8 @@ struct Tracker::Impl {
     Stage all;
     all.moving_verts.resize(model.mesh.positions.size());
     std::iota(all.moving_verts.begin(), all.moving_verts.end(), 0u);
-    for (const auto& t : model.mesh.triangles) all.moving_tris.insert(all.moving_tris.end(), t.begin(), t.end());
+    for (const auto& t : model.mesh.triangles)
+      all.moving_tris.insert(all.moving_tris.end(), t.begin(), t.end());
     std::vector<Vector3f> posed;
     SkinVertices(all.moving_verts, Skinning(dofs), &posed);
     int64_t inter = 0, uni = 0, area = 0;
@@ -501,7 +549,9 @@ struct Tracker::Impl {
     fit->xor_ratio = area ? double(uni - inter) / area : 1;
     fit->dofs = dofs;
     fit->poor = fit->xor_ratio > options.poor_fit;
-    if (fit->poor) fit->note = "poor fit (XOR " + std::to_string(int(100 * fit->xor_ratio)) + "% of the silhouette)";
+    if (fit->poor)
+      fit->note =
+          "poor fit (XOR " + std::to_string(int(100 * fit->xor_ratio)) + "% of the silhouette)";
   }
 
   // A rough global position and height from the silhouettes' geometry: the
@@ -539,9 +589,11 @@ struct Tracker::Impl {
       const Vector3d o = CameraCentre(*cam);
       const Vector3d d = (UnprojectPixel(*cam, px, 1.0) - o).normalized();
       const Eigen::Vector2d flat(d.x(), d.z());
-      const double along = flat.squaredNorm() > 1e-9
-                               ? Eigen::Vector2d(centre->x() - o.x(), centre->z() - o.z()).dot(flat) / flat.squaredNorm()
-                               : 0;
+      const double along =
+          flat.squaredNorm() > 1e-9
+              ? Eigen::Vector2d(centre->x() - o.x(), centre->z() - o.z()).dot(flat) /
+                    flat.squaredNorm()
+              : 0;
       heights.push_back(o.y() + along * d.y());
     }
     std::nth_element(heights.begin(), heights.begin() + heights.size() / 2, heights.end());
@@ -567,15 +619,18 @@ struct Tracker::Impl {
   void FitShape(std::vector<double>* dofs) {
     const std::vector<Vector3d> before = JointPositions(model.skeleton, *dofs);
     Eigen::VectorXd x(4), step(4), vlo(4), vhi(4);
-    x << shape.stature, shape.girth[kSegChest], shape.length[kSegLeftUpperArm], shape.length[kSegLeftThigh];
+    x << shape.stature, shape.girth[kSegChest], shape.length[kSegLeftUpperArm],
+        shape.length[kSegLeftThigh];
     step << 0.03, 0.06, 0.05, 0.05;
     vlo << 0.6, 0.7, 0.8, 0.8;
     vhi << 1.3, 1.5, 1.25, 1.25;
     auto apply = [&](const Eigen::VectorXd& v) {
       shape.stature = v[0];
       shape.girth.fill(v[1]);
-      for (int s : {kSegLeftUpperArm, kSegLeftForearm, kSegRightUpperArm, kSegRightForearm}) shape.length[s] = v[2];
-      for (int s : {kSegLeftThigh, kSegLeftShank, kSegRightThigh, kSegRightShank}) shape.length[s] = v[3];
+      for (int s : {kSegLeftUpperArm, kSegLeftForearm, kSegRightUpperArm, kSegRightForearm})
+        shape.length[s] = v[2];
+      for (int s : {kSegLeftThigh, kSegLeftShank, kSegRightThigh, kSegRightShank})
+        shape.length[s] = v[3];
       BuildModel();
     };
     std::vector<double> trial = *dofs;
@@ -625,7 +680,8 @@ StatusOr<FrameFit> Tracker::Initialise(const std::vector<Image>& silhouettes) {
   m.evaluations = 0;
   Vector3d centre;
   double height = 1.75;
-  if (!m.Locate(silhouettes, &centre, &height)) return InvalidArgument("tracker: cannot locate the actor");
+  if (!m.Locate(silhouettes, &centre, &height))
+    return InvalidArgument("tracker: cannot locate the actor");
   m.shape = BodyShape();
   if (m.options.adapt_shape) m.shape.stature = std::clamp(height / 1.75, 0.6, 1.3);
   m.BuildModel();
@@ -637,7 +693,8 @@ StatusOr<FrameFit> Tracker::Initialise(const std::vector<Image>& silhouettes) {
     const double v = m.FitStage(m.stages[0], &p, 0, 1.0);
     starts.push_back({v, p});
   }
-  std::sort(starts.begin(), starts.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::sort(starts.begin(), starts.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
   // The best heading and its opposite: silhouettes barely tell front from back
   // until the limbs are fitted (knees and elbows bend one way only).
   const double yaw = starts[0].second[m.Dof(kRoot, 1)] + kPi;

@@ -29,12 +29,12 @@ namespace fvv {
 
 struct TrackerOptions {
   unsigned threads = 2;
-  bool adapt_shape = true;       // fit stature, girth and limb lengths at initialisation
-  double poor_fit = 0.35;        // XOR / silhouette area above this flags a frame
-  int stage_evaluations = 160;   // Powell budget per stage and resolution
-  bool refine = true;            // second pass at half resolution
-  double retry_iou = 0.94;       // below this IoU, limbs are searched again from a wide grid
-  double smoothness = 0.02;      // pull towards the prediction: share of the silhouette area per rad^2
+  bool adapt_shape = true;      // fit stature, girth and limb lengths at initialisation
+  double poor_fit = 0.35;       // XOR / silhouette area above this flags a frame
+  int stage_evaluations = 160;  // Powell budget per stage and resolution
+  bool refine = true;           // second pass at half resolution
+  double retry_iou = 0.94;      // below this IoU, limbs are searched again from a wide grid
+  double smoothness = 0.02;  // pull towards the prediction: share of the silhouette area per rad^2
 };
 
 struct FrameFit {
@@ -49,8 +49,8 @@ struct FrameFit {
 
 class Tracker {
  public:
-  static StatusOr<std::unique_ptr<Tracker>> Create(std::vector<Camera> cameras,
-                                                   const TrackerOptions& options = TrackerOptions());
+  static StatusOr<std::unique_ptr<Tracker>> Create(
+      std::vector<Camera> cameras, const TrackerOptions& options = TrackerOptions());
   ~Tracker();
 
   // The first frame: global pose from the silhouettes' geometry, then the body

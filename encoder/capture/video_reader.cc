@@ -22,7 +22,8 @@ bool HaveFfmpeg() {
   size_t start = 0;
   while (start <= dirs.size()) {
     const size_t end = dirs.find(':', start);
-    const std::string dir = dirs.substr(start, end == std::string::npos ? std::string::npos : end - start);
+    const std::string dir =
+        dirs.substr(start, end == std::string::npos ? std::string::npos : end - start);
     if (!dir.empty() && access((dir + "/ffmpeg").c_str(), X_OK) == 0) return true;
     if (end == std::string::npos) break;
     start = end + 1;
@@ -95,7 +96,8 @@ StatusOr<std::unique_ptr<VideoReader>> VideoReader::Open(const std::string& path
       RunForOutput({"ffprobe", "-v", "error", "-select_streams", "v:0", "-show_entries",
                     "stream=width,height", "-of", "csv=p=0:s=x", path},
                    &code);
-  if (!probe.ok()) return Status(probe.status().code(), "video " + path + ": " + probe.status().message());
+  if (!probe.ok())
+    return Status(probe.status().code(), "video " + path + ": " + probe.status().message());
   std::string dims = *probe;
   while (!dims.empty() && (dims.back() == '\n' || dims.back() == '\r')) dims.pop_back();
   if (code != 0 || dims.empty()) {

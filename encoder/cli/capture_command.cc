@@ -25,7 +25,8 @@ int RunSynthCommand(SynthOptions o) {
   std::printf("  cameras:  %zu at %ux%u, %u held out (truth/heldout)\n", s->capture.cameras.size(),
               o.width, o.height, o.held_out);
   std::printf("  frames:   %u at %.3g fps\n", o.frames, o.fps);
-  std::printf("  truth:    %s/truth (poses, 3D joints, silhouettes, texture)\n", o.output_dir.c_str());
+  std::printf("  truth:    %s/truth (poses, 3D joints, silhouettes, texture)\n",
+              o.output_dir.c_str());
   std::printf("  time:     %.1f s (%.2f s per frame)\n", s->seconds, s->seconds / o.frames);
   return 0;
 }
@@ -42,13 +43,15 @@ int RunSheet(const SheetArgs& a) {
   CaptureReader reader(*c);
   std::vector<Image> tiles;
   for (uint32_t i = 0; i < c->cameras.size(); ++i) {
-    StatusOr<Image> img = a.silhouettes ? reader.ReadSilhouette(i, a.frame) : reader.ReadFrame(i, a.frame);
+    StatusOr<Image> img =
+        a.silhouettes ? reader.ReadSilhouette(i, a.frame) : reader.ReadFrame(i, a.frame);
     if (!img.ok()) return Fail(img.status());
     tiles.push_back(std::move(*img));
   }
   Status s = WriteImage(a.output, MakeContactSheet(tiles));
   if (!s.ok()) return Fail(s);
-  std::printf("contact sheet: %zu cameras at frame %u -> %s\n", tiles.size(), a.frame, a.output.c_str());
+  std::printf("contact sheet: %zu cameras at frame %u -> %s\n", tiles.size(), a.frame,
+              a.output.c_str());
   return 0;
 }
 
@@ -92,7 +95,8 @@ struct ImportArgs {
 };
 
 std::string ForCamera(std::string pattern, const std::string& camera) {
-  for (size_t i = pattern.find("{camera}"); i != std::string::npos; i = pattern.find("{camera}", i)) {
+  for (size_t i = pattern.find("{camera}"); i != std::string::npos;
+       i = pattern.find("{camera}", i)) {
     pattern.replace(i, 8, camera);
     i += camera.size();
   }
@@ -153,7 +157,9 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
   CLI::App* s = app->add_subcommand(
       "synth", "Render a synthetic multi-view capture with ground truth (OpenGL, headless)");
   s->add_option("-o,--output", o->output_dir, "Output capture directory")->required();
-  s->add_option("--cameras", o->cameras, "Ring cameras")->capture_default_str()->check(CLI::Range(1, 64));
+  s->add_option("--cameras", o->cameras, "Ring cameras")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
   s->add_flag("--overhead", o->overhead, "Add a camera looking down from above");
   s->add_option("--width", o->width, "Image width")->capture_default_str();
   s->add_option("--height", o->height, "Image height")->capture_default_str();
@@ -162,27 +168,32 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
   s->add_option("--seed", o->seed, "Seed (noise, texture detail)")->capture_default_str();
   s->add_option("--motion", o->motion, "BVH motion file (default: a built-in walk)");
   s->add_option("--motion-start", o->motion_start, "Seconds into the BVH clip to start from")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   s->add_option("--actor", o->actor, "\"builtin\" or a glTF 2.0 character (.glb/.gltf)")
       ->capture_default_str();
   s->add_option("--stature", o->stature, "Built-in actor's size (1.0 = 1.75 m)")
-      ->capture_default_str()->check(CLI::Range(0.5, 1.4));
-  s->add_option("--noise", o->noise, "Sensor noise (std. dev., 8-bit levels)")->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::Range(0.5, 1.4));
+  s->add_option("--noise", o->noise, "Sensor noise (std. dev., 8-bit levels)")
+      ->capture_default_str();
   s->add_option("--colour-mismatch", o->colour_mismatch, "Per-camera gain spread (0.05 = 5 %)")
       ->capture_default_str();
   s->add_option("--held-out", o->held_out, "Extra cameras for novel-view evaluation")
       ->capture_default_str();
   s->add_flag("--with-silhouettes", o->link_silhouettes,
               "List the true silhouettes in capture.json (skip background subtraction)");
-  s->add_flag_callback("--classic", [o] { o->width = 320, o->height = 240, o->fps = 15; },
-                       "320x240 at 15 fps, as in the original studio");
+  s->add_flag_callback(
+      "--classic", [o] { o->width = 320, o->height = 240, o->fps = 15; },
+      "320x240 at 15 fps, as in the original studio");
   s->callback([o, exit_code] { *exit_code = RunSynthCommand(*o); });
 
   CLI::App* cap = app->add_subcommand(
       "capture", "Capture directories: check, contact sheet, calibration import");
   cap->require_subcommand(1);
   auto check_path = std::make_shared<std::string>();
-  CLI::App* check = cap->add_subcommand("check", "Validate a capture: calibration, files, frame sizes");
+  CLI::App* check =
+      cap->add_subcommand("check", "Validate a capture: calibration, files, frame sizes");
   check->add_option("capture", *check_path, "Capture directory or capture.json")->required();
   check->callback([check_path, exit_code] { *exit_code = RunCheck(*check_path); });
 
@@ -199,18 +210,26 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
       "import-calib",
       "Make capture.json from OpenCV-style calibration files (YAML FileStorage or TOML)");
   ic->add_option("files", imp->files, "Calibration files: one camera each, or sections per camera")
-      ->required()->check(CLI::ExistingFile);
+      ->required()
+      ->check(CLI::ExistingFile);
   ic->add_option("-o,--output", imp->output_dir, "Capture directory to write capture.json into")
-      ->required()->check(CLI::ExistingDirectory);
+      ->required()
+      ->check(CLI::ExistingDirectory);
   ic->add_option("--images", imp->images, "Frame pattern per camera ({camera} = its name)")
       ->capture_default_str();
   ic->add_option("--video", imp->video, "Video file per camera instead ({camera} = its name)");
   ic->add_option("--first", imp->first, "Number of the first image")->capture_default_str();
-  ic->add_option("--frame-count", imp->frame_count, "Frames (default: count the first camera's images)");
-  ic->add_option("--fps", imp->fps, "Frame rate")->capture_default_str()->check(CLI::PositiveNumber);
+  ic->add_option("--frame-count", imp->frame_count,
+                 "Frames (default: count the first camera's images)");
+  ic->add_option("--fps", imp->fps, "Frame rate")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   ic->add_option("--translation-unit", imp->unit, "Unit of t in the files: m, cm or mm")
-      ->capture_default_str()->check(CLI::IsMember({"m", "cm", "mm"}));
-  ic->add_option("--up", imp->up, "World up axis: y or z")->capture_default_str()->check(CLI::IsMember({"y", "z"}));
+      ->capture_default_str()
+      ->check(CLI::IsMember({"m", "cm", "mm"}));
+  ic->add_option("--up", imp->up, "World up axis: y or z")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"y", "z"}));
   ic->callback([imp, exit_code] { *exit_code = RunImportCalib(*imp); });
 }
 

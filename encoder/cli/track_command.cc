@@ -36,28 +36,30 @@ int RunTrack(const TrackArgs& a) {
   o.tracker.adapt_shape = !a.no_shape;
   o.save_silhouettes = a.save_silhouettes;
   o.overlays = a.overlays;
-  if (!a.quiet) o.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+  if (!a.quiet)
+    o.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   StatusOr<TrackCaptureResult> r = TrackCapture(a.capture, o);
   if (!r.ok()) return Fail(r.status());
   const std::string text = r->ToJson();
   Status s = WriteFileAtomic(a.output, reinterpret_cast<const uint8_t*>(text.data()), text.size());
   if (!s.ok()) return Fail(s);
   const size_t count = r->fits.size();
-  std::printf("tracked frames %u..%u of %s: %zu frames, %d flagged\n", r->first, r->last, a.capture.c_str(),
-              count, r->flagged);
+  std::printf("tracked frames %u..%u of %s: %zu frames, %d flagged\n", r->first, r->last,
+              a.capture.c_str(), count, r->flagged);
   std::printf("  body shape: stature %.3f (%.2f m), girth %.3f, arm length %.3f, leg length %.3f\n",
               r->shape.stature, 1.75 * r->shape.stature, r->shape.girth[kSegChest],
               r->shape.length[kSegLeftUpperArm], r->shape.length[kSegLeftThigh]);
-  std::printf("  silhouettes: %s, mean IoU %.3f\n", r->given_silhouettes ? "given" : "background subtraction",
-              r->mean_iou);
+  std::printf("  silhouettes: %s, mean IoU %.3f\n",
+              r->given_silhouettes ? "given" : "background subtraction", r->mean_iou);
   std::printf("  time: %.3f s per frame (silhouettes %.3f, fitting %.3f)\n",
               (r->silhouette_seconds + r->fit_seconds) / count, r->silhouette_seconds / count,
               r->fit_seconds / count);
   if (!a.truth.empty()) {
     StatusOr<JointErrors> e = CompareWithTruth(a.truth, r->model.skeleton, r->Poses(), r->first);
     if (!e.ok()) return Fail(e.status());
-    std::printf("  joint error against %s: mean %.2f cm, max %.2f cm (%zu joints: %s)\n", a.truth.c_str(),
-                100 * e->mean, 100 * e->max, e->joints.size(), e->Describe().c_str());
+    std::printf("  joint error against %s: mean %.2f cm, max %.2f cm (%zu joints: %s)\n",
+                a.truth.c_str(), 100 * e->mean, 100 * e->max, e->joints.size(),
+                e->Describe().c_str());
   }
   std::printf("  poses: %s\n", a.output.c_str());
   return 0;
@@ -72,7 +74,8 @@ void AddTrackCommand(CLI::App* app, int* exit_code) {
   t->add_option("capture", a->capture, "Capture directory or capture.json")->required();
   t->add_option("-o,--output", a->output, "Poses (JSON): DOFs, fit quality and flags per frame")
       ->required();
-  t->add_option("--truth", a->truth, "Ground truth (fvv synth's truth.json or its directory): joint errors");
+  t->add_option("--truth", a->truth,
+                "Ground truth (fvv synth's truth.json or its directory): joint errors");
   t->add_option("--frames", a->frames, "Frame range A:B (default all)");
   t->add_flag("--extract", a->extract,
               "Background subtraction even when the capture lists silhouettes");

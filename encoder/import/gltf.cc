@@ -20,7 +20,8 @@ Status ReadAccessor(const tinygltf::Model& m, int index, int want_components,
     return Corrupt("glTF: " + what + ": accessor index out of range");
   }
   const tinygltf::Accessor& a = m.accessors[index];
-  if (a.sparse.isSparse) return Unsupported("glTF: " + what + ": sparse accessors are not supported");
+  if (a.sparse.isSparse)
+    return Unsupported("glTF: " + what + ": sparse accessors are not supported");
   const int components = tinygltf::GetNumComponentsInType(a.type);
   if (components != want_components) {
     return Corrupt("glTF: " + what + ": expected " + std::to_string(want_components) +
@@ -31,7 +32,8 @@ Status ReadAccessor(const tinygltf::Model& m, int index, int want_components,
     return Corrupt("glTF: " + what + ": no buffer view");
   }
   const tinygltf::BufferView& v = m.bufferViews[a.bufferView];
-  if (v.buffer < 0 || size_t(v.buffer) >= m.buffers.size()) return Corrupt("glTF: " + what + ": no buffer");
+  if (v.buffer < 0 || size_t(v.buffer) >= m.buffers.size())
+    return Corrupt("glTF: " + what + ": no buffer");
   const std::vector<unsigned char>& data = m.buffers[v.buffer].data;
   const int size = tinygltf::GetComponentSizeInBytes(a.componentType);
   if (size <= 0) return Corrupt("glTF: " + what + ": bad component type");
@@ -49,8 +51,12 @@ Status ReadAccessor(const tinygltf::Model& m, int index, int want_components,
       const unsigned char* q = p + size_t(c) * size;
       float value = 0;
       switch (a.componentType) {
-        case TINYGLTF_COMPONENT_TYPE_FLOAT: std::memcpy(&value, q, 4); break;
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: value = *q / (a.normalized ? 255.0f : 1.0f); break;
+        case TINYGLTF_COMPONENT_TYPE_FLOAT:
+          std::memcpy(&value, q, 4);
+          break;
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+          value = *q / (a.normalized ? 255.0f : 1.0f);
+          break;
         case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
           uint16_t u;
           std::memcpy(&u, q, 2);
@@ -64,7 +70,8 @@ Status ReadAccessor(const tinygltf::Model& m, int index, int want_components,
           break;
         }
         default:
-          return Unsupported("glTF: " + what + ": component type " + std::to_string(a.componentType));
+          return Unsupported("glTF: " + what + ": component type " +
+                             std::to_string(a.componentType));
       }
       if (!std::isfinite(value)) return Corrupt("glTF: " + what + ": non-finite value");
       (*out)[i * components + c] = value;
@@ -88,7 +95,8 @@ Image ToRgb(const tinygltf::Image& img, const std::vector<double>& factor) {
   return out;
 }
 
-Eigen::Matrix4d Trs(const Eigen::Vector3d& t, const Eigen::Quaterniond& r, const Eigen::Vector3d& s) {
+Eigen::Matrix4d Trs(const Eigen::Vector3d& t, const Eigen::Quaterniond& r,
+                    const Eigen::Vector3d& s) {
   Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
   m.topLeftCorner<3, 3>() = r.normalized().toRotationMatrix() * s.asDiagonal();
   m.topRightCorner<3, 1>() = t;
@@ -110,8 +118,11 @@ StatusOr<GltfCharacter> LoadGltf(const std::string& path) {
     const tinygltf::Node& src = model.nodes[n];
     GltfNode node;
     node.name = src.name.empty() ? "node" + std::to_string(n) : src.name;
-    if (src.translation.size() == 3) node.translation = {src.translation[0], src.translation[1], src.translation[2]};
-    if (src.rotation.size() == 4) node.rotation = Eigen::Quaterniond(src.rotation[3], src.rotation[0], src.rotation[1], src.rotation[2]);
+    if (src.translation.size() == 3)
+      node.translation = {src.translation[0], src.translation[1], src.translation[2]};
+    if (src.rotation.size() == 4)
+      node.rotation =
+          Eigen::Quaterniond(src.rotation[3], src.rotation[0], src.rotation[1], src.rotation[2]);
     if (src.scale.size() == 3) node.scale = {src.scale[0], src.scale[1], src.scale[2]};
     if (src.matrix.size() == 16) {
       node.has_matrix = true;
@@ -121,7 +132,8 @@ StatusOr<GltfCharacter> LoadGltf(const std::string& path) {
   }
   for (size_t n = 0; n < model.nodes.size(); ++n) {
     for (int child : model.nodes[n].children) {
-      if (child < 0 || size_t(child) >= c.nodes.size() || c.nodes[child].parent >= 0 || child == int(n)) {
+      if (child < 0 || size_t(child) >= c.nodes.size() || c.nodes[child].parent >= 0 ||
+          child == int(n)) {
         return Corrupt("glTF " + path + ": node hierarchy is not a tree");
       }
       c.nodes[child].parent = static_cast<int>(n);
@@ -158,8 +170,10 @@ StatusOr<GltfCharacter> LoadGltf(const std::string& path) {
       FVV_RETURN_IF_ERROR(ReadAccessor(model, attr("POSITION"), 3, &pos, "POSITION"));
       const size_t n = pos.size() / 3, base = c.positions.size();
       if (base + n > kMaxVertices) return LimitExceeded("glTF " + path + ": more than 4M vertices");
-      if (attr("NORMAL") >= 0) FVV_RETURN_IF_ERROR(ReadAccessor(model, attr("NORMAL"), 3, &nor, "NORMAL"));
-      if (attr("TEXCOORD_0") >= 0) FVV_RETURN_IF_ERROR(ReadAccessor(model, attr("TEXCOORD_0"), 2, &uv, "TEXCOORD_0"));
+      if (attr("NORMAL") >= 0)
+        FVV_RETURN_IF_ERROR(ReadAccessor(model, attr("NORMAL"), 3, &nor, "NORMAL"));
+      if (attr("TEXCOORD_0") >= 0)
+        FVV_RETURN_IF_ERROR(ReadAccessor(model, attr("TEXCOORD_0"), 2, &uv, "TEXCOORD_0"));
       FVV_RETURN_IF_ERROR(ReadAccessor(model, attr("JOINTS_0"), 4, &jnt, "JOINTS_0"));
       FVV_RETURN_IF_ERROR(ReadAccessor(model, attr("WEIGHTS_0"), 4, &wgt, "WEIGHTS_0"));
       if (nor.size() != 0 && nor.size() != 3 * n) return Corrupt("glTF: NORMAL count differs");
@@ -168,15 +182,18 @@ StatusOr<GltfCharacter> LoadGltf(const std::string& path) {
       }
       for (size_t v = 0; v < n; ++v) {
         c.positions.emplace_back(pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]);
-        c.normals.push_back(nor.empty() ? Eigen::Vector3f(0, 1, 0)
-                                        : Eigen::Vector3f(nor[3 * v], nor[3 * v + 1], nor[3 * v + 2]).normalized());
-        c.uvs.push_back(uv.empty() ? Eigen::Vector2f(0.5f, 0.5f) : Eigen::Vector2f(uv[2 * v], uv[2 * v + 1]));
+        c.normals.push_back(
+            nor.empty() ? Eigen::Vector3f(0, 1, 0)
+                        : Eigen::Vector3f(nor[3 * v], nor[3 * v + 1], nor[3 * v + 2]).normalized());
+        c.uvs.push_back(uv.empty() ? Eigen::Vector2f(0.5f, 0.5f)
+                                   : Eigen::Vector2f(uv[2 * v], uv[2 * v + 1]));
         Eigen::Vector4f w(wgt[4 * v], wgt[4 * v + 1], wgt[4 * v + 2], wgt[4 * v + 3]);
         const float sum = w.sum();
         w = sum > 0 ? Eigen::Vector4f(w / sum) : Eigen::Vector4f(1, 0, 0, 0);
         c.weights.push_back(w);
         std::array<uint16_t, 4> j;
-        for (int k = 0; k < 4; ++k) j[k] = static_cast<uint16_t>(std::min(jnt[4 * v + k], 65535.0f));
+        for (int k = 0; k < 4; ++k)
+          j[k] = static_cast<uint16_t>(std::min(jnt[4 * v + k], 65535.0f));
         c.joints.push_back(j);
       }
       if (prim.indices >= 0) {
@@ -188,10 +205,13 @@ StatusOr<GltfCharacter> LoadGltf(const std::string& path) {
         if (i < 0 || i >= n) return Corrupt("glTF " + path + ": triangle index out of range");
         c.indices.push_back(static_cast<uint32_t>(base + size_t(i)));
       }
-      if (c.indices.size() % 3) return Corrupt("glTF " + path + ": index count is not a multiple of 3");
+      if (c.indices.size() % 3)
+        return Corrupt("glTF " + path + ": index count is not a multiple of 3");
       // The primitive's base colour texture (times its factor), or a flat colour.
       const int material = prim.material;
-      const size_t slot = material >= 0 && size_t(material) < model.materials.size() ? material : model.materials.size();
+      const size_t slot = material >= 0 && size_t(material) < model.materials.size()
+                              ? material
+                              : model.materials.size();
       if (texture_of_material[slot] < 0) {
         std::vector<double> factor = {1, 1, 1, 1};
         Image tex;
@@ -201,8 +221,8 @@ StatusOr<GltfCharacter> LoadGltf(const std::string& path) {
           const int t = pbr.baseColorTexture.index;
           if (t >= 0 && size_t(t) < model.textures.size()) {
             const int source = model.textures[t].source;
-            if (source >= 0 && size_t(source) < model.images.size() && !model.images[source].image.empty() &&
-                model.images[source].bits == 8) {
+            if (source >= 0 && size_t(source) < model.images.size() &&
+                !model.images[source].image.empty() && model.images[source].bits == 8) {
               tex = ToRgb(model.images[source], factor);
             }
           }
@@ -210,7 +230,8 @@ StatusOr<GltfCharacter> LoadGltf(const std::string& path) {
         if (tex.pixels.empty()) {
           tex.width = tex.height = 4;
           tex.pixels.resize(48);
-          for (size_t i = 0; i < 48; ++i) tex.pixels[i] = uint8_t(std::clamp(factor[i % 3] * 200.0, 0.0, 255.0));
+          for (size_t i = 0; i < 48; ++i)
+            tex.pixels[i] = uint8_t(std::clamp(factor[i % 3] * 200.0, 0.0, 255.0));
         }
         texture_of_material[slot] = static_cast<int>(textures.size());
         textures.push_back(std::move(tex));
@@ -219,35 +240,42 @@ StatusOr<GltfCharacter> LoadGltf(const std::string& path) {
     }
   }
   if (skin < 0 || c.positions.empty()) {
-    return InvalidArgument("glTF " + path + ": no skinned triangle mesh (a character needs a skin)");
+    return InvalidArgument("glTF " + path +
+                           ": no skinned triangle mesh (a character needs a skin)");
   }
   const tinygltf::Skin& s = model.skins[skin];
   if (s.joints.empty() || s.joints.size() > kMaxJoints) {
-    return LimitExceeded("glTF " + path + ": skin has " + std::to_string(s.joints.size()) + " joints (1..256)");
+    return LimitExceeded("glTF " + path + ": skin has " + std::to_string(s.joints.size()) +
+                         " joints (1..256)");
   }
   for (int j : s.joints) {
-    if (j < 0 || size_t(j) >= c.nodes.size()) return Corrupt("glTF " + path + ": skin joint out of range");
+    if (j < 0 || size_t(j) >= c.nodes.size())
+      return Corrupt("glTF " + path + ": skin joint out of range");
     c.joint_nodes.push_back(j);
   }
   for (const auto& j : c.joints) {
     for (uint16_t k : j) {
-      if (k >= c.joint_nodes.size()) return Corrupt("glTF " + path + ": vertex joint index out of range");
+      if (k >= c.joint_nodes.size())
+        return Corrupt("glTF " + path + ": vertex joint index out of range");
     }
   }
   c.inverse_bind.assign(c.joint_nodes.size(), Eigen::Matrix4d::Identity());
   if (s.inverseBindMatrices >= 0) {
     std::vector<float> ibm;
-    FVV_RETURN_IF_ERROR(ReadAccessor(model, s.inverseBindMatrices, 16, &ibm, "inverseBindMatrices"));
-    if (ibm.size() != 16 * c.joint_nodes.size()) return Corrupt("glTF: inverse bind matrix count differs");
+    FVV_RETURN_IF_ERROR(
+        ReadAccessor(model, s.inverseBindMatrices, 16, &ibm, "inverseBindMatrices"));
+    if (ibm.size() != 16 * c.joint_nodes.size())
+      return Corrupt("glTF: inverse bind matrix count differs");
     for (size_t j = 0; j < c.joint_nodes.size(); ++j) {
       for (int i = 0; i < 16; ++i) c.inverse_bind[j](i % 4, i / 4) = ibm[16 * j + i];
     }
   }
 
   // Textures of several materials: stacked vertically, UVs remapped (wrapped into [0, 1)).
-  const uint32_t width = std::max_element(textures.begin(), textures.end(), [](const Image& a, const Image& b) {
-                           return a.width < b.width;
-                         })->width;
+  const uint32_t width =
+      std::max_element(textures.begin(), textures.end(), [](const Image& a, const Image& b) {
+        return a.width < b.width;
+      })->width;
   c.texture.width = width;
   uint32_t row = 0;
   std::vector<std::pair<uint32_t, uint32_t>> placement;  // (first row, rows)
@@ -262,8 +290,10 @@ StatusOr<GltfCharacter> LoadGltf(const std::string& path) {
     const Image& t = textures[k];
     for (uint32_t y = 0; y < placement[k].second; ++y) {
       for (uint32_t x = 0; x < width; ++x) {
-        const size_t sx = size_t(x) * t.width / width, sy = size_t(y) * t.height / placement[k].second;
-        std::copy_n(&t.pixels[(sy * t.width + sx) * 3], 3, &c.texture.pixels[((placement[k].first + y) * size_t(width) + x) * 3]);
+        const size_t sx = size_t(x) * t.width / width,
+                     sy = size_t(y) * t.height / placement[k].second;
+        std::copy_n(&t.pixels[(sy * t.width + sx) * 3], 3,
+                    &c.texture.pixels[((placement[k].first + y) * size_t(width) + x) * 3]);
       }
     }
   }
@@ -272,7 +302,8 @@ StatusOr<GltfCharacter> LoadGltf(const std::string& path) {
       const size_t end = r + 1 < vertex_ranges.size() ? vertex_ranges[r + 1].first : c.uvs.size();
       const auto [first_row, rows] = placement[vertex_ranges[r].second];
       for (size_t v = vertex_ranges[r].first; v < end; ++v) {
-        const float u = c.uvs[v].x() - std::floor(c.uvs[v].x()), w = c.uvs[v].y() - std::floor(c.uvs[v].y());
+        const float u = c.uvs[v].x() - std::floor(c.uvs[v].x()),
+                    w = c.uvs[v].y() - std::floor(c.uvs[v].y());
         c.uvs[v] = Eigen::Vector2f(u, (first_row + w * rows) / float(c.texture.height));
       }
     }
@@ -283,7 +314,8 @@ StatusOr<GltfCharacter> LoadGltf(const std::string& path) {
     anim.name = a.name;
     for (const tinygltf::AnimationChannel& ch : a.channels) {
       if (ch.target_node < 0 || size_t(ch.target_node) >= c.nodes.size()) continue;
-      if (ch.sampler < 0 || size_t(ch.sampler) >= a.samplers.size()) return Corrupt("glTF: bad sampler");
+      if (ch.sampler < 0 || size_t(ch.sampler) >= a.samplers.size())
+        return Corrupt("glTF: bad sampler");
       GltfChannel out;
       out.node = ch.target_node;
       int components = 3;
@@ -298,12 +330,15 @@ StatusOr<GltfCharacter> LoadGltf(const std::string& path) {
         continue;  // morph weights: not used for characters here
       }
       const tinygltf::AnimationSampler& sm = a.samplers[ch.sampler];
-      out.interpolation = sm.interpolation == "STEP"          ? GltfChannel::Interpolation::kStep
-                          : sm.interpolation == "CUBICSPLINE" ? GltfChannel::Interpolation::kCubicSpline
-                                                              : GltfChannel::Interpolation::kLinear;
+      out.interpolation = sm.interpolation == "STEP" ? GltfChannel::Interpolation::kStep
+                          : sm.interpolation == "CUBICSPLINE"
+                              ? GltfChannel::Interpolation::kCubicSpline
+                              : GltfChannel::Interpolation::kLinear;
       FVV_RETURN_IF_ERROR(ReadAccessor(model, sm.input, 1, &out.times, "animation input"));
-      FVV_RETURN_IF_ERROR(ReadAccessor(model, sm.output, components, &out.values, "animation output"));
-      const size_t per_key = components * (out.interpolation == GltfChannel::Interpolation::kCubicSpline ? 3 : 1);
+      FVV_RETURN_IF_ERROR(
+          ReadAccessor(model, sm.output, components, &out.values, "animation output"));
+      const size_t per_key =
+          components * (out.interpolation == GltfChannel::Interpolation::kCubicSpline ? 3 : 1);
       if (out.times.empty() || out.values.size() != out.times.size() * per_key) {
         return Corrupt("glTF " + path + ": animation key counts differ");
       }
@@ -321,7 +356,8 @@ StatusOr<GltfCharacter> LoadGltf(const std::string& path) {
 std::vector<Eigen::Matrix4d> GltfCharacter::NodeWorld(int animation, double seconds) const {
   std::vector<Eigen::Vector3d> t(nodes.size()), s(nodes.size());
   std::vector<Eigen::Quaterniond> r(nodes.size());
-  for (size_t n = 0; n < nodes.size(); ++n) t[n] = nodes[n].translation, r[n] = nodes[n].rotation, s[n] = nodes[n].scale;
+  for (size_t n = 0; n < nodes.size(); ++n)
+    t[n] = nodes[n].translation, r[n] = nodes[n].rotation, s[n] = nodes[n].scale;
   if (animation >= 0 && size_t(animation) < animations.size()) {
     const GltfAnimation& a = animations[animation];
     const double time = a.duration > 0 ? std::fmod(std::max(seconds, 0.0), a.duration) : 0.0;
@@ -344,15 +380,18 @@ std::vector<Eigen::Matrix4d> GltfCharacter::NodeWorld(int animation, double seco
           const double m0 = span * ch.values[k * stride + 2 * comps + c];
           const double m1 = span * ch.values[k1 * stride + c];
           const double u2 = u * u, u3 = u2 * u;
-          v[c] = (2 * u3 - 3 * u2 + 1) * p0 + (u3 - 2 * u2 + u) * m0 + (-2 * u3 + 3 * u2) * p1 + (u3 - u2) * m1;
+          v[c] = (2 * u3 - 3 * u2 + 1) * p0 + (u3 - 2 * u2 + u) * m0 + (-2 * u3 + 3 * u2) * p1 +
+                 (u3 - u2) * m1;
         } else {
           v[c] = p0 + u * (p1 - p0);
         }
       }
       if (ch.path == GltfChannel::Path::kRotation) {
         if (!cubic && ch.interpolation != GltfChannel::Interpolation::kStep) {
-          const Eigen::Quaterniond q0(ch.values[k * stride + 3], ch.values[k * stride], ch.values[k * stride + 1], ch.values[k * stride + 2]);
-          const Eigen::Quaterniond q1(ch.values[k1 * stride + 3], ch.values[k1 * stride], ch.values[k1 * stride + 1], ch.values[k1 * stride + 2]);
+          const Eigen::Quaterniond q0(ch.values[k * stride + 3], ch.values[k * stride],
+                                      ch.values[k * stride + 1], ch.values[k * stride + 2]);
+          const Eigen::Quaterniond q1(ch.values[k1 * stride + 3], ch.values[k1 * stride],
+                                      ch.values[k1 * stride + 1], ch.values[k1 * stride + 2]);
           r[ch.node] = q0.normalized().slerp(u, q1.normalized());
         } else {
           r[ch.node] = Eigen::Quaterniond(v[3], v[0], v[1], v[2]).normalized();

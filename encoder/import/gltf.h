@@ -5,12 +5,11 @@
 #ifndef FVV_ENCODER_IMPORT_GLTF_H_
 #define FVV_ENCODER_IMPORT_GLTF_H_
 
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <array>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
-#include <Eigen/Geometry>
 
 #include "codec/status.h"
 #include "tools/imageio/image_io.h"
@@ -31,8 +30,9 @@ struct GltfChannel {
   int node = -1;
   enum class Path { kTranslation, kRotation, kScale } path = Path::kTranslation;
   enum class Interpolation { kLinear, kStep, kCubicSpline } interpolation = Interpolation::kLinear;
-  std::vector<float> times;   // seconds, increasing
-  std::vector<float> values;  // 3 or 4 per key (x3 for cubic splines: in-tangent, value, out-tangent)
+  std::vector<float> times;  // seconds, increasing
+  std::vector<float>
+      values;  // 3 or 4 per key (x3 for cubic splines: in-tangent, value, out-tangent)
 };
 
 struct GltfAnimation {
@@ -49,8 +49,8 @@ struct GltfCharacter {
   std::vector<uint32_t> indices;
   Image texture;  // RGB; several materials' textures are stacked vertically
   std::vector<GltfNode> nodes;
-  std::vector<int> joint_nodes;                // the skin's joints
-  std::vector<Eigen::Matrix4d> inverse_bind;   // per joint
+  std::vector<int> joint_nodes;               // the skin's joints
+  std::vector<Eigen::Matrix4d> inverse_bind;  // per joint
   std::vector<GltfAnimation> animations;
 
   // World transforms of every node at `seconds` into `animation` (-1: rest);

@@ -18,11 +18,11 @@ using Eigen::Vector3d;
 // moves the segment from it to its child, as the generic bone moves its segment.
 const std::vector<std::vector<std::string>>& Candidates() {
   static const std::vector<std::vector<std::string>> k = {
-      {"Hips", "hip", "pelvis", "Root"},                            // root
-      {"Spine", "LowerBack", "abdomen", "Spine1", "Chest"},         // lumbar
-      {"Spine1", "Spine2", "chest", "Chest", "Spine"},              // thoracic
-      {"Neck", "neck", "Neck1"},                                    // neck
-      {"Head", "head"},                                             // head
+      {"Hips", "hip", "pelvis", "Root"},                                 // root
+      {"Spine", "LowerBack", "abdomen", "Spine1", "Chest"},              // lumbar
+      {"Spine1", "Spine2", "chest", "Chest", "Spine"},                   // thoracic
+      {"Neck", "neck", "Neck1"},                                         // neck
+      {"Head", "head"},                                                  // head
       {"LeftArm", "LeftShoulder", "lShldr", "LeftUpArm", "l_upperarm"},  // left shoulder
       {"LeftForeArm", "lForeArm", "LeftLowArm", "LeftElbow"},
       {"LeftHand", "lHand", "LeftWrist"},
@@ -61,7 +61,8 @@ Vector3d RestSegmentDirection(const Skeleton& s, const std::vector<Vector3d>& re
   while (!frontier.empty()) {
     std::vector<int> next;
     for (size_t c = 0; c < s.bones.size(); ++c) {
-      if (std::find(frontier.begin(), frontier.end(), s.bones[c].parent) == frontier.end()) continue;
+      if (std::find(frontier.begin(), frontier.end(), s.bones[c].parent) == frontier.end())
+        continue;
       const Vector3d d = rest[c] - rest[bone];
       if (d.norm() > 1e-6) return d.normalized();
       next.push_back(static_cast<int>(c));
@@ -113,9 +114,10 @@ Vector3d FitAngles(const Bone& bone, const Matrix3d& parent, const Matrix3d& tar
       a[free[c]] += 1e-6;
       j.col(c) = (residual(a) - r0) / 1e-6;
     }
-    const Eigen::VectorXd step = (j.transpose() * j + 1e-9 * Eigen::MatrixXd::Identity(free.size(), free.size()))
-                                     .ldlt()
-                                     .solve(-j.transpose() * r0);
+    const Eigen::VectorXd step =
+        (j.transpose() * j + 1e-9 * Eigen::MatrixXd::Identity(free.size(), free.size()))
+            .ldlt()
+            .solve(-j.transpose() * r0);
     for (size_t c = 0; c < free.size(); ++c) {
       const int k = free[c];
       angles[k] = std::clamp(angles[k] + step[c], double(bone.dof_min[k]), double(bone.dof_max[k]));
@@ -201,9 +203,9 @@ StatusOr<std::vector<std::vector<double>>> RetargetToGenericBody(const BvhMotion
   }
   const size_t count = o.frames ? o.frames : clip.size();
   if (count > clip.size()) {
-    return InvalidArgument("retarget: the motion holds " + std::to_string(clip.size()) + " frames at " +
-                           std::to_string(o.fps) + " fps from the start time, " + std::to_string(count) +
-                           " asked for");
+    return InvalidArgument("retarget: the motion holds " + std::to_string(clip.size()) +
+                           " frames at " + std::to_string(o.fps) + " fps from the start time, " +
+                           std::to_string(count) + " asked for");
   }
 
   // Rest direction of each generic bone's segment.

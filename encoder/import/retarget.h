@@ -17,9 +17,9 @@ namespace fvv {
 
 struct RetargetOptions {
   double fps = 25;
-  uint32_t frames = 0;        // 0: as many as the clip holds from `start_seconds`
+  uint32_t frames = 0;  // 0: as many as the clip holds from `start_seconds`
   double start_seconds = 0;
-  bool centre = true;         // move the clip's mean horizontal position to the origin
+  bool centre = true;  // move the clip's mean horizontal position to the origin
 };
 
 // One DOF vector per output frame for the generic body's skeleton. Errors name

@@ -11,7 +11,8 @@ std::vector<Eigen::Vector3f> Actor::PosedPositions(uint32_t frame) const {
   for (size_t v = 0; v < m.positions.size(); ++v) {
     Eigen::Matrix4f s = Eigen::Matrix4f::Zero();
     for (int k = 0; k < 4; ++k) {
-      if (m.weights[v][k] > 0 && m.joints[v][k] < skin.size()) s += m.weights[v][k] * skin[m.joints[v][k]];
+      if (m.weights[v][k] > 0 && m.joints[v][k] < skin.size())
+        s += m.weights[v][k] * skin[m.joints[v][k]];
     }
     out[v] = s.topLeftCorner<3, 3>() * m.positions[v] + s.topRightCorner<3, 1>();
   }

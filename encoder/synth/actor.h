@@ -4,10 +4,9 @@
 #ifndef FVV_ENCODER_SYNTH_ACTOR_H_
 #define FVV_ENCODER_SYNTH_ACTOR_H_
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "container/body_model.h"
 #include "tools/imageio/image_io.h"

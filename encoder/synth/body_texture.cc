@@ -64,7 +64,8 @@ Vector3f ClothingColour(const std::vector<Vector3d>& joints, int segment, const 
           }
         }
         const double my = h.y() - 0.045;
-        if (std::abs(h.x()) < 0.025 && std::abs(my - 0.01 * (h.x() / 0.025) * (h.x() / 0.025)) < 0.005) {
+        if (std::abs(h.x()) < 0.025 &&
+            std::abs(my - 0.01 * (h.x() / 0.025) * (h.x() / 0.025)) < 0.005) {
           return Rgb(170, 80, 80);  // mouth
         }
       }
@@ -83,8 +84,8 @@ Vector3f ClothingColour(const std::vector<Vector3d>& joints, int segment, const 
       const bool sleeve = segment == kSegLeftUpperArm || segment == kSegRightUpperArm;
       if (sleeve) {
         const double along = std::abs(p.x()) - std::abs(joints[kLeftShoulder].x());
-        if (along > 0.2) return skin;                         // short sleeves
-        if (along > 0.17) shirt = Rgb(240, 240, 235);         // sleeve hem
+        if (along > 0.2) return skin;                  // short sleeves
+        if (along > 0.17) shirt = Rgb(240, 240, 235);  // sleeve hem
       } else {
         const double y = p.y() - joints[kLumbar].y();
         if (std::fmod(y + 10, 0.09) < 0.025) shirt = Rgb(238, 236, 228);  // stripes
@@ -140,7 +141,8 @@ Image BakeBodyTexture(const BodyModel& model, int size, uint32_t seed) {
       pos[k] = Vector3d(m.positions[t[k]][0], m.positions[t[k]][1], m.positions[t[k]][2]);
       nor[k] = Vector3d(m.normals[t[k]][0], m.normals[t[k]][1], m.normals[t[k]][2]);
     }
-    const double area = (uv[1] - uv[0]).x() * (uv[2] - uv[0]).y() - (uv[1] - uv[0]).y() * (uv[2] - uv[0]).x();
+    const double area =
+        (uv[1] - uv[0]).x() * (uv[2] - uv[0]).y() - (uv[1] - uv[0]).y() * (uv[2] - uv[0]).x();
     if (std::abs(area) < 1e-12) continue;
     const int x0 = std::max(0, int(std::floor(std::min({uv[0].x(), uv[1].x(), uv[2].x()}))));
     const int x1 = std::min(size - 1, int(std::ceil(std::max({uv[0].x(), uv[1].x(), uv[2].x()}))));

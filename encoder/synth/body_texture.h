@@ -6,9 +6,8 @@
 #ifndef FVV_ENCODER_SYNTH_BODY_TEXTURE_H_
 #define FVV_ENCODER_SYNTH_BODY_TEXTURE_H_
 
-#include <vector>
-
 #include <Eigen/Core>
+#include <vector>
 
 #include "container/body_model.h"
 #include "tools/imageio/image_io.h"

@@ -35,12 +35,17 @@ StatusOr<std::unique_ptr<GltfActor>> GltfActor::Load(const std::string& path, do
   mean /= samples;
   a->placement_.topRightCorner<3, 1>() = Eigen::Vector3d(-mean.x(), -lowest, -mean.z());
   const size_t slash = path.find_last_of('/');
-  a->description_ = "glTF character " + (slash == std::string::npos ? path : path.substr(slash + 1)) +
-                    " (" + std::to_string(ch.joint_nodes.size()) + " joints, " +
-                    std::to_string(ch.indices.size() / 3) + " triangles, " +
-                    (a->animation_ >= 0 ? "animation " + (ch.animations[0].name.empty() ? std::string("0") : "\"" + ch.animations[0].name + "\"") + " looped"
-                                        : std::string("no animation: rest pose")) +
-                    ")";
+  a->description_ =
+      "glTF character " + (slash == std::string::npos ? path : path.substr(slash + 1)) + " (" +
+      std::to_string(ch.joint_nodes.size()) + " joints, " + std::to_string(ch.indices.size() / 3) +
+      " triangles, " +
+      (a->animation_ >= 0
+           ? "animation " +
+                 (ch.animations[0].name.empty() ? std::string("0")
+                                                : "\"" + ch.animations[0].name + "\"") +
+                 " looped"
+           : std::string("no animation: rest pose")) +
+      ")";
   return a;
 }
 

@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-
 #include <nlohmann/json.hpp>
 
 #include "codec/thread_pool.h"
@@ -78,8 +77,8 @@ nlohmann::json Vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
 }  // namespace
 
-std::vector<Camera> MakeStudioCameras(uint32_t count, uint32_t width, uint32_t height,
-                                      double phase, const std::string& prefix) {
+std::vector<Camera> MakeStudioCameras(uint32_t count, uint32_t width, uint32_t height, double phase,
+                                      const std::string& prefix) {
   std::vector<Camera> out;
   // Framing: about 2.3 m of height at the ring's radius fills the image, so the
   // actor stays in view when it walks up to a camera.
@@ -99,7 +98,8 @@ std::vector<Camera> MakeStudioCameras(uint32_t count, uint32_t width, uint32_t h
 StatusOr<std::unique_ptr<Actor>> MakeSynthActor(const SynthOptions& o) {
   if (o.actor != "builtin") {
     if (!o.motion.empty()) {
-      return InvalidArgument("synth: --motion drives the built-in actor; a glTF actor plays its own animation");
+      return InvalidArgument(
+          "synth: --motion drives the built-in actor; a glTF actor plays its own animation");
     }
     StatusOr<std::unique_ptr<GltfActor>> g = GltfActor::Load(o.actor, o.fps, o.frames);
     if (!g.ok()) return Status(g.status().code(), "synth: --actor: " + g.status().message());
@@ -125,7 +125,8 @@ StatusOr<std::unique_ptr<Actor>> MakeSynthActor(const SynthOptions& o) {
     const std::vector<DofRef> bvh_dofs = bvh->skeleton.Dofs();
     bool reference_frame = false;
     for (size_t d = 0; bvh->frames.size() > 1 && d < bvh_dofs.size(); ++d) {
-      if (IsRotationDof(bvh_dofs[d].kind) && std::abs(bvh->frames[1][d] - bvh->frames[0][d]) > 0.5) {
+      if (IsRotationDof(bvh_dofs[d].kind) &&
+          std::abs(bvh->frames[1][d] - bvh->frames[0][d]) > 0.5) {
         reference_frame = true;
       }
     }
@@ -133,7 +134,8 @@ StatusOr<std::unique_ptr<Actor>> MakeSynthActor(const SynthOptions& o) {
     StatusOr<std::vector<std::vector<double>>> retargeted =
         RetargetToGenericBody(*bvh, model.skeleton, r);
     if (!retargeted.ok()) {
-      return Status(retargeted.status().code(), "synth: " + o.motion + ": " + retargeted.status().message());
+      return Status(retargeted.status().code(),
+                    "synth: " + o.motion + ": " + retargeted.status().message());
     }
     poses = std::move(*retargeted);
     const size_t slash = o.motion.find_last_of('/');
@@ -142,9 +144,8 @@ StatusOr<std::unique_ptr<Actor>> MakeSynthActor(const SynthOptions& o) {
     poses = ProceduralWalk(model.skeleton, o.frames, o.fps);
   }
   Image texture = BakeBodyTexture(model, static_cast<int>(o.texture_size), o.seed);
-  return std::unique_ptr<Actor>(new BodyModelActor(std::move(model), std::move(poses),
-                                                   std::move(texture),
-                                                   "built-in body model, " + motion));
+  return std::unique_ptr<Actor>(new BodyModelActor(
+      std::move(model), std::move(poses), std::move(texture), "built-in body model, " + motion));
 }
 
 StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
@@ -158,7 +159,8 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
   if (o.width < 16 || o.height < 16 || o.width > 4096 || o.height > 4096) {
     return InvalidArgument("synth: image size must be 16..4096 on each side");
   }
-  if (o.frames < 1 || o.frames > 100000) return InvalidArgument("synth: --frames must be 1..100000");
+  if (o.frames < 1 || o.frames > 100000)
+    return InvalidArgument("synth: --frames must be 1..100000");
   if (!(o.fps > 0 && o.fps <= 240)) return InvalidArgument("synth: --fps must be in (0, 240]");
   if (!(o.noise >= 0 && o.noise <= 50)) return InvalidArgument("synth: --noise must be 0..50");
   if (!(o.colour_mismatch >= 0 && o.colour_mismatch <= 0.5)) {
@@ -261,11 +263,13 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
     };
     for (uint32_t c = 0; c < cameras.size(); ++c) {
       const std::string name = CameraDir(cameras[c]);
-      FVV_RETURN_IF_ERROR(film(cameras[c], c, dir + "/" + name, dir + "/truth/silhouettes/" + name));
+      FVV_RETURN_IF_ERROR(
+          film(cameras[c], c, dir + "/" + name, dir + "/truth/silhouettes/" + name));
     }
     for (uint32_t c = 0; c < held.size(); ++c) {
       const std::string name = CameraDir(held[c]);
-      FVV_RETURN_IF_ERROR(film(held[c], uint32_t(cameras.size()) + c, dir + "/truth/heldout/" + name,
+      FVV_RETURN_IF_ERROR(film(held[c], uint32_t(cameras.size()) + c,
+                               dir + "/truth/heldout/" + name,
                                dir + "/truth/heldout/silhouettes/" + name));
     }
     FVV_RETURN_IF_ERROR(write_all(&pending));
@@ -283,8 +287,9 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       const double eta = elapsed / (f + 1) * (o.frames - f - 1);
       char line[160];
-      std::snprintf(line, sizeof(line), "synth: frame %u/%u (%zu cameras + %zu held out), %.1f s, ETA %.0f s",
-                    f + 1, o.frames, cameras.size(), held.size(), elapsed, eta);
+      std::snprintf(line, sizeof(line),
+                    "synth: frame %u/%u (%zu cameras + %zu held out), %.1f s, ETA %.0f s", f + 1,
+                    o.frames, cameras.size(), held.size(), elapsed, eta);
       say(line);
     }
   }
@@ -316,8 +321,8 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
                                       truth_text.size()));
 
   // capture.json last: a directory with one is complete.
-  auto capture_of = [&](const std::vector<Camera>& cams, const std::string& cdir,
-                        bool silhouettes, bool backgrounds) {
+  auto capture_of = [&](const std::vector<Camera>& cams, const std::string& cdir, bool silhouettes,
+                        bool backgrounds) {
     Capture c;
     c.directory = cdir;
     c.frame_rate = o.fps;
@@ -330,7 +335,8 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
       if (backgrounds) cc.background = "background/" + CameraDir(cam) + ".png";
       if (silhouettes) {
         FrameSource s;
-        s.path = (cdir == dir ? "truth/silhouettes/" : "silhouettes/") + CameraDir(cam) + "/%06d.png";
+        s.path =
+            (cdir == dir ? "truth/silhouettes/" : "silhouettes/") + CameraDir(cam) + "/%06d.png";
         cc.silhouettes = s;
       }
       c.cameras.push_back(cc);

@@ -29,14 +29,14 @@ struct SynthOptions {
   double fps = 25;
   uint32_t frames = 50;
   uint32_t seed = 1;
-  std::string motion;              // a BVH file; empty: the built-in walk
-  double motion_start = 0;         // seconds into the BVH clip
-  std::string actor = "builtin";   // "builtin" or a glTF 2.0 file (.glb/.gltf)
-  double stature = 1.0;            // the built-in actor's size (1.0 = 1.75 m)
-  double noise = 1.5;              // sensor noise, standard deviation in 8-bit levels
-  double colour_mismatch = 0.0;    // per-camera gain spread, e.g. 0.05 for +-5 %
-  uint32_t held_out = 2;           // extra cameras for novel-view evaluation
-  bool link_silhouettes = false;   // also list the true silhouettes in capture.json
+  std::string motion;             // a BVH file; empty: the built-in walk
+  double motion_start = 0;        // seconds into the BVH clip
+  std::string actor = "builtin";  // "builtin" or a glTF 2.0 file (.glb/.gltf)
+  double stature = 1.0;           // the built-in actor's size (1.0 = 1.75 m)
+  double noise = 1.5;             // sensor noise, standard deviation in 8-bit levels
+  double colour_mismatch = 0.0;   // per-camera gain spread, e.g. 0.05 for +-5 %
+  uint32_t held_out = 2;          // extra cameras for novel-view evaluation
+  bool link_silhouettes = false;  // also list the true silhouettes in capture.json
   uint32_t texture_size = 1024;
   std::function<void(const std::string&)> progress;  // one line per update
 };
@@ -51,8 +51,8 @@ struct SynthSummary {
 // alternating 1.3 m and 2.0 m) looking at the capture volume's centre, plus an
 // overhead camera when asked. `phase` offsets the angles (held-out cameras sit
 // between ring cameras).
-std::vector<Camera> MakeStudioCameras(uint32_t count, uint32_t width, uint32_t height,
-                                      double phase, const std::string& prefix);
+std::vector<Camera> MakeStudioCameras(uint32_t count, uint32_t width, uint32_t height, double phase,
+                                      const std::string& prefix);
 
 // Builds the actor the options describe.
 StatusOr<std::unique_ptr<Actor>> MakeSynthActor(const SynthOptions& options);

@@ -85,7 +85,8 @@ StatusOr<std::unique_ptr<SynthRenderer>> SynthRenderer::Create(const GlApi& gl,
   }
   std::unique_ptr<SynthRenderer> r(new SynthRenderer(gl));
   const GlApi& g = r->gl_;
-  StatusOr<GLuint> program = BuildProgram(g, kSkinningVertexShader, kFragmentShader, "synth renderer");
+  StatusOr<GLuint> program =
+      BuildProgram(g, kSkinningVertexShader, kFragmentShader, "synth renderer");
   if (!program.ok()) return program.status();
   r->program_ = *program;
   r->u_view_proj_ = g.GetUniformLocation(r->program_, "u_view_proj");
@@ -115,7 +116,8 @@ StatusOr<std::unique_ptr<SynthRenderer>> SynthRenderer::Create(const GlApi& gl,
   attrib(2, 2, mesh.uvs.data(), n * 8);
   std::vector<uint32_t> joints(n * 4);
   for (size_t v = 0; v < n; ++v) {
-    for (int k = 0; k < 4; ++k) joints[4 * v + k] = mesh.joints[v][k] < bone_count ? mesh.joints[v][k] : 0;
+    for (int k = 0; k < 4; ++k)
+      joints[4 * v + k] = mesh.joints[v][k] < bone_count ? mesh.joints[v][k] : 0;
   }
   buffer(GL_ARRAY_BUFFER, joints.data(), joints.size() * 4);
   g.EnableVertexAttribArray(3);
@@ -130,19 +132,20 @@ StatusOr<std::unique_ptr<SynthRenderer>> SynthRenderer::Create(const GlApi& gl,
   auto quad = [&](const Eigen::Vector3f& o, const Eigen::Vector3f& a, const Eigen::Vector3f& b) {
     const Eigen::Vector3f normal = a.cross(b).normalized();
     const uint32_t base = static_cast<uint32_t>(sp.size() / 3);
-    for (const Eigen::Vector3f& p : {o, Eigen::Vector3f(o + a), Eigen::Vector3f(o + a + b), Eigen::Vector3f(o + b)}) {
+    for (const Eigen::Vector3f& p :
+         {o, Eigen::Vector3f(o + a), Eigen::Vector3f(o + a + b), Eigen::Vector3f(o + b)}) {
       sp.insert(sp.end(), {p.x(), p.y(), p.z()});
       sn.insert(sn.end(), {normal.x(), normal.y(), normal.z()});
     }
     si.insert(si.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
   };
   const float h = 6.0f, top = 4.5f;
-  quad({-h, 0, -h}, {0, 0, 2 * h}, {2 * h, 0, 0});      // floor, normal +y
-  quad({-h, 0, -h}, {2 * h, 0, 0}, {0, top, 0});        // back wall, normal +z
-  quad({h, 0, h}, {-2 * h, 0, 0}, {0, top, 0});         // front wall, normal -z
-  quad({-h, 0, h}, {0, 0, -2 * h}, {0, top, 0});        // left wall, normal +x
-  quad({h, 0, -h}, {0, 0, 2 * h}, {0, top, 0});         // right wall, normal -x
-  quad({-h, top, -h}, {2 * h, 0, 0}, {0, 0, 2 * h});    // ceiling, normal -y
+  quad({-h, 0, -h}, {0, 0, 2 * h}, {2 * h, 0, 0});    // floor, normal +y
+  quad({-h, 0, -h}, {2 * h, 0, 0}, {0, top, 0});      // back wall, normal +z
+  quad({h, 0, h}, {-2 * h, 0, 0}, {0, top, 0});       // front wall, normal -z
+  quad({-h, 0, h}, {0, 0, -2 * h}, {0, top, 0});      // left wall, normal +x
+  quad({h, 0, -h}, {0, 0, 2 * h}, {0, top, 0});       // right wall, normal -x
+  quad({-h, top, -h}, {2 * h, 0, 0}, {0, 0, 2 * h});  // ceiling, normal -y
   g.GenVertexArrays(1, &r->studio_vao_);
   g.BindVertexArray(r->studio_vao_);
   attrib(0, 3, sp.data(), sp.size() * 4);
@@ -244,8 +247,8 @@ StatusOr<Image> SynthRenderer::Read(const Camera& camera, int channels) {
   image.width = camera.width;
   image.height = camera.height;
   image.channels = channels;
-  FVV_RETURN_IF_ERROR(ReadFramebuffer(gl_, int(camera.width), int(camera.height), channels,
-                                      &image.pixels));
+  FVV_RETURN_IF_ERROR(
+      ReadFramebuffer(gl_, int(camera.width), int(camera.height), channels, &image.pixels));
   return image;
 }
 

@@ -5,10 +5,9 @@
 #ifndef FVV_ENCODER_SYNTH_SYNTH_RENDERER_H_
 #define FVV_ENCODER_SYNTH_SYNTH_RENDERER_H_
 
+#include <Eigen/Core>
 #include <memory>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "codec/status.h"
 #include "container/cameras.h"

@@ -1,7 +1,6 @@
 #include "player/render/gl_api.h"
 
 #include <algorithm>
-
 #include <string>
 
 namespace fvv {

@@ -213,7 +213,8 @@ Image MakeContactSheet(const std::vector<Image>& tiles, uint32_t columns) {
   if (columns == 0) columns = static_cast<uint32_t>(std::ceil(std::sqrt(double(tiles.size()))));
   const uint32_t rows = static_cast<uint32_t>((tiles.size() + columns - 1) / columns);
   uint32_t cell_w = 0, cell_h = 0;
-  for (const Image& t : tiles) cell_w = std::max(cell_w, t.width), cell_h = std::max(cell_h, t.height);
+  for (const Image& t : tiles)
+    cell_w = std::max(cell_w, t.width), cell_h = std::max(cell_h, t.height);
   sheet.width = columns * cell_w;
   sheet.height = rows * cell_h;
   sheet.channels = 3;
