@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <Eigen/Geometry>
 #include <cstdlib>
@@ -165,10 +166,12 @@ class CaptureFiles : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = ::testing::TempDir() + "/capture_files_" +
-           ::testing::UnitTest::GetInstance()->current_test_info()->name();
+           ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
+           std::to_string(getpid());
     std::system(
         ("rm -rf '" + dir_ + "' && mkdir -p '" + dir_ + "/left' '" + dir_ + "/right'").c_str());
   }
+  void TearDown() override { std::system(("rm -rf '" + dir_ + "'").c_str()); }
   Image Frame(uint32_t w, uint32_t h, int seed) {
     Image img;
     img.width = w, img.height = h;

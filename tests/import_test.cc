@@ -2,6 +2,7 @@
 // model; skinned, animated glTF 2.0 characters (CesiumMan from ../shared/data).
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -217,12 +218,12 @@ TEST(Gltf, BrokenFilesGiveErrors) {
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const std::string dir = ::testing::TempDir();
   for (size_t cut : {size_t{12}, size_t{600}, bytes.size() / 2, bytes.size() - 1}) {
-    const std::string path = dir + "/truncated.glb";
+    const std::string path = dir + "/truncated_" + std::to_string(getpid()) + ".glb";
     std::ofstream(path, std::ios::binary).write(bytes.data(), std::streamsize(cut));
     EXPECT_FALSE(LoadGltf(path).ok()) << "cut at " << cut;
   }
   // A valid glTF without a skin is not a character.
-  const std::string path = dir + "/static.gltf";
+  const std::string path = dir + "/static_" + std::to_string(getpid()) + ".gltf";
   std::ofstream(path)
       << R"({"asset": {"version": "2.0"}, "nodes": [{"name": "a"}], "scenes": [{"nodes": [0]}]})";
   StatusOr<GltfCharacter> c = LoadGltf(path);

@@ -5,6 +5,7 @@
 #include "encoder/synth/synth.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <fstream>
@@ -68,7 +69,9 @@ int DisagreementsBeyondOnePixel(const std::vector<uint8_t>& a, const std::vector
 class SynthTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = ::testing::TempDir() + "/synth_test";
+    // ctest runs each test of the suite as its own process, possibly at the
+    // same time: each process renders into its own directory.
+    dir_ = ::testing::TempDir() + "/synth_test_" + std::to_string(getpid());
     std::system(("rm -rf '" + dir_ + "'").c_str());
     options_.output_dir = dir_;
     options_.cameras = 3;
@@ -80,6 +83,9 @@ class SynthTest : public ::testing::Test {
     options_.noise = 2.0;
     options_.seed = 5;
     result_ = RunSynth(options_).status();
+  }
+  static void TearDownTestSuite() {
+    std::system(("rm -rf '" + dir_ + "' '" + dir_ + "_again' '" + dir_ + "_other'").c_str());
   }
   static std::string dir_;
   static SynthOptions options_;
@@ -149,7 +155,7 @@ TEST(SynthGltf, CesiumManCaptureMatchesItsMesh) {
   std::ifstream probe(model);
   if (!probe) GTEST_SKIP() << model << " absent (third-party data)";
   SynthOptions o;
-  o.output_dir = ::testing::TempDir() + "/synth_cesium";
+  o.output_dir = ::testing::TempDir() + "/synth_cesium_" + std::to_string(getpid());
   std::system(("rm -rf '" + o.output_dir + "'").c_str());
   o.actor = model;
   o.cameras = 2;
@@ -297,7 +303,7 @@ TEST(Silhouette, EmptyFrameGivesEmptyMaskAndSizesMustMatch) {
 
 TEST(Synth, RejectsBadOptions) {
   SynthOptions o;
-  o.output_dir = ::testing::TempDir() + "/synth_bad";
+  o.output_dir = ::testing::TempDir() + "/synth_bad_" + std::to_string(getpid());
   o.cameras = 0;
   EXPECT_FALSE(RunSynth(o).ok());
   o.cameras = 2;

@@ -3,6 +3,7 @@
 // the joints within a bound; empty silhouettes and bad inputs are flagged or
 // refused, never a crash or a wild pose. Also Powell's method on its own.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdlib>
 
@@ -41,7 +42,8 @@ TEST(Powell, MinimisesWithinBounds) {
 class TrackTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    options_.output_dir = ::testing::TempDir() + "/track_test";
+    // Each test of the suite may run as its own process at the same time.
+    options_.output_dir = ::testing::TempDir() + "/track_test_" + std::to_string(getpid());
     std::system(("rm -rf '" + options_.output_dir + "'").c_str());
     options_.cameras = 6;
     options_.width = 320;
@@ -69,6 +71,7 @@ class TrackTest : public ::testing::Test {
     for (const CaptureCamera& cam : c.cameras) out.push_back(cam.calibration);
     return out;
   }
+  static void TearDownTestSuite() { std::system(("rm -rf '" + options_.output_dir + "'").c_str()); }
   static SynthOptions options_;
   static Status status_;
 };

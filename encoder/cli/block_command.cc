@@ -33,12 +33,6 @@ int Fail(const Status& s) {
   return 1;
 }
 
-Status MakeDirectory(const std::string& dir) {
-  if (mkdir(dir.c_str(), 0755) != 0 && errno != EEXIST)
-    return IoError("cannot create directory " + dir + ": " + std::strerror(errno));
-  return Status::Ok();
-}
-
 std::string ViewName(const std::string& dir, const char* stem, uint32_t t, uint32_t c,
                      const char* ext) {
   char name[64];
@@ -218,7 +212,7 @@ int RunDecode(const DecodeArgs& a) {
   DecodeReport report;
   auto block = DecodeBlock(*encoded, budget, pool.runner(), &report);
   if (!block.ok()) return Fail(block.status());
-  Status s = MakeDirectory(a.output_dir);
+  Status s = MakeDirectories(a.output_dir);
   if (!s.ok()) return Fail(s);
   const Shape4D& shape = block->shape();
   std::vector<uint8_t> rgb(shape.count() * 3);
@@ -251,7 +245,7 @@ struct SampleArgs {
 };
 
 int RunSample(const SampleArgs& a) {
-  Status s = MakeDirectory(a.output_dir);
+  Status s = MakeDirectories(a.output_dir);
   if (!s.ok()) return Fail(s);
   for (uint32_t t = 0; t < a.frames; ++t)
     for (uint32_t c = 0; c < a.cameras; ++c) {

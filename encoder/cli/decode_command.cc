@@ -76,9 +76,7 @@ int RunDecode(const DecodeArgs& a) {
     return Fail("--frames " + a.frames +
                 ": not a range A:B within 0:" + std::to_string(info.frame_count - 1));
   }
-  if (mkdir(a.output_dir.c_str(), 0755) != 0 && errno != EEXIST) {
-    return Fail("cannot create " + a.output_dir + ": " + std::strerror(errno));
-  }
+  if (Status s = MakeDirectories(a.output_dir); !s.ok()) return Fail(s.ToString());
   fvv_decode_budget budget{};
   budget.max_bytes_per_gop = a.bytes;
   budget.max_ms_per_gop = a.max_ms;

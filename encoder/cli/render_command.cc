@@ -53,9 +53,7 @@ int RunRender(const RenderArgs& a) {
     return Fail("--camera " + std::to_string(a.camera) + ": the stream has " +
                 std::to_string(info.camera_count) + " cameras");
   }
-  if (mkdir(a.output_dir.c_str(), 0755) != 0 && errno != EEXIST) {
-    return Fail("cannot create " + a.output_dir + ": " + std::strerror(errno));
-  }
+  if (Status s = MakeDirectories(a.output_dir); !s.ok()) return Fail(s.ToString());
   auto ctx = HeadlessContext::Create(width, height);
   if (!ctx.ok()) return Fail(ctx.status().ToString());
   fvv_model model;

@@ -1,7 +1,5 @@
 #include "encoder/synth/synth.h"
 
-#include <sys/stat.h>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -23,19 +21,6 @@ namespace fvv {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-Status MakeDirs(const std::string& path) {
-  std::string partial;
-  for (size_t i = 0; i <= path.size(); ++i) {
-    if (i == path.size() || path[i] == '/') {
-      partial = path.substr(0, i);
-      if (!partial.empty() && mkdir(partial.c_str(), 0755) != 0 && errno != EEXIST) {
-        return IoError("cannot create directory " + partial);
-      }
-    }
-  }
-  return Status::Ok();
-}
 
 // Reproducible noise on every platform: a counter-based hash and Box-Muller.
 class NoiseSource {
@@ -187,15 +172,15 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
   const std::vector<Camera> held = MakeStudioCameras(o.held_out, o.width, o.height, 0.5, "held");
 
   const std::string dir = o.output_dir;
-  FVV_RETURN_IF_ERROR(MakeDirs(dir + "/background"));
-  FVV_RETURN_IF_ERROR(MakeDirs(dir + "/truth/heldout"));
+  FVV_RETURN_IF_ERROR(MakeDirectories(dir + "/background"));
+  FVV_RETURN_IF_ERROR(MakeDirectories(dir + "/truth/heldout"));
   for (const Camera& c : cameras) {
-    FVV_RETURN_IF_ERROR(MakeDirs(dir + "/" + CameraDir(c)));
-    FVV_RETURN_IF_ERROR(MakeDirs(dir + "/truth/silhouettes/" + CameraDir(c)));
+    FVV_RETURN_IF_ERROR(MakeDirectories(dir + "/" + CameraDir(c)));
+    FVV_RETURN_IF_ERROR(MakeDirectories(dir + "/truth/silhouettes/" + CameraDir(c)));
   }
   for (const Camera& c : held) {
-    FVV_RETURN_IF_ERROR(MakeDirs(dir + "/truth/heldout/" + CameraDir(c)));
-    FVV_RETURN_IF_ERROR(MakeDirs(dir + "/truth/heldout/silhouettes/" + CameraDir(c)));
+    FVV_RETURN_IF_ERROR(MakeDirectories(dir + "/truth/heldout/" + CameraDir(c)));
+    FVV_RETURN_IF_ERROR(MakeDirectories(dir + "/truth/heldout/silhouettes/" + CameraDir(c)));
   }
 
   uint32_t max_w = o.width, max_h = o.height;

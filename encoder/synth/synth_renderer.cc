@@ -4,6 +4,7 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/mat4x4.hpp>
 
+#include "player/decoder/public_camera.h"
 #include "player/render/renderer.h"
 
 namespace fvv {
@@ -57,20 +58,6 @@ void main() {
   colour = vec4(base * light, 1.0);
 }
 )";
-
-fvv_camera ToFvvCamera(const Camera& c) {
-  fvv_camera f{};
-  f.name = c.name.c_str();
-  f.width = c.width;
-  f.height = c.height;
-  f.fx = c.fx, f.fy = c.fy, f.cx = c.cx, f.cy = c.cy;
-  for (int i = 0; i < 5; ++i) f.distortion[i] = c.distortion[i];
-  for (int i = 0; i < 9; ++i) f.rotation[i] = c.rotation[i];
-  for (int i = 0; i < 3; ++i) f.translation[i] = c.translation[i];
-  const auto centre = c.Centre();
-  for (int i = 0; i < 3; ++i) f.centre[i] = centre[i];
-  return f;
-}
 
 }  // namespace
 
@@ -185,7 +172,7 @@ SynthRenderer::~SynthRenderer() {
 
 Status SynthRenderer::SetCamera(const Camera& camera) {
   glm::mat4 view, projection;
-  CameraViewProjection(ToFvvCamera(camera), 0.05f, 40.0f, &view, &projection);
+  CameraViewProjection(PublicCamera(camera), 0.05f, 40.0f, &view, &projection);
   const glm::mat4 vp = projection * view;
   gl_.Viewport(0, 0, static_cast<GLsizei>(camera.width), static_cast<GLsizei>(camera.height));
   gl_.Enable(GL_DEPTH_TEST);

@@ -10,6 +10,7 @@
 #include "fvv/fvv_decoder.h"
 #include "player/decoder/decoder.h"
 #include "player/decoder/pose.h"
+#include "player/decoder/public_camera.h"
 
 struct fvv_decoder {
   explicit fvv_decoder(const fvv_decoder_settings& s) : impl(s) {}
@@ -197,21 +198,7 @@ fvv_status fvv_decoder_get_camera(const fvv_decoder* cd, uint32_t index, fvv_cam
   if (const fvv_status s = RequireReady(d, out, "get_camera"); s != FVV_OK) return s;
   const auto& cams = d->impl.info().cameras;
   if (index >= cams.size()) return Misuse(d, "get_camera: index beyond the camera count");
-  const fvv::Camera& c = cams[index];
-  out->name = c.name.c_str();
-  out->width = c.width;
-  out->height = c.height;
-  out->fx = c.fx;
-  out->fy = c.fy;
-  out->cx = c.cx;
-  out->cy = c.cy;
-  for (int i = 0; i < 5; ++i) out->distortion[i] = c.distortion[i];
-  for (int i = 0; i < 9; ++i) out->rotation[i] = c.rotation[i];
-  const auto centre = c.Centre();
-  for (int i = 0; i < 3; ++i) {
-    out->translation[i] = c.translation[i];
-    out->centre[i] = centre[i];
-  }
+  *out = fvv::PublicCamera(cams[index]);
   return Report(d, fvv::Status::Ok());
 }
 

@@ -7,6 +7,7 @@
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
 #include <png.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -231,6 +232,17 @@ Image MakeContactSheet(const std::vector<Image>& tiles, uint32_t columns) {
     }
   }
   return sheet;
+}
+
+Status MakeDirectories(const std::string& path) {
+  for (size_t i = 1; i <= path.size(); ++i) {
+    if (i < path.size() && path[i] != '/') continue;
+    const std::string partial = path.substr(0, i);
+    if (mkdir(partial.c_str(), 0755) != 0 && errno != EEXIST) {
+      return IoError("cannot create directory " + partial + ": " + std::strerror(errno));
+    }
+  }
+  return Status::Ok();
 }
 
 }  // namespace fvv

@@ -31,6 +31,9 @@ Status WriteImage(const std::string& path, const Image& image);
 // columns = 0: about square.
 Image MakeContactSheet(const std::vector<Image>& tiles, uint32_t columns = 0);
 
+// Creates `path` and any missing parents (mkdir -p); fine if it exists.
+Status MakeDirectories(const std::string& path);
+
 // Whole-file helpers with the same atomic-write rule.
 StatusOr<std::vector<uint8_t>> ReadFileBytes(const std::string& path, uint64_t max_bytes);
 Status WriteFileAtomic(const std::string& path, const uint8_t* data, size_t size);
