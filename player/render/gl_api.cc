@@ -42,20 +42,33 @@ void main() {
 }
 )";
 
+namespace {
+
+// OK when a shader compiled or a program linked (`status` of `object`);
+// otherwise deletes the object and returns its info log in the error. Shaders
+// and programs have calls of the same shapes, so one check serves both.
+Status CheckBuilt(GLuint object, GLenum status, PFNGLGETSHADERIVPROC get_iv,
+                  PFNGLGETSHADERINFOLOGPROC get_log, PFNGLDELETESHADERPROC remove,
+                  const std::string& failure) {
+  GLint ok = 0;
+  get_iv(object, status, &ok);
+  if (ok) return Status::Ok();
+  char log[2048] = {};
+  get_log(object, sizeof(log), nullptr, log);
+  remove(object);
+  return Internal(failure + log);
+}
+
+}  // namespace
+
 StatusOr<GLuint> BuildProgram(const GlApi& g, const char* vertex_source,
                               const char* fragment_source, const std::string& what) {
   auto compile = [&](GLenum type, const char* src, GLuint* out) -> Status {
     const GLuint s = g.CreateShader(type);
     g.ShaderSource(s, 1, &src, nullptr);
     g.CompileShader(s);
-    GLint ok = 0;
-    g.GetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-      char log[2048];
-      g.GetShaderInfoLog(s, sizeof(log), nullptr, log);
-      g.DeleteShader(s);
-      return Internal(what + ": shader does not compile: " + log);
-    }
+    FVV_RETURN_IF_ERROR(CheckBuilt(s, GL_COMPILE_STATUS, g.GetShaderiv, g.GetShaderInfoLog,
+                                   g.DeleteShader, what + ": shader does not compile: "));
     *out = s;
     return Status::Ok();
   };
@@ -72,14 +85,8 @@ StatusOr<GLuint> BuildProgram(const GlApi& g, const char* vertex_source,
   g.LinkProgram(program);
   g.DeleteShader(vs);
   g.DeleteShader(fs);
-  GLint linked = 0;
-  g.GetProgramiv(program, GL_LINK_STATUS, &linked);
-  if (!linked) {
-    char log[2048];
-    g.GetProgramInfoLog(program, sizeof(log), nullptr, log);
-    g.DeleteProgram(program);
-    return Internal(what + ": program does not link: " + log);
-  }
+  FVV_RETURN_IF_ERROR(CheckBuilt(program, GL_LINK_STATUS, g.GetProgramiv, g.GetProgramInfoLog,
+                                 g.DeleteProgram, what + ": program does not link: "));
   return program;
 }
 
