@@ -65,6 +65,11 @@ struct EncodeSettings {
 struct EncodeReport {
   std::array<uint64_t, 3> channel_bytes{};
   double estimated_psnr = 0;  // from the transform-domain error estimate, all texels
+  // When not null: receives what a decoder reconstructs from the whole returned
+  // block (the PSNR search's last trial decode when there is one, so callers
+  // that measure quality need not decode again).
+  Block* decoded = nullptr;
+  bool decoded_filled = false;
 };
 
 // mask may be null (every texel used); otherwise one byte per luma texel.

@@ -162,8 +162,16 @@ StatusOr<EncodedBlock> EncodeBlock(const Block& block, const UsedMask* mask,
   else if (settings.rate_mode == RateMode::kTotalBytes)
     cap = static_cast<uint64_t>(settings.rate_value);
   else if (settings.rate_mode == RateMode::kPsnr)
-    cap = samples;  // 8 bpp per channel: far beyond any sensible PSNR target
+    cap = std::max<uint64_t>(64, samples / 32);  // 0.25 bpp per channel first; grown below
   cap = std::max<uint64_t>(cap, 1);
+  // Share of texels used: the transform-domain error estimate covers all
+  // texels, the PSNR target only the used ones (where the error concentrates).
+  double used_share = 1;
+  if (mask) {
+    uint64_t used = 0;
+    for (uint8_t u : *mask) used += u != 0;
+    used_share = std::max(1.0, double(used)) / double(samples);
+  }
 
   // Transform and code each channel.
   const int frac = TransformFracBits(settings.kernel);
@@ -190,25 +198,44 @@ StatusOr<EncodedBlock> EncodeBlock(const Block& block, const UsedMask* mask,
     });
     coeffs[c] = std::move(plane.samples);
   }
-  settings.runner(3, [&](uint32_t c) {
-    const WaveletGeometry g(block.channels[c].shape);
-    const SpihtTree tree(g);
-    const SubbandQuantisers q(settings.kernel, g);
-    SpihtEncoded enc = SpihtEncode(tree, q, coeffs[c], settings.coder, cap);
-    out.channels[c].planes = enc.planes;
-    out.channels[c].data = std::move(enc.data);
-    out.channels[c].points = std::move(enc.points);
-    rd_bytes[c] = std::move(enc.rd_bytes);
-    rd_distortion[c] = std::move(enc.rd_distortion);
-  });
-
-  // Rate allocation across channels on the weighted RD curves (distortion per luma sample).
   std::array<ChannelRd, 3> hulls;
-  const double per_sample = 1.0 / static_cast<double>(samples);
   double wsum = 0;
-  for (int c = 0; c < 3; ++c) {
-    hulls[c] = ConvexHull(rd_bytes[c], rd_distortion[c], settings.channel_weights[c] * per_sample);
-    wsum += settings.channel_weights[c];
+  for (;;) {
+    settings.runner(3, [&](uint32_t c) {
+      const WaveletGeometry g(block.channels[c].shape);
+      const SpihtTree tree(g);
+      const SubbandQuantisers q(settings.kernel, g);
+      SpihtEncoded enc = SpihtEncode(tree, q, coeffs[c], settings.coder, cap);
+      out.channels[c].planes = enc.planes;
+      out.channels[c].data = std::move(enc.data);
+      out.channels[c].points = std::move(enc.points);
+      rd_bytes[c] = std::move(enc.rd_bytes);
+      rd_distortion[c] = std::move(enc.rd_distortion);
+    });
+    // Rate allocation across channels on the weighted RD curves (distortion per luma sample).
+    const double per_sample = 1.0 / static_cast<double>(samples);
+    wsum = 0;
+    bool capped = false;
+    for (int c = 0; c < 3; ++c) {
+      hulls[c] =
+          ConvexHull(rd_bytes[c], rd_distortion[c], settings.channel_weights[c] * per_sample);
+      wsum += settings.channel_weights[c];
+      capped = capped || out.channels[c].data.size() >= cap;
+    }
+    if (settings.rate_mode != RateMode::kPsnr || !capped || cap >= samples) break;
+    // A PSNR target: code only as deep as it needs (SPIHT's cost grows with the
+    // bytes it writes). The estimate's error spreads over all texels, the
+    // target's over the used ones; the search below needs room beyond
+    // the estimate.
+    const double target_mse = 255.0 * 255.0 / std::pow(10.0, settings.rate_value / 10.0);
+    const std::array<uint64_t, 3> guess =
+        Allocate(hulls, UINT64_MAX, target_mse * wsum * std::sqrt(used_share), nullptr);
+    uint64_t need = 0;
+    for (int c = 0; c < 3; ++c) {
+      if (out.channels[c].data.size() >= cap) need = std::max(need, guess[c] + guess[c] / 4 + 64);
+    }
+    if (need <= cap) break;
+    cap = std::min<uint64_t>(samples, std::max(need, cap * 2));
   }
   double final_d = 0;
   if (settings.rate_mode == RateMode::kBitsPerSample ||
@@ -217,30 +244,58 @@ StatusOr<EncodedBlock> EncodeBlock(const Block& block, const UsedMask* mask,
   } else if (settings.rate_mode == RateMode::kPsnr) {
     // The estimate gives a starting point; actual decodes over used texels settle it.
     const double target_mse = 255.0 * 255.0 / std::pow(10.0, settings.rate_value / 10.0);
+    Block trial_decoded, best_decoded;
     auto psnr_at = [&](uint64_t budget, EncodedBlock* cut) {
       *cut = CutBlock(out, Allocate(hulls, budget, 0.0, nullptr));
       auto dec = DecodeBlock(*cut, DecodeBudget{}, settings.runner);
-      return dec.ok() ? PsnrFromMse(WeightedMse(block, *dec, mask, settings.channel_weights)) : 0.0;
+      if (!dec.ok()) return 0.0;
+      trial_decoded = std::move(*dec);
+      return PsnrFromMse(WeightedMse(block, trial_decoded, mask, settings.channel_weights));
     };
-    Allocate(hulls, UINT64_MAX, target_mse * wsum, &final_d);
+    // First guess: the transform-domain estimate, whose error spreads over all
+    // texels while the target counts the used ones.
+    const std::array<uint64_t, 3> guess =
+        Allocate(hulls, UINT64_MAX, target_mse * wsum * std::sqrt(used_share), &final_d);
     uint64_t hi = 0;
     for (int c = 0; c < 3; ++c) hi += out.channels[c].data.size();
-    uint64_t lo = 0;
-    EncodedBlock best = out, trial;
-    if (psnr_at(hi, &trial) >= settings.rate_value) {
-      best = trial;
-      // Bisection on total bytes to within 0.5%.
-      while (hi - lo > std::max<uint64_t>(16, hi / 200)) {
-        const uint64_t mid = lo + (hi - lo) / 2;
-        if (psnr_at(mid, &trial) >= settings.rate_value) {
-          hi = mid;
-          best = trial;
-        } else {
-          lo = mid;
-        }
+    // Then a secant search on PSNR against log2(bytes), a near-straight line
+    // at these rates: usually two or three trial decodes, not a bisection's ten.
+    uint64_t bytes =
+        std::clamp<uint64_t>(guess[0] + guess[1] + guess[2], 16, std::max<uint64_t>(16, hi));
+    EncodedBlock best, trial;
+    uint64_t best_bytes = 0;
+    double p = psnr_at(bytes, &trial), slope = 3.0, prev_p = 0;
+    uint64_t prev_bytes = 0;
+    for (int it = 0; it < 8; ++it) {
+      if (p >= settings.rate_value && (best_bytes == 0 || bytes < best_bytes)) {
+        best = trial, best_bytes = bytes;
+        best_decoded = std::move(trial_decoded);
+        if (p - settings.rate_value < 0.1) break;
       }
+      if (p < settings.rate_value && bytes >= hi) break;  // the whole stream falls short
+      if (prev_bytes && prev_bytes != bytes && std::abs(p - prev_p) > 1e-6) {
+        slope = std::clamp((p - prev_p) / std::log2(double(bytes) / double(prev_bytes)), 1.0, 12.0);
+      }
+      const double step = std::exp2((settings.rate_value + 0.03 - p) / slope);
+      uint64_t next = std::clamp<uint64_t>(uint64_t(std::llround(double(bytes) * step)), 16,
+                                           std::max<uint64_t>(16, hi));
+      if (best_bytes) next = std::min(next, best_bytes - 1);
+      if (next == bytes || next < 16) break;
+      prev_bytes = bytes, prev_p = p;
+      bytes = next;
+      p = psnr_at(bytes, &trial);
+    }
+    if (best_bytes == 0) {
+      best = out;  // the target is beyond the coded depth: everything coded
+    } else if (report && report->decoded) {
+      *report->decoded = std::move(best_decoded);
+      report->decoded_filled = true;
     }
     out = std::move(best);
+  }
+  if (report && report->decoded && !report->decoded_filled) {
+    FVV_ASSIGN_OR_RETURN(*report->decoded, DecodeBlock(out, DecodeBudget{}, settings.runner));
+    report->decoded_filled = true;
   }
   if (report) {
     for (int c = 0; c < 3; ++c) report->channel_bytes[c] = out.channels[c].data.size();

@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "codec/thread_pool.h"
-#include "encoder/capture/silhouette.h"
+#include "encoder/capture/capture_frames.h"
 
 namespace fvv {
 
@@ -50,7 +50,6 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
   TrackCaptureResult r;
   r.capture = *loaded;
   const Capture& cap = r.capture;
-  CaptureReader reader(cap);
   r.first = o.first;
   r.last = std::min(o.last, cap.frame_count - 1);
   if (r.first > r.last) {
@@ -58,50 +57,21 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
                            " are not within 0.." + std::to_string(cap.frame_count - 1));
   }
   const size_t n = cap.cameras.size();
-  r.given_silhouettes = reader.HasSilhouettes() && !o.extract;
-  std::vector<BackgroundModel> backgrounds(n);
-  if (!r.given_silhouettes) {
-    for (uint32_t c = 0; c < n; ++c) {
-      if (cap.cameras[c].background) {
-        StatusOr<Image> plate = reader.ReadBackground(c);
-        if (!plate.ok()) return plate.status();
-        backgrounds[c].colour = std::move(*plate);
-        continue;
-      }
-      // No plate: the temporal median of up to 15 frames spread over the take.
-      std::vector<Image> samples;
-      const uint32_t count = std::min<uint32_t>(15, cap.frame_count);
-      for (uint32_t k = 0; k < count; ++k) {
-        const uint32_t f = uint32_t(uint64_t(k) * (cap.frame_count - 1) / std::max(1u, count - 1));
-        StatusOr<Image> image = reader.ReadFrame(c, f);
-        if (!image.ok()) return image.status();
-        samples.push_back(std::move(*image));
-      }
-      backgrounds[c].colour = TemporalMedian(samples);
-    }
-  }
+  ThreadPool pool(2);
+  StatusOr<std::unique_ptr<CaptureFrames>> frames = CaptureFrames::Open(cap, o.extract, &pool);
+  if (!frames.ok()) return frames.status();
+  r.given_silhouettes = (*frames)->given_silhouettes();
   std::vector<Camera> cameras;
   for (const CaptureCamera& c : cap.cameras) cameras.push_back(c.calibration);
   StatusOr<std::unique_ptr<Tracker>> tracker = Tracker::Create(cameras, o.tracker);
   if (!tracker.ok()) return tracker.status();
 
-  ThreadPool pool(2);
   const auto start = Clock::now();
+  const bool want_images = o.on_frame || !o.overlays.empty();
   for (uint32_t f = r.first; f <= r.last; ++f) {
     const auto t0 = Clock::now();
-    std::vector<Image> sils(n);
-    std::vector<Status> errors(n);
-    pool.Run(uint32_t(n), [&](uint32_t c) {
-      StatusOr<Image> s =
-          r.given_silhouettes ? reader.ReadSilhouette(c, f) : reader.ReadFrame(c, f);
-      if (s.ok() && !r.given_silhouettes) s = ExtractSilhouette(*s, backgrounds[c]);
-      if (!s.ok()) {
-        errors[c] = s.status();
-        return;
-      }
-      sils[c] = std::move(*s);
-    });
-    for (const Status& s : errors) FVV_RETURN_IF_ERROR(s);
+    std::vector<Image> sils, images;
+    FVV_RETURN_IF_ERROR((*frames)->Read(f, want_images ? &images : nullptr, &sils));
     if (!o.save_silhouettes.empty()) {
       for (uint32_t c = 0; c < n; ++c) {
         char name[64];
@@ -126,16 +96,15 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
       // silhouette only in blue, agreement unchanged.
       std::vector<Image> tiles;
       for (uint32_t c = 0; c < n; ++c) {
-        StatusOr<Image> image = reader.ReadFrame(c, f);
-        if (!image.ok()) return image.status();
+        Image image = images[c];
         const Image model = (*tracker)->ModelSilhouette(c, fit->dofs);
         for (size_t i = 0; i < model.pixels.size(); ++i) {
           const bool m = model.pixels[i] != 0, s = sils[c].pixels[i] != 0;
           if (m == s) continue;
-          uint8_t* p = &image->pixels[3 * i];
+          uint8_t* p = &image.pixels[3 * i];
           p[0] = m ? 255 : 0, p[1] = 0, p[2] = m ? 0 : 255;
         }
-        tiles.push_back(std::move(*image));
+        tiles.push_back(std::move(image));
       }
       char name[64];
       std::snprintf(name, sizeof(name), "/overlay_%06u.png", f);
@@ -152,6 +121,11 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
                     fit->poor ? fit->note.c_str() : "ok", elapsed / done,
                     elapsed / done * (total - done));
       o.progress(line);
+    }
+    if (o.on_frame) {
+      const auto t3 = Clock::now();
+      FVV_RETURN_IF_ERROR(o.on_frame(f, *fit, **tracker, images, sils));
+      r.callback_seconds += std::chrono::duration<double>(Clock::now() - t3).count();
     }
     r.fits.push_back(std::move(*fit));
   }

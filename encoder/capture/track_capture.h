@@ -24,6 +24,12 @@ struct TrackCaptureOptions {
   std::string save_silhouettes;  // directory for the silhouettes used (PNG), or empty
   std::string overlays;          // directory for fit overlays (PNG), or empty
   std::function<void(const std::string&)> progress;  // one line per frame
+  // Called after each frame's fit with that frame's images and silhouettes (the
+  // encoder resamples textures here, so frames are read once). An error stops
+  // tracking and is returned. The tracker gives the body shape and model.
+  std::function<Status(uint32_t frame, const FrameFit& fit, const Tracker& tracker,
+                       const std::vector<Image>& images, const std::vector<Image>& silhouettes)>
+      on_frame;
 };
 
 struct TrackCaptureResult {
@@ -34,6 +40,7 @@ struct TrackCaptureResult {
   BodyShape shape;
   BodyModel model;  // the generic body with the fitted shape
   double silhouette_seconds = 0, fit_seconds = 0;
+  double callback_seconds = 0;  // in on_frame
   int flagged = 0;
   double mean_iou = 0;
   std::vector<std::vector<double>> Poses() const;

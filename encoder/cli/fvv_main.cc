@@ -5,6 +5,7 @@
 #include "encoder/cli/block_command.h"
 #include "encoder/cli/capture_command.h"
 #include "encoder/cli/decode_command.h"
+#include "encoder/cli/encode_command.h"
 #include "encoder/cli/play_command.h"
 #include "encoder/cli/render_command.h"
 #include "encoder/cli/stream_command.h"
@@ -17,6 +18,7 @@ int main(int argc, char** argv) {
   int exit_code = 0;
   fvv::AddCaptureCommands(&app, &exit_code);
   fvv::AddTrackCommand(&app, &exit_code);
+  fvv::AddEncodeCommand(&app, &exit_code);
   fvv::AddStreamCommands(&app, &exit_code);
   fvv::AddDecodeCommand(&app, &exit_code);
   fvv::AddRenderCommand(&app, &exit_code);

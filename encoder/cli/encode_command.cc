@@ -1,0 +1,153 @@
+#include "encoder/cli/encode_command.h"
+
+#include <cstdio>
+#include <map>
+#include <memory>
+
+#include "encoder/encode/encoder.h"
+
+namespace fvv {
+namespace {
+
+struct EncodeArgs {
+  std::string capture, output, poses, textures, save_textures, summary_json, frames;
+  std::string kernel = "97", coder = "arith", chroma = "444", motion_coder = "arith";
+  double bpp = 0, psnr = 0;
+  uint64_t bytes = 0;
+  uint32_t atlas = 512, threads = 2;
+  uint16_t gop_frames = 8, gop_cameras = 8, key_interval = 1;
+  bool no_masks = false, extract = false, fixed_shape = false, quiet = false;
+  int margin = 2;
+  std::vector<std::string> meta;
+};
+
+int Fail(const Status& s) {
+  std::fprintf(stderr, "fvv: %s\n", s.ToString().c_str());
+  return 1;
+}
+
+int RunEncode(const EncodeArgs& a) {
+  EncoderSettings s;
+  s.poses = a.poses;
+  s.textures = a.textures;
+  s.save_textures = a.save_textures;
+  if (!a.frames.empty()) {
+    unsigned f0 = 0, f1 = 0;
+    char tail = 0;
+    if (std::sscanf(a.frames.c_str(), "%u:%u%c", &f0, &f1, &tail) != 2 || f0 > f1) {
+      return Fail(InvalidArgument("--frames " + a.frames + " is not a range A:B"));
+    }
+    s.first_frame = f0, s.last_frame = f1;
+  }
+  s.extract_silhouettes = a.extract;
+  s.tracker.adapt_shape = !a.fixed_shape;
+  s.resample.silhouette_margin = a.margin;
+  s.atlas_size = a.atlas;
+  s.gop_frames = a.gop_frames;
+  s.gop_cameras = a.gop_cameras;
+  static const std::map<std::string, WaveletKernel> kKernels{{"haar", WaveletKernel::kHaar},
+                                                             {"53", WaveletKernel::kLeGall53},
+                                                             {"97", WaveletKernel::kCdf97}};
+  s.kernel = kKernels.at(a.kernel);
+  s.coder = a.coder == "binary" ? EntropyCoder::kBinary : EntropyCoder::kArith;
+  s.chroma = a.chroma == "420" ? ChromaFormat::k420 : ChromaFormat::k444;
+  const int targets = (a.bpp > 0) + (a.bytes > 0) + (a.psnr > 0);
+  if (targets > 1) return Fail(InvalidArgument("give at most one of --bpp, --bytes, --psnr"));
+  if (a.bpp > 0) {
+    s.rate_mode = RateMode::kBitsPerSample, s.rate_value = a.bpp;
+  } else if (a.bytes > 0) {
+    s.rate_mode = RateMode::kTotalBytes, s.rate_value = double(a.bytes);
+  } else if (a.psnr > 0) {
+    s.rate_mode = RateMode::kPsnr, s.rate_value = a.psnr;
+  }
+  s.masks = !a.no_masks;
+  s.motion_coder = a.motion_coder == "zstd" ? MotionCoder::kZstd : MotionCoder::kArith;
+  s.key_interval = a.key_interval;
+  s.threads = a.threads;
+  s.metadata = {{"generator", "fvv encode"}, {"capture", a.capture}};
+  for (const std::string& kv : a.meta) {
+    const size_t eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0) {
+      return Fail(InvalidArgument("--meta " + kv + " is not KEY=VALUE"));
+    }
+    s.metadata.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
+  }
+  if (!a.quiet) {
+    s.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+  }
+  StatusOr<EncodeSummary> r = EncodeCapture(a.capture, a.output, s);
+  if (!r.ok()) return Fail(r.status());
+  std::printf("%s", r->Table().c_str());
+  if (!a.save_textures.empty()) {
+    std::printf("  textures and masks before coding: %s (textures.json describes them)\n",
+                a.save_textures.c_str());
+  }
+  if (!a.summary_json.empty()) {
+    const std::string text = r->ToJson();
+    const Status w =
+        WriteFileAtomic(a.summary_json, reinterpret_cast<const uint8_t*>(text.data()), text.size());
+    if (!w.ok()) return Fail(w);
+  }
+  return 0;
+}
+
+}  // namespace
+
+void AddEncodeCommand(CLI::App* app, int* exit_code) {
+  auto a = std::make_shared<EncodeArgs>();
+  CLI::App* e = app->add_subcommand(
+      "encode",
+      "Encode a capture into a .fvv stream: motion capture, atlas resampling, 4D-SPIHT textures");
+  e->footer(
+      "Rate: one of --psnr (default 36 dB, weighted YUV over visible texels, per GOP), --bpp "
+      "(bits per atlas texel of a GOP block, seen or not) or --bytes (per GOP).\n"
+      "Poses: tracked from the capture's silhouettes unless --poses gives them (fvv track's "
+      "poses.json, or a synthetic capture's truth.json or directory). --textures encodes atlas "
+      "textures made by --save-textures (or by a studio's own pipeline in that layout).\n"
+      "Example: fvv encode cap -o cap.fvv --save-textures tex/");
+  e->add_option("capture", a->capture, "Capture directory or capture.json")->required();
+  e->add_option("-o,--output", a->output, "The .fvv file to write")->required();
+  e->add_option("--poses", a->poses, "Use these poses instead of tracking");
+  e->add_option("--textures", a->textures,
+                "Encode these atlas textures and masks (a --save-textures directory)")
+      ->check(CLI::ExistingDirectory);
+  e->add_option("--save-textures", a->save_textures,
+                "Also write the atlas textures and masks before coding (PNG) here");
+  e->add_option("--frames", a->frames, "Frame range A:B (default all)");
+  e->add_option("--psnr", a->psnr, "Target PSNR in dB");
+  e->add_option("--bpp", a->bpp, "Target bits per atlas texel");
+  e->add_option("--bytes", a->bytes, "Target bytes per GOP");
+  e->add_option("--atlas", a->atlas, "Atlas side in texels (16..4096)")->capture_default_str();
+  e->add_option("--gop-frames", a->gop_frames, "Frames per GOP")->capture_default_str();
+  e->add_option("--gop-cameras", a->gop_cameras, "Cameras per GOP")->capture_default_str();
+  e->add_option("--kernel", a->kernel, "Wavelet kernel")
+      ->check(CLI::IsMember({"haar", "53", "97"}))
+      ->capture_default_str();
+  e->add_option("--coder", a->coder, "SPIHT decision coding")
+      ->check(CLI::IsMember({"binary", "arith"}))
+      ->capture_default_str();
+  e->add_option("--chroma", a->chroma, "Chroma resolution")
+      ->check(CLI::IsMember({"444", "420"}))
+      ->capture_default_str();
+  e->add_flag("--no-masks", a->no_masks,
+              "Do not code visibility masks (the player then blends every camera everywhere)");
+  e->add_option("--motion-coder", a->motion_coder, "Motion track entropy coder")
+      ->check(CLI::IsMember({"arith", "zstd"}))
+      ->capture_default_str();
+  e->add_option("--key-interval", a->key_interval,
+                "Motion key-frame interval (> 1: frames between are interpolated)")
+      ->capture_default_str();
+  e->add_option("--silhouette-margin", a->margin,
+                "Pixels the image silhouettes grow by before resampling")
+      ->capture_default_str();
+  e->add_flag("--extract", a->extract,
+              "Background subtraction even when the capture lists silhouettes");
+  e->add_flag("--fixed-shape", a->fixed_shape, "Tracking keeps the generic body's proportions");
+  e->add_option("--threads", a->threads, "Worker threads")->capture_default_str();
+  e->add_option("--meta", a->meta, "Metadata KEY=VALUE (repeatable)");
+  e->add_option("--summary-json", a->summary_json, "Also write the summary as JSON here");
+  e->add_flag("-q,--quiet", a->quiet, "No per-frame progress");
+  e->callback([a, exit_code] { *exit_code = RunEncode(*a); });
+}
+
+}  // namespace fvv

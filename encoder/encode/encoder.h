@@ -1,0 +1,92 @@
+// The encoder (issue 6): a capture directory in, a .fvv out. The capture front
+// end (silhouettes and marker-free motion capture, or poses given), the body
+// model with its texture atlas, multi-view resampling of every camera into the
+// atlas, 4D-SPIHT texture coding of GOP blocks (frames x cameras), lossless
+// shape masks, the motion track, and the container writer.
+//
+// Frames are read once: each frame is tracked, resampled into the atlas and
+// held until its GOP time span is complete, then the span's blocks are coded
+// (the pool's threads share each block's wavelet and SPIHT work). Memory is one
+// time span of atlas textures plus the coded output, which is written at the
+// end (the motion track's statistics need the whole take; the index goes at the
+// front).
+#ifndef FVV_ENCODER_ENCODE_ENCODER_H_
+#define FVV_ENCODER_ENCODE_ENCODER_H_
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "codec/block_codec.h"
+#include "codec/status.h"
+#include "container/index_box.h"
+#include "container/motion_track.h"
+#include "encoder/capture/tracker.h"
+#include "encoder/encode/resample.h"
+
+namespace fvv {
+
+struct EncoderSettings {
+  // Input. With neither, the tracker runs on the capture.
+  std::string poses;     // poses.json (fvv track) or truth.json: no tracking
+  std::string textures;  // a --save-textures directory: no tracking, no resampling
+  uint32_t first_frame = 0, last_frame = UINT32_MAX;  // clamped to the capture
+  bool extract_silhouettes = false;  // background subtraction even if silhouettes are given
+  TrackerOptions tracker;
+  ResampleOptions resample;
+
+  // Format and rate.
+  uint32_t atlas_size = 512;  // 16..4096
+  uint16_t gop_frames = 8, gop_cameras = 8;
+  WaveletKernel kernel = WaveletKernel::kCdf97;
+  EntropyCoder coder = EntropyCoder::kArith;
+  ChromaFormat chroma = ChromaFormat::k444;
+  // kPsnr: weighted-YUV PSNR over visible texels per GOP; kBitsPerSample: bits
+  // per atlas texel (all of them, seen or not); kTotalBytes: bytes per GOP.
+  RateMode rate_mode = RateMode::kPsnr;
+  double rate_value = 36;
+  bool masks = true;  // code the visibility masks (the player blends by them)
+  MotionCoder motion_coder = MotionCoder::kArith;
+  uint16_t key_interval = 1;
+  uint32_t threads = 2;
+  Metadata metadata;
+
+  std::string save_textures;  // also write the MVV textures and masks here (PNG)
+  std::function<void(const std::string&)> progress;  // one line per frame and stage
+};
+
+struct EncodeSummary {
+  std::string output;
+  uint8_t level = 0;
+  uint32_t first_frame = 0, frames = 0, cameras = 0, atlas_size = 0, gops = 0;
+  double fps = 25;
+  uint64_t file_bytes = 0, texture_bytes = 0, mask_bytes = 0, motion_bytes = 0;
+  uint64_t atlas_texels = 0;     // frames * cameras * size^2
+  uint64_t visible_texels = 0;   // texels some camera saw, summed over frames and cameras
+  std::array<double, 3> psnr{};  // Y, U, V over visible texels, decoded at full length
+  double psnr_rgb = 0;           // RGB over visible texels
+  int flagged_frames = 0;        // tracking: fits flagged as poor
+  double mean_iou = 0;           // tracking: mean silhouette IoU
+  std::string pose_source;       // "tracked", "poses FILE", "textures DIR"
+  // Seconds spent per stage.
+  double read_s = 0, track_s = 0, resample_s = 0, code_s = 0, write_s = 0, total_s = 0;
+
+  double duration_s() const { return frames / fps; }
+  double kbps(uint64_t bytes) const { return bytes * 8.0 / 1000 / duration_s(); }
+  double ratio_atlas() const { return 3.0 * atlas_texels / file_bytes; }
+  double ratio_visible() const { return 3.0 * visible_texels / file_bytes; }
+  std::string Table() const;   // the human-readable summary
+  std::string ToJson() const;  // the same figures for scripts
+};
+
+StatusOr<EncodeSummary> EncodeCapture(const std::string& capture, const std::string& output,
+                                      const EncoderSettings& settings);
+
+// Texture files of a --save-textures directory.
+std::string TexturePath(const std::string& dir, const std::string& camera, uint32_t frame);
+std::string TextureMaskPath(const std::string& dir, const std::string& camera, uint32_t frame);
+
+}  // namespace fvv
+
+#endif  // FVV_ENCODER_ENCODE_ENCODER_H_

@@ -1,0 +1,194 @@
+#include "encoder/encode/resample.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "encoder/capture/calibration.h"
+
+namespace fvv {
+namespace {
+
+using Eigen::Vector2f;
+using Eigen::Vector3f;
+
+// Closest point of triangle abc to q as barycentric weights, and its distance.
+float ClosestOnTriangle(const Vector2f& q, const Vector2f& a, const Vector2f& b, const Vector2f& c,
+                        std::array<float, 3>* w) {
+  const Vector2f* p[3] = {&a, &b, &c};
+  float best = std::numeric_limits<float>::max();
+  for (int e = 0; e < 3; ++e) {
+    const Vector2f& s = *p[e];
+    const Vector2f d = *p[(e + 1) % 3] - s;
+    const float len2 = d.squaredNorm();
+    const float t = len2 > 0 ? std::clamp((q - s).dot(d) / len2, 0.0f, 1.0f) : 0.0f;
+    const float dist = (s + t * d - q).norm();
+    if (dist < best) {
+      best = dist;
+      (*w)[e] = 1 - t;
+      (*w)[(e + 1) % 3] = t;
+      (*w)[(e + 2) % 3] = 0;
+    }
+  }
+  return best;
+}
+
+// Grows a 0/non-0 mask by `r` pixels (square neighbourhood, separable max).
+std::vector<uint8_t> Dilate(const Image& mask, int r) {
+  const int w = int(mask.width), h = int(mask.height);
+  std::vector<uint8_t> rows(mask.pixels.size()), out(mask.pixels.size());
+  for (int y = 0; y < h; ++y) {
+    const uint8_t* in = &mask.pixels[size_t(y) * w];
+    for (int x = 0; x < w; ++x) {
+      uint8_t v = 0;
+      for (int k = std::max(0, x - r); k <= std::min(w - 1, x + r) && !v; ++k) v = in[k] != 0;
+      rows[size_t(y) * w + x] = v;
+    }
+  }
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      uint8_t v = 0;
+      for (int k = std::max(0, y - r); k <= std::min(h - 1, y + r) && !v; ++k) {
+        v = rows[size_t(k) * w + x];
+      }
+      out[size_t(y) * w + x] = v;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+TexelMap MapAtlasTexels(const Mesh& mesh, uint32_t size, double dilation) {
+  TexelMap map;
+  map.size = size;
+  const int n = int(size);
+  std::vector<float> distance(size_t(n) * n, std::numeric_limits<float>::max());
+  std::vector<int32_t> owner(size_t(n) * n, -1);
+  std::vector<std::array<float, 3>> weights(size_t(n) * n);
+  const float reach = float(dilation);
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    Vector2f p[3];
+    for (int k = 0; k < 3; ++k) p[k] = {mesh.uvs[tri[k]][0] * n, mesh.uvs[tri[k]][1] * n};
+    const float twice =
+        (p[1] - p[0]).x() * (p[2] - p[0]).y() - (p[1] - p[0]).y() * (p[2] - p[0]).x();
+    if (!(std::abs(twice) > 1e-12f)) continue;  // degenerate in the atlas: nothing to sample
+    const int x0 = std::max(0, int(std::floor(std::min({p[0].x(), p[1].x(), p[2].x()}) - reach)));
+    const int x1 =
+        std::min(n - 1, int(std::ceil(std::max({p[0].x(), p[1].x(), p[2].x()}) + reach)));
+    const int y0 = std::max(0, int(std::floor(std::min({p[0].y(), p[1].y(), p[2].y()}) - reach)));
+    const int y1 =
+        std::min(n - 1, int(std::ceil(std::max({p[0].y(), p[1].y(), p[2].y()}) + reach)));
+    for (int y = y0; y <= y1; ++y) {
+      for (int x = x0; x <= x1; ++x) {
+        const Vector2f q(x + 0.5f, y + 0.5f);
+        std::array<float, 3> w;
+        for (int k = 0; k < 3; ++k) {
+          const Vector2f& a = p[(k + 1) % 3];
+          const Vector2f& c = p[(k + 2) % 3];
+          w[k] = ((c - a).x() * (q - a).y() - (c - a).y() * (q - a).x()) / twice;
+        }
+        float d = 0;
+        if (w[0] < 0 || w[1] < 0 || w[2] < 0) {
+          d = ClosestOnTriangle(q, p[0], p[1], p[2], &w);
+          if (d > reach) continue;
+        }
+        const size_t i = size_t(y) * n + x;
+        if (d < distance[i]) distance[i] = d, owner[i] = int32_t(t), weights[i] = w;
+      }
+    }
+  }
+  for (size_t i = 0; i < owner.size(); ++i) {
+    if (owner[i] < 0) continue;
+    map.texel.push_back(uint32_t(i));
+    map.triangle.push_back(uint32_t(owner[i]));
+    map.weights.push_back(weights[i]);
+  }
+  return map;
+}
+
+void ResampleView(const TexelMap& map, const Mesh& mesh, const std::vector<Vector3f>& positions,
+                  const std::vector<Vector3f>& normals, const Camera& camera, const Image& image,
+                  const Image& silhouette, const ResampleOptions& o, uint8_t* rgb, uint8_t* mask) {
+  const size_t texels = size_t(map.size) * map.size;
+  std::fill(rgb, rgb + texels * 3, 0);
+  std::fill(mask, mask + texels, 0);
+  const int w = int(image.width), h = int(image.height);
+
+  // The camera's depth map of the posed model (camera z; pixel centres at
+  // integer coordinates as the calibration's), perspective-correct.
+  std::vector<Eigen::Vector2d> px(positions.size());
+  std::vector<float> inv_z(positions.size(), 0);
+  for (size_t v = 0; v < positions.size(); ++v) {
+    double z = 0;
+    if (ProjectPoint(camera, positions[v].cast<double>(), &px[v], &z)) inv_z[v] = float(1 / z);
+  }
+  std::vector<float> depth(size_t(w) * h, std::numeric_limits<float>::max());
+  for (const auto& tri : mesh.triangles) {
+    if (inv_z[tri[0]] <= 0 || inv_z[tri[1]] <= 0 || inv_z[tri[2]] <= 0) continue;
+    const Eigen::Vector2d a = px[tri[0]], b = px[tri[1]], c = px[tri[2]];
+    const double area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+    if (std::abs(area) < 1e-12) continue;
+    const int x0 = std::max(0, int(std::ceil(std::min({a.x(), b.x(), c.x()}))));
+    const int x1 = std::min(w - 1, int(std::floor(std::max({a.x(), b.x(), c.x()}))));
+    const int y0 = std::max(0, int(std::ceil(std::min({a.y(), b.y(), c.y()}))));
+    const int y1 = std::min(h - 1, int(std::floor(std::max({a.y(), b.y(), c.y()}))));
+    const double inv = 1.0 / area;
+    for (int y = y0; y <= y1; ++y) {
+      for (int x = x0; x <= x1; ++x) {
+        const double w0 = ((c.x() - b.x()) * (y - b.y()) - (c.y() - b.y()) * (x - b.x())) * inv;
+        const double w1 = ((a.x() - c.x()) * (y - c.y()) - (a.y() - c.y()) * (x - c.x())) * inv;
+        const double w2 = 1 - w0 - w1;
+        if (w0 < 0 || w1 < 0 || w2 < 0) continue;
+        const float z = float(1 / (w0 * inv_z[tri[0]] + w1 * inv_z[tri[1]] + w2 * inv_z[tri[2]]));
+        float& d = depth[size_t(y) * w + x];
+        d = std::min(d, z);
+      }
+    }
+  }
+  std::vector<uint8_t> inside;
+  if (!silhouette.pixels.empty()) inside = Dilate(silhouette, o.silhouette_margin);
+
+  const Vector3f centre = CameraCentre(camera).cast<float>();
+  // Depth of a surface point's neighbours at the nearest pixel centre differs
+  // from its own by up to half a pixel's footprint times the slope; allow that.
+  const double pixel_angle = 1.0 / std::max(camera.fx, camera.fy);
+  const uint8_t* src = image.pixels.data();
+  for (size_t e = 0; e < map.texel.size(); ++e) {
+    const auto& tri = mesh.triangles[map.triangle[e]];
+    const auto& bw = map.weights[e];
+    const Vector3f p =
+        bw[0] * positions[tri[0]] + bw[1] * positions[tri[1]] + bw[2] * positions[tri[2]];
+    const Vector3f nrm =
+        (bw[0] * normals[tri[0]] + bw[1] * normals[tri[1]] + bw[2] * normals[tri[2]]).normalized();
+    const Vector3f view = centre - p;
+    const float facing = nrm.dot(view) / view.norm();
+    if (!(facing >= o.min_facing)) continue;
+    Eigen::Vector2d q;
+    double z = 0;
+    if (!ProjectPoint(camera, p.cast<double>(), &q, &z)) continue;
+    if (!(q.x() >= 0 && q.y() >= 0 && q.x() <= w - 1 && q.y() <= h - 1)) continue;
+    const int ix = int(std::lround(q.x())), iy = int(std::lround(q.y()));
+    const size_t pixel = size_t(iy) * w + ix;
+    const double slope = std::sqrt(std::max(0.0, 1.0 - double(facing) * facing)) / facing;
+    if (z > depth[pixel] + o.depth_tolerance + 0.75 * z * pixel_angle * slope) continue;
+    if (!inside.empty() && !inside[pixel]) continue;
+    // Bilinear sample of the camera image.
+    const int x0 = std::min(int(q.x()), w - 2 < 0 ? 0 : w - 2);
+    const int y0 = std::min(int(q.y()), h - 2 < 0 ? 0 : h - 2);
+    const int x1 = std::min(x0 + 1, w - 1), y1 = std::min(y0 + 1, h - 1);
+    const double fx = q.x() - x0, fy = q.y() - y0;
+    const size_t out = map.texel[e];
+    for (int k = 0; k < 3; ++k) {
+      const double top =
+          (1 - fx) * src[(size_t(y0) * w + x0) * 3 + k] + fx * src[(size_t(y0) * w + x1) * 3 + k];
+      const double bottom =
+          (1 - fx) * src[(size_t(y1) * w + x0) * 3 + k] + fx * src[(size_t(y1) * w + x1) * 3 + k];
+      rgb[out * 3 + k] = uint8_t(std::lround(std::clamp((1 - fy) * top + fy * bottom, 0.0, 255.0)));
+    }
+    mask[out] = 1;
+  }
+}
+
+}  // namespace fvv

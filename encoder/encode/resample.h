@@ -1,0 +1,53 @@
+// Multi-view resampling into the texture atlas (issue 6, section 2): for one
+// frame and one camera, every atlas texel's surface point on the posed model is
+// projected into that camera's image and sampled there, when the camera sees it:
+// in front of the camera's depth map of the posed model (shadow-map style),
+// facing the camera, and inside the image silhouette grown by a margin (texels
+// near outlines are kept even where the model and the silhouette disagree
+// slightly). Texels the camera does not see are unused.
+//
+// The atlas-space rasterisation is done once per atlas (TexelMap): which
+// triangle covers each texel and where, so each view only interpolates the
+// posed vertices.
+#ifndef FVV_ENCODER_ENCODE_RESAMPLE_H_
+#define FVV_ENCODER_ENCODE_RESAMPLE_H_
+
+#include <Eigen/Core>
+#include <array>
+#include <vector>
+
+#include "container/body_model.h"
+#include "container/cameras.h"
+#include "tools/imageio/image_io.h"
+
+namespace fvv {
+
+// The atlas texels the mesh covers: texel centres inside a triangle in UV
+// space, plus texels within `dilation` texels of one (charts grow into their
+// gutters, so bilinear texture filtering at chart borders reads real samples).
+struct TexelMap {
+  uint32_t size = 0;
+  std::vector<uint32_t> texel;                // y * size + x
+  std::vector<uint32_t> triangle;             // covering triangle, per entry
+  std::vector<std::array<float, 3>> weights;  // barycentric weights of its vertices
+};
+TexelMap MapAtlasTexels(const Mesh& mesh, uint32_t size, double dilation = 1.0);
+
+struct ResampleOptions {
+  int silhouette_margin = 2;      // pixels the image silhouette grows by
+  double depth_tolerance = 0.02;  // metres behind the depth map still counted visible
+  double min_facing = 0.1;        // cosine of the largest viewing angle to the normal
+};
+
+// One view: `positions` and `normals` are the mesh's vertices posed (world
+// space). `silhouette` may be empty (no silhouette test). Writes `rgb`
+// (size * size * 3) and `mask` (size * size, 1 = seen); unseen texels are 0.
+void ResampleView(const TexelMap& map, const Mesh& mesh,
+                  const std::vector<Eigen::Vector3f>& positions,
+                  const std::vector<Eigen::Vector3f>& normals, const Camera& camera,
+                  const Image& image, const Image& silhouette, const ResampleOptions& options,
+                  uint8_t* rgb, uint8_t* mask);
+
+}  // namespace fvv
+
+#endif  // FVV_ENCODER_ENCODE_RESAMPLE_H_
