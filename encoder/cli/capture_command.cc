@@ -179,6 +179,9 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
       ->capture_default_str();
   s->add_option("--colour-mismatch", o->colour_mismatch, "Per-camera gain spread (0.05 = 5 %)")
       ->capture_default_str();
+  s->add_flag("--unlit", o->unlit,
+              "No shading on the actor: the camera images show the surface texture's own "
+              "colours (to check texture resampling against truth/texture.png)");
   s->add_option("--held-out", o->held_out, "Extra cameras for novel-view evaluation")
       ->capture_default_str();
   s->add_flag("--with-silhouettes", o->link_silhouettes,

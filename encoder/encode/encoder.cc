@@ -225,14 +225,17 @@ class Session {
       if (s_.masks) frag.masks = EncodeMasks(used.data(), shape);
       sum_.texture_bytes += frag.texture.total_bytes();
       sum_.mask_bytes += frag.masks.size();
-      Measure(block, decoded, used);
+      Measure(block, decoded, used, rgb);
       fragments_.push_back(std::move(frag));
     }
     sum_.code_s += Since(t0);
     return Status::Ok();
   }
 
-  void Measure(const Block& block, const Block& decoded, const UsedMask& used) {
+  // Y, U, V errors against the block coded; RGB errors against the texels as
+  // resampled (what a player shows against what the cameras saw).
+  void Measure(const Block& block, const Block& decoded, const UsedMask& used,
+               const std::vector<uint8_t>& a) {
     UsedMask chroma_used;
     const UsedMask* cmask = &used;
     if (block.chroma == ChromaFormat::k420) {
@@ -246,8 +249,7 @@ class Session {
       sse_[c] += ChannelMse(block.channels[c], decoded.channels[c], &m) * count;
       samples_[c] += count;
     }
-    std::vector<uint8_t> a(block.shape().count() * 3), b(a.size());
-    BlockToRgb(block, a.data());
+    std::vector<uint8_t> b(a.size());
     BlockToRgb(decoded, b.data());
     for (size_t i = 0; i < used.size(); ++i) {
       if (!used[i]) continue;

@@ -191,6 +191,7 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
       SynthRenderer::Create((*context)->gl(), actor.mesh(), actor.bone_count());
   if (!renderer.ok()) return renderer.status();
   SynthRenderer& r = **renderer;
+  r.SetUnlit(o.unlit);
 
   // Per-camera colour response (gains around 1) and noise seeds.
   NoiseSource gains_rng(o.seed * 7919u + 17);
@@ -288,6 +289,7 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
   truth["frame_rate"] = o.fps;
   truth["frame_count"] = o.frames;
   truth["noise"] = o.noise;
+  truth["unlit"] = o.unlit;
   truth["colour_mismatch"] = o.colour_mismatch;
   if (body) {
     truth["body_model"] = "generic";

@@ -35,6 +35,7 @@ struct SynthOptions {
   double stature = 1.0;           // the built-in actor's size (1.0 = 1.75 m)
   double noise = 1.5;             // sensor noise, standard deviation in 8-bit levels
   double colour_mismatch = 0.0;   // per-camera gain spread, e.g. 0.05 for +-5 %
+  bool unlit = false;             // the actor without shading: its texture's own colours
   uint32_t held_out = 2;          // extra cameras for novel-view evaluation
   bool link_silhouettes = false;  // also list the true silhouettes in capture.json
   uint32_t texture_size = 1024;

@@ -19,6 +19,7 @@ uniform int u_mode;
 uniform sampler2DArray u_texture;
 uniform vec3 u_shadow;
 uniform float u_shadow_on;
+uniform float u_unlit;
 out vec4 colour;
 float hash(vec2 p) { return fract(sin(dot(p, vec2(127.1, 311.7))) * 43758.5453); }
 float noise(vec2 p) {
@@ -55,6 +56,7 @@ void main() {
   vec3 base = u_mode == 0 ? texture(u_texture, vec3(v_uv, 0.0)).rgb : studio(v_world, n);
   vec3 key = normalize(vec3(0.4, 0.85, 0.5)), fill = normalize(vec3(-0.6, 0.3, -0.5));
   float light = 0.42 + 0.55 * max(dot(n, key), 0.0) + 0.2 * max(dot(n, fill), 0.0);
+  if (u_mode == 0) light = mix(light, 1.0, u_unlit);
   colour = vec4(base * light, 1.0);
 }
 )";
@@ -81,6 +83,7 @@ StatusOr<std::unique_ptr<SynthRenderer>> SynthRenderer::Create(const GlApi& gl,
   r->u_mode_ = g.GetUniformLocation(r->program_, "u_mode");
   r->u_shadow_ = g.GetUniformLocation(r->program_, "u_shadow");
   r->u_shadow_on_ = g.GetUniformLocation(r->program_, "u_shadow_on");
+  r->u_unlit_ = g.GetUniformLocation(r->program_, "u_unlit");
 
   auto buffer = [&](GLenum target, const void* data, size_t bytes) {
     GLuint b = 0;
@@ -207,6 +210,7 @@ Status SynthRenderer::DrawScene(const Camera& camera, const std::vector<Eigen::M
   const float shadow[3] = {float(root.x()), 0.0f, float(root.z())};
   gl_.Uniform3fv(u_shadow_, 1, shadow);
   gl_.Uniform1f(u_shadow_on_, skinning ? 1.0f : 0.0f);
+  gl_.Uniform1f(u_unlit_, unlit_ ? 1.0f : 0.0f);
   gl_.Uniform1i(u_skinned_, 0);
   gl_.Uniform1i(u_mode_, 1);
   gl_.BindVertexArray(studio_vao_);

@@ -29,6 +29,9 @@ class SynthRenderer {
   // actor's shadow falls around `root` (its ground projection).
   Status DrawScene(const Camera& camera, const std::vector<Eigen::Matrix4f>* skinning,
                    const Eigen::Vector3d& root);
+  // Unlit: the actor shows its texture's own colours (tests compare resampled
+  // textures with it); lit by default.
+  void SetUnlit(bool unlit) { unlit_ = unlit; }
   // The actor alone, white on black.
   Status DrawSilhouette(const Camera& camera, const std::vector<Eigen::Matrix4f>& skinning);
   // The last drawing, top-down rows (RGB or grey).
@@ -44,6 +47,8 @@ class SynthRenderer {
   std::vector<GLuint> buffers_;
   GLsizei actor_indices_ = 0, studio_indices_ = 0;
   GLint u_view_proj_ = -1, u_skinned_ = -1, u_mode_ = -1, u_shadow_ = -1, u_shadow_on_ = -1;
+  GLint u_unlit_ = -1;
+  bool unlit_ = false;
 };
 
 }  // namespace fvv
