@@ -1,7 +1,12 @@
 # Installs the public headers and the fvv:: targets, with a package config so
 # that find_package(fvv) works for embedding applications, and a pkg-config file.
 include(CMakePackageConfigHelpers)
-install(DIRECTORY include/fvv DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+# The encoder's C API (fvv_encoder.h) is not installed yet: its library pulls in
+# the capture front end's dependencies (Eigen, yaml-cpp, toml++, libpng,
+# OpenEXR), which the package config does not export; build-tree users link
+# fvv::encoder.
+install(DIRECTORY include/fvv DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+        PATTERN "fvv_encoder.h*" EXCLUDE)
 # Exported as fvv::dec, fvv::codec, ... (the same names as the build-tree aliases).
 foreach(t codec_dec codec thread_pool container_dec container dec)
   set_target_properties(fvv_${t} PROPERTIES EXPORT_NAME ${t})

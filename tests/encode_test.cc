@@ -15,7 +15,8 @@
 #include "encoder/encode/pose_file.h"
 #include "encoder/encode/resample.h"
 #include "encoder/synth/synth.h"
-#include "include/fvv/fvv_decoder.hpp"
+#include "fvv/fvv_decoder.hpp"
+#include "fvv/fvv_encoder.hpp"
 
 namespace fvv {
 namespace {
@@ -348,6 +349,69 @@ TEST_F(EncodeTest, RefusesBadInputWithErrorsThatNameIt) {
         EncodeCapture(dir_ + "/cap", dir_ + "/no/such/dir/x.fvv", Settings());
     ASSERT_FALSE(r.ok());
   }
+}
+
+TEST_F(EncodeTest, CApiEncodesAndReportsAndRefusesMisuse) {
+  // Settings out of range or unknown enum values are refused, with a reason.
+  fvv_encoder_settings bad;
+  fvv_encoder_default_settings(&bad);
+  bad.kernel = 7;
+  fvv_encoder* none = nullptr;
+  EXPECT_EQ(fvv_encoder_create(&bad, &none), FVV_INVALID_ARGUMENT);
+  EXPECT_EQ(none, nullptr);
+  EXPECT_NE(std::string(fvv_encoder_settings_error()).find("kernel"), std::string::npos);
+  fvv_encoder_default_settings(&bad);
+  bad.atlas_size = 5000;
+  EXPECT_EQ(fvv_encoder_create(&bad, &none), FVV_INVALID_ARGUMENT);
+  EXPECT_EQ(fvv_encoder_create(nullptr, nullptr), FVV_INVALID_ARGUMENT);
+  EXPECT_EQ(fvv_encoder_encode_capture(nullptr, "a", "b", nullptr), FVV_INVALID_ARGUMENT);
+
+  fvv_encoder_settings s;
+  fvv_encoder_default_settings(&s);
+  const std::string poses = dir_ + "/cap";
+  s.poses = poses.c_str();
+  s.atlas_size = 128;
+  s.gop_frames = 3;
+  s.rate_mode = FVV_RATE_BPP;
+  s.rate_value = 0.5;
+  int lines = 0;
+  s.progress = [](void* user, const char* line) {
+    ++*static_cast<int*>(user);
+    EXPECT_NE(std::string(line).find("encode"), std::string::npos);
+  };
+  s.progress_user = &lines;
+  fvv::EncoderPtr enc = fvv::MakeEncoder(&s);
+  ASSERT_TRUE(enc);
+  EXPECT_EQ(fvv_encoder_add_metadata(enc.get(), nullptr, "x"), FVV_INVALID_ARGUMENT);
+  EXPECT_EQ(fvv_encoder_add_metadata(enc.get(), "title", "C API test"), FVV_OK);
+  EXPECT_EQ(fvv_encoder_encode_capture(enc.get(), nullptr, "x.fvv", nullptr), FVV_INVALID_ARGUMENT);
+  // A missing capture: an error that names it, no output.
+  const std::string out = dir_ + "/c_api.fvv";
+  EXPECT_EQ(fvv_encoder_encode_capture(enc.get(), (dir_ + "/missing").c_str(), out.c_str(),
+                                       nullptr),
+            FVV_IO_ERROR);
+  EXPECT_NE(std::string(fvv_encoder_error(enc.get())).find("missing"), std::string::npos);
+  EXPECT_NE(access(out.c_str(), F_OK), 0);
+
+  fvv_encode_report report;
+  ASSERT_EQ(fvv_encoder_encode_capture(enc.get(), (dir_ + "/cap").c_str(), out.c_str(), &report),
+            FVV_OK)
+      << fvv_encoder_error(enc.get());
+  EXPECT_STREQ(fvv_encoder_error(enc.get()), "");
+  EXPECT_EQ(report.frames, 3u);
+  EXPECT_EQ(report.cameras, 6u);
+  EXPECT_EQ(report.gops, 1u);
+  EXPECT_GE(lines, 3);
+  EXPECT_GT(report.psnr_rgb, 20);
+  EXPECT_GT(report.texture_bytes, 0u);
+  EXPECT_LE(report.texture_bytes + report.mask_bytes + report.motion_bytes, report.file_bytes);
+  // The decoder opens what the encoder wrote, with its metadata.
+  fvv::DecoderPtr dec = fvv::MakeDecoder();
+  ASSERT_EQ(fvv_decoder_open_file(dec.get(), out.c_str()), FVV_OK) << fvv_decoder_error(dec.get());
+  fvv_stream_info info;
+  ASSERT_EQ(fvv_decoder_get_info(dec.get(), &info), FVV_OK);
+  EXPECT_EQ(info.frame_count, 3u);
+  EXPECT_EQ(info.camera_count, 6u);
 }
 
 }  // namespace

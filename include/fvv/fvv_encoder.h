@@ -1,0 +1,106 @@
+/* fvv encoder: the C API studios and tools embed (library fvv::encoder).
+ *
+ * A capture directory (docs/capture-format.md) in, a .fvv stream out: silhouettes and marker-free
+ * motion capture (or poses given), the body model's texture atlas, resampling of every camera into
+ * the atlas, 4D-SPIHT texture coding per GOP, shape masks and the motion track.
+ *
+ * Usage:
+ *
+ *   fvv_encoder_settings settings;
+ *   fvv_encoder_default_settings(&settings);
+ *   settings.rate_mode = FVV_RATE_PSNR;          // or FVV_RATE_BPP, FVV_RATE_BYTES_PER_GOP
+ *   settings.rate_value = 38;
+ *   settings.poses = "take1/poses.json";          // optional: skip tracking
+ *   fvv_encoder* enc;
+ *   if (fvv_encoder_create(&settings, &enc) != FVV_OK) ...
+ *   fvv_encoder_add_metadata(enc, "title", "Take 1");
+ *   fvv_encode_report report;
+ *   if (fvv_encoder_encode_capture(enc, "take1", "take1.fvv", &report) != FVV_OK)
+ *     ... report fvv_encoder_error(enc); nothing was written under "take1.fvv"
+ *   fvv_encoder_destroy(enc);
+ *
+ * The output appears only when encoding succeeds (a temporary file is renamed over it).
+ *
+ * Thread safety: one encoder is used by one thread at a time; different encoders are independent.
+ * The progress callback runs on the calling thread, between frames.
+ */
+#ifndef FVV_FVV_ENCODER_H_
+#define FVV_FVV_ENCODER_H_
+
+#include "fvv/fvv_types.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct fvv_encoder fvv_encoder;
+
+typedef enum {
+  FVV_RATE_PSNR = 0,         /* rate_value: weighted-YUV PSNR in dB over visible texels, per GOP */
+  FVV_RATE_BPP = 1,          /* rate_value: bits per atlas texel of a GOP block (seen or not) */
+  FVV_RATE_BYTES_PER_GOP = 2 /* rate_value: texture bytes per GOP fragment */
+} fvv_rate_mode;
+
+typedef enum { FVV_KERNEL_CDF97 = 0, FVV_KERNEL_LEGALL53 = 1, FVV_KERNEL_HAAR = 2 } fvv_kernel;
+typedef enum { FVV_CODER_ARITH = 0, FVV_CODER_BINARY = 1 } fvv_entropy_coder;
+typedef enum { FVV_CHROMA_444 = 0, FVV_CHROMA_420 = 1 } fvv_chroma;
+typedef enum { FVV_MASKS_CODED = 0, FVV_MASKS_NONE = 1 } fvv_mask_mode;
+
+typedef struct {
+  /* Format. */
+  uint32_t atlas_size;   /* atlas side in texels, 16..4096 (default 512) */
+  uint32_t gop_frames;   /* frames per GOP (default 8) */
+  uint32_t gop_cameras;  /* cameras per GOP (default 8) */
+  uint32_t kernel;       /* an fvv_kernel */
+  uint32_t coder;        /* an fvv_entropy_coder */
+  uint32_t chroma;       /* an fvv_chroma */
+  uint32_t mask_mode;    /* an fvv_mask_mode */
+  uint32_t rate_mode;    /* an fvv_rate_mode (default FVV_RATE_PSNR) */
+  double rate_value;     /* default 36 (dB) */
+  uint32_t key_interval; /* motion key frames: 1 = every frame coded (default) */
+  uint32_t threads;      /* worker threads, 1..256 (default 2) */
+  /* Input. */
+  uint32_t first_frame, last_frame; /* capture frames to encode (default 0 and UINT32_MAX: all) */
+  const char* poses;         /* poses.json (fvv track) or a synthetic capture's truth: no tracking;
+                                NULL: track */
+  const char* textures;      /* a directory written by save_textures: no tracking, no resampling */
+  const char* save_textures; /* also write the atlas textures and masks before coding (PNG) */
+  /* Called with one line of progress per frame and stage; may be NULL. */
+  void (*progress)(void* user, const char* line);
+  void* progress_user;
+} fvv_encoder_settings;
+
+typedef struct {
+  uint32_t frames, cameras, atlas_size, gops, level;
+  uint64_t file_bytes, texture_bytes, mask_bytes, motion_bytes;
+  uint64_t visible_texels;      /* texels some camera saw, over frames and cameras */
+  double psnr_y, psnr_u, psnr_v; /* over visible texels, decoded at full length */
+  double psnr_rgb;
+  double ratio_atlas;   /* 24-bit RGB of every atlas texel / file bytes */
+  double ratio_visible; /* 24-bit RGB of the visible texels / file bytes */
+  double seconds;       /* wall time of the whole encode */
+} fvv_encode_report;
+
+FVV_EXPORT void fvv_encoder_default_settings(fvv_encoder_settings* settings);
+/* settings may be NULL (the defaults). FVV_INVALID_ARGUMENT, and *encoder NULL, when a setting is
+ * out of its range or an enum value unknown; fvv_encoder_settings_error() says
+ * which. */
+FVV_EXPORT fvv_status fvv_encoder_create(const fvv_encoder_settings* settings,
+                                         fvv_encoder** encoder);
+/* Why the last fvv_encoder_create on this thread failed ("" if it did not). */
+FVV_EXPORT const char* fvv_encoder_settings_error(void);
+FVV_EXPORT void fvv_encoder_destroy(fvv_encoder* encoder);
+/* The message of the last failure ("" after success). Valid until the next call on encoder. */
+FVV_EXPORT const char* fvv_encoder_error(const fvv_encoder* encoder);
+/* UTF-8 key/value pairs written into the stream's metadata box. */
+FVV_EXPORT fvv_status fvv_encoder_add_metadata(fvv_encoder* encoder, const char* key,
+                                               const char* value);
+/* Encodes capture directory `capture` (or its capture.json) into `output`. report may be NULL. */
+FVV_EXPORT fvv_status fvv_encoder_encode_capture(fvv_encoder* encoder, const char* capture,
+                                                 const char* output, fvv_encode_report* report);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* FVV_FVV_ENCODER_H_ */
