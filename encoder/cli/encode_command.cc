@@ -15,7 +15,7 @@ struct EncodeArgs {
   double bpp = 0, psnr = 0;
   uint64_t bytes = 0;
   uint32_t atlas = 512, threads = 2;
-  uint16_t gop_frames = 8, gop_cameras = 8, key_interval = 1;
+  uint16_t gop_frames = 8, gop_cameras = 1, key_interval = 1;
   bool no_masks = false, extract = false, fixed_shape = false, quiet = false;
   int margin = 2;
   std::vector<std::string> meta;

@@ -17,7 +17,8 @@ thread_local std::string g_settings_error;
 
 fvv::Status ToSettings(const fvv_encoder_settings& c, fvv::EncoderSettings* s) {
   using fvv::InvalidArgument;
-  if (c.atlas_size < 16 || c.atlas_size > 4096) return InvalidArgument("atlas_size is not 16..4096");
+  if (c.atlas_size < 16 || c.atlas_size > 4096)
+    return InvalidArgument("atlas_size is not 16..4096");
   if (c.gop_frames < 1 || c.gop_frames > 65535 || c.gop_cameras < 1 || c.gop_cameras > 65535) {
     return InvalidArgument("gop_frames and gop_cameras must be 1..65535");
   }
@@ -25,17 +26,19 @@ fvv::Status ToSettings(const fvv_encoder_settings& c, fvv::EncoderSettings* s) {
   if (c.coder > FVV_CODER_BINARY) return InvalidArgument("coder is not an fvv_entropy_coder");
   if (c.chroma > FVV_CHROMA_420) return InvalidArgument("chroma is not an fvv_chroma");
   if (c.mask_mode > FVV_MASKS_NONE) return InvalidArgument("mask_mode is not an fvv_mask_mode");
-  if (c.rate_mode > FVV_RATE_BYTES_PER_GOP) return InvalidArgument("rate_mode is not an fvv_rate_mode");
-  if (!(c.rate_value > 0) || c.rate_value > 1e15) return InvalidArgument("rate_value must be positive");
-  if (c.key_interval < 1 || c.key_interval > 65535) return InvalidArgument("key_interval must be 1..65535");
+  if (c.rate_mode > FVV_RATE_BYTES_PER_GOP)
+    return InvalidArgument("rate_mode is not an fvv_rate_mode");
+  if (!(c.rate_value > 0) || c.rate_value > 1e15)
+    return InvalidArgument("rate_value must be positive");
+  if (c.key_interval < 1 || c.key_interval > 65535)
+    return InvalidArgument("key_interval must be 1..65535");
   if (c.threads < 1 || c.threads > 256) return InvalidArgument("threads must be 1..256");
   if (c.first_frame > c.last_frame) return InvalidArgument("first_frame is after last_frame");
   s->atlas_size = c.atlas_size;
   s->gop_frames = uint16_t(c.gop_frames);
   s->gop_cameras = uint16_t(c.gop_cameras);
-  static const fvv::WaveletKernel kKernels[] = {fvv::WaveletKernel::kCdf97,
-                                                fvv::WaveletKernel::kLeGall53,
-                                                fvv::WaveletKernel::kHaar};
+  static const fvv::WaveletKernel kKernels[] = {
+      fvv::WaveletKernel::kCdf97, fvv::WaveletKernel::kLeGall53, fvv::WaveletKernel::kHaar};
   s->kernel = kKernels[c.kernel];
   s->coder = c.coder == FVV_CODER_BINARY ? fvv::EntropyCoder::kBinary : fvv::EntropyCoder::kArith;
   s->chroma = c.chroma == FVV_CHROMA_420 ? fvv::ChromaFormat::k420 : fvv::ChromaFormat::k444;
@@ -74,7 +77,7 @@ void fvv_encoder_default_settings(fvv_encoder_settings* settings) {
   *settings = fvv_encoder_settings{};
   settings->atlas_size = 512;
   settings->gop_frames = 8;
-  settings->gop_cameras = 8;
+  settings->gop_cameras = 1;
   settings->kernel = FVV_KERNEL_CDF97;
   settings->coder = FVV_CODER_ARITH;
   settings->chroma = FVV_CHROMA_444;
@@ -114,13 +117,14 @@ const char* fvv_encoder_error(const fvv_encoder* encoder) {
 
 fvv_status fvv_encoder_add_metadata(fvv_encoder* encoder, const char* key, const char* value) {
   if (!encoder) return FVV_INVALID_ARGUMENT;
-  if (!key || !*key || !value) return Report(encoder, fvv::InvalidArgument("metadata needs a key and a value"));
+  if (!key || !*key || !value)
+    return Report(encoder, fvv::InvalidArgument("metadata needs a key and a value"));
   encoder->settings.metadata.emplace_back(key, value);
   return Report(encoder, fvv::Status::Ok());
 }
 
-fvv_status fvv_encoder_encode_capture(fvv_encoder* encoder, const char* capture,
-                                      const char* output, fvv_encode_report* report) {
+fvv_status fvv_encoder_encode_capture(fvv_encoder* encoder, const char* capture, const char* output,
+                                      fvv_encode_report* report) {
   if (!encoder) return FVV_INVALID_ARGUMENT;
   if (!capture || !output) {
     return Report(encoder, fvv::InvalidArgument("capture and output paths are required"));

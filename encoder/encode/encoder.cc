@@ -506,7 +506,7 @@ std::string EncodeSummary::Table() const {
     std::snprintf(line, sizeof(line), fmt, args...);
     out += line;
   };
-  add("%s: %u frames (from %u) x %u cameras, atlas %ux%u, %u GOPs, level %u, poses %s\n",
+  add("%s: %u frames (from %u) x %u cameras, atlas %ux%u, %u GOPs, level %u, pose source: %s\n",
       output.c_str(), frames, first_frame, cameras, atlas_size, atlas_size, gops, level,
       pose_source.c_str());
   add("  size              %12llu bytes   %9.1f kbps\n", (unsigned long long)file_bytes,

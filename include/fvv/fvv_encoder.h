@@ -50,7 +50,7 @@ typedef struct {
   /* Format. */
   uint32_t atlas_size;   /* atlas side in texels, 16..4096 (default 512) */
   uint32_t gop_frames;   /* frames per GOP (default 8) */
-  uint32_t gop_cameras;  /* cameras per GOP (default 8) */
+  uint32_t gop_cameras;  /* cameras per GOP (default 1: see docs/encoder.md) */
   uint32_t kernel;       /* an fvv_kernel */
   uint32_t coder;        /* an fvv_entropy_coder */
   uint32_t chroma;       /* an fvv_chroma */
@@ -73,7 +73,7 @@ typedef struct {
 typedef struct {
   uint32_t frames, cameras, atlas_size, gops, level;
   uint64_t file_bytes, texture_bytes, mask_bytes, motion_bytes;
-  uint64_t visible_texels;      /* texels some camera saw, over frames and cameras */
+  uint64_t visible_texels;       /* texels some camera saw, over frames and cameras */
   double psnr_y, psnr_u, psnr_v; /* over visible texels, decoded at full length */
   double psnr_rgb;
   double ratio_atlas;   /* 24-bit RGB of every atlas texel / file bytes */
