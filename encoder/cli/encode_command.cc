@@ -4,6 +4,7 @@
 #include <map>
 #include <memory>
 
+#include "encoder/cli/frame_range.h"
 #include "encoder/encode/encoder.h"
 
 namespace fvv {
@@ -31,14 +32,8 @@ int RunEncode(const EncodeArgs& a) {
   s.poses = a.poses;
   s.textures = a.textures;
   s.save_textures = a.save_textures;
-  if (!a.frames.empty()) {
-    unsigned f0 = 0, f1 = 0;
-    char tail = 0;
-    if (std::sscanf(a.frames.c_str(), "%u:%u%c", &f0, &f1, &tail) != 2 || f0 > f1) {
-      return Fail(InvalidArgument("--frames " + a.frames + " is not a range A:B"));
-    }
-    s.first_frame = f0, s.last_frame = f1;
-  }
+  const Status range = ParseFrameRange(a.frames, &s.first_frame, &s.last_frame);
+  if (!range.ok()) return Fail(range);
   s.extract_silhouettes = a.extract;
   s.tracker.adapt_shape = !a.fixed_shape;
   s.resample.silhouette_margin = a.margin;

@@ -5,6 +5,7 @@
 
 #include "encoder/capture/joint_truth.h"
 #include "encoder/capture/track_capture.h"
+#include "encoder/cli/frame_range.h"
 
 namespace fvv {
 namespace {
@@ -24,14 +25,8 @@ int Fail(const Status& s) {
 
 int RunTrack(const TrackArgs& a) {
   TrackCaptureOptions o;
-  if (!a.frames.empty()) {
-    unsigned f0 = 0, f1 = 0;
-    char tail = 0;
-    if (std::sscanf(a.frames.c_str(), "%u:%u%c", &f0, &f1, &tail) != 2 || f0 > f1) {
-      return Fail(InvalidArgument("--frames " + a.frames + " is not a range A:B"));
-    }
-    o.first = f0, o.last = f1;
-  }
+  const Status range = ParseFrameRange(a.frames, &o.first, &o.last);
+  if (!range.ok()) return Fail(range);
   o.extract = a.extract;
   o.tracker.adapt_shape = !a.no_shape;
   o.save_silhouettes = a.save_silhouettes;
