@@ -200,6 +200,8 @@ StatusOr<EncodedBlock> EncodeBlock(const Block& block, const UsedMask* mask,
   }
   std::array<ChannelRd, 3> hulls;
   double wsum = 0;
+  // The PSNR mode's target as a mean squared error per used texel.
+  const double target_mse = 255.0 * 255.0 / std::pow(10.0, settings.rate_value / 10.0);
   for (;;) {
     settings.runner(3, [&](uint32_t c) {
       const WaveletGeometry g(block.channels[c].shape);
@@ -227,7 +229,6 @@ StatusOr<EncodedBlock> EncodeBlock(const Block& block, const UsedMask* mask,
     // bytes it writes). The estimate's error spreads over all texels, the
     // target's over the used ones; the search below needs room beyond
     // the estimate.
-    const double target_mse = 255.0 * 255.0 / std::pow(10.0, settings.rate_value / 10.0);
     const std::array<uint64_t, 3> guess =
         Allocate(hulls, UINT64_MAX, target_mse * wsum * std::sqrt(used_share), nullptr);
     uint64_t need = 0;
@@ -243,7 +244,6 @@ StatusOr<EncodedBlock> EncodeBlock(const Block& block, const UsedMask* mask,
     out = CutBlock(out, Allocate(hulls, cap, 0.0, &final_d));
   } else if (settings.rate_mode == RateMode::kPsnr) {
     // The estimate gives a starting point; actual decodes over used texels settle it.
-    const double target_mse = 255.0 * 255.0 / std::pow(10.0, settings.rate_value / 10.0);
     Block trial_decoded, best_decoded;
     auto psnr_at = [&](uint64_t budget, EncodedBlock* cut) {
       *cut = CutBlock(out, Allocate(hulls, budget, 0.0, nullptr));

@@ -7,7 +7,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -16,6 +15,7 @@
 #include "codec/block_syntax.h"
 #include "codec/colour.h"
 #include "codec/thread_pool.h"
+#include "encoder/cli/codec_options.h"
 #include "encoder/sample/sample_volume.h"
 #include "tools/imageio/image_io.h"
 
@@ -99,7 +99,7 @@ struct EncodeArgs {
   std::vector<std::string> inputs, masks;
   std::string output;
   uint32_t frames = 0, cameras = 1;
-  std::string kernel = "97", coder = "arith", chroma = "444";
+  CodecOptionArgs codec;
   double bpp = 0, psnr = 0;
   uint64_t bytes = 0;
   bool lossless = false;
@@ -119,11 +119,8 @@ int RunEncode(const EncodeArgs& a) {
     return Fail(InvalidArgument("give at most one of --bpp, --bytes, --psnr, --lossless"));
 
   EncodeSettings settings;
-  static const std::map<std::string, WaveletKernel> kKernels{{"haar", WaveletKernel::kHaar},
-                                                             {"53", WaveletKernel::kLeGall53},
-                                                             {"97", WaveletKernel::kCdf97}};
-  settings.kernel = kKernels.at(a.kernel);
-  settings.coder = a.coder == "binary" ? EntropyCoder::kBinary : EntropyCoder::kArith;
+  settings.kernel = a.codec.Kernel();
+  settings.coder = a.codec.Coder();
   if (a.lossless) {
     settings.rate_mode = RateMode::kLossless;
     if (settings.kernel == WaveletKernel::kCdf97) settings.kernel = WaveletKernel::kLeGall53;
@@ -152,7 +149,7 @@ int RunEncode(const EncodeArgs& a) {
   }
   const UsedMask* mask_ptr = a.masks.empty() ? nullptr : &mask;
   const ColourSpace colour = a.lossless ? ColourSpace::kRct : ColourSpace::kYCbCr601;
-  const ChromaFormat chroma = a.chroma == "420" ? ChromaFormat::k420 : ChromaFormat::k444;
+  const ChromaFormat chroma = a.codec.Chroma();
   if (a.lossless && chroma != ChromaFormat::k444)
     return Fail(InvalidArgument("--lossless needs --chroma 444"));
   const Block block = BlockFromRgb(rgb.data(), shape, colour, chroma);
@@ -279,15 +276,7 @@ void AddBlockCommands(CLI::App* app, int* exit_code) {
   e->add_option("-o,--output", enc->output, "Output block file (.fvb)")->required();
   e->add_option("--frames", enc->frames, "Frames in the block (default: images / cameras)");
   e->add_option("--cameras", enc->cameras, "Cameras in the block")->capture_default_str();
-  e->add_option("--kernel", enc->kernel, "Wavelet kernel")
-      ->check(CLI::IsMember({"haar", "53", "97"}))
-      ->capture_default_str();
-  e->add_option("--coder", enc->coder, "SPIHT decision coding")
-      ->check(CLI::IsMember({"binary", "arith"}))
-      ->capture_default_str();
-  e->add_option("--chroma", enc->chroma, "Chroma resolution")
-      ->check(CLI::IsMember({"444", "420"}))
-      ->capture_default_str();
+  AddCodecOptions(e, &enc->codec);
   e->add_option("--bpp", enc->bpp, "Target bits per texel, all channels together (default 0.25)")
       ->check(CLI::PositiveNumber);
   e->add_option("--bytes", enc->bytes, "Target total bytes")->check(CLI::PositiveNumber);

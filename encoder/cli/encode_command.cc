@@ -1,9 +1,9 @@
 #include "encoder/cli/encode_command.h"
 
 #include <cstdio>
-#include <map>
 #include <memory>
 
+#include "encoder/cli/codec_options.h"
 #include "encoder/cli/frame_range.h"
 #include "encoder/encode/encoder.h"
 
@@ -12,7 +12,8 @@ namespace {
 
 struct EncodeArgs {
   std::string capture, output, poses, textures, save_textures, summary_json, frames;
-  std::string kernel = "97", coder = "arith", chroma = "444", motion_coder = "arith";
+  CodecOptionArgs codec;
+  std::string motion_coder = "arith";
   double bpp = 0, psnr = 0;
   uint64_t bytes = 0;
   uint32_t atlas = 512, threads = 2;
@@ -40,12 +41,9 @@ int RunEncode(const EncodeArgs& a) {
   s.atlas_size = a.atlas;
   s.gop_frames = a.gop_frames;
   s.gop_cameras = a.gop_cameras;
-  static const std::map<std::string, WaveletKernel> kKernels{{"haar", WaveletKernel::kHaar},
-                                                             {"53", WaveletKernel::kLeGall53},
-                                                             {"97", WaveletKernel::kCdf97}};
-  s.kernel = kKernels.at(a.kernel);
-  s.coder = a.coder == "binary" ? EntropyCoder::kBinary : EntropyCoder::kArith;
-  s.chroma = a.chroma == "420" ? ChromaFormat::k420 : ChromaFormat::k444;
+  s.kernel = a.codec.Kernel();
+  s.coder = a.codec.Coder();
+  s.chroma = a.codec.Chroma();
   const int targets = (a.bpp > 0) + (a.bytes > 0) + (a.psnr > 0);
   if (targets > 1) return Fail(InvalidArgument("give at most one of --bpp, --bytes, --psnr"));
   if (a.bpp > 0) {
@@ -115,15 +113,7 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
   e->add_option("--atlas", a->atlas, "Atlas side in texels (16..4096)")->capture_default_str();
   e->add_option("--gop-frames", a->gop_frames, "Frames per GOP")->capture_default_str();
   e->add_option("--gop-cameras", a->gop_cameras, "Cameras per GOP")->capture_default_str();
-  e->add_option("--kernel", a->kernel, "Wavelet kernel")
-      ->check(CLI::IsMember({"haar", "53", "97"}))
-      ->capture_default_str();
-  e->add_option("--coder", a->coder, "SPIHT decision coding")
-      ->check(CLI::IsMember({"binary", "arith"}))
-      ->capture_default_str();
-  e->add_option("--chroma", a->chroma, "Chroma resolution")
-      ->check(CLI::IsMember({"444", "420"}))
-      ->capture_default_str();
+  AddCodecOptions(e, &a->codec);
   e->add_flag("--no-masks", a->no_masks,
               "Do not code visibility masks (the player then blends every camera everywhere)");
   e->add_option("--motion-coder", a->motion_coder, "Motion track entropy coder")

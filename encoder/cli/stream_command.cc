@@ -9,6 +9,7 @@
 #include "codec/thread_pool.h"
 #include "container/file_reader.h"
 #include "container/writer.h"
+#include "encoder/cli/codec_options.h"
 #include "encoder/sample/sample_stream.h"
 
 namespace fvv {
@@ -189,18 +190,17 @@ int RunInfo(const InfoArgs& a) {
 struct SampleArgs {
   std::string output;
   SampleStreamOptions o;
-  std::string kernel = "97", coder = "arith", motion_coder = "arith", chroma = "444";
+  CodecOptionArgs codec;
+  std::string motion_coder = "arith";
   std::vector<uint32_t> atlas{64, 64}, gop{8, 8};
   bool no_masks = false, end_index = false;
   unsigned threads = 0;
 };
 
 int RunSample(SampleArgs a) {
-  a.o.kernel = a.kernel == "haar" ? WaveletKernel::kHaar
-               : a.kernel == "53" ? WaveletKernel::kLeGall53
-                                  : WaveletKernel::kCdf97;
-  a.o.coder = a.coder == "binary" ? EntropyCoder::kBinary : EntropyCoder::kArith;
-  a.o.chroma = a.chroma == "420" ? ChromaFormat::k420 : ChromaFormat::k444;
+  a.o.kernel = a.codec.Kernel();
+  a.o.coder = a.codec.Coder();
+  a.o.chroma = a.codec.Chroma();
   a.o.motion_coder = a.motion_coder == "zstd" ? MotionCoder::kZstd : MotionCoder::kArith;
   a.o.atlas_width = static_cast<uint16_t>(a.atlas[0]);
   a.o.atlas_height = static_cast<uint16_t>(a.atlas[1]);
@@ -262,15 +262,7 @@ void AddStreamCommands(CLI::App* app, int* exit_code) {
       ->expected(2)
       ->capture_default_str()
       ->check(CLI::Range(1, 64));
-  s->add_option("--kernel", smp->kernel, "Wavelet kernel")
-      ->check(CLI::IsMember({"haar", "53", "97"}))
-      ->capture_default_str();
-  s->add_option("--coder", smp->coder, "SPIHT decision coding")
-      ->check(CLI::IsMember({"binary", "arith"}))
-      ->capture_default_str();
-  s->add_option("--chroma", smp->chroma, "Chroma resolution")
-      ->check(CLI::IsMember({"444", "420"}))
-      ->capture_default_str();
+  AddCodecOptions(s, &smp->codec);
   s->add_option("--bpp", smp->o.bpp, "Texture bits per texel")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);

@@ -372,6 +372,9 @@ Status CheckSettings(const EncoderSettings& s) {
   if (!s.poses.empty() && !s.textures.empty()) {
     return InvalidArgument("give poses or textures, not both (textures carry their poses)");
   }
+  if (!s.save_textures.empty() && !s.textures.empty()) {
+    return InvalidArgument("--save-textures with --textures would copy the input");
+  }
   if (!std::isfinite(s.rate_value) || s.rate_value <= 0) {
     return InvalidArgument("the rate (bpp, bytes or PSNR) must be positive");
   }
@@ -422,23 +425,14 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
                      std::to_string(given->first_frame + given->poses.size() - 1)
                : std::string()));
   }
-  if (!s.textures.empty()) {
-    // The textures must have been made for this capture's cameras and atlas.
-    StatusOr<std::vector<uint8_t>> bytes = ReadFileBytes(s.textures + "/textures.json", 256u << 20);
-    if (!bytes.ok()) return bytes.status();
-    const auto j = nlohmann::json::parse(bytes->begin(), bytes->end(), nullptr, false);
-    if (j.is_discarded() || !j.contains("atlas_size") || !j["atlas_size"].is_number_unsigned() ||
-        j["atlas_size"].get<uint64_t>() != s.atlas_size) {
-      return InvalidArgument(s.textures + "/textures.json: atlas_size is not " +
-                             std::to_string(s.atlas_size) + " (pass --atlas to match)");
-    }
+  if (!s.textures.empty() && given->atlas_size != s.atlas_size) {
+    // The textures must have been made for this atlas.
+    return InvalidArgument(s.textures + "/textures.json: atlas_size is not " +
+                           std::to_string(s.atlas_size) + " (pass --atlas to match)");
   }
 
   Session session(*cap, output, s, first, last);
   EncodeSummary& sum = session.summary();
-  if (!s.save_textures.empty() && !s.textures.empty()) {
-    return InvalidArgument("--save-textures with --textures would copy the input");
-  }
   const uint32_t total = last - first + 1;
   auto progress = [&](uint32_t frame, const std::string& extra) {
     const uint32_t done = frame - first + 1;

@@ -43,6 +43,7 @@ StatusOr<PoseSequence> ParsePoseFile(const std::string& text, const std::string&
     } else if (j.contains("stature")) {
       out.shape.stature = j["stature"].get<double>();
     }
+    if (j.contains("atlas_size")) out.atlas_size = j["atlas_size"].get<uint32_t>();
     const Status shape_ok = ValidateBodyShape(out.shape);
     if (!shape_ok.ok()) return Corrupt(what + ": " + shape_ok.message());
     const auto& frames = j.at("frames");

@@ -1,0 +1,41 @@
+// The texture-codec options shared by `fvv block encode`, `fvv sample` and
+// `fvv encode`: --kernel, --coder, --chroma, declared and parsed in one place.
+#ifndef FVV_ENCODER_CLI_CODEC_OPTIONS_H_
+#define FVV_ENCODER_CLI_CODEC_OPTIONS_H_
+
+#include <CLI/CLI.hpp>
+#include <string>
+
+#include "codec/block_codec.h"
+
+namespace fvv {
+
+struct CodecOptionArgs {
+  std::string kernel = "97", coder = "arith", chroma = "444";
+
+  WaveletKernel Kernel() const {
+    return kernel == "haar" ? WaveletKernel::kHaar
+           : kernel == "53" ? WaveletKernel::kLeGall53
+                            : WaveletKernel::kCdf97;
+  }
+  EntropyCoder Coder() const {
+    return coder == "binary" ? EntropyCoder::kBinary : EntropyCoder::kArith;
+  }
+  ChromaFormat Chroma() const { return chroma == "420" ? ChromaFormat::k420 : ChromaFormat::k444; }
+};
+
+inline void AddCodecOptions(CLI::App* app, CodecOptionArgs* a) {
+  app->add_option("--kernel", a->kernel, "Wavelet kernel")
+      ->check(CLI::IsMember({"haar", "53", "97"}))
+      ->capture_default_str();
+  app->add_option("--coder", a->coder, "SPIHT decision coding")
+      ->check(CLI::IsMember({"binary", "arith"}))
+      ->capture_default_str();
+  app->add_option("--chroma", a->chroma, "Chroma resolution")
+      ->check(CLI::IsMember({"444", "420"}))
+      ->capture_default_str();
+}
+
+}  // namespace fvv
+
+#endif  // FVV_ENCODER_CLI_CODEC_OPTIONS_H_
