@@ -29,9 +29,11 @@ StatusOr<Block> DecodeBlock(const EncodedBlock& encoded, const DecodeBudget& bud
   for (int c = 0; c < 3; ++c) {
     if (budget.max_bytes > 0 && budget.max_bytes < total) {
       // Same fraction of every stream: the streams were allocated at equal RD slope,
-      // so equal fractions keep them close to it.
+      // so equal fractions keep them close to it. Integer arithmetic, because the
+      // conformance suite pins the result (SPEC.md Annex B).
+      using Wide = unsigned __int128;
       limits[c].max_bytes = static_cast<uint64_t>(
-          static_cast<double>(encoded.channels[c].data.size()) * budget.max_bytes / total);
+          Wide{encoded.channels[c].data.size()} * budget.max_bytes / total);
     }
   }
   std::array<SpihtDecodeResult, 3> results;

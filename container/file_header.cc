@@ -1,5 +1,6 @@
 #include "container/file_header.h"
 
+#include <cstdio>
 #include <string>
 
 namespace fvv {
@@ -89,7 +90,9 @@ Status ValidateFileHeader(const FileHeader& h) {
   const LevelLimits* lim = FindLevel(h.level);
   if (lim == nullptr) return Unsupported(at + "unknown level " + std::to_string(h.level));
   if ((h.tools & ~kAllKnownTools) != 0) {
-    return Unsupported(at + "unknown coding tools 0x" + std::to_string(h.tools & ~kAllKnownTools));
+    char bits[16];
+    std::snprintf(bits, sizeof(bits), "0x%x", static_cast<unsigned>(h.tools & ~kAllKnownTools));
+    return Unsupported(at + "unknown coding tools " + bits);
   }
   if ((h.tools & ~ProfileTools(h.profile)) != 0) {
     return LimitExceeded(at + "tools outside the profile");

@@ -126,9 +126,14 @@ Status FileReader::LoadIndex() {
     index_in_stream_ = true;
     for (size_t i = 0; i < info_.index.size(); ++i) {
       const IndexEntry& e = info_.index[i];
-      if (e.offset < first_fragment_offset_ || e.offset > size || e.size > size - e.offset) {
-        return Corrupt("index entry " + std::to_string(i) + " (offset " + std::to_string(e.offset) +
-                       ", size " + std::to_string(e.size) + ") lies outside the file's fragments");
+      const std::string entry = "index entry " + std::to_string(i) + " (offset " +
+                                std::to_string(e.offset) + ", size " + std::to_string(e.size) + ")";
+      if (e.offset < first_fragment_offset_) {
+        return Corrupt(entry + " lies before the file's fragments");
+      }
+      // An entry past the end means the stream stopped early (SPEC.md 10).
+      if (e.offset > size || e.size > size - e.offset) {
+        return Truncated(entry + ": the file ends at byte " + std::to_string(size));
       }
     }
     return Status::Ok();

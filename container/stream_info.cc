@@ -14,7 +14,7 @@ uint64_t MaxTopLevelBoxSize(const StreamInfo& info, FourCC type) {
   }
   if (type == box::kIndex) {
     return kMaxBoxHeaderSize + 4 +
-           kIndexEntryBytes * uint64_t{0xFFFFFFFFu / info.header.gop_frames + 1} *
+           kIndexEntryBytes * (uint64_t{0xFFFFFFFFu / info.header.gop_frames} + 1) *
                info.header.camera_groups();
   }
   if (type == box::kCameras)

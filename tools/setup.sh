@@ -14,6 +14,7 @@ packages=(
   ffmpeg  # video frame sources of captures
   libtinygltf-dev  # glTF 2.0 characters (fvv synth --actor)
   libyaml-cpp-dev libtomlplusplus-dev  # OpenCV-style calibration files (fvv capture import-calib)
+  libssl-dev  # SHA-256 of decoded output (fvv conform)
 )
 
 missing=()

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "conformance/lib/reference_output.h"
 #include "container/writer.h"
 #include "fvv/fvv_decoder.hpp"
 #include "tools/imageio/image_io.h"
@@ -60,14 +61,57 @@ std::string Name(const std::string& dir, const char* stem, uint32_t f, uint32_t 
   return dir + buf;
 }
 
+// Exit status for a stream the decoder rejects: its pinned status code (2..6),
+// so conformance runners can check the kind of error; 1 for anything else.
+int StreamErrorExit(fvv_status status) {
+  return status >= FVV_TRUNCATED && status <= FVV_CHECKSUM_MISMATCH ? static_cast<int>(status) : 1;
+}
+
+// --format conformance: the reference decoder's conformance output (SPEC.md
+// Annex B), whole stream, for comparing decoders file by file.
+int RunConformanceOutput(const DecodeArgs& a) {
+  if (!a.frames.empty() || a.max_ms > 0) {
+    return Fail("--format conformance decodes whole streams under a byte budget: no --frames or "
+                "--max-ms");
+  }
+  std::FILE* f = std::fopen(a.input.c_str(), "rb");
+  if (!f) return Fail("cannot open " + a.input);
+  std::vector<uint8_t> stream;
+  uint8_t chunk[1 << 16];
+  size_t n;
+  while ((n = std::fread(chunk, 1, sizeof(chunk), f)) > 0) stream.insert(stream.end(), chunk, chunk + n);
+  const bool read_error = std::ferror(f) != 0;
+  std::fclose(f);
+  if (read_error) return Fail("cannot read " + a.input);
+  if (Status s = MakeDirectories(a.output_dir); !s.ok()) return Fail(s.ToString());
+  ReferenceDecodeOptions options;
+  options.bytes_per_fragment = a.bytes;
+  options.threads = a.threads == 0 ? 2 : a.threads;
+  size_t files = 0;
+  const OutputSink to_dir = DirectorySink(a.output_dir);
+  const Status s = ReferenceDecode(stream.data(), stream.size(), options,
+                                   [&](const std::string& name, const std::vector<uint8_t>& bytes) {
+                                     ++files;
+                                     return to_dir(name, bytes);
+                                   });
+  if (!s.ok()) {
+    std::fprintf(stderr, "fvv: %s: %s\n", a.input.c_str(), s.ToString().c_str());
+    return s.code() == StatusCode::kIoError ? 1 : StreamErrorExit(static_cast<fvv_status>(s.code()));
+  }
+  std::printf("wrote the conformance output (%zu files) -> %s\n", files, a.output_dir.c_str());
+  return 0;
+}
+
 int RunDecode(const DecodeArgs& a) {
+  if (a.format == "conformance") return RunConformanceOutput(a);
   fvv_decoder_settings settings;
   fvv_decoder_default_settings(&settings);
   settings.threads = a.threads;
   DecoderPtr dec = MakeDecoder(&settings);
   if (!dec) return Fail("cannot create a decoder");
-  if (fvv_decoder_open_file(dec.get(), a.input.c_str()) != FVV_OK) {
-    return Fail(fvv_decoder_error(dec.get()));
+  if (const fvv_status st = fvv_decoder_open_file(dec.get(), a.input.c_str()); st != FVV_OK) {
+    Fail(fvv_decoder_error(dec.get()));
+    return StreamErrorExit(st);
   }
   fvv_stream_info info;
   fvv_decoder_get_info(dec.get(), &info);
@@ -91,7 +135,8 @@ int RunDecode(const DecodeArgs& a) {
     fvv_status status;
     FramePtr frame = DecodeFrame(dec.get(), f, &budget, &status);
     if (!frame) {
-      return Fail(a.input + ": frame " + std::to_string(f) + ": " + fvv_decoder_error(dec.get()));
+      Fail(a.input + ": frame " + std::to_string(f) + ": " + fvv_decoder_error(dec.get()));
+      return StreamErrorExit(status);
     }
     const uint32_t gop = f / info.gop_frames;
     if (gop != last_gop) {  // the report is per GOP; count each once
@@ -153,7 +198,10 @@ void AddDecodeCommand(CLI::App* app, int* exit_code) {
   CLI::App* d = app->add_subcommand(
       "decode",
       "Decode a .fvv stream with the decoder library: per-frame, per-camera atlas textures "
-      "(tex_fFFFFF_cCC) and masks (mask_...), poses.json, and a one-line report");
+      "(tex_fFFFFF_cCC) and masks (mask_...), poses.json, and a one-line report; or, with "
+      "--format conformance, the reference decoder's conformance output (conformance/README.md). "
+      "Exit status: 0, or the status code of a rejected stream (2 truncated, 3 corrupt, 4 limit "
+      "exceeded, 5 unsupported, 6 checksum mismatch), or 1 for other errors");
   d->add_option("file", args->input, ".fvv stream")->required()->check(CLI::ExistingFile);
   d->add_option("-o,--output", args->output_dir, "Output directory")->required();
   auto* bytes = d->add_option("--bytes", args->bytes,
@@ -162,8 +210,10 @@ void AddDecodeCommand(CLI::App* app, int* exit_code) {
       ->excludes(bytes)
       ->check(CLI::PositiveNumber);
   d->add_option("--frames", args->frames, "Frames to decode: A:B (inclusive), A: or A");
-  d->add_option("--format", args->format, "Image format")
-      ->check(CLI::IsMember({"png", "exr"}))
+  d->add_option("--format", args->format,
+                "png or exr images; or conformance: the raw decoded samples, masks and motion "
+                "that conformance hashes (whole stream; --bytes applies)")
+      ->check(CLI::IsMember({"png", "exr", "conformance"}))
       ->capture_default_str();
   d->add_option("--threads", args->threads, "Worker threads (0 = all cores)")
       ->capture_default_str();

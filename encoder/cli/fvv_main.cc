@@ -4,6 +4,7 @@
 
 #include "encoder/cli/block_command.h"
 #include "encoder/cli/capture_command.h"
+#include "encoder/cli/conform_command.h"
 #include "encoder/cli/decode_command.h"
 #include "encoder/cli/encode_command.h"
 #include "encoder/cli/play_command.h"
@@ -21,6 +22,7 @@ int main(int argc, char** argv) {
   fvv::AddEncodeCommand(&app, &exit_code);
   fvv::AddStreamCommands(&app, &exit_code);
   fvv::AddDecodeCommand(&app, &exit_code);
+  fvv::AddConformCommand(&app, &exit_code);
   fvv::AddRenderCommand(&app, &exit_code);
   fvv::AddPlayCommand(&app, &exit_code);
   fvv::AddBlockCommands(&app, &exit_code);

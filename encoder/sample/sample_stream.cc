@@ -205,8 +205,8 @@ StatusOr<SampleStream> MakeSampleStream(const SampleStreamOptions& o,
   StreamInfo& info = out.info;
   FileHeader& h = info.header;
   h.level = o.level;
-  h.frame_rate_num = 25;
-  h.frame_rate_den = 1;
+  h.frame_rate_num = o.frame_rate_num;
+  h.frame_rate_den = o.frame_rate_den;
   h.frame_count = o.fast_start ? o.frames : 0;
   h.camera_count = o.cameras;
   h.atlas_width = o.atlas_width;

@@ -31,6 +31,7 @@ struct SampleStreamOptions {
   uint16_t key_interval = 1;
   bool fast_start = true;  // declare the frame count up front (index at the front)
   uint8_t level = 1;
+  uint32_t frame_rate_num = 25, frame_rate_den = 1;
   Metadata metadata = {{"title", "fvv sample stream"}, {"generator", "fvv sample"}};
 };
 

@@ -1,0 +1,537 @@
+// Makes the conformance suite's cases (conformance/README.md): valid streams
+// from the sample encoder with one coding tool or boundary per case, edge cases
+// made by editing boxes, and invalid streams a decoder must reject. Each case
+// gets stream.fvv and a test.json whose expectations come from the reference
+// decoder (fvv conform --bless does the same for hand-made cases).
+//
+// Released cases never change: existing case directories are left alone
+// unless --force. Usage: fvv_make_conformance OUT_DIR [--only NAME] [--force]
+#include <sys/stat.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "conformance/generator/stream_edit.h"
+#include "conformance/lib/runner.h"
+#include "container/file_header.h"
+#include "container/writer.h"
+#include "encoder/sample/sample_stream.h"
+#include "fvv/fvv_types.h"
+
+namespace fvv {
+namespace {
+
+struct CaseSpec {
+  std::string name, description;
+  std::vector<std::string> sections;  // beyond the ones every stream exercises
+  SampleStreamOptions options;
+  std::vector<uint64_t> budgets;  // truncation budgets besides whole streams
+  // Valid edge cases and invalid streams: edits of the sample stream's boxes.
+  std::function<Status(std::vector<EditBox>*)> edit;
+  StatusCode error = StatusCode::kOk;  // kOk: the stream is valid
+  // Raw cut or damage after joining (truncation, box sizes): applied last.
+  std::function<void(std::vector<EditBox>*, std::vector<uint8_t>*)> raw;
+};
+
+SampleStreamOptions Base(uint32_t frames, uint16_t cameras, uint16_t w, uint16_t h,
+                         uint16_t gop_frames, uint16_t gop_cameras) {
+  SampleStreamOptions o;
+  o.frames = frames;
+  o.cameras = cameras;
+  o.atlas_width = w;
+  o.atlas_height = h;
+  o.gop_frames = gop_frames;
+  o.gop_cameras = gop_cameras;
+  o.metadata = {{"generator", "fvv_make_conformance"}};
+  return o;
+}
+
+SampleStreamOptions Tiny() {
+  SampleStreamOptions o = TinySampleOptions();
+  o.metadata = {{"generator", "fvv_make_conformance"}};
+  return o;
+}
+
+std::vector<std::string> ToolNames(uint32_t tools) {
+  std::vector<std::string> names;
+  for (uint32_t bit = 1; bit != 0 && bit <= tools; bit <<= 1) {
+    if (tools & bit) names.push_back(CodingToolName(bit));
+  }
+  return names;
+}
+
+// Sections every decodable stream exercises, plus the tools' own.
+std::vector<std::string> Sections(const StreamInfo& info, const CaseSpec& spec) {
+  std::vector<std::string> s = {"2", "3.1", "3.2", "3.3", "3.4", "3.5", "5",
+                                "6.1", "6.2", "6.3", "6.4", "9.1", "9.2", "9.3"};
+  const uint32_t t = info.header.tools;
+  if (t & kToolSpihtArith) s.push_back("9.4");
+  s.insert(s.end(), {"9.5", "9.6", "9.7"});
+  if (t & kToolMasks) s.push_back("7");
+  if (t & kToolVertexVisibility) s.push_back("8");
+  if (!info.metadata.empty()) s.push_back("3.7");
+  s.push_back("3.6");
+  for (const std::string& extra : spec.sections) s.push_back(extra);
+  return s;
+}
+
+bool Exists(const std::string& path) {
+  struct stat st;
+  return stat(path.c_str(), &st) == 0;
+}
+
+Status WriteBytes(const std::string& path, const std::vector<uint8_t>& bytes) {
+  std::ofstream out(path, std::ios::binary);
+  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  return out ? Status::Ok() : IoError("cannot write " + path);
+}
+
+Status MakeCase(const CaseSpec& spec, const std::string& dir, bool force) {
+  if (Exists(dir + "/test.json") && !force) {
+    std::printf("kept     %s (released; --force to remake)\n", spec.name.c_str());
+    return Status::Ok();
+  }
+  FVV_ASSIGN_OR_RETURN(SampleStream sample, MakeSampleStream(spec.options));
+  FVV_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes,
+                       WriteStreamToMemory(sample.info, sample.fragments));
+  FVV_ASSIGN_OR_RETURN(std::vector<EditBox> boxes, SplitBoxes(bytes));
+  if (spec.edit) {
+    FVV_RETURN_IF_ERROR(spec.edit(&boxes));
+    bytes = JoinBoxes(boxes);
+  }
+  if (spec.raw) spec.raw(&boxes, &bytes);
+  if (bytes.size() > (1u << 20)) {
+    return InvalidArgument(spec.name + ": stream of " + std::to_string(bytes.size()) +
+                           " bytes (cases stay under 1 MiB)");
+  }
+  if (mkdir(dir.c_str(), 0755) != 0 && !Exists(dir)) return IoError("cannot create " + dir);
+  FVV_RETURN_IF_ERROR(WriteBytes(dir + "/stream.fvv", bytes));
+  ConformanceCase c;
+  c.dir = dir;
+  c.name = spec.name;
+  c.description = spec.description;
+  c.format_version = FVV_FORMAT_VERSION;
+  c.profile = 1;
+  c.level = spec.options.level;
+  c.tools = ToolNames(sample.info.header.tools);
+  c.spec_sections = Sections(sample.info, spec);
+  if (spec.error != StatusCode::kOk) {
+    c.expect_error = true;
+    c.error = spec.error;
+    c.spec_sections = spec.sections;
+  }
+  FVV_RETURN_IF_ERROR(BlessCase(&c, spec.budgets, /*force=*/true));
+  std::printf("made     %-34s %7zu bytes\n", spec.name.c_str(), bytes.size());
+  return Status::Ok();
+}
+
+// ---- valid cases -----------------------------------------------------------
+
+std::vector<CaseSpec> ValidCases() {
+  std::vector<CaseSpec> v;
+  const auto add = [&v](std::string name, std::string description, SampleStreamOptions o,
+                        std::vector<uint64_t> budgets, std::vector<std::string> sections = {}) {
+    CaseSpec s;
+    s.name = std::move(name);
+    s.description = std::move(description);
+    s.options = std::move(o);
+    s.budgets = std::move(budgets);
+    s.sections = std::move(sections);
+    v.push_back(std::move(s));
+    return &v.back();
+  };
+  SampleStreamOptions o = Base(8, 4, 64, 64, 4, 2);
+  add("basic_97_arith", "9/7 kernel, arithmetic SPIHT, masks; 2x2 GOP grid", o, {1, 64, 700});
+
+  o = Base(6, 3, 48, 40, 4, 2);
+  o.kernel = WaveletKernel::kHaar;
+  o.coder = EntropyCoder::kBinary;
+  add("kernel_haar_binary", "Haar kernel, binary SPIHT; partial GOPs on both axes", o, {40, 300});
+  o.kernel = WaveletKernel::kLeGall53;
+  o.coder = EntropyCoder::kArith;
+  add("kernel_53_arith", "5/3 kernel, arithmetic SPIHT", o, {40, 300});
+  o.kernel = WaveletKernel::kCdf97;
+  o.coder = EntropyCoder::kBinary;
+  add("kernel_97_binary", "9/7 kernel, binary SPIHT", o, {40, 300});
+
+  o = Base(4, 2, 24, 20, 2, 2);
+  o.lossless = true;
+  o.kernel = WaveletKernel::kLeGall53;
+  add("lossless_53_rct", "lossless: 5/3 with the reversible colour transform, whole streams "
+      "reproduce the source exactly", o, {100, 1000});
+  o.kernel = WaveletKernel::kHaar;
+  o.coder = EntropyCoder::kBinary;
+  add("lossless_haar_rct_binary", "lossless: Haar, RCT, binary SPIHT", o, {100, 1000});
+
+  o = Base(5, 2, 37, 23, 4, 2);
+  o.chroma = ChromaFormat::k420;
+  add("chroma_420_odd", "4:2:0 chroma on an odd-sized atlas (37x23: chroma 19x12)", o, {30, 200});
+
+  o = Base(10, 5, 40, 24, 4, 2);
+  add("gop_partial", "10 frames x 5 cameras in 4x2 GOPs: short last span, one-camera last group",
+      o, {50});
+  o = Base(6, 1, 32, 32, 3, 1);
+  add("gop_one_camera", "a single camera", o, {50});
+  o = Base(1, 3, 32, 16, 1, 3);
+  add("gop_one_frame", "a single frame", o, {50});
+  o = Base(3, 2, 16, 16, 1, 1);
+  add("gop_1x1", "GOPs of one frame and one camera (6 fragments)", o, {10});
+  o = Base(2, 2, 1, 1, 2, 2);
+  o.bpp = 8;
+  add("atlas_1x1", "a 1x1 atlas: every axis but time and cameras of size 1", o, {1});
+  o = Base(3, 2, 1, 50, 3, 2);
+  o.chroma = ChromaFormat::k420;
+  add("atlas_column_420", "a 1x50 atlas with 4:2:0 chroma (chroma 1x25)", o, {10});
+
+  o = Base(8, 3, 32, 32, 4, 3);
+  o.masks = false;
+  add("no_masks", "no shape masks: every texel used", o, {100});
+  o = Base(9, 2, 32, 32, 4, 2);
+  o.motion_coder = MotionCoder::kZstd;
+  add("motion_zstd", "motion track coded with zstd", o, {});
+  o = Base(10, 2, 32, 32, 8, 2);
+  o.key_interval = 3;
+  add("motion_interpolation", "motion key interval 3: interpolated frames (fixed-point slerp)", o,
+      {});
+  o.motion_coder = MotionCoder::kZstd;
+  o.key_interval = 4;
+  add("motion_interpolation_zstd", "key interval 4 with the zstd motion coder", o, {});
+
+  o = Base(9, 2, 32, 32, 4, 2);
+  o.fast_start = false;
+  add("index_end", "frame count unknown in the header (live): the index at the end", o, {});
+  auto* no_index = add("no_index", "no index at all: readers rebuild it by walking the boxes", o,
+                       {});
+  no_index->edit = [](std::vector<EditBox>* boxes) { return DropIndex(boxes); };
+
+  o = Base(5, 2, 32, 32, 4, 2);
+  auto* skip = add("unknown_boxes_and_largesize",
+                   "non-essential unknown boxes at top level and in a fragment, which decoders "
+                   "skip; box headers in the 64-bit size form",
+                   o, {}, {"2"});
+  skip->edit = [](std::vector<EditBox>* boxes) -> Status {
+    FVV_RETURN_IF_ERROR(DropIndex(boxes));
+    EditBox unknown;
+    unknown.type = MakeFourCC("xtra");
+    unknown.version = 3;
+    unknown.payload = {1, 2, 3, 4, 5};
+    boxes->insert(boxes->begin() + 1, unknown);
+    (*boxes)[FindBox(*boxes, box::kModel)].large = true;
+    boxes->push_back(unknown);  // after the last fragment
+    const int frag = FindBox(*boxes, box::kFragment, 1);
+    (*boxes)[frag].large = true;
+    return EditFragment(&(*boxes)[frag], [&unknown](std::vector<EditBox>* subs) {
+      EditBox inner = unknown;
+      inner.type = MakeFourCC("xsub");
+      subs->insert(subs->begin() + 2, inner);
+      (*subs)[FindBox(*subs, box::kTexture)].large = true;
+    });
+  };
+
+  o = Base(3, 2, 16, 16, 3, 2);
+  o.metadata = {{"title", "Conformance: metadata"},
+                {"empty", ""},
+                {"", "empty key"},
+                {"utf-8", "\xC3\xA9t\xC3\xA9 \xE2\x80\x94 \xE6\x97\xA5\xE6\x9C\xAC \xF0\x9F\x8E\xA5"},
+                {"title", "a repeated key"}};
+  add("metadata", "metadata with empty keys and values, repeated keys, multi-byte UTF-8", o, {});
+  o = Base(4, 3, 32, 32, 2, 3);
+  o.vertex_visibility = true;
+  add("vertex_visibility", "fragments carry per-vertex visibility (vvis)", o, {});
+
+  // Profile/level boundaries: each at its level's limits (5, table).
+  o = Base(8, 8, 512, 512, 8, 8);
+  o.frame_rate_num = 30;
+  o.bpp = 0.01;
+  o.level = 1;
+  add("level1_limits", "level 1 at its limits: 512x512 atlas, 8 cameras, GOP 8x8 (2^24 samples), "
+      "512^2 x 8 x 30 samples/s",
+      o, {5000}, {"5"});
+  o = Base(16, 16, 1024, 4, 16, 16);
+  o.frame_rate_num = 30;
+  o.level = 2;
+  o.bpp = 0.05;
+  add("level2_limits", "level 2 limits on atlas side (1024), cameras (16), GOP 16x16", o, {2000},
+      {"5"});
+  o = Base(16, 32, 2048, 2, 16, 32);
+  o.frame_rate_num = 30;
+  o.level = 3;
+  o.bpp = 0.05;
+  add("level3_limits", "level 3 limits on atlas side (2048), cameras (32), GOP 16x32", o, {2000},
+      {"5"});
+  o = Base(32, 1, 4096, 1, 32, 1);
+  o.frame_rate_num = 60;
+  o.level = 4;
+  o.bpp = 0.1;
+  add("level4_frames", "level 4 limits on atlas side (4096) and GOP frames (32), 60 fps", o, {500},
+      {"5"});
+  o = Base(1, 64, 8, 8, 1, 64);
+  o.level = 4;
+  add("level4_cameras", "level 4 limits on cameras and GOP cameras (64)", o, {200}, {"5"});
+  return v;
+}
+
+// ---- invalid cases ---------------------------------------------------------
+
+std::vector<CaseSpec> InvalidCases() {
+  std::vector<CaseSpec> v;
+  const auto add = [&v](std::string name, std::string description, StatusCode error,
+                        std::vector<std::string> sections) {
+    CaseSpec s;
+    s.name = "invalid/" + name;
+    s.description = std::move(description);
+    s.options = Tiny();
+    s.error = error;
+    s.sections = std::move(sections);
+    v.push_back(std::move(s));
+    return &v.back();
+  };
+  const auto header = [](std::vector<EditBox>* boxes) -> std::vector<uint8_t>& {
+    return (*boxes)[FindBox(*boxes, box::kFileHeader)].payload;
+  };
+  const auto fragment = [](std::vector<EditBox>* boxes, int n) -> EditBox& {
+    return (*boxes)[FindBox(*boxes, box::kFragment, n)];
+  };
+  const auto sub_payload = [](std::vector<EditBox>* subs, FourCC type) -> std::vector<uint8_t>& {
+    return (*subs)[FindBox(*subs, type)].payload;
+  };
+
+  add("truncated_in_fragment", "the stream ends inside the last fragment", StatusCode::kTruncated,
+      {"2", "10"})
+      ->raw = [](std::vector<EditBox>* boxes, std::vector<uint8_t>* bytes) {
+    const int last = FindBox(*boxes, box::kFragment, 1);
+    bytes->resize(BoxOffset(*boxes, last) + 40);
+  };
+  add("truncated_in_model", "the stream ends inside the body model box", StatusCode::kTruncated,
+      {"2", "3.3", "10"})
+      ->raw = [](std::vector<EditBox>* boxes, std::vector<uint8_t>* bytes) {
+    bytes->resize(BoxOffset(*boxes, FindBox(*boxes, box::kModel)) + 100);
+  };
+  add("truncated_missing_fragment",
+      "the last fragment is missing: the stream ends before all fragments its header declares",
+      StatusCode::kTruncated, {"3", "3.6", "10"})
+      ->raw = [](std::vector<EditBox>* boxes, std::vector<uint8_t>* bytes) {
+    bytes->resize(BoxOffset(*boxes, FindBox(*boxes, box::kFragment, 1)));
+  };
+  auto* end_index = add("truncated_in_end_index", "the stream ends inside its index (at the end)",
+                        StatusCode::kTruncated, {"3.6", "10"});
+  end_index->options.fast_start = false;
+  end_index->raw = [](std::vector<EditBox>*, std::vector<uint8_t>* bytes) {
+    bytes->resize(bytes->size() - 10);
+  };
+
+  add("box_size_zero", "a top-level box (meta) with size 0", StatusCode::kCorrupt, {"2", "10"})
+      ->raw = [](std::vector<EditBox>* boxes, std::vector<uint8_t>* bytes) {
+    StoreLe(bytes, BoxOffset(*boxes, FindBox(*boxes, box::kMetadata)), 0, 4);
+  };
+  add("box_size_below_header", "a top-level box (mtrk) whose size is smaller than its header",
+      StatusCode::kCorrupt, {"2", "10"})
+      ->raw = [](std::vector<EditBox>* boxes, std::vector<uint8_t>* bytes) {
+    StoreLe(bytes, BoxOffset(*boxes, FindBox(*boxes, box::kMotionParams)), 8, 4);
+  };
+  add("subbox_past_fragment", "a fragment's texr sub-box runs past the end of the fragment "
+      "(found by the sub-box walk, before the checksum)",
+      StatusCode::kCorrupt, {"2", "3.5", "10"})
+      ->edit = [](std::vector<EditBox>* boxes) { return DropIndex(boxes); };
+  // The texr box's declared size grows past the fcrc that follows it (on the
+  // joined bytes: a box of the edit list cannot lie about its size).
+  v.back().raw = [](std::vector<EditBox>* boxes, std::vector<uint8_t>* bytes) {
+    const int f = FindBox(*boxes, box::kFragment, 0);
+    auto subs = SplitBoxes((*boxes)[f].payload);
+    if (!subs.ok()) return;
+    const int tex = FindBox(*subs, box::kTexture);
+    const uint64_t at = BoxOffset(*boxes, f) + kMinBoxHeaderSize + BoxOffset(*subs, tex);
+    StoreLe(bytes, at, (*subs)[tex].payload.size() + kMinBoxHeaderSize + 1000, 4);
+  };
+
+  add("level_atlas_too_wide", "atlas width 513 in a level-1 stream", StatusCode::kLimitExceeded,
+      {"3.1", "5", "10"})
+      ->edit = [header](std::vector<EditBox>* boxes) {
+    StoreLe(&header(boxes), fvvh::kAtlasWidth, 513, 2);
+    return Status::Ok();
+  };
+  add("level_gop_frames", "9 frames per GOP in a level-1 stream", StatusCode::kLimitExceeded,
+      {"3.1", "5", "10"})
+      ->edit = [header](std::vector<EditBox>* boxes) {
+    StoreLe(&header(boxes), fvvh::kGopFrames, 9, 2);
+    return Status::Ok();
+  };
+  add("level_cameras", "9 cameras in a level-1 stream", StatusCode::kLimitExceeded,
+      {"3.1", "5", "10"})
+      ->edit = [header](std::vector<EditBox>* boxes) {
+    StoreLe(&header(boxes), fvvh::kCameraCount, 9, 2);
+    return Status::Ok();
+  };
+  add("checksum_mismatch", "one byte of a fragment's texture payload changed",
+      StatusCode::kChecksumMismatch, {"3.5", "10"})
+      ->edit = [fragment](std::vector<EditBox>* boxes) {
+    EditBox& f = fragment(boxes, 1);
+    f.payload[f.payload.size() / 2] ^= 0x10;
+    return Status::Ok();
+  };
+  add("unknown_essential_box", "an unknown top-level box marked essential",
+      StatusCode::kUnsupported, {"2", "10"})
+      ->edit = [](std::vector<EditBox>* boxes) {
+    FVV_RETURN_IF_ERROR(DropIndex(boxes));
+    EditBox b;
+    b.type = MakeFourCC("zzzz");
+    b.flags = kBoxFlagEssential;
+    b.payload = {0, 0, 0, 0};
+    boxes->insert(boxes->begin() + FindBox(*boxes, box::kFragment), b);
+    return Status::Ok();
+  };
+  add("unknown_essential_subbox", "an unknown sub-box marked essential inside a fragment "
+      "(checksum recomputed)",
+      StatusCode::kUnsupported, {"2", "3.5", "10"})
+      ->edit = [fragment](std::vector<EditBox>* boxes) {
+    FVV_RETURN_IF_ERROR(DropIndex(boxes));
+    return EditFragment(&fragment(boxes, 0), [](std::vector<EditBox>* subs) {
+      EditBox b;
+      b.type = MakeFourCC("zzzz");
+      b.flags = kBoxFlagEssential;
+      subs->insert(subs->begin() + 1, b);
+    });
+  };
+  add("newer_format_version", "format_version 999", StatusCode::kUnsupported, {"3.1", "4", "10"})
+      ->edit = [header](std::vector<EditBox>* boxes) {
+    StoreLe(&header(boxes), fvvh::kFormatVersion, 999, 2);
+    return Status::Ok();
+  };
+  add("newer_box_version", "the cams box at version 1", StatusCode::kUnsupported,
+      {"2", "4", "10"})
+      ->edit = [](std::vector<EditBox>* boxes) {
+    (*boxes)[FindBox(*boxes, box::kCameras)].version = 1;
+    return Status::Ok();
+  };
+  add("unknown_tool_bit", "coding tool bit 20 set", StatusCode::kUnsupported, {"3.1", "10"})
+      ->edit = [header](std::vector<EditBox>* boxes) {
+    std::vector<uint8_t>& h = header(boxes);
+    const uint32_t tools = h[fvvh::kTools] | h[fvvh::kTools + 1] << 8 |
+                           h[fvvh::kTools + 2] << 16 | uint32_t{h[fvvh::kTools + 3]} << 24;
+    StoreLe(&h, fvvh::kTools, tools | (1u << 20), 4);
+    return Status::Ok();
+  };
+  add("index_entry_mismatch", "an index entry's frame count differs from its fragment's header",
+      StatusCode::kCorrupt, {"3.6", "10"})
+      ->edit = [](std::vector<EditBox>* boxes) {
+    // entry 1 starts after count (4 bytes) and entry 0 (26); frame_count at +4.
+    StoreLe(&(*boxes)[FindBox(*boxes, box::kIndex)].payload, 4 + 26 + 4, 2, 2);
+    return Status::Ok();
+  };
+  add("index_offset_wrong", "the header's index_offset points 4 bytes past the index",
+      StatusCode::kCorrupt, {"3.1", "3.6", "10"})
+      ->edit = [header](std::vector<EditBox>* boxes) {
+    StoreLe(&header(boxes), fvvh::kIndexOffset,
+            BoxOffset(*boxes, FindBox(*boxes, box::kIndex)) + 4, 8);
+    return Status::Ok();
+  };
+  add("fragments_out_of_order", "the two fragments swapped (no index)", StatusCode::kCorrupt,
+      {"3.5", "10"})
+      ->edit = [](std::vector<EditBox>* boxes) {
+    FVV_RETURN_IF_ERROR(DropIndex(boxes));
+    std::swap((*boxes)[FindBox(*boxes, box::kFragment, 0)],
+              (*boxes)[FindBox(*boxes, box::kFragment, 1)]);
+    return Status::Ok();
+  };
+  add("header_box_after_fragment", "the mtrk box after the first fragment (no index)",
+      StatusCode::kCorrupt, {"3", "10"})
+      ->edit = [](std::vector<EditBox>* boxes) {
+    FVV_RETURN_IF_ERROR(DropIndex(boxes));
+    const int m = FindBox(*boxes, box::kMotionParams);
+    const EditBox mtrk = (*boxes)[m];
+    boxes->erase(boxes->begin() + m);
+    boxes->insert(boxes->begin() + FindBox(*boxes, box::kFragment) + 1, mtrk);
+    return Status::Ok();
+  };
+  add("camera_count_mismatch", "cams declares one camera fewer than the header",
+      StatusCode::kCorrupt, {"3.2", "10"})
+      ->edit = [](std::vector<EditBox>* boxes) {
+    std::vector<uint8_t>& cams = (*boxes)[FindBox(*boxes, box::kCameras)].payload;
+    StoreLe(&cams, 0, 1, 2);
+    return Status::Ok();
+  };
+  add("model_checksum_wrong", "the content checksum of the body model's zstd frame changed",
+      StatusCode::kCorrupt, {"3.3", "10"})
+      ->edit = [](std::vector<EditBox>* boxes) {
+    std::vector<uint8_t>& m = (*boxes)[FindBox(*boxes, box::kModel)].payload;
+    m.back() ^= 0x01;
+    return Status::Ok();
+  };
+  add("metadata_bad_utf8", "a metadata value that is not valid UTF-8 (an overlong form)",
+      StatusCode::kCorrupt, {"3.7", "10"})
+      ->edit = [](std::vector<EditBox>* boxes) {
+    EditBox& meta = (*boxes)[FindBox(*boxes, box::kMetadata)];
+    // count 1, key "k", value "\xC0\xAF" (an overlong '/').
+    meta.payload = {1, 0, 1, 0, 'k', 2, 0, 0xC0, 0xAF};
+    return DropIndex(boxes);
+  };
+  add("mask_mode_unknown", "mask coding mode 2 (checksum recomputed)", StatusCode::kUnsupported,
+      {"7", "10"})
+      ->edit = [fragment, sub_payload](std::vector<EditBox>* boxes) {
+    return EditFragment(&fragment(boxes, 0), [sub_payload](std::vector<EditBox>* subs) {
+      sub_payload(subs, box::kMasks)[0] = 2;
+    });
+  };
+  add("texture_too_many_bitplanes", "a channel stream declaring 31 bitplanes (checksum "
+      "recomputed)",
+      StatusCode::kCorrupt, {"9.1", "10"})
+      ->edit = [fragment, sub_payload](std::vector<EditBox>* boxes) {
+    return EditFragment(&fragment(boxes, 0), [sub_payload](std::vector<EditBox>* subs) {
+      sub_payload(subs, box::kTexture)[4] = 31;
+    });
+  };
+  add("texture_undeclared_kernel", "a texture coded with Haar in a stream declaring 9/7 "
+      "(checksum recomputed)",
+      StatusCode::kCorrupt, {"3.1", "9.1", "10"})
+      ->edit = [fragment, sub_payload](std::vector<EditBox>* boxes) {
+    return EditFragment(&fragment(boxes, 0), [sub_payload](std::vector<EditBox>* subs) {
+      sub_payload(subs, box::kTexture)[0] = 0;
+    });
+  };
+  add("motion_bad_predictor", "motion predictor 2 (checksum recomputed)", StatusCode::kCorrupt,
+      {"6.2", "10"})
+      ->edit = [fragment, sub_payload](std::vector<EditBox>* boxes) {
+    return EditFragment(&fragment(boxes, 0), [sub_payload](std::vector<EditBox>* subs) {
+      sub_payload(subs, box::kMotion)[0] = 2;
+    });
+  };
+  return v;
+}
+
+int Main(int argc, char** argv) {
+  CLI::App app{"Makes the fvv conformance suite's cases (streams and test.json)."};
+  std::string out, only;
+  bool force = false;
+  app.add_option("out", out, "conformance directory (conformance/)")->required();
+  app.add_option("--only", only, "make only the case of this name (e.g. invalid/box_size_zero)");
+  app.add_flag("--force", force, "remake cases that exist (released cases never change!)");
+  CLI11_PARSE(app, argc, argv);
+  mkdir((out + "/invalid").c_str(), 0755);
+  std::vector<CaseSpec> all = ValidCases();
+  for (CaseSpec& s : InvalidCases()) all.push_back(std::move(s));
+  int made = 0;
+  for (const CaseSpec& spec : all) {
+    if (!only.empty() && spec.name != only) continue;
+    const Status s = MakeCase(spec, out + "/" + spec.name, force);
+    if (!s.ok()) {
+      std::fprintf(stderr, "fvv_make_conformance: %s: %s\n", spec.name.c_str(),
+                   s.ToString().c_str());
+      return 1;
+    }
+    ++made;
+  }
+  if (made == 0) {
+    std::fprintf(stderr, "fvv_make_conformance: no case named %s\n", only.c_str());
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace
+}  // namespace fvv
+
+int main(int argc, char** argv) { return fvv::Main(argc, argv); }

@@ -1,0 +1,51 @@
+// A conformance case: a committed stream and its test.json (conformance/README.md):
+// what a decoder must output for it (SHA-256 of every file of the conformance
+// output, SPEC.md Annex B, in full and at listed truncation budgets), or the
+// error code it must stop with.
+#ifndef FVV_CONFORMANCE_LIB_CONFORMANCE_CASE_H_
+#define FVV_CONFORMANCE_LIB_CONFORMANCE_CASE_H_
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "codec/status.h"
+#include "conformance/lib/reference_output.h"
+
+namespace fvv {
+
+struct BudgetExpectation {
+  uint64_t bytes_per_fragment = 0;  // 0 = whole streams
+  OutputHashes yuv;                 // yuv_*.bin at this budget
+};
+
+struct ConformanceCase {
+  std::string dir;  // the case directory (test.json and the stream)
+  std::string name, description;
+  int format_version = 1, profile = 1, level = 1;
+  std::vector<std::string> tools, spec_sections;
+  std::string stream = "stream.fvv";  // relative to dir
+  std::string stream_sha256;          // the released stream's bytes never change
+
+  bool expect_error = false;
+  // Valid streams: files that do not depend on the budget (motion, masks,
+  // vertex visibility), then the samples per budget (the first is 0 = whole).
+  OutputHashes fixed;
+  std::vector<BudgetExpectation> budgets;
+  // Invalid streams.
+  StatusCode error = StatusCode::kOk;
+
+  std::string stream_path() const { return dir + "/" + stream; }
+  bool blessed() const { return expect_error || !budgets.empty(); }
+};
+
+StatusOr<ConformanceCase> LoadCase(const std::string& dir);
+Status SaveCase(const ConformanceCase& c);  // writes dir/test.json (temp file, then rename)
+
+// Every case directory (one holding a test.json) under `root`, or `root`
+// itself when it is one; sorted by path.
+StatusOr<std::vector<std::string>> FindCaseDirs(const std::string& root);
+
+}  // namespace fvv
+
+#endif  // FVV_CONFORMANCE_LIB_CONFORMANCE_CASE_H_

@@ -1,0 +1,196 @@
+#include "conformance/lib/reference_output.h"
+
+#include <dirent.h>
+#include <sys/stat.h>
+
+#include <cstdio>
+#include <memory>
+
+#include "codec/thread_pool.h"
+#include "conformance/lib/sha256.h"
+#include "container/file_reader.h"
+#include "container/stream_reader.h"
+#include "container/vertex_visibility.h"
+#include "player/decoder/gop_decoder.h"
+
+namespace fvv {
+namespace {
+
+void PutLe(uint64_t v, int bytes, std::vector<uint8_t>* out) {
+  for (int i = 0; i < bytes; ++i) out->push_back(static_cast<uint8_t>(v >> (8 * i)));
+}
+
+// Collects the fragments of one GOP time span (they follow each other in GOP
+// index order) and emits the span's output files once it is complete.
+class SpanEmitter {
+ public:
+  SpanEmitter(const ReferenceDecodeOptions& options, const OutputSink& sink)
+      : options_(options), sink_(sink), pool_(options.threads) {}
+
+  Status Add(const StreamInfo& info, FragmentData fragment) {
+    if (!span_.empty() && span_[0].info.first_frame != fragment.info.first_frame) {
+      FVV_RETURN_IF_ERROR(Flush(info));
+    }
+    span_.push_back(std::move(fragment));
+    return Status::Ok();
+  }
+
+  Status Flush(const StreamInfo& info) {
+    if (span_.empty()) return Status::Ok();
+    GopBudget budget;
+    budget.max_bytes = options_.bytes_per_fragment;
+    FVV_ASSIGN_OR_RETURN(const auto gop, DecodeGop(info, span_, budget, pool_.runner()));
+    for (const DecodedFrame& frame : gop->motion) {
+      for (const BoneMotion& bone : frame.bones) {
+        for (int32_t q : bone.rotation.c) PutLe(static_cast<uint32_t>(q), 4, &motion_);
+        for (int64_t t : bone.translation_um) PutLe(static_cast<uint64_t>(t), 8, &motion_);
+      }
+    }
+    for (size_t g = 0; g < span_.size(); ++g) {
+      FVV_RETURN_IF_ERROR(EmitGroup(info, span_[g], *gop, g));
+    }
+    span_.clear();
+    return Status::Ok();
+  }
+
+  Status Finish(const StreamInfo& info) {
+    FVV_RETURN_IF_ERROR(Flush(info));
+    return sink_("motion.bin", motion_);
+  }
+
+ private:
+  Status EmitGroup(const StreamInfo& info, const FragmentData& f, const DecodedGop& gop, size_t g) {
+    const Block& block = gop.textures[g];
+    const Shape4D& luma = block.shape();
+    const uint32_t nv = static_cast<uint32_t>(info.model.mesh.positions.size());
+    std::vector<uint8_t> vvis;
+    if (!f.vertex_visibility.empty()) {
+      FVV_RETURN_IF_ERROR(DecodeVertexVisibility(f.vertex_visibility.data(),
+                                                 f.vertex_visibility.size(), luma.frames(),
+                                                 luma.cameras(), nv, &vvis));
+    }
+    const size_t texels = size_t{luma.height()} * luma.width();
+    for (uint32_t t = 0; t < luma.frames(); ++t) {
+      for (uint32_t c = 0; c < luma.cameras(); ++c) {
+        const uint32_t frame = f.info.first_frame + t, camera = f.info.first_camera + c;
+        std::vector<uint8_t> yuv;
+        for (const Plane4D& plane : block.channels) {
+          const size_t n = size_t{plane.shape.height()} * plane.shape.width();
+          const size_t first = (size_t{t} * plane.shape.cameras() + c) * n;
+          yuv.reserve(yuv.size() + 2 * n);
+          for (size_t i = 0; i < n; ++i) {
+            PutLe(static_cast<uint16_t>(static_cast<int16_t>(plane.samples[first + i])), 2, &yuv);
+          }
+        }
+        FVV_RETURN_IF_ERROR(sink_(OutputName("yuv", frame, camera), yuv));
+        const size_t plane_index = size_t{t} * luma.cameras() + c;
+        if (!gop.masks[g].empty()) {
+          const auto begin = gop.masks[g].begin() + plane_index * texels;
+          FVV_RETURN_IF_ERROR(
+              sink_(OutputName("mask", frame, camera), std::vector<uint8_t>(begin, begin + texels)));
+        }
+        if (!vvis.empty()) {
+          const auto begin = vvis.begin() + plane_index * nv;
+          FVV_RETURN_IF_ERROR(
+              sink_(OutputName("vvis", frame, camera), std::vector<uint8_t>(begin, begin + nv)));
+        }
+      }
+    }
+    return Status::Ok();
+  }
+
+  const ReferenceDecodeOptions& options_;
+  const OutputSink& sink_;
+  ThreadPool pool_;
+  std::vector<FragmentData> span_;
+  std::vector<uint8_t> motion_;
+};
+
+Status DecodeRandomAccess(const uint8_t* data, size_t size, SpanEmitter* emitter) {
+  MemorySource source(data, size);
+  FVV_ASSIGN_OR_RETURN(auto reader, FileReader::Open(&source));
+  for (size_t i = 0; i < reader->fragment_count(); ++i) {
+    FVV_ASSIGN_OR_RETURN(FragmentData f, reader->ReadFragment(i));
+    FVV_RETURN_IF_ERROR(emitter->Add(reader->info(), std::move(f)));
+  }
+  return emitter->Finish(reader->info());
+}
+
+Status DecodeStreaming(const uint8_t* data, size_t size, SpanEmitter* emitter) {
+  StreamReader reader;
+  reader.Push(data, size);
+  reader.Finish();
+  for (;;) {
+    FVV_ASSIGN_OR_RETURN(const ReaderEvent event, reader.Next());
+    if (event == ReaderEvent::kEnd) break;
+    if (event == ReaderEvent::kNeedMoreInput) {
+      return Internal("streaming reader asked for input after Finish()");
+    }
+    if (event == ReaderEvent::kFragment) {
+      FVV_RETURN_IF_ERROR(emitter->Add(reader.info(), reader.TakeFragment()));
+    }
+  }
+  return emitter->Finish(reader.info());
+}
+
+}  // namespace
+
+std::string OutputName(const char* stem, uint32_t frame, uint32_t camera) {
+  char name[64];
+  std::snprintf(name, sizeof(name), "%s_%06u_%03u.bin", stem, frame, camera);
+  return name;
+}
+
+Status ReferenceDecode(const uint8_t* data, size_t size, const ReferenceDecodeOptions& options,
+                       const OutputSink& sink) {
+  SpanEmitter emitter(options, sink);
+  return options.path == ReadPath::kStreaming ? DecodeStreaming(data, size, &emitter)
+                                              : DecodeRandomAccess(data, size, &emitter);
+}
+
+StatusOr<OutputHashes> ReferenceDecodeHashes(const std::vector<uint8_t>& stream,
+                                             const ReferenceDecodeOptions& options) {
+  OutputHashes hashes;
+  FVV_RETURN_IF_ERROR(ReferenceDecode(
+      stream.data(), stream.size(), options,
+      [&hashes](const std::string& name, const std::vector<uint8_t>& bytes) {
+        hashes[name] = Sha256Hex(bytes);
+        return Status::Ok();
+      }));
+  return hashes;
+}
+
+OutputSink DirectorySink(const std::string& dir) {
+  return [dir](const std::string& name, const std::vector<uint8_t>& bytes) -> Status {
+    const std::string path = dir + "/" + name;
+    std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "wb"), &std::fclose);
+    if (!f) return IoError("cannot create " + path);
+    if (!bytes.empty() && std::fwrite(bytes.data(), 1, bytes.size(), f.get()) != bytes.size()) {
+      return IoError("cannot write " + path);
+    }
+    if (std::fclose(f.release()) != 0) return IoError("cannot write " + path);
+    return Status::Ok();
+  };
+}
+
+StatusOr<OutputHashes> HashDirectory(const std::string& dir) {
+  std::unique_ptr<DIR, int (*)(DIR*)> d(opendir(dir.c_str()), &closedir);
+  if (!d) return IoError("cannot read directory " + dir);
+  OutputHashes hashes;
+  while (const dirent* entry = readdir(d.get())) {
+    const std::string name = entry->d_name;
+    const std::string path = dir + "/" + name;
+    struct stat st;
+    if (stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) continue;
+    std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
+    if (!f) return IoError("cannot read " + path);
+    std::vector<uint8_t> bytes(static_cast<size_t>(st.st_size));
+    if (!bytes.empty() && std::fread(bytes.data(), 1, bytes.size(), f.get()) != bytes.size()) {
+      return IoError("cannot read " + path);
+    }
+    hashes[name] = Sha256Hex(bytes);
+  }
+  return hashes;
+}
+
+}  // namespace fvv
