@@ -32,8 +32,8 @@ StatusOr<Block> DecodeBlock(const EncodedBlock& encoded, const DecodeBudget& bud
       // so equal fractions keep them close to it. Integer arithmetic, because the
       // conformance suite pins the result (SPEC.md Annex B).
       using Wide = unsigned __int128;
-      limits[c].max_bytes = static_cast<uint64_t>(
-          Wide{encoded.channels[c].data.size()} * budget.max_bytes / total);
+      limits[c].max_bytes =
+          static_cast<uint64_t>(Wide{encoded.channels[c].data.size()} * budget.max_bytes / total);
     }
   }
   std::array<SpihtDecodeResult, 3> results;

@@ -23,8 +23,8 @@ namespace {
 const std::string kSuite = FVV_CONFORMANCE_DIR;
 
 std::string TempDir(const std::string& name) {
-  const std::string dir = ::testing::TempDir() + "/fvv_conformance_" + std::to_string(getpid()) +
-                          "_" + name;
+  const std::string dir =
+      ::testing::TempDir() + "/fvv_conformance_" + std::to_string(getpid()) + "_" + name;
   std::system(("rm -rf '" + dir + "' && mkdir -p '" + dir + "'").c_str());
   return dir;
 }
@@ -252,6 +252,21 @@ TEST(Coverage, EveryVersionToolLevelAndErrorHasACase) {
   for (int e = 2; e <= 6; ++e) EXPECT_TRUE(errors.count(e)) << "error code " << e;
   for (uint32_t bit = 1; bit <= kToolMotionZstd; bit <<= 1) {
     EXPECT_TRUE(tools.count(CodingToolName(bit))) << "tool " << CodingToolName(bit);
+  }
+}
+
+// The README's table is how implementers find a case for a tool: it must name
+// every case of the suite.
+TEST(Coverage, ReadmeNamesEveryCase) {
+  std::ifstream in(kSuite + "/README.md");
+  const std::string readme(std::istreambuf_iterator<char>(in), {});
+  ASSERT_FALSE(readme.empty());
+  auto dirs = FindCaseDirs(kSuite);
+  ASSERT_TRUE(dirs.ok());
+  for (const std::string& dir : *dirs) {
+    const ConformanceCase c = Load(dir);
+    EXPECT_NE(readme.find("| `" + c.name + "` |"), std::string::npos)
+        << c.name << " is missing from conformance/README.md (fvv conform --list)";
   }
 }
 

@@ -36,6 +36,8 @@ echo "== render it headless with Renderer II: an orbit, capture camera 2's view,
 $fvv render "$out/capture.fvv" -o "$out/render_orbit" --size 640x480
 $fvv render "$out/capture.fvv" -o "$out/render_camera2" --size 640x480 --camera 2 --last 7
 $fvv render "$out/capture.fvv" -o "$out/render_orbit" --size 320x240 --first 30 --contact-sheet 12
+echo "== conformance: the suite's streams through the reference decoder (conformance/README.md)"
+$fvv conform conformance -q
 echo
 echo "outputs: $out/capture (capture.json, camNN/ frames, background/ plates, truth/ poses,"
 echo "         joints, silhouettes, texture, held-out views), $out/capture_sheet.png,"

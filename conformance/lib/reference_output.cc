@@ -86,8 +86,8 @@ class SpanEmitter {
         const size_t plane_index = size_t{t} * luma.cameras() + c;
         if (!gop.masks[g].empty()) {
           const auto begin = gop.masks[g].begin() + plane_index * texels;
-          FVV_RETURN_IF_ERROR(
-              sink_(OutputName("mask", frame, camera), std::vector<uint8_t>(begin, begin + texels)));
+          FVV_RETURN_IF_ERROR(sink_(OutputName("mask", frame, camera),
+                                    std::vector<uint8_t>(begin, begin + texels)));
         }
         if (!vvis.empty()) {
           const auto begin = vvis.begin() + plane_index * nv;
@@ -151,12 +151,12 @@ Status ReferenceDecode(const uint8_t* data, size_t size, const ReferenceDecodeOp
 StatusOr<OutputHashes> ReferenceDecodeHashes(const std::vector<uint8_t>& stream,
                                              const ReferenceDecodeOptions& options) {
   OutputHashes hashes;
-  FVV_RETURN_IF_ERROR(ReferenceDecode(
-      stream.data(), stream.size(), options,
-      [&hashes](const std::string& name, const std::vector<uint8_t>& bytes) {
-        hashes[name] = Sha256Hex(bytes);
-        return Status::Ok();
-      }));
+  FVV_RETURN_IF_ERROR(
+      ReferenceDecode(stream.data(), stream.size(), options,
+                      [&hashes](const std::string& name, const std::vector<uint8_t>& bytes) {
+                        hashes[name] = Sha256Hex(bytes);
+                        return Status::Ok();
+                      }));
   return hashes;
 }
 

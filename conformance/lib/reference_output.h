@@ -27,7 +27,8 @@
 namespace fvv {
 
 // Receives each output file once, in decoding order.
-using OutputSink = std::function<Status(const std::string& name, const std::vector<uint8_t>& bytes)>;
+using OutputSink =
+    std::function<Status(const std::string& name, const std::vector<uint8_t>& bytes)>;
 
 enum class ReadPath {
   kRandomAccess,  // FileReader: header boxes, index (or a scan), fragments by index

@@ -124,7 +124,9 @@ std::string Substitute(const std::string& tmpl, const std::string& stream, const
   return cmd;
 }
 
-int RemoveEntry(const char* path, const struct stat*, int, struct FTW*) { return std::remove(path); }
+int RemoveEntry(const char* path, const struct stat*, int, struct FTW*) {
+  return std::remove(path);
+}
 void RemoveTree(const std::string& dir) {
   nftw(dir.c_str(), RemoveEntry, 16, FTW_DEPTH | FTW_PHYS);
 }
@@ -171,9 +173,9 @@ ExternalRun RunExternal(const RunOptions& options, const std::string& stream, ui
       r.exit_code = code;
     } else {
       r.exit_code = -1;
-      r.error = code == 126 || code == 127 ? "decoder command could not run (exit " +
-                                                 std::to_string(code) + ")"
-                                           : "decoder crashed (exit " + std::to_string(code) + ")";
+      r.error = code == 126 || code == 127
+                    ? "decoder command could not run (exit " + std::to_string(code) + ")"
+                    : "decoder crashed (exit " + std::to_string(code) + ")";
     }
   } else {
     r.error = "decoder crashed or could not start";
@@ -226,9 +228,10 @@ std::string RunWithExternal(const ConformanceCase& c, const RunOptions& options,
 
 Status CheckDecoderTemplate(const std::string& decoder) {
   if (decoder.find("{stream}") == std::string::npos || decoder.find("{out}") == std::string::npos) {
-    return InvalidArgument("the decoder command needs {stream} and {out} placeholders (and "
-                           "{bytes} for truncation budgets): \"" +
-                           decoder + "\"");
+    return InvalidArgument(
+        "the decoder command needs {stream} and {out} placeholders (and "
+        "{bytes} for truncation budgets): \"" +
+        decoder + "\"");
   }
   return Status::Ok();
 }
@@ -266,7 +269,8 @@ CaseResult RunCase(const ConformanceCase& c, const RunOptions& options) {
 
 Status BlessCase(ConformanceCase* c, const std::vector<uint64_t>& budgets, bool force) {
   if (c->blessed() && !c->stream_sha256.empty() && !force) {
-    return InvalidArgument(c->dir + " already has expectations; released cases never change "
+    return InvalidArgument(c->dir +
+                           " already has expectations; released cases never change "
                            "(a format change adds cases)");
   }
   FVV_ASSIGN_OR_RETURN(const std::vector<uint8_t> stream, ReadFile(c->stream_path()));

@@ -19,7 +19,7 @@ struct RunOptions {
   // by shell-quoted values. The decoder exits 0 after writing the output, and
   // with the error code of SPEC.md section 10 when it rejects a stream.
   std::string decoder;
-  bool any_error = false;         // external: any non-zero exit counts as a rejection
+  bool any_error = false;          // external: any non-zero exit counts as a rejection
   unsigned timeout_seconds = 300;  // external: per decoder run; longer is a hang
   unsigned threads = 2;            // reference decoder
   std::string work_dir = "/tmp";   // where external outputs go (removed after)

@@ -91,8 +91,8 @@ int RunConform(const ConformArgs& a) {
     const CaseResult r = RunCase(c, options);
     r.passed ? ++passed : ++failed;
     if (!r.passed || !a.quiet) {
-      std::printf("%s  %-40s %6.2f s%s%s\n", r.passed ? "PASS" : "FAIL", r.name.c_str(),
-                  r.seconds, r.detail.empty() ? "" : "  ", r.detail.c_str());
+      std::printf("%s  %-40s %6.2f s%s%s\n", r.passed ? "PASS" : "FAIL", r.name.c_str(), r.seconds,
+                  r.detail.empty() ? "" : "  ", r.detail.c_str());
       std::fflush(stdout);
     }
   }

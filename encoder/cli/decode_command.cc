@@ -71,15 +71,17 @@ int StreamErrorExit(fvv_status status) {
 // Annex B), whole stream, for comparing decoders file by file.
 int RunConformanceOutput(const DecodeArgs& a) {
   if (!a.frames.empty() || a.max_ms > 0) {
-    return Fail("--format conformance decodes whole streams under a byte budget: no --frames or "
-                "--max-ms");
+    return Fail(
+        "--format conformance decodes whole streams under a byte budget: no --frames or "
+        "--max-ms");
   }
   std::FILE* f = std::fopen(a.input.c_str(), "rb");
   if (!f) return Fail("cannot open " + a.input);
   std::vector<uint8_t> stream;
   uint8_t chunk[1 << 16];
   size_t n;
-  while ((n = std::fread(chunk, 1, sizeof(chunk), f)) > 0) stream.insert(stream.end(), chunk, chunk + n);
+  while ((n = std::fread(chunk, 1, sizeof(chunk), f)) > 0)
+    stream.insert(stream.end(), chunk, chunk + n);
   const bool read_error = std::ferror(f) != 0;
   std::fclose(f);
   if (read_error) return Fail("cannot read " + a.input);
@@ -96,7 +98,8 @@ int RunConformanceOutput(const DecodeArgs& a) {
                                    });
   if (!s.ok()) {
     std::fprintf(stderr, "fvv: %s: %s\n", a.input.c_str(), s.ToString().c_str());
-    return s.code() == StatusCode::kIoError ? 1 : StreamErrorExit(static_cast<fvv_status>(s.code()));
+    return s.code() == StatusCode::kIoError ? 1
+                                            : StreamErrorExit(static_cast<fvv_status>(s.code()));
   }
   std::printf("wrote the conformance output (%zu files) -> %s\n", files, a.output_dir.c_str());
   return 0;
