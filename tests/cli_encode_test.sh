@@ -10,7 +10,7 @@ dir=$2
 rm -rf "$dir" && mkdir -p "$dir"
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
-"$fvv" synth -o "$dir/cap" --cameras 4 --width 320 --height 240 --frames 3 --held-out 0 \
+"$fvv" synth -o "$dir/cap" --cameras 4 --width 320 --height 240 --frames 3 --held-out 1 \
   >/dev/null 2>&1 || fail "synth"
 
 out=$("$fvv" encode "$dir/cap" -o "$dir/a.fvv" --atlas 128 --gop-frames 2 --save-textures "$dir/tex" \
@@ -29,6 +29,10 @@ grep -q "title" <<<"$out" || fail "metadata not in the stream: $out"
 [ -f "$dir/dec/poses.json" ] || fail "decoded poses missing"
 "$fvv" render "$dir/a.fvv" -o "$dir/render" --size 160x120 --camera 1 --last 0 >/dev/null 2>&1 ||
   fail "render"
+# A novel view from the capture's held-out camera, at that camera's image size.
+out=$("$fvv" render "$dir/a.fvv" -o "$dir/render_held" --cameras-from "$dir/cap/truth/heldout" --camera 0 \
+  --last 0 2>&1) || fail "render --cameras-from: $out"
+grep -q "at 320x240 (camera \"held00\"" <<<"$out" || fail "held-out render report: $out"
 
 # Again from the saved textures (no tracking, no resampling): the same textures give the same bytes.
 out=$("$fvv" encode "$dir/cap" -o "$dir/b.fvv" --atlas 128 --gop-frames 2 --textures "$dir/tex" -q 2>&1) ||

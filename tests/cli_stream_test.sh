@@ -42,6 +42,25 @@ out=$("$fvv" render "$dir/s.fvv" -o "$dir/sheet" --size 40x30 --first 3 --contac
 [ -s "$dir/sheet/contact_sheet.png" ] || fail "no contact sheet"
 out=$("$fvv" render "$dir/s.fvv" -o "$dir/render_bad" --camera 9 2>&1) && fail "render: camera 9 accepted"
 grep -q "the stream has 3 cameras" <<<"$out" || fail "camera message: $out"
+# A JSON camera path, rendered to PNGs and an MP4 (ffmpeg).
+cat >"$dir/path.json" <<'JSON'
+{"keyframes": [{"frame": 0, "eye": [3, 1.6, 3], "target": "actor", "fov": 40},
+               {"frame": 3, "eye": [-1, 1.0, 2.5], "target": [0, 1, 0], "fov": 25}]}
+JSON
+out=$("$fvv" render "$dir/s.fvv" -o "$dir/render_path" --video "$dir/path.mp4" --size 96x64 --last 3 \
+  --path "$dir/path.json" 2>&1) || fail "render --path --video: $out"
+grep -q "(path .*path.json)" <<<"$out" || fail "path report: $out"
+[ "$(ls "$dir"/render_path/render_*.png | wc -l)" = 4 ] || fail "path render wrote the wrong files"
+[ "$(ffprobe -v error -count_frames -show_entries stream=nb_read_frames -of csv=p=0 "$dir/path.mp4")" = 4 ] ||
+  fail "path.mp4 does not hold 4 frames"
+cmp -s "$dir/render_path/render_f00000.png" "$dir/render_path/render_f00003.png" &&
+  fail "the path's first and last views are the same image"
+echo '{"keyframes": [{"frame": 2, "eye": [1, 2]}]}' >"$dir/bad_path.json"
+out=$("$fvv" render "$dir/s.fvv" -o "$dir/render_bad" --path "$dir/bad_path.json" 2>&1) &&
+  fail "bad path accepted"
+grep -q "keyframes\[0\].eye" <<<"$out" || fail "bad path message: $out"
+out=$("$fvv" render "$dir/s.fvv" --video "$dir/odd.mp4" --size 95x64 2>&1) && fail "odd video size accepted"
+grep -q "even width" <<<"$out" && [ ! -e "$dir/odd.mp4" ] || fail "odd video size: $out"
 
 # fvv play: the GLFW player, in a virtual X display when one can be had.
 if command -v xvfb-run >/dev/null; then

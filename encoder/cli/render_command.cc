@@ -8,11 +8,17 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
 #include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
+#include <vector>
 
+#include "encoder/capture/capture.h"
 #include "fvv/fvv_decoder.hpp"
+#include "player/decoder/public_camera.h"
 #include "player/render/headless.h"
 #include "player/render/renderer.h"
 #include "tools/imageio/image_io.h"
@@ -22,6 +28,8 @@ namespace {
 
 struct RenderArgs {
   std::string input, output_dir, size = "640x480", format = "png";
+  bool size_given = false;
+  std::string cameras_from, path, video;
   uint32_t first = 0, last = UINT32_MAX;
   int camera = -1;     // -1: orbit
   uint32_t sheet = 0;  // > 0: a contact sheet of this many novel views of --first
@@ -35,9 +43,159 @@ int Fail(const std::string& m) {
   return 1;
 }
 
+// A camera path (--path): keyframes of eye, target and field of view, linear
+// in between, held before the first and after the last.
+struct PathKey {
+  double frame = 0;
+  glm::vec3 eye{0.0f}, target{0.0f};
+  bool target_actor = false;  // "target": "actor" follows the root joint
+  float fov_deg = 40.0f;
+};
+
+StatusOr<std::vector<PathKey>> LoadPath(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return IoError("cannot read " + path);
+  nlohmann::json j;
+  try {
+    in >> j;
+  } catch (const nlohmann::json::exception& e) {
+    return Corrupt(path + ": not JSON (" + e.what() + ")");
+  }
+  const auto vec3 = [&](const nlohmann::json& v, const std::string& where) -> StatusOr<glm::vec3> {
+    if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() ||
+        !v[2].is_number()) {
+      return Corrupt(path + ": " + where + ": expected [x, y, z] in metres");
+    }
+    return glm::vec3(v[0].get<float>(), v[1].get<float>(), v[2].get<float>());
+  };
+  if (!j.is_object() || !j.contains("keyframes") || !j["keyframes"].is_array() ||
+      j["keyframes"].empty()) {
+    return Corrupt(path +
+                   ": expected {\"keyframes\": [{\"frame\", \"eye\", \"target\", \"fov\"}, ...]}");
+  }
+  std::vector<PathKey> keys;
+  for (size_t i = 0; i < j["keyframes"].size(); ++i) {
+    const nlohmann::json& k = j["keyframes"][i];
+    const std::string where = "keyframes[" + std::to_string(i) + "]";
+    if (!k.is_object() || !k.contains("frame") || !k["frame"].is_number() || !k.contains("eye")) {
+      return Corrupt(path + ": " + where + ": needs \"frame\" and \"eye\"");
+    }
+    PathKey key;
+    key.frame = k["frame"].get<double>();
+    FVV_ASSIGN_OR_RETURN(key.eye, vec3(k["eye"], where + ".eye"));
+    const nlohmann::json target = k.value("target", nlohmann::json("actor"));
+    if (target == "actor") {
+      key.target_actor = true;
+    } else {
+      FVV_ASSIGN_OR_RETURN(key.target, vec3(target, where + ".target"));
+    }
+    key.fov_deg = k.value("fov", 40.0f);
+    if (!(key.fov_deg > 1.0f && key.fov_deg < 170.0f)) {
+      return Corrupt(path + ": " + where + ".fov: degrees in (1, 170)");
+    }
+    if (!keys.empty() && key.frame <= keys.back().frame) {
+      return Corrupt(path + ": " + where + ".frame: keyframes must be in increasing frame order");
+    }
+    keys.push_back(key);
+  }
+  return keys;
+}
+
+// The view at `frame` along the path; `actor` is the root joint's position.
+void PathView(const std::vector<PathKey>& keys, double frame, const glm::vec3& actor, float aspect,
+              RenderView* view) {
+  size_t i = 0;
+  while (i + 1 < keys.size() && keys[i + 1].frame <= frame) ++i;
+  const PathKey& a = keys[i];
+  const PathKey& b = keys[std::min(i + 1, keys.size() - 1)];
+  const float t =
+      b.frame > a.frame
+          ? static_cast<float>(std::clamp((frame - a.frame) / (b.frame - a.frame), 0.0, 1.0))
+          : 0.0f;
+  const glm::vec3 ta = a.target_actor ? actor : a.target, tb = b.target_actor ? actor : b.target;
+  view->eye = glm::mix(a.eye, b.eye, t);
+  view->view = glm::lookAt(view->eye, glm::mix(ta, tb, t), glm::vec3(0, 1, 0));
+  view->projection =
+      glm::perspective(glm::radians(a.fov_deg + (b.fov_deg - a.fov_deg) * t), aspect, 0.05f, 50.0f);
+}
+
+// Frames piped to ffmpeg (H.264 in MP4), written to a temporary file that
+// becomes the output only when ffmpeg succeeds.
+class VideoWriter {
+ public:
+  static StatusOr<std::unique_ptr<VideoWriter>> Open(const std::string& path, int width, int height,
+                                                     double fps) {
+    if (width % 2 || height % 2) {
+      return InvalidArgument("--video needs an even width and height (yuv420p), not " +
+                             std::to_string(width) + "x" + std::to_string(height));
+    }
+    if (std::system("command -v ffmpeg >/dev/null 2>&1") != 0) {
+      return IoError("--video needs ffmpeg on the PATH (Debian: apt-get install ffmpeg)");
+    }
+    auto w = std::unique_ptr<VideoWriter>(new VideoWriter);
+    w->path_ = path;
+    w->temp_ = path + ".part.mp4";
+    char rate[32];
+    std::snprintf(rate, sizeof(rate), "%.6f", fps);
+    const std::string cmd = "ffmpeg -v error -y -f rawvideo -pix_fmt rgb24 -s " +
+                            std::to_string(width) + "x" + std::to_string(height) + " -r " + rate +
+                            " -i - -c:v libx264 -preset medium -crf 18 -pix_fmt yuv420p '" +
+                            w->temp_ + "'";
+    w->pipe_ = popen(cmd.c_str(), "w");
+    if (!w->pipe_) return IoError("cannot start ffmpeg");
+    return w;
+  }
+  ~VideoWriter() {
+    if (pipe_) pclose(pipe_);
+    std::remove(temp_.c_str());
+  }
+  Status Add(const std::vector<uint8_t>& rgb) {
+    if (std::fwrite(rgb.data(), 1, rgb.size(), pipe_) != rgb.size()) {
+      return IoError("ffmpeg stopped taking frames for " + path_);
+    }
+    return Status::Ok();
+  }
+  Status Close() {
+    const int rc = pclose(pipe_);
+    pipe_ = nullptr;
+    if (rc != 0) return IoError("ffmpeg failed to write " + path_);
+    if (std::rename(temp_.c_str(), path_.c_str()) != 0) return IoError("cannot write " + path_);
+    return Status::Ok();
+  }
+
+ private:
+  VideoWriter() = default;
+  std::string path_, temp_;
+  FILE* pipe_ = nullptr;
+};
+
 int RunRender(const RenderArgs& a) {
+  if (a.output_dir.empty() && a.video.empty())
+    return Fail("give -o DIR, --video FILE.mp4, or both");
+  // Views from another capture's calibrated cameras, e.g. fvv synth's held-out ones.
+  std::optional<Camera> from_camera;
+  if (!a.cameras_from.empty()) {
+    if (a.camera < 0) return Fail("--cameras-from needs --camera K (a camera of that capture)");
+    StatusOr<Capture> other = LoadCapture(a.cameras_from);
+    if (!other.ok()) return Fail(other.status().ToString());
+    if (a.camera >= static_cast<int>(other->cameras.size())) {
+      return Fail("--camera " + std::to_string(a.camera) + ": " + a.cameras_from + " has " +
+                  std::to_string(other->cameras.size()) + " cameras");
+    }
+    from_camera = other->cameras[a.camera].calibration;
+  }
+  std::vector<PathKey> path;
+  if (!a.path.empty()) {
+    auto keys = LoadPath(a.path);
+    if (!keys.ok()) return Fail(keys.status().ToString());
+    path = std::move(keys).value();
+  }
   int width = 0, height = 0;
-  if (std::sscanf(a.size.c_str(), "%dx%d", &width, &height) != 2) {
+  if (from_camera && !a.size_given) {
+    width = static_cast<int>(from_camera->width);
+    height = static_cast<int>(from_camera->height);
+  } else if (std::sscanf(a.size.c_str(), "%dx%d", &width, &height) != 2 || width < 1 ||
+             height < 1 || width > 16384 || height > 16384) {
     return Fail("--size " + a.size + ": expected WxH, e.g. 1280x720");
   }
   DecoderPtr dec = MakeDecoder();
@@ -49,11 +207,14 @@ int RunRender(const RenderArgs& a) {
   const uint32_t last = std::min(a.last, info.frame_count - 1);
   if (a.first > last)
     return Fail("--first beyond the stream's " + std::to_string(info.frame_count) + " frames");
-  if (a.camera >= static_cast<int>(info.camera_count)) {
+  if (!from_camera && a.camera >= static_cast<int>(info.camera_count)) {
     return Fail("--camera " + std::to_string(a.camera) + ": the stream has " +
                 std::to_string(info.camera_count) + " cameras");
   }
-  if (Status s = MakeDirectories(a.output_dir); !s.ok()) return Fail(s.ToString());
+  if (!a.output_dir.empty()) {
+    if (Status s = MakeDirectories(a.output_dir); !s.ok()) return Fail(s.ToString());
+  }
+  if (a.sheet > 0 && a.output_dir.empty()) return Fail("--contact-sheet writes into -o DIR");
   auto ctx = HeadlessContext::Create(width, height);
   if (!ctx.ok()) return Fail(ctx.status().ToString());
   fvv_model model;
@@ -100,14 +261,22 @@ int RunRender(const RenderArgs& a) {
       view_image.pixels = rgb;
       views.push_back(std::move(view_image));
     }
-    const std::string path = a.output_dir + "/contact_sheet." + a.format;
-    s = WriteImage(path, MakeContactSheet(views));
+    const std::string sheet_path = a.output_dir + "/contact_sheet." + a.format;
+    s = WriteImage(sheet_path, MakeContactSheet(views));
     if (!s.ok()) return Fail(s.ToString());
     std::printf("contact sheet of frame %u: %u views of %dx%d -> %s\n", a.first, a.sheet, width,
-                height, path.c_str());
+                height, sheet_path.c_str());
     return 0;
   }
   const uint32_t count = last - a.first + 1;
+  const double fps = double(info.frame_rate_num) / info.frame_rate_den;
+  std::unique_ptr<VideoWriter> video;
+  if (!a.video.empty()) {
+    auto v = VideoWriter::Open(a.video, width, height, fps);
+    if (!v.ok()) return Fail(v.status().ToString());
+    video = std::move(v).value();
+  }
+  const float aspect = float(width) / float(height);
   for (uint32_t f = a.first; f <= last; ++f) {
     auto t0 = Clock::now();
     FramePtr frame = DecodeFrame(dec.get(), f, &budget);
@@ -115,7 +284,14 @@ int RunRender(const RenderArgs& a) {
     decode_s += std::chrono::duration<double>(Clock::now() - t0).count();
     RenderView view;
     view.exponent = a.exponent;
-    if (a.camera >= 0) {
+    const glm::vec3 root(frame->bone_world[12], frame->bone_world[13], frame->bone_world[14]);
+    if (!path.empty()) {
+      PathView(path, f, root, aspect, &view);
+    } else if (from_camera) {
+      CameraViewProjection(PublicCamera(*from_camera), 0.05f, 50.0f, &view.view, &view.projection);
+      const auto c = from_camera->Centre();
+      view.eye = glm::vec3(c[0], c[1], c[2]);
+    } else if (a.camera >= 0) {
       CameraViewProjection(cameras[a.camera], 0.05f, 50.0f, &view.view, &view.projection);
       view.eye = centres[a.camera];
     } else {
@@ -133,23 +309,38 @@ int RunRender(const RenderArgs& a) {
     if (s.ok()) s = (*renderer)->ReadRgb(width, height, &rgb);
     render_s += std::chrono::duration<double>(Clock::now() - t0).count();
     if (!s.ok()) return Fail(s.ToString());
-    Image img;
-    img.width = static_cast<uint32_t>(width);
-    img.height = static_cast<uint32_t>(height);
-    img.channels = 3;
-    img.pixels = rgb;
-    char name[64];
-    std::snprintf(name, sizeof(name), "/render_f%05u.%s", f, a.format.c_str());
-    s = WriteImage(a.output_dir + name, img);
-    if (!s.ok()) return Fail(s.ToString());
+    if (video) {
+      s = video->Add(rgb);
+      if (!s.ok()) return Fail(s.ToString());
+    }
+    if (!a.output_dir.empty()) {
+      Image img;
+      img.width = static_cast<uint32_t>(width);
+      img.height = static_cast<uint32_t>(height);
+      img.channels = 3;
+      img.pixels = rgb;
+      char name[64];
+      std::snprintf(name, sizeof(name), "/render_f%05u.%s", f, a.format.c_str());
+      s = WriteImage(a.output_dir + name, img);
+      if (!s.ok()) return Fail(s.ToString());
+    }
   }
-  const double play_s = count * double(info.frame_rate_den) / info.frame_rate_num;
+  if (video) {
+    if (Status s = video->Close(); !s.ok()) return Fail(s.ToString());
+  }
+  const double play_s = count / fps;
+  const std::string what = !path.empty() ? "path " + a.path
+                           : from_camera
+                               ? "camera \"" + from_camera->name + "\" of " + a.cameras_from
+                           : a.camera >= 0 ? "camera " + std::to_string(a.camera)
+                                           : std::string("orbit");
+  std::string where = a.output_dir;
+  if (!a.video.empty()) where += (where.empty() ? "" : " and ") + a.video;
   std::printf(
       "rendered frames %u..%u at %dx%d (%s): %.1f fps rendering, decode %.0f ms "
       "(real-time factor %.2f) -> %s\n",
-      a.first, last, width, height,
-      a.camera >= 0 ? ("camera " + std::to_string(a.camera)).c_str() : "orbit",
-      count / std::max(render_s, 1e-9), decode_s * 1e3, decode_s / play_s, a.output_dir.c_str());
+      a.first, last, width, height, what.c_str(), count / std::max(render_s, 1e-9), decode_s * 1e3,
+      decode_s / play_s, where.c_str());
   return 0;
 }
 
@@ -162,11 +353,26 @@ void AddRenderCommand(CLI::App* app, int* exit_code) {
       "Render a .fvv stream headless (OSMesa) with Renderer II: the decoded model, textured by "
       "blending the camera textures by viewing angle; writes render_fFFFFF.png per frame");
   r->add_option("file", args->input, ".fvv stream")->required()->check(CLI::ExistingFile);
-  r->add_option("-o,--output", args->output_dir, "Output directory")->required();
-  r->add_option("--size", args->size, "Image size WxH")->capture_default_str();
+  r->add_option("-o,--output", args->output_dir, "Output directory (render_fFFFFF.png per frame)");
+  r->add_option("--video", args->video,
+                "Also (or instead) write an H.264 MP4 through ffmpeg at the stream's frame rate");
+  r->add_option("--size", args->size,
+                "Image size WxH (default 640x480, or the --cameras-from camera's image size)")
+      ->each([args](const std::string&) { args->size_given = true; });
   r->add_option("--first", args->first, "First frame")->capture_default_str();
   r->add_option("--last", args->last, "Last frame (default: the stream's last)");
-  r->add_option("--camera", args->camera, "Render from capture camera K (default: an orbit)");
+  auto* camera =
+      r->add_option("--camera", args->camera, "Render from capture camera K (default: an orbit)");
+  r->add_option("--cameras-from", args->cameras_from,
+                "With --camera K: camera K of this capture (directory or capture.json) instead of "
+                "the stream's, e.g. the held-out cameras of fvv synth (CAPTURE/truth/heldout)")
+      ->needs(camera);
+  r->add_option("--path", args->path,
+                "A camera path: JSON {\"keyframes\": [{\"frame\": 0, \"eye\": [x, y, z], "
+                "\"target\": [x, y, z] or \"actor\", \"fov\": 40}, ...]}, linear between "
+                "keyframes")
+      ->excludes(camera)
+      ->check(CLI::ExistingFile);
   r->add_option("--contact-sheet", args->sheet,
                 "Instead: one image of N novel views of frame --first around the actor")
       ->check(CLI::Range(1, 64));
