@@ -68,21 +68,24 @@ if command -v xvfb-run >/dev/null; then
   # (its module is gone at exit); leak checking of our GL code runs in renderer_test.
   out=$(ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0" \
         xvfb-run -a -s "-screen 0 640x480x24" "$fvv" play "$dir/s.fvv" --width 320 --height 240 \
-        --seconds 1.5 2>&1) || fail "play: $out"
+        --seconds 1.5 --screenshot "$dir/play.png" 2>&1) || fail "play: $out"
   grep -q "played 1.[5-9] s" <<<"$out" || fail "play summary: $out"
+  [ "$(ffprobe -v error -show_entries stream=width,height -of csv=p=0 "$dir/play.png")" = "320,240" ] ||
+    fail "play --screenshot did not save the 320x240 window"
 else
   echo "skip: fvv play (xvfb-run not installed; tools/setup.sh installs it)"
 fi
 out=$(DISPLAY= WAYLAND_DISPLAY= "$fvv" play "$dir/s.fvv" 2>&1) && fail "play without a display succeeded"
 grep -q "needs a display" <<<"$out" || fail "play without display: $out"
 
-# A damaged byte inside the last fragment: exit 1, the fragment named.
+# A damaged byte inside the last fragment: an error naming the fragment (decode exits 6).
 cp "$dir/s.fvv" "$dir/bad.fvv"
 size=$(stat -c %s "$dir/bad.fvv")
 printf '\x55' | dd of="$dir/bad.fvv" bs=1 seek=$((size - 40)) conv=notrunc status=none
 out=$("$fvv" info "$dir/bad.fvv" 2>&1) && fail "damaged file accepted: $out"
 grep -q "checksum mismatch" <<<"$out" || fail "no checksum message: $out"
-out=$("$fvv" decode "$dir/bad.fvv" -o "$dir/bad_dec" 2>&1) && fail "decode of a damaged file succeeded"
+out=$("$fvv" decode "$dir/bad.fvv" -o "$dir/bad_dec" 2>&1)
+[ $? = 6 ] || fail "decode of a damaged file: exit status is not 6 (checksum mismatch): $out"
 grep -q "checksum mismatch" <<<"$out" || fail "decode: no checksum message: $out"
 
 # Truncated: the header's index points past the end.

@@ -9,6 +9,7 @@
 #include "encoder/sample/sample_stream.h"
 #include "fvv/fvv_decoder.hpp"
 #include "player/render/headless.h"
+#include "player/render/hud.h"
 #include "tools/imageio/image_io.h"
 
 namespace fvv {
@@ -106,6 +107,57 @@ TEST(Renderer, RefusesMismatchedFramesAndEarlyDraws) {
   FramePtr yuv_frame = DecodeFrame(s.dec.get(), 0, &yuv);
   ASSERT_TRUE(yuv_frame);
   EXPECT_EQ(s.renderer->SetFrame(*yuv_frame).code(), StatusCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace fvv
+
+namespace fvv {
+namespace {
+
+// The HUD draws exactly its font's pixels, scaled, on its panel, and nothing
+// outside the panel; unknown characters draw as '?'.
+TEST(Hud, DrawsEveryFontPixelOnItsPanelAndNothingElse) {
+  constexpr int kHudW = 400, kHudH = 90;  // the longest line fits at scale 2
+  auto ctx = HeadlessContext::Create(kHudW, kHudH);
+  ASSERT_TRUE(ctx.ok()) << ctx.status().ToString();
+  const GlApi& gl = (*ctx)->gl();
+  auto hud = HudOverlay::Create(gl);
+  ASSERT_TRUE(hud.ok()) << hud.status().ToString();
+  const std::vector<std::string> lines = {"fps 59.9 | decode 312 ms/GOP", "bytes 45% (120/260 KB)",
+                                          "q Y7 U6 V6 ~"};
+  for (int scale : {1, 2}) {
+    gl.Viewport(0, 0, kHudW, kHudH);
+    gl.ClearColor(1.0f, 0.0f, 1.0f, 1.0f);
+    gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    ASSERT_TRUE((*hud)->Draw(lines, kHudW, kHudH, scale).ok());
+    std::vector<uint8_t> rgb;
+    ASSERT_TRUE(ReadFramebuffer(gl, kHudW, kHudH, 3, &rgb).ok());
+    int panel_w, panel_h;
+    HudOverlay::PanelSize(lines, scale, &panel_w, &panel_h);
+    int text = 0, panel = 0, outside_changed = 0, lit = 0;
+    for (int y = 0; y < kHudH; ++y) {
+      for (int x = 0; x < kHudW; ++x) {
+        const uint8_t* p = &rgb[(size_t(y) * kHudW + x) * 3];
+        const bool inside = x < panel_w && y < panel_h;
+        const bool magenta = p[0] == 255 && p[1] == 0 && p[2] == 255;
+        if (!inside) {
+          outside_changed += !magenta;
+        } else if (p[1] > 200 && p[0] < 120) {
+          ++text;
+        } else if (p[0] < 30 && p[1] < 30 && p[2] < 40) {
+          ++panel;
+        }
+      }
+    }
+    for (const std::string& l : lines) lit += HudOverlay::LitPixels(l);
+    EXPECT_EQ(text, lit * scale * scale) << "scale " << scale;
+    EXPECT_EQ(text + panel, std::min(panel_w, kHudW) * std::min(panel_h, kHudH))
+        << "scale " << scale;
+    EXPECT_EQ(outside_changed, 0);
+  }
+  EXPECT_EQ(HudOverlay::LitPixels("~"), HudOverlay::LitPixels("?"));
+  EXPECT_EQ(HudOverlay::LitPixels("ms"), HudOverlay::LitPixels("MS"));
 }
 
 }  // namespace

@@ -26,7 +26,16 @@ void AddPlayCommand(CLI::App* app, int* exit_code) {
   p->add_option("--seconds", o->seconds,
                 "Play this many seconds, print a summary and exit (benchmarks, tests)")
       ->check(CLI::PositiveNumber);
-  p->callback([o, exit_code] { *exit_code = RunPlayer(*o); });
+  p->add_option("--screenshot", o->screenshot,
+                "With --seconds: save the last frame drawn, HUD included, as PNG");
+  p->callback([o, exit_code] {
+    if (!o->screenshot.empty() && o->seconds <= 0) {
+      std::fprintf(stderr, "fvv: --screenshot needs --seconds S\n");
+      *exit_code = 1;
+      return;
+    }
+    *exit_code = RunPlayer(*o);
+  });
 #else
   CLI::App* p = app->add_subcommand("play", "(not built: configure with FVV_BUILD_PLAYER=ON)");
   p->allow_extras();

@@ -13,7 +13,9 @@
 
 #include "fvv/fvv_decoder.hpp"
 #include "player/app/playback_controller.h"
+#include "player/render/hud.h"
 #include "player/render/renderer.h"
+#include "tools/imageio/image_io.h"
 
 namespace fvv {
 namespace {
@@ -25,9 +27,11 @@ const char kControls[] =
     "  pageup/pagedown  seek 1 s    L           loop on/off    +/-      speed x2 / /2\n"
     "  1..9        a capture camera's viewpoint (0: free orbit)\n"
     "  E/D         blend exponent up/down (higher: the best camera dominates)\n"
+    "  H           HUD on/off\n"
     "  esc, Q      quit\n"
-    "The title bar shows fps, decode ms per GOP, bytes decoded of bytes available and the\n"
-    "bitplanes reached; when decoding cannot keep up, fewer bytes of each GOP are decoded.\n";
+    "The HUD (and the title bar) shows fps, decode ms per GOP and its budget, bytes decoded of\n"
+    "bytes available and the bitplanes reached (the quality level); when decoding cannot keep\n"
+    "up, fewer bytes of each GOP are decoded.\n";
 
 struct State {
   double playhead = 0;
@@ -37,11 +41,30 @@ struct State {
   glm::vec3 pan{0.0f};
   float exponent = 4;
   int camera = -1;
+  bool hud = true;
   bool dragging_left = false, dragging_right = false;
   double last_x = 0, last_y = 0;
   uint32_t frames = 1;
   double fps = 25;
 };
+
+// The on-screen HUD: playback, decoding against its budget, and the quality
+// reached (bytes and bitplanes of the embedded streams).
+std::vector<std::string> HudLines(uint32_t frame, uint32_t frames, double fps,
+                                  const fvv_decode_report& r, double budget_ms, const State& s) {
+  char line[4][128];
+  std::snprintf(line[0], sizeof(line[0]), "frame %u/%u  %.0f fps  x%.2g%s", frame + 1, frames, fps,
+                s.speed, s.playing ? "" : "  [paused]");
+  std::snprintf(line[1], sizeof(line[1]), "decode %.0f ms/GOP  budget %s", r.decode_ms,
+                budget_ms > 0 ? (std::to_string(int(budget_ms)) + " ms").c_str() : "full");
+  std::snprintf(line[2], sizeof(line[2]), "bytes %.0f/%.0f KB (%.0f%%)  planes Y%u U%u V%u",
+                r.bytes_decoded / 1024.0, r.bytes_available / 1024.0,
+                r.bytes_available ? 100.0 * r.bytes_decoded / r.bytes_available : 100.0,
+                r.bitplanes[0], r.bitplanes[1], r.bitplanes[2]);
+  std::snprintf(line[3], sizeof(line[3]), "exponent %.1f  %s", s.exponent,
+                s.camera >= 0 ? ("camera " + std::to_string(s.camera + 1)).c_str() : "orbit");
+  return {line[0], line[1], line[2], line[3]};
+}
 
 State* StateOf(GLFWwindow* w) { return static_cast<State*>(glfwGetWindowUserPointer(w)); }
 
@@ -49,6 +72,9 @@ void OnKey(GLFWwindow* w, int key, int, int action, int) {
   if (action != GLFW_PRESS && action != GLFW_REPEAT) return;
   State& s = *StateOf(w);
   switch (key) {
+    case GLFW_KEY_H:
+      s.hud = !s.hud;
+      break;
     case GLFW_KEY_ESCAPE:
     case GLFW_KEY_Q:
       glfwSetWindowShouldClose(w, 1);
@@ -173,10 +199,12 @@ int RunPlayer(const PlayerOptions& o) {
   }
   StatusOr<std::unique_ptr<Renderer>> renderer = Internal("no GL");
   if (s.ok()) renderer = Renderer::Create(gl, model, centres, info.atlas_width, info.atlas_height);
-  if (!s.ok() || !renderer.ok()) {
+  StatusOr<std::unique_ptr<HudOverlay>> hud = Internal("no GL");
+  if (s.ok() && renderer.ok()) hud = HudOverlay::Create(gl);
+  if (!s.ok() || !renderer.ok() || !hud.ok()) {
     glfwDestroyWindow(window);
     glfwTerminate();
-    return Fail((s.ok() ? renderer.status() : s).ToString());
+    return Fail((!s.ok() ? s : !renderer.ok() ? renderer.status() : hud.status()).ToString());
   }
   State state;
   state.loop = o.loop;
@@ -197,7 +225,7 @@ int RunPlayer(const PlayerOptions& o) {
   uint64_t total_drawn = 0, gops_shown = 0, bytes_decoded = 0, bytes_available = 0;
   double decode_ms_total = 0;
   uint32_t shown = UINT32_MAX, last_gop = UINT32_MAX, frames_drawn = 0;
-  double render_ms = 0;
+  double render_ms = 0, shown_fps = 0;
   FramePtr frame;
   while (!glfwWindowShouldClose(window)) {
     const auto now = Clock::now();
@@ -262,18 +290,33 @@ int RunPlayer(const PlayerOptions& o) {
       view.view = glm::lookAt(view.eye, target, glm::vec3(0, 1, 0));
       view.projection = glm::perspective(glm::radians(40.0f), aspect, 0.05f, 50.0f);
     }
+    const bool last_frame =
+        o.seconds > 0 && std::chrono::duration<double>(now - start).count() >= o.seconds;
     const auto r0 = Clock::now();
     s = (*renderer)->Draw(view, fb_w, fb_h);
     if (!s.ok()) break;
+    if (state.hud) {
+      s = (*hud)->Draw(
+          HudLines(f, info.frame_count, shown_fps, frame->report, control.NextMaxMs(), state), fb_w,
+          fb_h, fb_w >= 1600 ? 3 : 2);
+      if (!s.ok()) break;
+    }
+    if (last_frame && !o.screenshot.empty()) {
+      Image shot;
+      shot.width = static_cast<uint32_t>(fb_w);
+      shot.height = static_cast<uint32_t>(fb_h);
+      shot.channels = 3;
+      s = ReadFramebuffer(gl, fb_w, fb_h, 3, &shot.pixels);
+      if (s.ok()) s = WriteImage(o.screenshot, shot);
+      if (!s.ok()) break;
+    }
     gl.Finish();  // render time without the wait for the display's refresh
     render_ms = 0.9 * render_ms +
                 0.1 * std::chrono::duration<double, std::milli>(Clock::now() - r0).count();
     glfwSwapBuffers(window);
     ++frames_drawn;
     ++total_drawn;
-    if (o.seconds > 0 && std::chrono::duration<double>(now - start).count() >= o.seconds) {
-      glfwSetWindowShouldClose(window, 1);
-    }
+    if (last_frame) glfwSetWindowShouldClose(window, 1);
     const double since = std::chrono::duration<double>(now - title_time).count();
     if (since > 0.5) {
       char title[256];
@@ -290,6 +333,7 @@ int RunPlayer(const PlayerOptions& o) {
                     r.bitplanes[0], r.bitplanes[1], r.bitplanes[2], state.exponent, state.speed,
                     state.playing ? "" : "  [paused]");
       glfwSetWindowTitle(window, title);
+      shown_fps = frames_drawn / since;
       title_time = now;
       frames_drawn = 0;
     }
@@ -305,6 +349,7 @@ int RunPlayer(const PlayerOptions& o) {
         bytes_available ? 100.0 * bytes_decoded / bytes_available : 100.0);
   }
   frame.reset();
+  hud->reset();
   renderer->reset();
   glfwDestroyWindow(window);
   glfwTerminate();

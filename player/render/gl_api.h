@@ -32,6 +32,8 @@ namespace fvv {
   X(PFNGLDELETESHADERPROC, DeleteShader)                       \
   X(PFNGLDELETETEXTURESPROC, DeleteTextures)                   \
   X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays)           \
+  X(PFNGLDISABLEPROC, Disable)                                 \
+  X(PFNGLDRAWARRAYSPROC, DrawArrays)                           \
   X(PFNGLDRAWELEMENTSPROC, DrawElements)                       \
   X(PFNGLENABLEPROC, Enable)                                   \
   X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray) \
@@ -56,6 +58,7 @@ namespace fvv {
   X(PFNGLTEXSUBIMAGE3DPROC, TexSubImage3D)                     \
   X(PFNGLUNIFORM1FPROC, Uniform1f)                             \
   X(PFNGLUNIFORM1IPROC, Uniform1i)                             \
+  X(PFNGLUNIFORM2FPROC, Uniform2f)                             \
   X(PFNGLUNIFORM3FVPROC, Uniform3fv)                           \
   X(PFNGLUNIFORMBLOCKBINDINGPROC, UniformBlockBinding)         \
   X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv)               \
