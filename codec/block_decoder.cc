@@ -8,6 +8,28 @@
 #include "codec/subband_weights.h"
 
 namespace fvv {
+namespace {
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__SANITIZE_ADDRESS__)
+#define FVV_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define FVV_SIMD_CLONES
+#endif
+
+// Output scaling (SPEC.md 9.6) of samples [begin, end), in 32-bit arithmetic
+// so it vectorises: clamping to +-2^30 first changes no result (such values
+// clamp to the range anyway) and keeps the sums from overflowing.
+FVV_SIMD_CLONES
+void ScaleOutput(int32_t* data, size_t begin, size_t end, int32_t round, int frac, int32_t offset,
+                 int32_t lo, int32_t hi) {
+  for (size_t i = begin; i < end; ++i) {
+    const int32_t s = std::min(std::max(data[i], -(1 << 30)), 1 << 30);
+    const int32_t v = ((s + round) >> frac) + offset;
+    data[i] = std::min(std::max(v, lo), hi);
+  }
+}
+
+}  // namespace
 
 StatusOr<Block> DecodeBlock(const EncodedBlock& encoded, const DecodeBudget& budget,
                             const ParallelRunner& runner, DecodeReport* report) {
@@ -56,19 +78,12 @@ StatusOr<Block> DecodeBlock(const EncodedBlock& encoded, const DecodeBudget& bud
     InverseTransform4D(p.kernel, g, runner, coeffs[c].data());
     const SampleRange range = ChannelRange(p.colour, c);
     const int32_t round = frac ? 1 << (frac - 1) : 0;
-    // Output scaling in slices over the runner, in 32-bit arithmetic so it
-    // vectorises: clamping to +-2^30 first changes no result (such values clamp to
-    // the range anyway) and keeps the sums from overflowing.
-    constexpr size_t kSlice = 1 << 16;
+    constexpr size_t kSlice = 1 << 16;  // output scaling in slices over the runner
     int32_t* data = coeffs[c].data();
     const size_t count = coeffs[c].size();
     runner(static_cast<uint32_t>((count + kSlice - 1) / kSlice), [&](uint32_t k) {
-      const size_t end = std::min(count, (size_t{k} + 1) * kSlice);
-      for (size_t i = size_t{k} * kSlice; i < end; ++i) {
-        const int32_t s = std::min(std::max(data[i], -(1 << 30)), 1 << 30);
-        const int32_t v = ((s + round) >> frac) + range.offset;
-        data[i] = std::min(std::max(v, range.min), range.max);
-      }
+      ScaleOutput(data, size_t{k} * kSlice, std::min(count, (size_t{k} + 1) * kSlice), round, frac,
+                  range.offset, range.min, range.max);
     });
     block.channels[c].shape = shapes[c];
     block.channels[c].samples = std::move(coeffs[c]);

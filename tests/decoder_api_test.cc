@@ -10,6 +10,7 @@
 #include <thread>
 #include <vector>
 
+#include "codec/colour.h"
 #include "container/writer.h"
 #include "encoder/sample/sample_stream.h"
 #include "fvv/fvv_decoder.hpp"
@@ -121,6 +122,32 @@ TEST(DecoderApi, FileDecodeMatchesTheSource) {
     EXPECT_NEAR(root[12], truth[3], 0.00026);
     EXPECT_NEAR(root[13], 0.95 + truth[4], 0.00026);
     EXPECT_NEAR(root[14], truth[5], 0.00026);
+  }
+}
+
+// RGB8 output is the spec's colour conversion (9.7) of the YUV output, exactly
+// (the library converts rows with a vectorised 32-bit form of it).
+TEST(DecoderApi, Rgb8IsTheSpecConversionOfYuv444) {
+  const Fixture& fx = Shared();
+  DecoderPtr dec = MakeDecoder();
+  ASSERT_EQ(fvv_decoder_open_file(dec.get(), fx.path.c_str()), FVV_OK);
+  fvv_decode_budget rgb{}, yuv{};
+  yuv.format = FVV_FORMAT_YUV444;
+  for (uint32_t f : {0u, 5u, 9u}) {
+    FramePtr a = DecodeFrame(dec.get(), f, &rgb);
+    ASSERT_TRUE(a) << fvv_decoder_error(dec.get());
+    FramePtr b = DecodeFrame(dec.get(), f, &yuv);
+    ASSERT_TRUE(b) << fvv_decoder_error(dec.get());
+    const size_t texels = size_t{a->width} * a->height;
+    for (uint32_t c = 0; c < a->camera_count; ++c) {
+      const uint8_t* p = b->views[c].pixels;
+      for (size_t i = 0; i < texels; ++i) {
+        const Rgb8 e = YuvToRgb(ColourSpace::kYCbCr601, p[i], p[texels + i], p[2 * texels + i]);
+        const uint8_t* got = a->views[c].pixels + 3 * i;
+        ASSERT_TRUE(got[0] == e.r && got[1] == e.g && got[2] == e.b)
+            << "frame " << f << " camera " << c << " texel " << i;
+      }
+    }
   }
 }
 

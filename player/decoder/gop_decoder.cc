@@ -33,47 +33,67 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
   FVV_RETURN_IF_ERROR(DecodeMotion(MotionBoxHeader(first), first.motion.data(), info.model.skeleton,
                                    info.motion, first.info.frame_count, &gop->motion));
   gop->bitplanes = {99, 99, 99};
-  for (const FragmentData& f : fragments) {
-    gop->groups.push_back(f.info);
+  const size_t n = fragments.size();
+  gop->textures.resize(n);
+  gop->masks.resize(n);
+  std::vector<DecodeReport> reports(n);
+  std::vector<Status> statuses(n);
+  // Decodes fragment i: its texture channels spread over `inner`, its masks
+  // alongside on a thread of their own when `inner` has threads to share.
+  const auto decode_one = [&](size_t i, const ParallelRunner& inner, bool masks_async) {
+    const FragmentData& f = fragments[i];
     DecodeBudget b;
     b.max_bytes = budget.max_bytes;
     if (budget.max_ms > 0) {
-      b.channel_runner = [](uint32_t n, const std::function<void(uint32_t)>& task) {
+      b.channel_runner = [](uint32_t count, const std::function<void(uint32_t)>& task) {
         std::vector<std::thread> threads;
-        for (uint32_t i = 0; i < n; ++i) threads.emplace_back(task, i);
+        for (uint32_t k = 0; k < count; ++k) threads.emplace_back(task, k);
         for (std::thread& t : threads) t.join();
       };
       const double spent =
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
               .count();
-      const size_t left = fragments.size() - gop->textures.size();
-      b.max_ms = std::max(0.001, (budget.max_ms - spent) / static_cast<double>(left));
+      b.max_ms = std::max(0.001, (budget.max_ms - spent) / static_cast<double>(n - i));
     }
-    // Masks decode on their own thread while the texture channels use the runner:
-    // three SPIHT streams on two cores leave one core idle part of the time.
+    std::vector<uint8_t>& masks = gop->masks[i];
+    const Shape4D shape = f.info.TextureShape(info.header);
+    const auto decode_masks = [&f, shape, &masks] {
+      return DecodeMasks(f.masks.data(), f.masks.size(), shape, masks.data());
+    };
     std::future<Status> masks_done;
-    std::vector<uint8_t> masks;
+    Status mask_status;
     if (!f.masks.empty()) {
-      const Shape4D shape = f.info.TextureShape(info.header);
       masks.resize(shape.count());
-      masks_done = std::async(std::launch::async, [&f, shape, &masks] {
-        return DecodeMasks(f.masks.data(), f.masks.size(), shape, masks.data());
-      });
+      if (masks_async) masks_done = std::async(std::launch::async, decode_masks);
     }
-    DecodeReport report;
-    auto decoded = DecodeBlock(f.texture, b, runner, &report);
-    const Status mask_status = masks_done.valid() ? masks_done.get() : Status::Ok();
-    if (!decoded.ok()) return decoded.status();
-    FVV_RETURN_IF_ERROR(mask_status);
-    Block block = std::move(decoded).value();
-    gop->textures.push_back(std::move(block));
+    auto decoded = DecodeBlock(f.texture, b, inner, &reports[i]);
+    if (!f.masks.empty()) mask_status = masks_async ? masks_done.get() : decode_masks();
+    if (!decoded.ok()) {
+      statuses[i] = decoded.status();
+    } else {
+      statuses[i] = mask_status;
+      gop->textures[i] = std::move(decoded).value();
+    }
+  };
+  if (n > 1 && budget.max_ms <= 0) {
+    // Several camera groups (one camera per fragment by default): whole
+    // fragments in parallel, each on one thread, balance the cores better than
+    // the three unequal channel streams of one fragment can.
+    runner(static_cast<uint32_t>(n), [&](uint32_t i) { decode_one(i, SerialRunner, false); });
+  } else {
+    // A time budget is shared out in fragment order, so fragments go one by one.
+    for (size_t i = 0; i < n; ++i) decode_one(i, runner, true);
+  }
+  for (size_t i = 0; i < n; ++i) {
+    FVV_RETURN_IF_ERROR(statuses[i]);
+    const DecodeReport& report = reports[i];
+    gop->groups.push_back(fragments[i].info);
     gop->bytes_decoded += report.bytes_read;
-    gop->bytes_available += f.texture.total_bytes();
+    gop->bytes_available += fragments[i].texture.total_bytes();
     for (int c = 0; c < 3; ++c) {
       gop->bitplanes[c] = std::min(gop->bitplanes[c], report.planes_completed[c]);
     }
     gop->complete = gop->complete && report.complete;
-    gop->masks.push_back(std::move(masks));
   }
   gop->ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
