@@ -245,6 +245,69 @@ TEST(DecoderApi, PrefetchMakesAFrameReadyWithoutBlocking) {
   EXPECT_FALSE(fvv_decoder_frame_ready(nullptr, 0, &budget));
 }
 
+// A camera mask decodes only the camera groups it names: their textures are
+// those of a full decode, the others come back NULL; a GOP holding more cameras
+// serves a narrower request; prefetching with a mask that the decode under way
+// does not serve starts a decode that does.
+TEST(DecoderApi, CameraMaskDecodesOnlyTheCameraGroupsAsked) {
+  const Fixture& fx = Shared();  // 3 cameras in groups {0, 1} and {2}
+  DecoderPtr full_dec = MakeDecoder();
+  ASSERT_EQ(fvv_decoder_open_file(full_dec.get(), fx.path.c_str()), FVV_OK);
+  FramePtr full = DecodeFrame(full_dec.get(), 5, nullptr);
+  ASSERT_TRUE(full);
+  const size_t bytes = size_t{full->width} * full->height * 3;
+
+  fvv_decoder_settings settings;
+  fvv_decoder_default_settings(&settings);
+  settings.decode_ahead = 0;
+  DecoderPtr dec = MakeDecoder(&settings);
+  ASSERT_EQ(fvv_decoder_open_file(dec.get(), fx.path.c_str()), FVV_OK);
+  fvv_decode_budget only2{};
+  only2.camera_mask = 1u << 2;
+  FramePtr part = DecodeFrame(dec.get(), 5, &only2);
+  ASSERT_TRUE(part) << fvv_decoder_error(dec.get());
+  EXPECT_EQ(part->views[0].pixels, nullptr);
+  EXPECT_EQ(part->views[1].pixels, nullptr);
+  EXPECT_EQ(part->views[0].mask, nullptr);
+  ASSERT_NE(part->views[2].pixels, nullptr);
+  EXPECT_EQ(std::memcmp(part->views[2].pixels, full->views[2].pixels, bytes), 0);
+  EXPECT_LT(part->report.bytes_decoded, full->report.bytes_decoded);
+  EXPECT_GT(part->report.bytes_decoded, 0u);
+
+  // Camera 0 alone brings its whole group {0, 1}.
+  fvv_decode_budget only0{};
+  only0.camera_mask = 1u;
+  FramePtr group = DecodeFrame(dec.get(), 0, &only0);
+  ASSERT_TRUE(group);
+  ASSERT_NE(group->views[1].pixels, nullptr);
+  EXPECT_EQ(group->views[2].pixels, nullptr);
+  // The same GOP asked for camera 1 only: served by what was decoded.
+  fvv_decode_budget only1{};
+  only1.camera_mask = 1u << 1;
+  EXPECT_TRUE(fvv_decoder_frame_ready(dec.get(), 1, &only1));
+  // ... but not for camera 2, which needs a decode.
+  EXPECT_FALSE(fvv_decoder_frame_ready(dec.get(), 1, &only2));
+  ASSERT_EQ(fvv_decoder_prefetch(dec.get(), 1, &only2), FVV_OK);
+  for (int i = 0; i < 500 && !fvv_decoder_frame_ready(dec.get(), 1, &only2); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_TRUE(fvv_decoder_frame_ready(dec.get(), 1, &only2));
+  // A prefetch under way for one mask, then another mask for the same GOP: the
+  // second must still become ready (it is not served by the first).
+  ASSERT_EQ(fvv_decoder_prefetch(dec.get(), 9, &only0), FVV_OK);
+  ASSERT_EQ(fvv_decoder_prefetch(dec.get(), 9, &only2), FVV_OK);
+  for (int i = 0; i < 500 && !fvv_decoder_frame_ready(dec.get(), 9, &only2); ++i) {
+    fvv_decoder_prefetch(dec.get(), 9, &only2);  // as a player asks again each frame
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_TRUE(fvv_decoder_frame_ready(dec.get(), 9, &only2));
+
+  fvv_decode_budget beyond{};
+  beyond.camera_mask = 1u << 3;  // the stream has 3 cameras
+  fvv_frame* frame = nullptr;
+  EXPECT_EQ(fvv_decoder_decode_frame(dec.get(), 0, &beyond, &frame), FVV_INVALID_ARGUMENT);
+}
+
 TEST(DecoderApi, MisuseGivesInvalidArgument) {
   EXPECT_EQ(fvv_decoder_create(nullptr, nullptr), FVV_INVALID_ARGUMENT);
   DecoderPtr dec = MakeDecoder();

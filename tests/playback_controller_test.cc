@@ -43,6 +43,19 @@ TEST(PlaybackController, CutsDecodingToKeepUpAndRestoresQuality) {
   EXPECT_EQ(pc.NextMaxMs(), 0.0);
 }
 
+// When the fixed part alone misses the target (a slow machine, a software GL
+// renderer sharing the cores), cutting the streams cannot help: the budget
+// stops at its floor instead of decoding nothing.
+TEST(PlaybackController, NeverCutsBelowTheFloorWhenFixedCostsMissTheTarget) {
+  PlaybackController pc(25, 8, 0.8);
+  SimDecoder heavy{300, 150};  // the fixed 300 ms alone exceed the 230 ms target
+  for (int gop = 0; gop < 30; ++gop) {
+    const auto r = heavy.Decode(pc.NextMaxMs());
+    pc.Report(r.first, 4, r.second);
+  }
+  EXPECT_NEAR(pc.NextMaxMs(), PlaybackController::kFloorShare * pc.target_ms(), 1e-9);
+}
+
 TEST(PlaybackController, FasterPlaybackTightensTheBudget) {
   PlaybackController pc(25, 8, 0.8);
   pc.set_speed(2.0);

@@ -24,14 +24,15 @@ struct Scene {
   std::vector<fvv_camera> cameras;
 };
 
-void MakeScene(Scene* s) {
+void MakeScene(Scene* s, uint16_t gop_cameras = 4) {
   SampleStreamOptions o = TinySampleOptions();
   o.cameras = 4;
-  o.gop_cameras = 4;
+  o.gop_cameras = gop_cameras;
   o.atlas_width = o.atlas_height = 32;
   auto bytes = MakeSampleStreamBytes(o);
   ASSERT_TRUE(bytes.ok());
-  const std::string path = ::testing::TempDir() + "/fvv_renderer_test.fvv";
+  const std::string path =
+      ::testing::TempDir() + "/fvv_renderer_test_" + std::to_string(gop_cameras) + ".fvv";
   ASSERT_TRUE(WriteFileAtomic(path, bytes->data(), bytes->size()).ok());
   s->dec = MakeDecoder();
   ASSERT_EQ(fvv_decoder_open_file(s->dec.get(), path.c_str()), FVV_OK);
@@ -107,6 +108,58 @@ TEST(Renderer, RefusesMismatchedFramesAndEarlyDraws) {
   FramePtr yuv_frame = DecodeFrame(s.dec.get(), 0, &yuv);
   ASSERT_TRUE(yuv_frame);
   EXPECT_EQ(s.renderer->SetFrame(*yuv_frame).code(), StatusCode::kInvalidArgument);
+}
+
+// A frame decoded with only the cameras the view blends (one camera per
+// fragment) renders like the full frame; cameras left out take no part.
+TEST(Renderer, FramesWithOnlyTheViewsCamerasRenderLikeFullOnes) {
+  Scene s;
+  MakeScene(&s, /*gop_cameras=*/1);
+  if (HasFatalFailure()) return;
+  std::vector<glm::vec3> centres;
+  for (const fvv_camera& c : s.cameras) centres.emplace_back(c.centre[0], c.centre[1], c.centre[2]);
+  const std::vector<uint8_t> full = RenderFromCamera(&s, 1, 0);
+  FramePtr probe = DecodeFrame(s.dec.get(), 1, nullptr);
+  ASSERT_TRUE(probe);
+  const glm::vec3 root(probe->bone_world[12], probe->bone_world[13], probe->bone_world[14]);
+  fvv_decode_budget budget{};
+  budget.camera_mask = ViewCameras(centres, centres[0], root);
+  EXPECT_EQ(budget.camera_mask, 0b1011u);  // camera 2, behind the actor, is left out
+  DecoderPtr dec = MakeDecoder();
+  ASSERT_EQ(
+      fvv_decoder_open_file(dec.get(), (::testing::TempDir() + "/fvv_renderer_test_1.fvv").c_str()),
+      FVV_OK);
+  FramePtr part = DecodeFrame(dec.get(), 1, &budget);
+  ASSERT_TRUE(part);
+  ASSERT_EQ(part->views[2].pixels, nullptr);
+  ASSERT_TRUE(s.renderer->SetFrame(*part).ok());
+  RenderView view;
+  CameraViewProjection(s.cameras[0], 0.05f, 50.0f, &view.view, &view.projection);
+  view.eye = centres[0];
+  ASSERT_TRUE(s.renderer->Draw(view, kW, kH).ok());
+  std::vector<uint8_t> rgb;
+  ASSERT_TRUE(s.renderer->ReadRgb(kW, kH, &rgb).ok());
+  ASSERT_EQ(rgb.size(), full.size());
+  double diff = 0;
+  for (size_t i = 0; i < rgb.size(); ++i) diff += std::abs(int(rgb[i]) - int(full[i]));
+  const size_t fg = ForegroundPixels(full, RenderView());
+  EXPECT_LT(diff / (3.0 * fg), 1.0) << "mean difference per actor pixel and channel";
+  // Leaving out the camera the view looks through must change the image: the
+  // renderer keeps the last full frame's texture of it, and must not use it.
+  fvv_decode_budget no0{};
+  no0.camera_mask = 0b1110u;
+  FramePtr without = DecodeFrame(dec.get(), 1, &no0);
+  ASSERT_TRUE(without);
+  ASSERT_TRUE(s.renderer->SetFrame(*probe).ok());  // every texture of frame 1 uploaded
+  ASSERT_TRUE(s.renderer->SetFrame(*without).ok());
+  ASSERT_TRUE(s.renderer->Draw(view, kW, kH).ok());
+  ASSERT_TRUE(s.renderer->ReadRgb(kW, kH, &rgb).ok());
+  EXPECT_NE(rgb, full);
+  // A frame without any camera's texture cannot be drawn.
+  fvv_frame empty = *part;
+  std::vector<fvv_view> none(part->camera_count, fvv_view{nullptr, nullptr});
+  empty.views = none.data();
+  EXPECT_EQ(s.renderer->SetFrame(empty).code(), StatusCode::kInvalidArgument);
 }
 
 }  // namespace

@@ -26,6 +26,8 @@ void AddPlayCommand(CLI::App* app, int* exit_code) {
   p->add_option("--seconds", o->seconds,
                 "Play this many seconds, print a summary and exit (benchmarks, tests)")
       ->check(CLI::PositiveNumber);
+  p->add_flag("--all-cameras", o->all_cameras,
+              "Decode every camera's texture, not only the cameras the view blends (key A)");
   p->add_option("--screenshot", o->screenshot,
                 "With --seconds: save the last frame drawn, HUD included, as PNG");
   p->callback([o, exit_code] {

@@ -138,17 +138,24 @@ typedef struct {
                                  it stops with what it has; set-up and the inverse transform come
                                  on top. 0 = no limit */
   uint32_t format;            /* an fvv_pixel_format (a plain integer: any value is checked) */
+  uint64_t camera_mask;       /* cameras to decode: bit c = camera c (streams have at most 64);
+                                 0 = all. A player passes the cameras its view blends; with one
+                                 camera per GOP fragment (the encoder's default) the others are
+                                 not decoded at all. Views of cameras left out have NULL pixels
+                                 and mask. A camera group is decoded whole when any of its
+                                 cameras is asked for. */
 } fvv_decode_budget;
 
 typedef struct {
-  const uint8_t* pixels; /* atlas texture in the requested format */
+  const uint8_t* pixels; /* atlas texture in the requested format; NULL for a camera the
+                            budget's camera_mask left out */
   const uint8_t* mask;   /* atlas_width x atlas_height bytes, 1 = the camera saw the texel;
                             NULL when the stream carries no masks */
 } fvv_view;
 
 typedef struct {
   uint64_t bytes_decoded;   /* texture bytes read for this frame's GOP (all its fragments) */
-  uint64_t bytes_available; /* texture bytes the GOP's streams hold */
+  uint64_t bytes_available; /* texture bytes the GOP's streams hold (of the cameras decoded) */
   uint32_t bitplanes[3];    /* fewest complete bitplanes over the GOP's fragments, Y U V */
   double decode_ms;         /* time spent decoding the GOP */
   int complete;             /* every stream decoded to its end */

@@ -23,6 +23,9 @@ class PlaybackController {
   void Report(double decode_ms, double render_ms_per_frame, bool complete);
 
   double target_ms() const { return target_ms_; }
+  // The smallest time budget, as a share of the target: never cut the streams
+  // to nothing when the fixed costs alone miss the target.
+  static constexpr double kFloorShare = 0.2;
   void set_speed(double speed);  // playback speed factor: GOPs come faster
 
  private:

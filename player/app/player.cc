@@ -28,6 +28,7 @@ const char kControls[] =
     "  1..9        a capture camera's viewpoint (0: free orbit)\n"
     "  E/D         blend exponent up/down (higher: the best camera dominates)\n"
     "  H           HUD on/off\n"
+    "  A           decode all cameras / only the cameras the view blends (the default)\n"
     "  esc, Q      quit\n"
     "The HUD (and the title bar) shows fps, decode ms per GOP and its budget, bytes decoded of\n"
     "bytes available and the bitplanes reached (the quality level); when decoding cannot keep\n"
@@ -42,6 +43,7 @@ struct State {
   float exponent = 4;
   int camera = -1;
   bool hud = true;
+  bool all_cameras = false;
   bool dragging_left = false, dragging_right = false;
   double last_x = 0, last_y = 0;
   uint32_t frames = 1;
@@ -51,7 +53,8 @@ struct State {
 // The on-screen HUD: playback, decoding against its budget, and the quality
 // reached (bytes and bitplanes of the embedded streams).
 std::vector<std::string> HudLines(uint32_t frame, uint32_t frames, double fps,
-                                  const fvv_decode_report& r, double budget_ms, const State& s) {
+                                  const fvv_decode_report& r, double budget_ms, const State& s,
+                                  int cameras_decoded, int cameras) {
   char line[4][128];
   std::snprintf(line[0], sizeof(line[0]), "frame %u/%u  %.0f fps  x%.2g%s", frame + 1, frames, fps,
                 s.speed, s.playing ? "" : "  [paused]");
@@ -61,9 +64,16 @@ std::vector<std::string> HudLines(uint32_t frame, uint32_t frames, double fps,
                 r.bytes_decoded / 1024.0, r.bytes_available / 1024.0,
                 r.bytes_available ? 100.0 * r.bytes_decoded / r.bytes_available : 100.0,
                 r.bitplanes[0], r.bitplanes[1], r.bitplanes[2]);
-  std::snprintf(line[3], sizeof(line[3]), "exponent %.1f  %s", s.exponent,
-                s.camera >= 0 ? ("camera " + std::to_string(s.camera + 1)).c_str() : "orbit");
+  std::snprintf(line[3], sizeof(line[3]), "exponent %.1f  %s  cameras %d/%d%s", s.exponent,
+                s.camera >= 0 ? ("camera " + std::to_string(s.camera + 1)).c_str() : "orbit",
+                cameras_decoded, cameras, s.all_cameras ? " (all)" : "");
   return {line[0], line[1], line[2], line[3]};
+}
+
+int CountViews(const fvv_frame& frame) {
+  int n = 0;
+  for (uint32_t c = 0; c < frame.camera_count; ++c) n += frame.views[c].pixels != nullptr;
+  return n;
 }
 
 State* StateOf(GLFWwindow* w) { return static_cast<State*>(glfwGetWindowUserPointer(w)); }
@@ -74,6 +84,9 @@ void OnKey(GLFWwindow* w, int key, int, int action, int) {
   switch (key) {
     case GLFW_KEY_H:
       s.hud = !s.hud;
+      break;
+    case GLFW_KEY_A:
+      s.all_cameras = !s.all_cameras;
       break;
     case GLFW_KEY_ESCAPE:
     case GLFW_KEY_Q:
@@ -208,6 +221,7 @@ int RunPlayer(const PlayerOptions& o) {
   }
   State state;
   state.loop = o.loop;
+  state.all_cameras = o.all_cameras;
   state.exponent = o.exponent;
   state.frames = info.frame_count;
   state.fps = double(info.frame_rate_num) / info.frame_rate_den;
@@ -227,6 +241,9 @@ int RunPlayer(const PlayerOptions& o) {
   uint32_t shown = UINT32_MAX, last_gop = UINT32_MAX, frames_drawn = 0;
   double render_ms = 0, shown_fps = 0;
   FramePtr frame;
+  uint32_t mask_gop = UINT32_MAX;
+  uint64_t gop_mask = 0;
+  glm::vec3 last_eye(0.0f, 1.0f, 3.5f), last_target(0.0f, 1.0f, 0.0f);  // until the first view
   while (!glfwWindowShouldClose(window)) {
     const auto now = Clock::now();
     const double dt = std::chrono::duration<double>(now - last).count();
@@ -242,6 +259,13 @@ int RunPlayer(const PlayerOptions& o) {
     uint32_t f = static_cast<uint32_t>(state.playhead);
     fvv_decode_budget budget{};
     budget.max_ms_per_gop = control.NextMaxMs();
+    // The cameras to decode come from the view when a GOP is first asked for,
+    // and stay for its frames (a different set would mean decoding it again).
+    if (f / info.gop_frames != mask_gop) {
+      mask_gop = f / info.gop_frames;
+      gop_mask = state.all_cameras ? 0 : ViewCameras(centres, last_eye, last_target);
+    }
+    budget.camera_mask = gop_mask;
     if (f != shown && frame && !fvv_decoder_frame_ready(dec.get(), f, &budget)) {
       // Its GOP is still decoding: keep drawing the current frame (the view stays
       // interactive), and hold the playhead so no frame is skipped.
@@ -292,13 +316,17 @@ int RunPlayer(const PlayerOptions& o) {
     }
     const bool last_frame =
         o.seconds > 0 && std::chrono::duration<double>(now - start).count() >= o.seconds;
+    last_eye = view.eye;
+    last_target = state.camera >= 0 && state.camera < static_cast<int>(info.camera_count)
+                      ? root
+                      : root + state.pan;
     const auto r0 = Clock::now();
     s = (*renderer)->Draw(view, fb_w, fb_h);
     if (!s.ok()) break;
     if (state.hud) {
-      s = (*hud)->Draw(
-          HudLines(f, info.frame_count, shown_fps, frame->report, control.NextMaxMs(), state), fb_w,
-          fb_h, fb_w >= 1600 ? 3 : 2);
+      s = (*hud)->Draw(HudLines(f, info.frame_count, shown_fps, frame->report, control.NextMaxMs(),
+                                state, CountViews(*frame), static_cast<int>(info.camera_count)),
+                       fb_w, fb_h, fb_w >= 1600 ? 3 : 2);
       if (!s.ok()) break;
     }
     if (last_frame && !o.screenshot.empty()) {

@@ -13,8 +13,9 @@ struct PlayerOptions {
   float exponent = 4.0f;
   double decode_share = 0.8;  // of each GOP's play time less its render time
   bool loop = true;
-  double seconds = 0;  // > 0: play this long, print a summary and exit (benchmarks, tests)
-  std::string screenshot;  // with seconds: the last frame drawn (HUD included), as PNG
+  bool all_cameras = false;  // decode every camera, not only those the view blends
+  double seconds = 0;        // > 0: play this long, print a summary and exit (benchmarks, tests)
+  std::string screenshot;    // with seconds: the last frame drawn (HUD included), as PNG
 };
 
 // The keys and mouse controls, for --help.

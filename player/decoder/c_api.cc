@@ -135,6 +135,7 @@ fvv::GopBudget ToGopBudget(const fvv_decode_budget* budget) {
   if (budget) {
     gb.max_bytes = budget->max_bytes_per_gop;
     gb.max_ms = budget->max_ms_per_gop > 0 ? budget->max_ms_per_gop : 0;
+    gb.cameras = budget->camera_mask;
   }
   return gb;
 }
@@ -259,6 +260,10 @@ fvv_status fvv_decoder_decode_frame(fvv_decoder* d, uint32_t index, const fvv_de
     return Misuse(d, "decode_frame: unknown pixel format");
   }
   if (!(b.max_ms_per_gop >= 0)) return Misuse(d, "decode_frame: negative time budget");
+  if (d->impl.ready() && b.camera_mask != 0 && d->impl.info().header.camera_count < 64 &&
+      (b.camera_mask >> d->impl.info().header.camera_count) != 0) {
+    return Misuse(d, "decode_frame: camera_mask names cameras the stream does not have");
+  }
   if (d->impl.ready() && b.format == FVV_FORMAT_YUV444 &&
       (d->impl.info().header.tools & fvv::kToolReversibleColour)) {
     return Misuse(d, "decode_frame: RCT (lossless) streams have no 8-bit YUV form; ask for RGB8");
@@ -288,6 +293,11 @@ fvv_status fvv_decoder_decode_frame(fvv_decoder* d, uint32_t index, const fvv_de
   for (uint32_t c = 0; c < cameras; ++c) {
     const uint32_t group = c / si.header.gop_cameras;
     const uint32_t local = c - g.groups[group].first_camera;
+    if (!g.decoded[group]) {  // left out by the budget's camera_mask
+      impl->views[c].pixels = nullptr;
+      impl->views[c].mask = nullptr;
+      continue;
+    }
     ConvertView(g.textures[group], t, local, static_cast<fvv_pixel_format>(b.format),
                 &impl->pixels[c]);
     impl->views[c].pixels = impl->pixels[c].data();

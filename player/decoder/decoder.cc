@@ -157,17 +157,43 @@ void Decoder::WaitDecodeAhead() {
 // real-time mode retunes its time budget every GOP, and a GOP decoded ahead under
 // the previous one is what it wants (decoding it again would cost the very time
 // the budget protects).
-bool Decoder::SameBudget(const GopBudget& a, const GopBudget& b) {
-  return (a.Covers(b) && b.Covers(a)) || (a.max_ms > 0 && b.max_ms > 0);
+bool Decoder::SameBudget(const GopBudget& cached, const GopBudget& wanted) {
+  // A GOP holding more cameras than asked for serves the request: a player's
+  // view-dependent camera set changes with the view, and a superset decoded
+  // ahead must not be decoded again.
+  const bool cameras =
+      cached.cameras == 0 || (wanted.cameras != 0 && (wanted.cameras & ~cached.cameras) == 0);
+  GopBudget a = cached, b = wanted;
+  a.cameras = b.cameras = 0;
+  return cameras && ((a.Covers(b) && b.Covers(a)) || (a.max_ms > 0 && b.max_ms > 0));
 }
 
-Status Decoder::Prefetch(uint32_t frame, const GopBudget& budget) {
+GopBudget Decoder::Normalised(GopBudget b) const {
+  if (b.cameras == 0) return b;
+  // Camera groups decode whole: ask for every camera of each group asked for.
+  const FileHeader& h = info().header;
+  uint64_t mask = 0;
+  for (uint32_t first = 0; first < h.camera_count && first < 64; first += h.gop_cameras) {
+    const uint32_t count = std::min<uint32_t>(h.gop_cameras, h.camera_count - first);
+    if (!b.WantsGroup(first, count)) continue;
+    for (uint32_t c = first; c < first + count && c < 64; ++c) mask |= uint64_t{1} << c;
+  }
+  const bool all =
+      h.camera_count <= 64 &&
+      mask == (h.camera_count == 64 ? ~uint64_t{0} : (uint64_t{1} << h.camera_count) - 1);
+  b.cameras = all ? 0 : mask;
+  return b;
+}
+
+Status Decoder::Prefetch(uint32_t frame, const GopBudget& asked) {
+  const GopBudget budget = ready_ ? Normalised(asked) : asked;
   if (!ready_) return InvalidArgument("prefetch before the stream's header boxes were read");
   if (frame >= frames_available_) return InvalidArgument("prefetch of an unavailable frame");
   const uint32_t span = frame / info().header.gop_frames;
   if (cache_ && cache_->span == span && SameBudget(cache_->budget, budget)) return Status::Ok();
   if (ahead_.valid()) {
-    if (ahead_span_ == span) return Status::Ok();
+    // Already under way with a budget that serves this request.
+    if (ahead_span_ == span && SameBudget(ahead_budget_, budget)) return Status::Ok();
     if (ahead_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
       return Status::Ok();  // one background decode at a time; ask again later
     }
@@ -178,16 +204,18 @@ Status Decoder::Prefetch(uint32_t frame, const GopBudget& budget) {
   return Status::Ok();
 }
 
-bool Decoder::Ready(uint32_t frame, const GopBudget& budget) {
+bool Decoder::Ready(uint32_t frame, const GopBudget& asked) {
   if (!ready_ || frame >= frames_available_) return false;
+  const GopBudget budget = Normalised(asked);
   const uint32_t span = frame / info().header.gop_frames;
   if (cache_ && cache_->span == span && SameBudget(cache_->budget, budget)) return true;
   return ahead_.valid() && ahead_span_ == span && SameBudget(ahead_budget_, budget) &&
          ahead_.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
 }
 
-StatusOr<std::shared_ptr<const DecodedGop>> Decoder::Gop(uint32_t frame, const GopBudget& budget) {
+StatusOr<std::shared_ptr<const DecodedGop>> Decoder::Gop(uint32_t frame, const GopBudget& asked) {
   if (!ready_) return InvalidArgument("decode before the stream's header boxes were read");
+  const GopBudget budget = Normalised(asked);
   if (frame >= frames_available_) {
     return InvalidArgument("frame " + std::to_string(frame) + " is not available (" +
                            std::to_string(frames_available_) + " frames decodable)");

@@ -41,7 +41,11 @@ class Decoder {
  private:
   Status SpanFragments(uint32_t span, std::vector<FragmentData>* out);
   StatusOr<std::shared_ptr<DecodedGop>> DecodeSpan(uint32_t span, const GopBudget& budget);
-  static bool SameBudget(const GopBudget& a, const GopBudget& b);
+  // The budget with its camera mask widened to whole camera groups (0 when
+  // that is every camera), so that masks compare by what a decode holds.
+  GopBudget Normalised(GopBudget budget) const;
+  // Whether a GOP decoded under `cached` is what a request under `wanted` gets.
+  static bool SameBudget(const GopBudget& cached, const GopBudget& wanted);
   // Decodes `span` in the background; `requested`: asked for by the caller
   // (Prefetch), not the automatic decode-ahead that settings can turn off.
   void StartBackgroundDecode(uint32_t span, const GopBudget& budget, bool requested);

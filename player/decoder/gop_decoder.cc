@@ -13,7 +13,16 @@ namespace fvv {
 bool GopBudget::Covers(const GopBudget& other) const {
   const bool bytes_ok = max_bytes == 0 || (other.max_bytes != 0 && max_bytes >= other.max_bytes);
   const bool ms_ok = max_ms == 0 || (other.max_ms != 0 && max_ms >= other.max_ms);
-  return bytes_ok && ms_ok;
+  const bool cameras_ok = cameras == 0 || (other.cameras != 0 && (other.cameras & ~cameras) == 0);
+  return bytes_ok && ms_ok && cameras_ok;
+}
+
+bool GopBudget::WantsGroup(uint32_t first, uint32_t count) const {
+  if (cameras == 0) return true;
+  for (uint32_t c = first; c < first + count && c < 64; ++c) {
+    if (cameras & (uint64_t{1} << c)) return true;
+  }
+  return false;
 }
 
 StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
@@ -40,8 +49,14 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
   std::vector<Status> statuses(n);
   // Decodes fragment i: its texture channels spread over `inner`, its masks
   // alongside on a thread of their own when `inner` has threads to share.
+  gop->decoded.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    gop->decoded[i] =
+        budget.WantsGroup(fragments[i].info.first_camera, fragments[i].info.camera_count);
+  }
   const auto decode_one = [&](size_t i, const ParallelRunner& inner, bool masks_async) {
     const FragmentData& f = fragments[i];
+    if (!gop->decoded[i]) return;  // a camera the player does not blend now
     DecodeBudget b;
     b.max_bytes = budget.max_bytes;
     if (budget.max_ms > 0) {
@@ -53,7 +68,9 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
       const double spent =
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
               .count();
-      b.max_ms = std::max(0.001, (budget.max_ms - spent) / static_cast<double>(n - i));
+      size_t left = 0;  // fragments still to decode, this one included
+      for (size_t k = i; k < n; ++k) left += gop->decoded[k] ? 1 : 0;
+      b.max_ms = std::max(0.001, (budget.max_ms - spent) / static_cast<double>(left));
     }
     std::vector<uint8_t>& masks = gop->masks[i];
     const Shape4D shape = f.info.TextureShape(info.header);
@@ -75,19 +92,25 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
       gop->textures[i] = std::move(decoded).value();
     }
   };
-  if (n > 1 && budget.max_ms <= 0) {
+  std::vector<uint32_t> wanted;
+  for (size_t i = 0; i < n; ++i) {
+    if (gop->decoded[i]) wanted.push_back(static_cast<uint32_t>(i));
+  }
+  if (wanted.size() > 1 && budget.max_ms <= 0) {
     // Several camera groups (one camera per fragment by default): whole
     // fragments in parallel, each on one thread, balance the cores better than
     // the three unequal channel streams of one fragment can.
-    runner(static_cast<uint32_t>(n), [&](uint32_t i) { decode_one(i, SerialRunner, false); });
+    runner(static_cast<uint32_t>(wanted.size()),
+           [&](uint32_t k) { decode_one(wanted[k], SerialRunner, false); });
   } else {
     // A time budget is shared out in fragment order, so fragments go one by one.
     for (size_t i = 0; i < n; ++i) decode_one(i, runner, true);
   }
   for (size_t i = 0; i < n; ++i) {
     FVV_RETURN_IF_ERROR(statuses[i]);
-    const DecodeReport& report = reports[i];
     gop->groups.push_back(fragments[i].info);
+    if (!gop->decoded[i]) continue;
+    const DecodeReport& report = reports[i];
     gop->bytes_decoded += report.bytes_read;
     gop->bytes_available += fragments[i].texture.total_bytes();
     for (int c = 0; c < 3; ++c) {

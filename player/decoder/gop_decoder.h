@@ -17,9 +17,13 @@ namespace fvv {
 struct GopBudget {
   uint64_t max_bytes = 0;  // texture bytes per fragment; 0 = all
   double max_ms = 0;       // for the whole span; 0 = no limit
+  uint64_t cameras = 0;    // bit c: decode camera c's group; 0 = every camera
 
-  // A GOP decoded under `this` is at least as good as one decoded under `other`.
+  // A GOP decoded under `this` is at least as good as one decoded under `other`
+  // (and holds every camera `other` asks for).
   bool Covers(const GopBudget& other) const;
+  // Whether the group of cameras [first, first + count) is decoded.
+  bool WantsGroup(uint32_t first, uint32_t count) const;
 };
 
 struct DecodedGop {
@@ -28,6 +32,7 @@ struct DecodedGop {
   GopBudget budget;
   std::vector<DecodedFrame> motion;         // frame_count entries
   std::vector<FragmentInfo> groups;         // one per camera group
+  std::vector<bool> decoded;                // per camera group: false when the budget left it out
   std::vector<Block> textures;              // decoded YUV, per camera group
   std::vector<std::vector<uint8_t>> masks;  // per camera group; empty without masks
   uint64_t bytes_decoded = 0, bytes_available = 0;

@@ -58,6 +58,7 @@ namespace fvv {
   X(PFNGLTEXSUBIMAGE3DPROC, TexSubImage3D)                     \
   X(PFNGLUNIFORM1FPROC, Uniform1f)                             \
   X(PFNGLUNIFORM1IPROC, Uniform1i)                             \
+  X(PFNGLUNIFORM1IVPROC, Uniform1iv)                           \
   X(PFNGLUNIFORM2FPROC, Uniform2f)                             \
   X(PFNGLUNIFORM3FVPROC, Uniform3fv)                           \
   X(PFNGLUNIFORMBLOCKBINDINGPROC, UniformBlockBinding)         \

@@ -1,6 +1,7 @@
 #include "player/render/renderer.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <glm/gtc/type_ptr.hpp>
 #include <string>
@@ -19,6 +20,7 @@ uniform sampler2DArray u_textures;
 uniform sampler2DArray u_masks;
 uniform int u_has_masks;
 uniform vec3 u_cameras[64];
+uniform int u_present[64];  // 0: the frame has no texture of this camera
 uniform int u_camera_count;
 uniform vec3 u_eye;
 uniform float u_exponent;
@@ -31,6 +33,7 @@ void main() {
   vec3 fallback = vec3(0.5);
   float best = -2.0;
   for (int i = 0; i < u_camera_count; ++i) {
+    if (u_present[i] == 0) continue;
     vec3 to_camera = normalize(u_cameras[i] - v_world);
     float facing = dot(n, to_camera);
     vec3 colour = texture(u_textures, vec3(v_uv, float(i))).rgb;
@@ -164,10 +167,19 @@ Status Renderer::SetFrame(const fvv_frame& frame) {
   gl_.BindBuffer(GL_UNIFORM_BUFFER, bones_ubo_);
   gl_.BufferSubData(GL_UNIFORM_BUFFER, 0, static_cast<GLsizeiptr>(bones_ * 64), frame.bone_skin);
   gl_.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  has_masks_ = frame.camera_count > 0 && frame.views[0].mask != nullptr;
+  has_masks_ = false;
+  bool any = false;
+  present_.assign(cameras_, 0);
+  for (uint32_t c = 0; c < cameras_; ++c) {
+    present_[c] = frame.views[c].pixels != nullptr;
+    if (present_[c] && !any) has_masks_ = frame.views[c].mask != nullptr;
+    any = any || present_[c];
+  }
+  if (!any) return InvalidArgument("renderer: the frame holds no camera's texture");
   const size_t texels = size_t{width_} * height_;
   mask_scratch_.resize(texels);
   for (uint32_t c = 0; c < cameras_; ++c) {
+    if (!present_[c]) continue;  // left out of the decode (fvv_decode_budget.camera_mask)
     gl_.BindTexture(GL_TEXTURE_2D_ARRAY, textures_);
     gl_.TexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, static_cast<GLint>(c),
                       static_cast<GLsizei>(width_), static_cast<GLsizei>(height_), 1, GL_RGB,
@@ -198,6 +210,8 @@ Status Renderer::Draw(const RenderView& view, int width, int height) {
   gl_.Uniform3fv(gl_.GetUniformLocation(program_, "u_cameras"), static_cast<GLsizei>(cameras_),
                  glm::value_ptr(camera_centres_[0]));
   gl_.Uniform1i(gl_.GetUniformLocation(program_, "u_camera_count"), static_cast<GLint>(cameras_));
+  gl_.Uniform1iv(gl_.GetUniformLocation(program_, "u_present"), static_cast<GLsizei>(cameras_),
+                 present_.data());
   gl_.Uniform3fv(gl_.GetUniformLocation(program_, "u_eye"), 1, glm::value_ptr(view.eye));
   gl_.Uniform1f(gl_.GetUniformLocation(program_, "u_exponent"), view.exponent);
   gl_.Uniform1i(gl_.GetUniformLocation(program_, "u_has_masks"), has_masks_ ? 1 : 0);
@@ -217,6 +231,26 @@ Status Renderer::Draw(const RenderView& view, int width, int height) {
 
 Status Renderer::ReadRgb(int width, int height, std::vector<uint8_t>* rgb) {
   return ReadFramebuffer(gl_, width, height, 3, rgb);
+}
+
+uint64_t ViewCameras(const std::vector<glm::vec3>& centres, const glm::vec3& eye,
+                     const glm::vec3& target, float max_angle_deg, int min_cameras) {
+  const size_t n = std::min<size_t>(centres.size(), 64);
+  const glm::vec3 view = glm::normalize(eye - target);
+  std::vector<std::pair<float, size_t>> angles;
+  for (size_t c = 0; c < n; ++c) {
+    const glm::vec3 to_camera = glm::normalize(centres[c] - target);
+    angles.emplace_back(std::acos(std::clamp(glm::dot(view, to_camera), -1.0f, 1.0f)), c);
+  }
+  std::sort(angles.begin(), angles.end());
+  uint64_t mask = 0;
+  const float limit = glm::radians(max_angle_deg);
+  for (size_t k = 0; k < angles.size(); ++k) {
+    if (static_cast<int>(k) < min_cameras || angles[k].first < limit) {
+      mask |= uint64_t{1} << angles[k].second;
+    }
+  }
+  return mask;
 }
 
 void CameraViewProjection(const fvv_camera& c, float near_m, float far_m, glm::mat4* view,
