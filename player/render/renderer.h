@@ -53,7 +53,8 @@ class Renderer {
   uint32_t cameras_ = 0, width_ = 0, height_ = 0, bones_ = 0;
   std::vector<glm::vec3> camera_centres_;
   std::vector<uint8_t> mask_scratch_;
-  std::vector<GLint> present_;  // per camera: the current frame carries its texture
+  std::vector<GLint> present_;    // per camera: the current frame carries its texture
+  glm::vec3 actor_centre_{0.0f};  // the root joint of the current frame
   bool has_masks_ = false, has_frame_ = false;
 };
 
