@@ -39,7 +39,8 @@ class SpanEmitter {
     if (span_.empty()) return Status::Ok();
     GopBudget budget;
     budget.max_bytes = options_.bytes_per_fragment;
-    FVV_ASSIGN_OR_RETURN(const auto gop, DecodeGop(info, span_, budget, pool_.runner()));
+    FVV_ASSIGN_OR_RETURN(const auto gop,
+                         DecodeGop(info, span_, budget, pool_.runner(), pool_.size()));
     for (const DecodedFrame& frame : gop->motion) {
       for (const BoneMotion& bone : frame.bones) {
         for (int32_t q : bone.rotation.c) PutLe(static_cast<uint32_t>(q), 4, &motion_);

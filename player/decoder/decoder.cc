@@ -129,7 +129,7 @@ Status Decoder::SpanFragments(uint32_t span, std::vector<FragmentData>* out) {
 StatusOr<std::shared_ptr<DecodedGop>> Decoder::DecodeSpan(uint32_t span, const GopBudget& budget) {
   std::vector<FragmentData> fragments;
   FVV_RETURN_IF_ERROR(SpanFragments(span, &fragments));
-  return DecodeGop(info(), fragments, budget, pool_.runner());
+  return DecodeGop(info(), fragments, budget, pool_.runner(), pool_.size());
 }
 
 void Decoder::StartBackgroundDecode(uint32_t span, const GopBudget& budget, bool requested) {
@@ -145,7 +145,7 @@ void Decoder::StartBackgroundDecode(uint32_t span, const GopBudget& budget, bool
   const StreamInfo* si = &info();
   ThreadPool* pool = &pool_;
   ahead_ = std::async(std::launch::async, [si, pool, budget, fragments = std::move(fragments)] {
-    return DecodeGop(*si, fragments, budget, pool->runner());
+    return DecodeGop(*si, fragments, budget, pool->runner(), pool->size());
   });
 }
 

@@ -28,7 +28,7 @@ bool GopBudget::WantsGroup(uint32_t first, uint32_t count) const {
 StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
                                                 const std::vector<FragmentData>& fragments,
                                                 const GopBudget& budget,
-                                                const ParallelRunner& runner) {
+                                                const ParallelRunner& runner, unsigned threads) {
   const auto start = std::chrono::steady_clock::now();
   if (fragments.empty() || fragments[0].info.first_camera != 0) {
     return Internal("GOP decode without its first camera group");
@@ -54,16 +54,29 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
     gop->decoded[i] =
         budget.WantsGroup(fragments[i].info.first_camera, fragments[i].info.camera_count);
   }
+  size_t wanted_count = 0;
+  for (size_t i = 0; i < n; ++i) wanted_count += gop->decoded[i] ? 1 : 0;
+  // With at least a fragment per thread, fragments decode in parallel, each on
+  // one thread with its channels in turn; under a time budget each channel then
+  // gets an equal share of the pool's time.
+  const bool parallel = wanted_count > 1 && wanted_count >= threads;
+  const double channel_ms =
+      budget.max_ms > 0 && parallel
+          ? std::max(0.001, budget.max_ms * std::max(1u, threads) / wanted_count / 3.0)
+          : 0.0;
   const auto decode_one = [&](size_t i, const ParallelRunner& inner, bool masks_async) {
     const FragmentData& f = fragments[i];
     if (!gop->decoded[i]) return;  // a camera the player does not blend now
     DecodeBudget b;
     b.max_bytes = budget.max_bytes;
-    if (budget.max_ms > 0) {
+    if (budget.max_ms > 0 && parallel) {
+      b.channel_runner = SerialRunner;
+      b.max_ms = channel_ms;
+    } else if (budget.max_ms > 0) {
       b.channel_runner = [](uint32_t count, const std::function<void(uint32_t)>& task) {
-        std::vector<std::thread> threads;
-        for (uint32_t k = 0; k < count; ++k) threads.emplace_back(task, k);
-        for (std::thread& t : threads) t.join();
+        std::vector<std::thread> channel_threads;
+        for (uint32_t k = 0; k < count; ++k) channel_threads.emplace_back(task, k);
+        for (std::thread& t : channel_threads) t.join();
       };
       const double spent =
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
@@ -96,14 +109,15 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
   for (size_t i = 0; i < n; ++i) {
     if (gop->decoded[i]) wanted.push_back(static_cast<uint32_t>(i));
   }
-  if (wanted.size() > 1 && budget.max_ms <= 0) {
+  if (parallel) {
     // Several camera groups (one camera per fragment by default): whole
     // fragments in parallel, each on one thread, balance the cores better than
     // the three unequal channel streams of one fragment can.
     runner(static_cast<uint32_t>(wanted.size()),
            [&](uint32_t k) { decode_one(wanted[k], SerialRunner, false); });
   } else {
-    // A time budget is shared out in fragment order, so fragments go one by one.
+    // Few fragments: one by one, each spread over the runner (a time budget is
+    // shared out in fragment order).
     for (size_t i = 0; i < n; ++i) decode_one(i, runner, true);
   }
   for (size_t i = 0; i < n; ++i) {

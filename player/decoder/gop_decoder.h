@@ -41,11 +41,12 @@ struct DecodedGop {
   bool complete = true;
 };
 
-// `fragments` are the span's fragments, camera group 0 first.
+// `fragments` are the span's fragments, camera group 0 first; `threads` is how
+// many tasks `runner` runs at once.
 StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
                                                 const std::vector<FragmentData>& fragments,
                                                 const GopBudget& budget,
-                                                const ParallelRunner& runner);
+                                                const ParallelRunner& runner, unsigned threads = 1);
 
 }  // namespace fvv
 
