@@ -47,12 +47,7 @@ bool Play(const std::string& path, const fvv::SampleStream& src, double max_ms, 
   }
   fvv_model model;
   fvv_decoder_get_model(dec.get(), &model);
-  std::vector<glm::vec3> centres;
-  for (uint32_t c = 0; c < info.camera_count; ++c) {
-    fvv_camera cam;
-    fvv_decoder_get_camera(dec.get(), c, &cam);
-    centres.emplace_back(cam.centre[0], cam.centre[1], cam.centre[2]);
-  }
+  const std::vector<glm::vec3> centres = fvv::CameraCentres(dec.get());
   auto renderer =
       fvv::Renderer::Create((*ctx)->gl(), model, centres, info.atlas_width, info.atlas_height);
   if (!renderer.ok()) return false;

@@ -50,12 +50,7 @@ int main(int argc, char** argv) {
   fvv_decoder_get_info(dec.get(), &info);
   fvv_model model;
   fvv_decoder_get_model(dec.get(), &model);
-  std::vector<glm::vec3> centres;
-  for (uint32_t c = 0; c < info.camera_count; ++c) {
-    fvv_camera cam;
-    fvv_decoder_get_camera(dec.get(), c, &cam);
-    centres.emplace_back(cam.centre[0], cam.centre[1], cam.centre[2]);
-  }
+  const std::vector<glm::vec3> centres = fvv::CameraCentres(dec.get());
   fvv::FramePtr frame = fvv::DecodeFrame(dec.get(), 0, nullptr);
   if (!frame) return 1;
   auto ctx = fvv::HeadlessContext::Create(width, height);

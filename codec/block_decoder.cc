@@ -4,17 +4,12 @@
 #include <chrono>
 
 #include "codec/block_codec.h"
+#include "codec/simd.h"
 #include "codec/spiht4d.h"
 #include "codec/subband_weights.h"
 
 namespace fvv {
 namespace {
-
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__SANITIZE_ADDRESS__)
-#define FVV_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define FVV_SIMD_CLONES
-#endif
 
 // Output scaling (SPEC.md 9.6) of samples [begin, end), in 32-bit arithmetic
 // so it vectorises: clamping to +-2^30 first changes no result (such values

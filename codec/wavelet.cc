@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstring>
 
+#include "codec/simd.h"
+
 namespace fvv {
 
 const char* KernelName(WaveletKernel k) {
@@ -85,12 +87,6 @@ inline void UpdateStep(int32_t* s, uint32_t ns, const int32_t* d, uint32_t nd, u
 
 // The lifting loops are the transform's inner loops: an AVX2 clone (chosen at load
 // time where the CPU has it) runs them 8 lanes wide; results are identical.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__SANITIZE_ADDRESS__)
-#define FVV_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define FVV_SIMD_CLONES
-#endif
-
 FVV_SIMD_CLONES
 void LiftForward(WaveletKernel kernel, uint32_t m, uint32_t v, int32_t* rows) {
   if (m < 2) return;

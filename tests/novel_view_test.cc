@@ -75,12 +75,7 @@ TEST(NovelView, HeldOutCameraRenderMatchesTheGeneratorsTruth) {
   fvv_decoder_get_info(dec.get(), &info);
   fvv_model model;
   fvv_decoder_get_model(dec.get(), &model);
-  std::vector<glm::vec3> centres;
-  for (uint32_t c = 0; c < info.camera_count; ++c) {
-    fvv_camera cam;
-    fvv_decoder_get_camera(dec.get(), c, &cam);
-    centres.emplace_back(cam.centre[0], cam.centre[1], cam.centre[2]);
-  }
+  const std::vector<glm::vec3> centres = CameraCentres(dec.get());
   const int w = static_cast<int>(calibration.width), h = static_cast<int>(calibration.height);
   auto ctx = HeadlessContext::Create(w, h);
   ASSERT_TRUE(ctx.ok()) << ctx.status().ToString();

@@ -321,8 +321,14 @@ std::vector<CaseSpec> InvalidCases() {
   const auto fragment = [](std::vector<EditBox>* boxes, int n) -> EditBox& {
     return (*boxes)[FindBox(*boxes, box::kFragment, n)];
   };
-  const auto sub_payload = [](std::vector<EditBox>* subs, FourCC type) -> std::vector<uint8_t>& {
-    return (*subs)[FindBox(*subs, type)].payload;
+  // Sets one byte of a sub-box of the first fragment and recomputes its
+  // checksum, so that only the decoding process can object.
+  const auto patch_first_fragment = [fragment](FourCC type, size_t offset, uint8_t value) {
+    return [fragment, type, offset, value](std::vector<EditBox>* boxes) {
+      return EditFragment(&fragment(boxes, 0), [&](std::vector<EditBox>* subs) {
+        (*subs)[FindBox(*subs, type)].payload[offset] = value;
+      });
+    };
   };
 
   add("truncated_in_fragment", "the stream ends inside the last fragment", StatusCode::kTruncated,
@@ -497,36 +503,20 @@ std::vector<CaseSpec> InvalidCases() {
   };
   add("mask_mode_unknown", "mask coding mode 2 (checksum recomputed)", StatusCode::kUnsupported,
       {"7", "10"})
-      ->edit = [fragment, sub_payload](std::vector<EditBox>* boxes) {
-    return EditFragment(&fragment(boxes, 0), [sub_payload](std::vector<EditBox>* subs) {
-      sub_payload(subs, box::kMasks)[0] = 2;
-    });
-  };
+      ->edit = patch_first_fragment(box::kMasks, 0, 2);
   add("texture_too_many_bitplanes",
       "a channel stream declaring 31 bitplanes (checksum "
       "recomputed)",
       StatusCode::kCorrupt, {"9.1", "10"})
-      ->edit = [fragment, sub_payload](std::vector<EditBox>* boxes) {
-    return EditFragment(&fragment(boxes, 0), [sub_payload](std::vector<EditBox>* subs) {
-      sub_payload(subs, box::kTexture)[4] = 31;
-    });
-  };
+      ->edit = patch_first_fragment(box::kTexture, 4, 31);
   add("texture_undeclared_kernel",
       "a texture coded with Haar in a stream declaring 9/7 "
       "(checksum recomputed)",
       StatusCode::kCorrupt, {"3.1", "9.1", "10"})
-      ->edit = [fragment, sub_payload](std::vector<EditBox>* boxes) {
-    return EditFragment(&fragment(boxes, 0), [sub_payload](std::vector<EditBox>* subs) {
-      sub_payload(subs, box::kTexture)[0] = 0;
-    });
-  };
+      ->edit = patch_first_fragment(box::kTexture, 0, 0);
   add("motion_bad_predictor", "motion predictor 2 (checksum recomputed)", StatusCode::kCorrupt,
       {"6.2", "10"})
-      ->edit = [fragment, sub_payload](std::vector<EditBox>* boxes) {
-    return EditFragment(&fragment(boxes, 0), [sub_payload](std::vector<EditBox>* subs) {
-      sub_payload(subs, box::kMotion)[0] = 2;
-    });
-  };
+      ->edit = patch_first_fragment(box::kMotion, 0, 2);
   return v;
 }
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "codec/colour.h"
+#include "codec/simd.h"
 #include "fvv/fvv_decoder.h"
 #include "player/decoder/decoder.h"
 #include "player/decoder/pose.h"
@@ -63,12 +64,6 @@ void BuildModel(fvv_decoder* d) {
     d->triangles.insert(d->triangles.end(), t.begin(), t.end());
   d->model_built = true;
 }
-
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__SANITIZE_ADDRESS__)
-#define FVV_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define FVV_SIMD_CLONES
-#endif
 
 // One row of BT.601 YCbCr (SPEC.md 9.7) to interleaved RGB8. Decoded samples lie
 // in 0..255, so every product fits 32 bits and the loop vectorises; the results

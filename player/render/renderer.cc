@@ -252,6 +252,18 @@ Status Renderer::ReadRgb(int width, int height, std::vector<uint8_t>* rgb) {
   return ReadFramebuffer(gl_, width, height, 3, rgb);
 }
 
+std::vector<glm::vec3> CameraCentres(const fvv_decoder* decoder) {
+  fvv_stream_info info;
+  std::vector<glm::vec3> centres;
+  if (fvv_decoder_get_info(decoder, &info) != FVV_OK) return centres;
+  for (uint32_t c = 0; c < info.camera_count; ++c) {
+    fvv_camera cam;
+    if (fvv_decoder_get_camera(decoder, c, &cam) != FVV_OK) return {};
+    centres.emplace_back(cam.centre[0], cam.centre[1], cam.centre[2]);
+  }
+  return centres;
+}
+
 uint64_t ViewCameras(const std::vector<glm::vec3>& centres, const glm::vec3& eye,
                      const glm::vec3& target, float max_angle_deg, int min_cameras) {
   const size_t n = std::min<size_t>(centres.size(), 64);

@@ -58,6 +58,10 @@ class Renderer {
   bool has_masks_ = false, has_frame_ = false;
 };
 
+// The centres of a ready decoder's cameras (what Renderer::Create and
+// ViewCameras take).
+std::vector<glm::vec3> CameraCentres(const fvv_decoder* decoder);
+
 // The cameras a view blends with real weight: those seeing the actor (at
 // `target`) from within `max_angle_deg` of the viewing direction, and at least
 // the `min_cameras` closest in angle. As an fvv_decode_budget.camera_mask: with
