@@ -22,6 +22,12 @@ grep -q "2 cameras, 3 frames at 25 fps, up axis y, background plates: OK" <<<"$o
 out=$("$fvv" capture sheet "$dir/cap" --frame 2 -o "$dir/sheet.png" 2>&1) || fail "sheet: $out"
 [ -f "$dir/sheet.png" ] || fail "no contact sheet"
 "$fvv" capture sheet "$dir/cap/truth/heldout" --silhouettes -o "$dir/sil.png" >/dev/null || fail "silhouette sheet"
+# The visual hull of a frame, as a PLY point cloud; bad frame numbers are refused.
+out=$("$fvv" capture hull "$dir/cap" --frame 1 -o "$dir/hull.ply" --voxel 0.02 2>&1) || fail "hull: $out"
+grep -q "visual hull of frame 1 (2 cameras" <<<"$out" || fail "hull report: $out"
+head -1 "$dir/hull.ply" | grep -q "^ply" && [ "$(grep -c . "$dir/hull.ply")" -gt 100 ] || fail "hull.ply"
+out=$("$fvv" capture hull "$dir/cap" --frame 3 -o "$dir/hull3.ply" 2>&1) && fail "hull of frame 3 accepted"
+grep -q "the capture has 3 frames" <<<"$out" && [ ! -e "$dir/hull3.ply" ] || fail "hull frame message: $out"
 
 # fvv track: runs end to end on the capture, writes poses and reports errors against the truth.
 out=$("$fvv" track "$dir/cap" -o "$dir/poses.json" --truth "$dir/cap" -q 2>&1) || fail "track: $out"

@@ -1,11 +1,14 @@
 #include "encoder/cli/capture_command.h"
 
+#include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <memory>
 
 #include "encoder/capture/calibration_import.h"
 #include "encoder/capture/capture.h"
+#include "encoder/capture/capture_frames.h"
+#include "encoder/capture/visual_hull.h"
 #include "encoder/synth/synth.h"
 
 namespace fvv {
@@ -152,6 +155,44 @@ int RunImportCalib(const ImportArgs& a) {
 
 }  // namespace
 
+struct HullArgs {
+  std::string capture, output;
+  uint32_t frame = 0;
+  VisualHullOptions options;
+  bool extract = false;
+};
+
+int RunHull(const HullArgs& a) {
+  const auto start = std::chrono::steady_clock::now();
+  StatusOr<Capture> cap = LoadCapture(a.capture);
+  if (!cap.ok()) return Fail(cap.status());
+  if (a.frame >= cap->frame_count) {
+    return Fail(InvalidArgument("--frame " + std::to_string(a.frame) + ": the capture has " +
+                                std::to_string(cap->frame_count) + " frames"));
+  }
+  ThreadPool pool(2);
+  auto frames = CaptureFrames::Open(*cap, a.extract, &pool);
+  if (!frames.ok()) return Fail(frames.status());
+  std::vector<Image> silhouettes;
+  if (Status s = (*frames)->Read(a.frame, nullptr, &silhouettes); !s.ok()) return Fail(s);
+  std::vector<Camera> cameras;
+  for (const CaptureCamera& c : cap->cameras) cameras.push_back(c.calibration);
+  StatusOr<VisualHull> hull = CarveVisualHull(cameras, silhouettes, a.options, pool.runner());
+  if (!hull.ok()) return Fail(hull.status());
+  const std::vector<Eigen::Vector3d> surface = hull->SurfaceVoxels();
+  if (Status s = WritePointCloudPly(a.output, surface); !s.ok()) return Fail(s);
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e9), hi = -lo;
+  for (const Eigen::Vector3d& p : surface) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  std::printf(
+      "visual hull of frame %u (%zu cameras, %s silhouettes): %zu voxels of %.1f cm, "
+      "%.4f m^3, extent %.2f x %.2f x %.2f m; %zu surface voxels -> %s (%.2f s)\n",
+      a.frame, cameras.size(), (*frames)->given_silhouettes() ? "given" : "extracted",
+      hull->OccupiedCount(), 100 * a.options.voxel_size, hull->Volume(), hi.x() - lo.x(),
+      hi.y() - lo.y(), hi.z() - lo.z(), surface.size(), a.output.c_str(),
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  return 0;
+}
+
 void AddCaptureCommands(CLI::App* app, int* exit_code) {
   auto o = std::make_shared<SynthOptions>();
   CLI::App* s = app->add_subcommand(
@@ -234,6 +275,25 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
       ->capture_default_str()
       ->check(CLI::IsMember({"y", "z"}));
   ic->callback([imp, exit_code] { *exit_code = RunImportCalib(*imp); });
+
+  auto hull = std::make_shared<HullArgs>();
+  CLI::App* vh = cap->add_subcommand(
+      "hull",
+      "The visual hull of one frame: voxels carved by every camera's silhouette (given, or by "
+      "background subtraction); writes its surface voxels as a PLY point cloud");
+  vh->add_option("capture", hull->capture, "Capture directory or capture.json")->required();
+  vh->add_option("-o,--output", hull->output, "Output point cloud (.ply)")->required();
+  vh->add_option("--frame", hull->frame, "Frame index")->capture_default_str();
+  vh->add_option("--voxel", hull->options.voxel_size, "Voxel size in metres")
+      ->capture_default_str()
+      ->check(CLI::Range(0.002, 0.2));
+  vh->add_option("--margin", hull->options.margin_px,
+                 "Pixels the silhouettes are taken to be larger (calibration and edge error)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 20.0));
+  vh->add_flag("--extract", hull->extract,
+               "Background subtraction even when the capture lists silhouettes");
+  vh->callback([hull, exit_code] { *exit_code = RunHull(*hull); });
 }
 
 }  // namespace fvv
