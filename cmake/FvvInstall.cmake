@@ -1,12 +1,7 @@
 # Installs the public headers and the fvv:: targets, with a package config so
 # that find_package(fvv) works for embedding applications, and a pkg-config file.
 include(CMakePackageConfigHelpers)
-# The encoder's C API (fvv_encoder.h) is not installed yet: its library pulls in
-# the capture front end's dependencies (Eigen, yaml-cpp, toml++, libpng,
-# OpenEXR), which the package config does not export; build-tree users link
-# fvv::encoder.
-install(DIRECTORY include/fvv DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
-        PATTERN "fvv_encoder.h*" EXCLUDE)
+install(DIRECTORY include/fvv DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 # Exported as fvv::dec, fvv::codec, ... (the same names as the build-tree aliases).
 foreach(t codec_dec codec thread_pool container_dec container dec)
   set_target_properties(fvv_${t} PROPERTIES EXPORT_NAME ${t})
@@ -19,8 +14,41 @@ if(TARGET fvv)
   install(TARGETS fvv RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 endif()
 install(EXPORT fvvTargets NAMESPACE fvv:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/fvv)
-file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/fvvConfig.cmake.in
-     "@PACKAGE_INIT@\ninclude(CMakeFindDependencyMacro)\nfind_dependency(Threads)\nfind_dependency(zstd)\nfind_dependency(glm)\ninclude(\"\${CMAKE_CURRENT_LIST_DIR}/fvvTargets.cmake\")\n")
+# The encoder (fvv::encoder, C API in fvv_encoder.h) is the optional component
+# "encoder": its static libraries need the capture front end's dependencies
+# (Eigen, yaml-cpp, toml++, libpng, OpenEXR, nlohmann-json), which decoder-only
+# applications should not have to install. find_package(fvv COMPONENTS encoder).
+foreach(t encoder encode capture atlas body imageio)
+  set_target_properties(fvv_${t} PROPERTIES EXPORT_NAME ${t})
+endforeach()
+install(TARGETS fvv_encoder fvv_encode fvv_capture fvv_atlas fvv_body fvv_imageio
+        EXPORT fvvEncoderTargets
+        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+        INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+install(EXPORT fvvEncoderTargets NAMESPACE fvv:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/fvv)
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/fvvConfig.cmake.in [=[
+@PACKAGE_INIT@
+include(CMakeFindDependencyMacro)
+find_dependency(Threads)
+find_dependency(zstd)
+find_dependency(glm)
+include("${CMAKE_CURRENT_LIST_DIR}/fvvTargets.cmake")
+foreach(component IN LISTS fvv_FIND_COMPONENTS)
+  if(component STREQUAL "encoder")
+    find_dependency(Eigen3)
+    find_dependency(PNG)
+    find_dependency(OpenEXR)
+    find_dependency(nlohmann_json)
+    find_dependency(yaml-cpp)
+    find_dependency(tomlplusplus)
+    include("${CMAKE_CURRENT_LIST_DIR}/fvvEncoderTargets.cmake")
+    set(fvv_encoder_FOUND TRUE)
+  else()
+    set(fvv_${component}_FOUND FALSE)
+  endif()
+endforeach()
+check_required_components(fvv)
+]=])
 configure_package_config_file(${CMAKE_CURRENT_BINARY_DIR}/fvvConfig.cmake.in
                               ${CMAKE_CURRENT_BINARY_DIR}/fvvConfig.cmake
                               INSTALL_DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/fvv)
