@@ -47,15 +47,14 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
   gop->masks.resize(n);
   std::vector<DecodeReport> reports(n);
   std::vector<Status> statuses(n);
-  // Decodes fragment i: its texture channels spread over `inner`, its masks
-  // alongside on a thread of their own when `inner` has threads to share.
   gop->decoded.resize(n);
+  std::vector<uint32_t> wanted;  // the fragments the budget's cameras ask for
   for (size_t i = 0; i < n; ++i) {
     gop->decoded[i] =
         budget.WantsGroup(fragments[i].info.first_camera, fragments[i].info.camera_count);
+    if (gop->decoded[i]) wanted.push_back(static_cast<uint32_t>(i));
   }
-  size_t wanted_count = 0;
-  for (size_t i = 0; i < n; ++i) wanted_count += gop->decoded[i] ? 1 : 0;
+  const size_t wanted_count = wanted.size();
   // With at least a fragment per thread, fragments decode in parallel, each on
   // one thread with its channels in turn; under a time budget each channel then
   // gets an equal share of the pool's time.
@@ -64,6 +63,8 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
       budget.max_ms > 0 && parallel
           ? std::max(0.001, budget.max_ms * std::max(1u, threads) / wanted_count / 3.0)
           : 0.0;
+  // Decodes fragment i: its texture channels spread over `inner`, its masks
+  // alongside on a thread of their own when `masks_async`.
   const auto decode_one = [&](size_t i, const ParallelRunner& inner, bool masks_async) {
     const FragmentData& f = fragments[i];
     if (!gop->decoded[i]) return;  // a camera the player does not blend now
@@ -105,10 +106,6 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
       gop->textures[i] = std::move(decoded).value();
     }
   };
-  std::vector<uint32_t> wanted;
-  for (size_t i = 0; i < n; ++i) {
-    if (gop->decoded[i]) wanted.push_back(static_cast<uint32_t>(i));
-  }
   if (parallel) {
     // Several camera groups (one camera per fragment by default): whole
     // fragments in parallel, each on one thread, balance the cores better than
