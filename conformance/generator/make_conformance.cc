@@ -12,7 +12,6 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <functional>
 #include <string>
 #include <vector>
@@ -23,6 +22,7 @@
 #include "container/writer.h"
 #include "encoder/sample/sample_stream.h"
 #include "fvv/fvv_types.h"
+#include "tools/imageio/image_io.h"
 
 namespace fvv {
 namespace {
@@ -104,13 +104,6 @@ bool Exists(const std::string& path) {
   return stat(path.c_str(), &st) == 0;
 }
 
-Status WriteBytes(const std::string& path, const std::vector<uint8_t>& bytes) {
-  std::ofstream out(path, std::ios::binary);
-  out.write(reinterpret_cast<const char*>(bytes.data()),
-            static_cast<std::streamsize>(bytes.size()));
-  return out ? Status::Ok() : IoError("cannot write " + path);
-}
-
 Status MakeCase(const CaseSpec& spec, const std::string& dir, bool force) {
   if (Exists(dir + "/test.json") && !force) {
     std::printf("kept     %s (released; --force to remake)\n", spec.name.c_str());
@@ -130,7 +123,7 @@ Status MakeCase(const CaseSpec& spec, const std::string& dir, bool force) {
                            " bytes (cases stay under 1 MiB)");
   }
   if (mkdir(dir.c_str(), 0755) != 0 && !Exists(dir)) return IoError("cannot create " + dir);
-  FVV_RETURN_IF_ERROR(WriteBytes(dir + "/stream.fvv", bytes));
+  FVV_RETURN_IF_ERROR(WriteFileAtomic(dir + "/stream.fvv", bytes.data(), bytes.size()));
   ConformanceCase c;
   c.dir = dir;
   c.name = spec.name;

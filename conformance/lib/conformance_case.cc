@@ -9,6 +9,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "tools/imageio/image_io.h"
+
 namespace fvv {
 namespace {
 
@@ -156,17 +158,9 @@ Status SaveCase(const ConformanceCase& c) {
     }
     j["budgets"] = budgets;
   }
-  const std::string path = c.dir + "/test.json", temp = path + ".tmp";
-  {
-    std::ofstream out(temp);
-    out << j.dump(1) << "\n";
-    if (!out) return IoError("cannot write " + temp);
-  }
-  if (std::rename(temp.c_str(), path.c_str()) != 0) {
-    std::remove(temp.c_str());
-    return IoError("cannot replace " + path);
-  }
-  return Status::Ok();
+  const std::string text = j.dump(1) + "\n";
+  return WriteFileAtomic(c.dir + "/test.json", reinterpret_cast<const uint8_t*>(text.data()),
+                         text.size());
 }
 
 StatusOr<std::vector<std::string>> FindCaseDirs(const std::string& root) {

@@ -12,6 +12,7 @@
 #include "container/stream_reader.h"
 #include "container/vertex_visibility.h"
 #include "player/decoder/gop_decoder.h"
+#include "tools/imageio/image_io.h"
 
 namespace fvv {
 namespace {
@@ -162,15 +163,8 @@ StatusOr<OutputHashes> ReferenceDecodeHashes(const std::vector<uint8_t>& stream,
 }
 
 OutputSink DirectorySink(const std::string& dir) {
-  return [dir](const std::string& name, const std::vector<uint8_t>& bytes) -> Status {
-    const std::string path = dir + "/" + name;
-    std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "wb"), &std::fclose);
-    if (!f) return IoError("cannot create " + path);
-    if (!bytes.empty() && std::fwrite(bytes.data(), 1, bytes.size(), f.get()) != bytes.size()) {
-      return IoError("cannot write " + path);
-    }
-    if (std::fclose(f.release()) != 0) return IoError("cannot write " + path);
-    return Status::Ok();
+  return [dir](const std::string& name, const std::vector<uint8_t>& bytes) {
+    return WriteFileAtomic(dir + "/" + name, bytes.data(), bytes.size());
   };
 }
 
@@ -183,12 +177,8 @@ StatusOr<OutputHashes> HashDirectory(const std::string& dir) {
     const std::string path = dir + "/" + name;
     struct stat st;
     if (stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) continue;
-    std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
-    if (!f) return IoError("cannot read " + path);
-    std::vector<uint8_t> bytes(static_cast<size_t>(st.st_size));
-    if (!bytes.empty() && std::fread(bytes.data(), 1, bytes.size(), f.get()) != bytes.size()) {
-      return IoError("cannot read " + path);
-    }
+    FVV_ASSIGN_OR_RETURN(const std::vector<uint8_t> bytes,
+                         ReadFileBytes(path, kMaxConformanceFileBytes));
     hashes[name] = Sha256Hex(bytes);
   }
   return hashes;

@@ -26,6 +26,10 @@
 
 namespace fvv {
 
+// Largest stream or output file the suite's tools read (level 4 fragments and
+// planes stay far below it).
+constexpr uint64_t kMaxConformanceFileBytes = uint64_t{4} << 30;
+
 // Receives each output file once, in decoding order.
 using OutputSink =
     std::function<Status(const std::string& name, const std::vector<uint8_t>& bytes)>;

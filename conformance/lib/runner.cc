@@ -13,15 +13,10 @@
 
 #include "conformance/lib/sha256.h"
 #include "fvv/fvv_types.h"
+#include "tools/imageio/image_io.h"
 
 namespace fvv {
 namespace {
-
-StatusOr<std::vector<uint8_t>> ReadFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return IoError("cannot read " + path);
-  return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
-}
 
 bool StartsWith(const std::string& s, const char* prefix) { return s.rfind(prefix, 0) == 0; }
 
@@ -252,7 +247,7 @@ CaseResult RunCase(const ConformanceCase& c, const RunOptions& options) {
                   " is not one this build knows (1.." + std::to_string(FVV_FORMAT_VERSION) + ")");
   }
   if (!c.blessed()) return finish("test.json has no expectations (run fvv conform --bless)");
-  auto stream = ReadFile(c.stream_path());
+  auto stream = ReadFileBytes(c.stream_path(), kMaxConformanceFileBytes);
   if (!stream.ok()) return finish(stream.status().ToString());
   if (c.stream_sha256.empty() || Sha256Hex(*stream) != c.stream_sha256) {
     return finish(c.stream + " is not the released stream (its SHA-256 differs from test.json)");
@@ -273,7 +268,8 @@ Status BlessCase(ConformanceCase* c, const std::vector<uint64_t>& budgets, bool 
                            " already has expectations; released cases never change "
                            "(a format change adds cases)");
   }
-  FVV_ASSIGN_OR_RETURN(const std::vector<uint8_t> stream, ReadFile(c->stream_path()));
+  FVV_ASSIGN_OR_RETURN(const std::vector<uint8_t> stream,
+                       ReadFileBytes(c->stream_path(), kMaxConformanceFileBytes));
   c->stream_sha256 = Sha256Hex(stream);
   ReferenceDecodeOptions o;
   if (c->expect_error) {

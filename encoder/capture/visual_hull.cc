@@ -194,18 +194,14 @@ StatusOr<VisualHull> CarveVisualHull(const std::vector<Camera>& cameras,
 }
 
 Status WritePointCloudPly(const std::string& path, const std::vector<Eigen::Vector3d>& points) {
-  const std::string temp = path + ".part";
-  FILE* f = std::fopen(temp.c_str(), "w");
-  if (!f) return IoError("cannot write " + path);
-  std::fprintf(f, "ply\nformat ascii 1.0\nelement vertex %zu\n", points.size());
-  std::fprintf(f, "property float x\nproperty float y\nproperty float z\nend_header\n");
-  for (const Eigen::Vector3d& p : points) std::fprintf(f, "%.4f %.4f %.4f\n", p.x(), p.y(), p.z());
-  const bool ok = std::ferror(f) == 0;
-  if (std::fclose(f) != 0 || !ok || std::rename(temp.c_str(), path.c_str()) != 0) {
-    std::remove(temp.c_str());
-    return IoError("cannot write " + path);
+  std::string text = "ply\nformat ascii 1.0\nelement vertex " + std::to_string(points.size()) +
+                     "\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
+  char line[96];
+  for (const Eigen::Vector3d& p : points) {
+    const int n = std::snprintf(line, sizeof(line), "%.4f %.4f %.4f\n", p.x(), p.y(), p.z());
+    text.append(line, static_cast<size_t>(n));
   }
-  return Status::Ok();
+  return WriteFileAtomic(path, reinterpret_cast<const uint8_t*>(text.data()), text.size());
 }
 
 }  // namespace fvv

@@ -75,23 +75,15 @@ int RunConformanceOutput(const DecodeArgs& a) {
         "--format conformance decodes whole streams under a byte budget: no --frames or "
         "--max-ms");
   }
-  std::FILE* f = std::fopen(a.input.c_str(), "rb");
-  if (!f) return Fail("cannot open " + a.input);
-  std::vector<uint8_t> stream;
-  uint8_t chunk[1 << 16];
-  size_t n;
-  while ((n = std::fread(chunk, 1, sizeof(chunk), f)) > 0)
-    stream.insert(stream.end(), chunk, chunk + n);
-  const bool read_error = std::ferror(f) != 0;
-  std::fclose(f);
-  if (read_error) return Fail("cannot read " + a.input);
+  const auto stream = ReadFileBytes(a.input, kMaxConformanceFileBytes);
+  if (!stream.ok()) return Fail(stream.status().ToString());
   if (Status s = MakeDirectories(a.output_dir); !s.ok()) return Fail(s.ToString());
   ReferenceDecodeOptions options;
   options.bytes_per_fragment = a.bytes;
   options.threads = a.threads == 0 ? 2 : a.threads;
   size_t files = 0;
   const OutputSink to_dir = DirectorySink(a.output_dir);
-  const Status s = ReferenceDecode(stream.data(), stream.size(), options,
+  const Status s = ReferenceDecode(stream->data(), stream->size(), options,
                                    [&](const std::string& name, const std::vector<uint8_t>& bytes) {
                                      ++files;
                                      return to_dir(name, bytes);
