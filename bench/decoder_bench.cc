@@ -24,13 +24,12 @@ namespace {
 
 fvv_decode_budget g_budget{};  // whole streams, in the format --yuv picks
 
-// Decodes every frame of an existing stream through the C API (RGB8), twice;
-// prints the faster run.
-int TimeStream(const std::string& path) {
+// Decodes every frame of the stream at `path` through the C API, twice, and
+// returns the faster run's seconds (negative on an error, printed); `info` and
+// `bytes` (texture bytes of every GOP) describe the stream.
+double BestDecodeSeconds(const std::string& path, fvv_stream_info* info, uint64_t* bytes) {
   using Clock = std::chrono::steady_clock;
   double best = 1e30;
-  fvv_stream_info info{};
-  uint64_t bytes = 0;
   for (int rep = 0; rep < 2; ++rep) {
     fvv_decoder_settings s;
     fvv_decoder_default_settings(&s);
@@ -38,21 +37,30 @@ int TimeStream(const std::string& path) {
     fvv::DecoderPtr dec = fvv::MakeDecoder(&s);
     if (fvv_decoder_open_file(dec.get(), path.c_str()) != FVV_OK) {
       std::fprintf(stderr, "decoder_bench: %s\n", fvv_decoder_error(dec.get()));
-      return 1;
+      return -1;
     }
-    fvv_decoder_get_info(dec.get(), &info);
-    bytes = 0;
+    fvv_decoder_get_info(dec.get(), info);
+    *bytes = 0;
     const auto t0 = Clock::now();
-    for (uint32_t f = 0; f < info.frame_count; ++f) {
+    for (uint32_t f = 0; f < info->frame_count; ++f) {
       fvv::FramePtr frame = fvv::DecodeFrame(dec.get(), f, &g_budget);
       if (!frame) {
         std::fprintf(stderr, "decoder_bench: %s\n", fvv_decoder_error(dec.get()));
-        return 1;
+        return -1;
       }
-      if (f % info.gop_frames == 0) bytes += frame->report.bytes_available;
+      if (f % info->gop_frames == 0) *bytes += frame->report.bytes_available;
     }
     best = std::min(best, std::chrono::duration<double>(Clock::now() - t0).count());
   }
+  return best;
+}
+
+// Times an existing stream.
+int TimeStream(const std::string& path) {
+  fvv_stream_info info{};
+  uint64_t bytes = 0;
+  const double best = BestDecodeSeconds(path, &info, &bytes);
+  if (best < 0) return 1;
   const double play = info.frame_count * double(info.frame_rate_den) / info.frame_rate_num;
   const double samples =
       double(info.frame_count) * info.camera_count * info.atlas_width * info.atlas_height;
@@ -88,7 +96,6 @@ int main(int argc, char** argv) {
       return a == "-h" || a == "--help" ? 0 : 2;
     }
   }
-  using Clock = std::chrono::steady_clock;
   if (!stream.empty()) return TimeStream(stream);
   fvv::ThreadPool pool(2);
   std::printf(
@@ -116,23 +123,10 @@ int main(int argc, char** argv) {
       if (!(*w)->AddFragment(f).ok()) return 1;
     }
     if (!(*w)->Close().ok()) return 1;
-    double best = 1e30;
-    for (int rep = 0; rep < 2; ++rep) {
-      fvv_decoder_settings s;
-      fvv_decoder_default_settings(&s);
-      s.threads = 2;
-      fvv::DecoderPtr dec = fvv::MakeDecoder(&s);
-      if (fvv_decoder_open_file(dec.get(), path.c_str()) != FVV_OK) return 1;
-      const auto t0 = Clock::now();
-      for (uint32_t f = 0; f < frames; ++f) {
-        fvv::FramePtr frame = fvv::DecodeFrame(dec.get(), f, &g_budget);
-        if (!frame) {
-          std::fprintf(stderr, "decoder_bench: %s\n", fvv_decoder_error(dec.get()));
-          return 1;
-        }
-      }
-      best = std::min(best, std::chrono::duration<double>(Clock::now() - t0).count());
-    }
+    fvv_stream_info info{};
+    uint64_t decoded_bytes = 0;
+    const double best = BestDecodeSeconds(path, &info, &decoded_bytes);
+    if (best < 0) return 1;
     const double samples = double(frames) * 8 * 512 * 512;
     uint64_t bytes = 0;
     for (const auto& f : sample->fragments) bytes += f.texture.total_bytes();
