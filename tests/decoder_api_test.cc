@@ -74,6 +74,16 @@ double UsedPsnr(const fvv_frame& frame, const Fixture& fx) {
   return 10 * std::log10(255.0 * 255.0 / std::max(1e-9, sum / n));
 }
 
+// Polls for up to 5 s until `frame` is ready under `budget`; `ask_again`
+// repeats the prefetch each time, as a player's loop does.
+void WaitUntilReady(fvv_decoder* dec, uint32_t frame, const fvv_decode_budget& budget,
+                    bool ask_again) {
+  for (int i = 0; i < 500 && !fvv_decoder_frame_ready(dec, frame, &budget); ++i) {
+    if (ask_again) fvv_decoder_prefetch(dec, frame, &budget);
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+}
+
 TEST(DecoderApi, PublicHeadersCompileAsC) { EXPECT_EQ(fvv_public_headers_compile_as_c(), 1); }
 
 TEST(DecoderApi, FileDecodeMatchesTheSource) {
@@ -231,9 +241,7 @@ TEST(DecoderApi, PrefetchMakesAFrameReadyWithoutBlocking) {
   budget.max_ms_per_gop = 1000;
   EXPECT_FALSE(fvv_decoder_frame_ready(dec.get(), 5, &budget));
   ASSERT_EQ(fvv_decoder_prefetch(dec.get(), 5, &budget), FVV_OK);
-  for (int i = 0; i < 500 && !fvv_decoder_frame_ready(dec.get(), 5, &budget); ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
+  WaitUntilReady(dec.get(), 5, budget, /*ask_again=*/false);
   ASSERT_TRUE(fvv_decoder_frame_ready(dec.get(), 5, &budget));
   EXPECT_TRUE(fvv_decoder_frame_ready(dec.get(), 6, &budget));   // same GOP
   EXPECT_FALSE(fvv_decoder_frame_ready(dec.get(), 9, &budget));  // the next one
@@ -288,18 +296,13 @@ TEST(DecoderApi, CameraMaskDecodesOnlyTheCameraGroupsAsked) {
   // ... but not for camera 2, which needs a decode.
   EXPECT_FALSE(fvv_decoder_frame_ready(dec.get(), 1, &only2));
   ASSERT_EQ(fvv_decoder_prefetch(dec.get(), 1, &only2), FVV_OK);
-  for (int i = 0; i < 500 && !fvv_decoder_frame_ready(dec.get(), 1, &only2); ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
+  WaitUntilReady(dec.get(), 1, only2, /*ask_again=*/false);
   EXPECT_TRUE(fvv_decoder_frame_ready(dec.get(), 1, &only2));
   // A prefetch under way for one mask, then another mask for the same GOP: the
   // second must still become ready (it is not served by the first).
   ASSERT_EQ(fvv_decoder_prefetch(dec.get(), 9, &only0), FVV_OK);
   ASSERT_EQ(fvv_decoder_prefetch(dec.get(), 9, &only2), FVV_OK);
-  for (int i = 0; i < 500 && !fvv_decoder_frame_ready(dec.get(), 9, &only2); ++i) {
-    fvv_decoder_prefetch(dec.get(), 9, &only2);  // as a player asks again each frame
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
+  WaitUntilReady(dec.get(), 9, only2, /*ask_again=*/true);  // as a player asks each frame
   EXPECT_TRUE(fvv_decoder_frame_ready(dec.get(), 9, &only2));
 
   fvv_decode_budget beyond{};
