@@ -5,7 +5,8 @@
 # from silhouettes and reports the joint errors; encodes the capture into a
 # .fvv stream (texture atlas, multi-view resampling, 4D-SPIHT textures, masks,
 # motion) and prints the encoder's summary; inspects, decodes and renders the
-# stream; prints figures and outputs.
+# stream with Renderer II and the capture itself with Renderer I (projective
+# texturing); prints figures and outputs.
 # Usage: tools/demo.sh [output dir, default out/demo]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -36,6 +37,13 @@ echo "== render it headless with Renderer II: an orbit, capture camera 2's view,
 $fvv render "$out/capture.fvv" -o "$out/render_orbit" --size 640x480
 $fvv render "$out/capture.fvv" -o "$out/render_camera2" --size 640x480 --camera 2 --last 7
 $fvv render "$out/capture.fvv" -o "$out/render_orbit" --size 320x240 --first 30 --contact-sheet 12
+echo "== Renderer I: the capture itself, projectively textured from its camera images with the tracked poses"
+$fvv render "$out/capture" --renderer projective --poses "$out/poses.json" -o "$out/render_projective" \
+  --size 320x240 --first 30 --contact-sheet 12
+$fvv render "$out/capture" --renderer projective --poses "$out/poses.json" -o "$out/render_projective" \
+  --cameras-from "$out/capture/truth/heldout" --camera 0 --first 30 --last 33
+$fvv render "$out/capture.fvv" -o "$out/render_heldout" --cameras-from "$out/capture/truth/heldout" \
+  --camera 0 --first 30 --last 33
 echo "== conformance: the suite's streams through the reference decoder (conformance/README.md)"
 $fvv conform conformance -q
 echo
@@ -46,4 +54,6 @@ echo "         $out/capture.fvv (the stream; fvv info $out/capture.fvv --json),"
 echo "         $out/textures (atlas textures and masks before coding, per camera),"
 echo "         $out/encode_summary.json, $out/decoded and $out/decoded_cut (tex_/mask_fFFFFF_cCC.png,"
 echo "         poses.json), $out/render_orbit and $out/render_camera2 (render_fFFFFF.png),"
-echo "         $out/render_orbit/contact_sheet.png (12 novel views of frame 30)"
+echo "         $out/render_orbit/contact_sheet.png (12 novel views of frame 30),"
+echo "         $out/render_projective (Renderer I: contact sheet, held-out camera 0's view of frames 30-33;"
+echo "         $out/render_heldout is Renderer II's, $out/capture/truth/heldout/held00 the truth)"

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "encoder/capture/capture.h"
+#include "encoder/cli/render_frames.h"
 #include "fvv/fvv_decoder.hpp"
 #include "player/decoder/public_camera.h"
 #include "player/render/headless.h"
@@ -34,6 +35,9 @@ struct RenderArgs {
   int camera = -1;     // -1: orbit
   uint32_t sheet = 0;  // > 0: a contact sheet of this many novel views of --first
   float exponent = 4.0f;
+  std::string renderer = "blend", poses;
+  float dominance = 2.0f;
+  int expand_px = 3;
   uint64_t bytes = 0;
   double max_ms = 0;
 };
@@ -172,6 +176,8 @@ class VideoWriter {
 int RunRender(const RenderArgs& a) {
   if (a.output_dir.empty() && a.video.empty())
     return Fail("give -o DIR, --video FILE.mp4, or both");
+  const bool projective = a.renderer == "projective";
+  if (!projective && !a.poses.empty()) return Fail("--poses is for --renderer projective");
   // Views from another capture's calibrated cameras, e.g. fvv synth's held-out ones.
   std::optional<Camera> from_camera;
   if (!a.cameras_from.empty()) {
@@ -198,62 +204,69 @@ int RunRender(const RenderArgs& a) {
              height < 1 || width > 16384 || height > 16384) {
     return Fail("--size " + a.size + ": expected WxH, e.g. 1280x720");
   }
-  DecoderPtr dec = MakeDecoder();
-  if (!dec || fvv_decoder_open_file(dec.get(), a.input.c_str()) != FVV_OK) {
-    return Fail(dec ? fvv_decoder_error(dec.get()) : "cannot create a decoder");
+  if (a.sheet > 0 && a.output_dir.empty()) return Fail("--contact-sheet writes into -o DIR");
+  StatusOr<std::unique_ptr<RenderFrames>> opened = Internal("no frames");
+  if (projective) {
+    CaptureRenderOptions o;
+    o.poses = a.poses;
+    o.first = a.first;
+    o.last = a.sheet > 0 ? a.first : a.last;
+    o.projective.dominance = a.dominance;
+    o.projective.expand_px = a.expand_px;
+    if (!a.poses.empty()) {
+      std::printf("Renderer I: poses from %s\n", a.poses.c_str());
+    } else {
+      std::printf("Renderer I: no --poses given, tracking the capture first\n");
+      o.progress = [](const std::string& line) { std::printf("  %s\n", line.c_str()); };
+    }
+    opened = OpenCaptureFrames(a.input, o);
+  } else {
+    StreamRenderOptions o;
+    o.bytes = a.bytes;
+    o.max_ms = a.max_ms;
+    opened = OpenStreamFrames(a.input, o);
   }
-  fvv_stream_info info;
-  fvv_decoder_get_info(dec.get(), &info);
-  const uint32_t last = std::min(a.last, info.frame_count - 1);
-  if (a.first > last)
-    return Fail("--first beyond the stream's " + std::to_string(info.frame_count) + " frames");
-  if (!from_camera && a.camera >= static_cast<int>(info.camera_count)) {
-    return Fail("--camera " + std::to_string(a.camera) + ": the stream has " +
-                std::to_string(info.camera_count) + " cameras");
+  if (!opened.ok()) return Fail(opened.status().ToString());
+  RenderFrames& frames = **opened;
+  const uint32_t first = std::max(a.first, frames.first_frame());
+  const uint32_t last = std::min(a.last, frames.last_frame());
+  if (first > last) {
+    return Fail("--first/--last select none of the frames " + std::to_string(frames.first_frame()) +
+                ".." + std::to_string(frames.last_frame()) + " of " + a.input);
+  }
+  const std::vector<fvv_camera>& cameras = frames.cameras();
+  if (!from_camera && a.camera >= static_cast<int>(cameras.size())) {
+    return Fail("--camera " + std::to_string(a.camera) + ": the " +
+                (projective ? "capture" : "stream") + " has " + std::to_string(cameras.size()) +
+                " cameras");
   }
   if (!a.output_dir.empty()) {
     if (Status s = MakeDirectories(a.output_dir); !s.ok()) return Fail(s.ToString());
   }
-  if (a.sheet > 0 && a.output_dir.empty()) return Fail("--contact-sheet writes into -o DIR");
   auto ctx = HeadlessContext::Create(width, height);
   if (!ctx.ok()) return Fail(ctx.status().ToString());
-  fvv_model model;
-  fvv_decoder_get_model(dec.get(), &model);
-  std::vector<glm::vec3> centres;
-  std::vector<fvv_camera> cameras(info.camera_count);
-  for (uint32_t c = 0; c < info.camera_count; ++c) {
-    fvv_decoder_get_camera(dec.get(), c, &cameras[c]);
-    centres.emplace_back(cameras[c].centre[0], cameras[c].centre[1], cameras[c].centre[2]);
-  }
-  auto renderer =
-      Renderer::Create((*ctx)->gl(), model, centres, info.atlas_width, info.atlas_height);
-  if (!renderer.ok()) return Fail(renderer.status().ToString());
-  fvv_decode_budget budget{};
-  budget.max_bytes_per_gop = a.bytes;
-  budget.max_ms_per_gop = a.max_ms;
-  using Clock = std::chrono::steady_clock;
-  double decode_s = 0, render_s = 0, upload_s = 0;
+  if (Status s = frames.CreateRenderer((*ctx)->gl()); !s.ok()) return Fail(s.ToString());
+  const float aspect = float(width) / float(height);
+  const auto orbit_view = [&](const glm::vec3& target, float angle, float lift, RenderView* view) {
+    view->eye = target + glm::vec3(3.5f * std::sin(angle), lift, 3.5f * std::cos(angle));
+    view->view = glm::lookAt(view->eye, target, glm::vec3(0, 1, 0));
+    view->projection = glm::perspective(glm::radians(40.0f), aspect, 0.05f, 50.0f);
+  };
   std::vector<uint8_t> rgb;
   if (a.sheet > 0) {
     // Novel views of one frame from evenly spaced directions around the actor,
     // tiled into one image.
-    FramePtr frame = DecodeFrame(dec.get(), a.first, &budget);
-    if (!frame) return Fail(fvv_decoder_error(dec.get()));
-    Status s = (*renderer)->SetFrame(*frame);
+    glm::vec3 target;
+    Status s = frames.Load(first, &target);
     if (!s.ok()) return Fail(s.ToString());
     std::vector<Image> views;
-    const glm::vec3 target(frame->bone_world[12], frame->bone_world[13], frame->bone_world[14]);
     for (uint32_t i = 0; i < a.sheet; ++i) {
       RenderView view;
       view.exponent = a.exponent;
       const float angle = 6.2831853f * static_cast<float>(i) / static_cast<float>(a.sheet);
-      const float lift = 0.2f + 0.6f * static_cast<float>(i % 2);
-      view.eye = target + glm::vec3(3.5f * std::sin(angle), lift, 3.5f * std::cos(angle));
-      view.view = glm::lookAt(view.eye, target, glm::vec3(0, 1, 0));
-      view.projection =
-          glm::perspective(glm::radians(40.0f), float(width) / float(height), 0.05f, 50.0f);
-      s = (*renderer)->Draw(view, width, height);
-      if (s.ok()) s = (*renderer)->ReadRgb(width, height, &rgb);
+      orbit_view(target, angle, 0.2f + 0.6f * static_cast<float>(i % 2), &view);
+      s = frames.Draw(view, width, height);
+      if (s.ok()) s = frames.ReadRgb(width, height, &rgb);
       if (!s.ok()) return Fail(s.ToString());
       Image view_image;
       view_image.width = static_cast<uint32_t>(width);
@@ -264,27 +277,25 @@ int RunRender(const RenderArgs& a) {
     const std::string sheet_path = a.output_dir + "/contact_sheet." + a.format;
     s = WriteImage(sheet_path, MakeContactSheet(views));
     if (!s.ok()) return Fail(s.ToString());
-    std::printf("contact sheet of frame %u: %u views of %dx%d -> %s\n", a.first, a.sheet, width,
+    std::printf("contact sheet of frame %u: %u views of %dx%d -> %s\n", first, a.sheet, width,
                 height, sheet_path.c_str());
     return 0;
   }
-  const uint32_t count = last - a.first + 1;
-  const double fps = double(info.frame_rate_num) / info.frame_rate_den;
+  const uint32_t count = last - first + 1;
   std::unique_ptr<VideoWriter> video;
   if (!a.video.empty()) {
-    auto v = VideoWriter::Open(a.video, width, height, fps);
+    auto v = VideoWriter::Open(a.video, width, height, frames.frame_rate());
     if (!v.ok()) return Fail(v.status().ToString());
     video = std::move(v).value();
   }
-  const float aspect = float(width) / float(height);
-  for (uint32_t f = a.first; f <= last; ++f) {
-    auto t0 = Clock::now();
-    FramePtr frame = DecodeFrame(dec.get(), f, &budget);
-    if (!frame) return Fail("frame " + std::to_string(f) + ": " + fvv_decoder_error(dec.get()));
-    decode_s += std::chrono::duration<double>(Clock::now() - t0).count();
+  using Clock = std::chrono::steady_clock;
+  double render_s = 0;
+  for (uint32_t f = first; f <= last; ++f) {
+    glm::vec3 root;
+    Status s = frames.Load(f, &root);
+    if (!s.ok()) return Fail(s.ToString());
     RenderView view;
     view.exponent = a.exponent;
-    const glm::vec3 root(frame->bone_world[12], frame->bone_world[13], frame->bone_world[14]);
     if (!path.empty()) {
       PathView(path, f, root, aspect, &view);
     } else if (from_camera) {
@@ -292,24 +303,18 @@ int RunRender(const RenderArgs& a) {
       const auto c = from_camera->Centre();
       view.eye = glm::vec3(c[0], c[1], c[2]);
     } else if (a.camera >= 0) {
-      CameraViewProjection(cameras[a.camera], 0.05f, 50.0f, &view.view, &view.projection);
-      view.eye = centres[a.camera];
+      const fvv_camera& c = cameras[a.camera];
+      CameraViewProjection(c, 0.05f, 50.0f, &view.view, &view.projection);
+      view.eye = glm::vec3(c.centre[0], c.centre[1], c.centre[2]);
     } else {
       // One orbit over the rendered frames, around the root joint.
-      const glm::vec3 target(frame->bone_world[12], frame->bone_world[13], frame->bone_world[14]);
-      const float angle = 6.2831853f * static_cast<float>(f - a.first) / static_cast<float>(count);
-      view.eye = target + glm::vec3(3.5f * std::sin(angle), 0.4f, 3.5f * std::cos(angle));
-      view.view = glm::lookAt(view.eye, target, glm::vec3(0, 1, 0));
-      view.projection =
-          glm::perspective(glm::radians(40.0f), float(width) / float(height), 0.05f, 50.0f);
+      orbit_view(root, 6.2831853f * static_cast<float>(f - first) / static_cast<float>(count), 0.4f,
+                 &view);
     }
-    t0 = Clock::now();
-    Status s = (*renderer)->SetFrame(*frame);
-    const auto t1 = Clock::now();
-    upload_s += std::chrono::duration<double>(t1 - t0).count();
-    if (s.ok()) s = (*renderer)->Draw(view, width, height);
-    if (s.ok()) s = (*renderer)->ReadRgb(width, height, &rgb);
-    render_s += std::chrono::duration<double>(Clock::now() - t1).count();
+    const auto t0 = Clock::now();
+    s = frames.Draw(view, width, height);
+    if (s.ok()) s = frames.ReadRgb(width, height, &rgb);
+    render_s += std::chrono::duration<double>(Clock::now() - t0).count();
     if (!s.ok()) return Fail(s.ToString());
     if (video) {
       s = video->Add(rgb);
@@ -330,7 +335,6 @@ int RunRender(const RenderArgs& a) {
   if (video) {
     if (Status s = video->Close(); !s.ok()) return Fail(s.ToString());
   }
-  const double play_s = count / fps;
   const std::string what = !path.empty() ? "path " + a.path
                            : from_camera
                                ? "camera \"" + from_camera->name + "\" of " + a.cameras_from
@@ -339,10 +343,9 @@ int RunRender(const RenderArgs& a) {
   std::string where = a.output_dir;
   if (!a.video.empty()) where += (where.empty() ? "" : " and ") + a.video;
   std::printf(
-      "rendered frames %u..%u at %dx%d (%s): %.1f fps rendering (draw and read-back), texture "
-      "upload %.1f ms per frame, decode %.0f ms (real-time factor %.2f) -> %s\n",
-      a.first, last, width, height, what.c_str(), count / std::max(render_s, 1e-9),
-      upload_s * 1e3 / count, decode_s * 1e3, decode_s / play_s, where.c_str());
+      "rendered frames %u..%u at %dx%d (%s): %.1f fps rendering (draw and read-back); %s -> %s\n",
+      first, last, width, height, what.c_str(), count / std::max(render_s, 1e-9),
+      frames.LoadTimes(count).c_str(), where.c_str());
   return 0;
 }
 
@@ -352,9 +355,31 @@ void AddRenderCommand(CLI::App* app, int* exit_code) {
   auto args = std::make_shared<RenderArgs>();
   CLI::App* r = app->add_subcommand(
       "render",
-      "Render a .fvv stream headless (OSMesa) with Renderer II: the decoded model, textured by "
-      "blending the camera textures by viewing angle; writes render_fFFFFF.png per frame");
-  r->add_option("file", args->input, ".fvv stream")->required()->check(CLI::ExistingFile);
+      "Render headless (OSMesa): a .fvv stream with Renderer II (the decoded model, textured by "
+      "blending the camera textures by viewing angle), or with --renderer projective a capture "
+      "with Renderer I (the posed model textured directly from the camera images: a preview "
+      "before encoding); writes render_fFFFFF.png per frame");
+  r->add_option("file", args->input,
+                ".fvv stream (Renderer II), or with --renderer projective a capture directory or "
+                "capture.json")
+      ->required()
+      ->check(CLI::ExistingPath);
+  r->add_option("--renderer", args->renderer,
+                "blend: Renderer II on a stream; projective: Renderer I on a capture")
+      ->check(CLI::IsMember({"blend", "projective"}))
+      ->capture_default_str();
+  r->add_option("--poses", args->poses,
+                "Renderer I: poses.json (fvv track) or a synthetic capture's truth (its "
+                "directory); default: track the capture first")
+      ->check(CLI::ExistingPath);
+  r->add_option("--dominance", args->dominance,
+                "Renderer I: how much the camera facing a vertex best dominates the blend")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0f, 32.0f));
+  r->add_option("--expand", args->expand_px,
+                "Renderer I: pixels the silhouettes grow by (their ring takes the actor's colour)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 32));
   r->add_option("-o,--output", args->output_dir, "Output directory (render_fFFFFF.png per frame)");
   r->add_option("--video", args->video,
                 "Also (or instead) write an H.264 MP4 through ffmpeg at the stream's frame rate");
@@ -379,11 +404,13 @@ void AddRenderCommand(CLI::App* app, int* exit_code) {
                 "Instead: one image of N novel views of frame --first around the actor")
       ->check(CLI::Range(1, 64));
   r->add_option("--exponent", args->exponent,
-                "Blend exponent: higher lets the best-aligned camera dominate")
+                "Renderer II blend exponent: higher lets the best-aligned camera dominate")
       ->capture_default_str()
       ->check(CLI::Range(0.0f, 64.0f));
-  auto* bytes = r->add_option("--bytes", args->bytes, "Texture bytes per GOP fragment to decode");
-  r->add_option("--max-ms", args->max_ms, "Texture decoding time per GOP")->excludes(bytes);
+  auto* bytes = r->add_option("--bytes", args->bytes,
+                              "Renderer II: texture bytes per GOP fragment to decode");
+  r->add_option("--max-ms", args->max_ms, "Renderer II: texture decoding time per GOP")
+      ->excludes(bytes);
   r->add_option("--format", args->format, "Image format")
       ->check(CLI::IsMember({"png", "exr"}))
       ->capture_default_str();

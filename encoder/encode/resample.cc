@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "encoder/capture/calibration.h"
+#include "encoder/capture/depth_map.h"
 
 namespace fvv {
 namespace {
@@ -116,37 +117,8 @@ void ResampleView(const TexelMap& map, const Mesh& mesh, const std::vector<Vecto
   std::fill(mask, mask + texels, 0);
   const int w = int(image.width), h = int(image.height);
 
-  // The camera's depth map of the posed model (camera z; pixel centres at
-  // integer coordinates as the calibration's), perspective-correct.
-  std::vector<Eigen::Vector2d> px(positions.size());
-  std::vector<float> inv_z(positions.size(), 0);
-  for (size_t v = 0; v < positions.size(); ++v) {
-    double z = 0;
-    if (ProjectPoint(camera, positions[v].cast<double>(), &px[v], &z)) inv_z[v] = float(1 / z);
-  }
-  std::vector<float> depth(size_t(w) * h, std::numeric_limits<float>::max());
-  for (const auto& tri : mesh.triangles) {
-    if (inv_z[tri[0]] <= 0 || inv_z[tri[1]] <= 0 || inv_z[tri[2]] <= 0) continue;
-    const Eigen::Vector2d a = px[tri[0]], b = px[tri[1]], c = px[tri[2]];
-    const double area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
-    if (std::abs(area) < 1e-12) continue;
-    const int x0 = std::max(0, int(std::ceil(std::min({a.x(), b.x(), c.x()}))));
-    const int x1 = std::min(w - 1, int(std::floor(std::max({a.x(), b.x(), c.x()}))));
-    const int y0 = std::max(0, int(std::ceil(std::min({a.y(), b.y(), c.y()}))));
-    const int y1 = std::min(h - 1, int(std::floor(std::max({a.y(), b.y(), c.y()}))));
-    const double inv = 1.0 / area;
-    for (int y = y0; y <= y1; ++y) {
-      for (int x = x0; x <= x1; ++x) {
-        const double w0 = ((c.x() - b.x()) * (y - b.y()) - (c.y() - b.y()) * (x - b.x())) * inv;
-        const double w1 = ((a.x() - c.x()) * (y - c.y()) - (a.y() - c.y()) * (x - c.x())) * inv;
-        const double w2 = 1 - w0 - w1;
-        if (w0 < 0 || w1 < 0 || w2 < 0) continue;
-        const float z = float(1 / (w0 * inv_z[tri[0]] + w1 * inv_z[tri[1]] + w2 * inv_z[tri[2]]));
-        float& d = depth[size_t(y) * w + x];
-        d = std::min(d, z);
-      }
-    }
-  }
+  // The camera's depth map of the posed model.
+  const DepthMap depth = RenderDepthMap(mesh.triangles, positions, camera);
   std::vector<uint8_t> inside;
   if (!silhouette.pixels.empty()) inside = Dilate(silhouette, o.silhouette_margin);
 
@@ -172,7 +144,7 @@ void ResampleView(const TexelMap& map, const Mesh& mesh, const std::vector<Vecto
     const int ix = int(std::lround(q.x())), iy = int(std::lround(q.y()));
     const size_t pixel = size_t(iy) * w + ix;
     const double slope = std::sqrt(std::max(0.0, 1.0 - double(facing) * facing)) / facing;
-    if (z > depth[pixel] + o.depth_tolerance + 0.75 * z * pixel_angle * slope) continue;
+    if (z > depth.depth[pixel] + o.depth_tolerance + 0.75 * z * pixel_angle * slope) continue;
     if (!inside.empty() && !inside[pixel]) continue;
     // Bilinear sample of the camera image.
     const int x0 = std::min(int(q.x()), w - 2 < 0 ? 0 : w - 2);

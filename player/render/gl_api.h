@@ -1,4 +1,4 @@
-// The OpenGL 3.3 core functions Renderer II uses, loaded through whatever the
+// The OpenGL 3.3 core functions the renderers use, loaded through whatever the
 // context provides (OSMesaGetProcAddress headless, glfwGetProcAddress windowed),
 // so the same renderer code runs on both without linking two GL libraries.
 #ifndef FVV_PLAYER_RENDER_GL_API_H_
@@ -18,27 +18,40 @@ namespace fvv {
   X(PFNGLATTACHSHADERPROC, AttachShader)                       \
   X(PFNGLBINDBUFFERPROC, BindBuffer)                           \
   X(PFNGLBINDBUFFERBASEPROC, BindBufferBase)                   \
+  X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                 \
+  X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer)               \
   X(PFNGLBINDTEXTUREPROC, BindTexture)                         \
   X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray)                 \
+  X(PFNGLBLENDFUNCPROC, BlendFunc)                             \
   X(PFNGLBUFFERDATAPROC, BufferData)                           \
   X(PFNGLBUFFERSUBDATAPROC, BufferSubData)                     \
+  X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus)   \
   X(PFNGLCLEARPROC, Clear)                                     \
   X(PFNGLCLEARCOLORPROC, ClearColor)                           \
+  X(PFNGLCOLORMASKPROC, ColorMask)                             \
   X(PFNGLCOMPILESHADERPROC, CompileShader)                     \
   X(PFNGLCREATEPROGRAMPROC, CreateProgram)                     \
   X(PFNGLCREATESHADERPROC, CreateShader)                       \
   X(PFNGLDELETEBUFFERSPROC, DeleteBuffers)                     \
+  X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)           \
   X(PFNGLDELETEPROGRAMPROC, DeleteProgram)                     \
+  X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers)         \
   X(PFNGLDELETESHADERPROC, DeleteShader)                       \
   X(PFNGLDELETETEXTURESPROC, DeleteTextures)                   \
   X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays)           \
+  X(PFNGLDEPTHFUNCPROC, DepthFunc)                             \
+  X(PFNGLDEPTHMASKPROC, DepthMask)                             \
   X(PFNGLDISABLEPROC, Disable)                                 \
   X(PFNGLDRAWARRAYSPROC, DrawArrays)                           \
   X(PFNGLDRAWELEMENTSPROC, DrawElements)                       \
   X(PFNGLENABLEPROC, Enable)                                   \
   X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray) \
   X(PFNGLFINISHPROC, Finish)                                   \
+  X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer) \
+  X(PFNGLFRAMEBUFFERTEXTURE2DPROC, FramebufferTexture2D)       \
   X(PFNGLGENBUFFERSPROC, GenBuffers)                           \
+  X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                 \
+  X(PFNGLGENRENDERBUFFERSPROC, GenRenderbuffers)               \
   X(PFNGLGENTEXTURESPROC, GenTextures)                         \
   X(PFNGLGENVERTEXARRAYSPROC, GenVertexArrays)                 \
   X(PFNGLGETERRORPROC, GetError)                               \
@@ -52,7 +65,9 @@ namespace fvv {
   X(PFNGLLINKPROGRAMPROC, LinkProgram)                         \
   X(PFNGLPIXELSTOREIPROC, PixelStorei)                         \
   X(PFNGLREADPIXELSPROC, ReadPixels)                           \
+  X(PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage)         \
   X(PFNGLSHADERSOURCEPROC, ShaderSource)                       \
+  X(PFNGLTEXIMAGE2DPROC, TexImage2D)                           \
   X(PFNGLTEXIMAGE3DPROC, TexImage3D)                           \
   X(PFNGLTEXPARAMETERIPROC, TexParameteri)                     \
   X(PFNGLTEXSUBIMAGE3DPROC, TexSubImage3D)                     \
@@ -60,8 +75,11 @@ namespace fvv {
   X(PFNGLUNIFORM1IPROC, Uniform1i)                             \
   X(PFNGLUNIFORM1IVPROC, Uniform1iv)                           \
   X(PFNGLUNIFORM2FPROC, Uniform2f)                             \
+  X(PFNGLUNIFORM2FVPROC, Uniform2fv)                           \
   X(PFNGLUNIFORM3FVPROC, Uniform3fv)                           \
+  X(PFNGLUNIFORM4FVPROC, Uniform4fv)                           \
   X(PFNGLUNIFORMBLOCKBINDINGPROC, UniformBlockBinding)         \
+  X(PFNGLUNIFORMMATRIX3FVPROC, UniformMatrix3fv)               \
   X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv)               \
   X(PFNGLUSEPROGRAMPROC, UseProgram)                           \
   X(PFNGLVERTEXATTRIBIPOINTERPROC, VertexAttribIPointer)       \
