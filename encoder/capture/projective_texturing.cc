@@ -140,10 +140,12 @@ Image ExpandSilhouette(const Image& rgb, const Image& silhouette, int pixels) {
   return out;
 }
 
-StatusOr<ProjectiveFrame> MakeProjectiveFrame(
-    const BodyModel& model, const std::vector<double>& dofs, const std::vector<Camera>& cameras,
-    const std::vector<Image>& images, const std::vector<Image>& silhouettes,
-    const ProjectiveOptions& o, const ParallelRunner& runner) {
+StatusOr<ProjectiveFrame> MakeProjectiveFrameForMesh(
+    const std::vector<std::array<uint32_t, 3>>& triangles,
+    const std::vector<Eigen::Vector3f>& positions, const std::vector<Eigen::Vector3f>& normals,
+    const std::vector<Camera>& cameras, const std::vector<Image>& images,
+    const std::vector<Image>& silhouettes, const ProjectiveOptions& o,
+    const ParallelRunner& runner) {
   if (images.size() != cameras.size() ||
       (!silhouettes.empty() && silhouettes.size() != cameras.size())) {
     return InvalidArgument("projective texturing: one image (and silhouette) per camera");
@@ -161,26 +163,45 @@ StatusOr<ProjectiveFrame> MakeProjectiveFrame(
                              "'s silhouette is not a grey image of its size");
     }
   }
-  if (dofs.size() != model.skeleton.Dofs().size()) {
-    return InvalidArgument("projective texturing: " + std::to_string(dofs.size()) +
-                           " pose values for a skeleton of " +
-                           std::to_string(model.skeleton.Dofs().size()) + " DOFs");
+  if (normals.size() != positions.size()) {
+    return InvalidArgument("projective texturing: one normal per vertex");
+  }
+  for (const auto& t : triangles) {
+    for (uint32_t i : t) {
+      if (i >= positions.size()) return InvalidArgument("projective texturing: a bad triangle");
+    }
   }
   ProjectiveFrame frame;
-  std::vector<Eigen::Vector3f> normals;
-  const std::vector<Eigen::Vector3f> posed =
-      SkinPositions(model.mesh, SkinningMatrices(model.skeleton, dofs), &normals);
-  for (auto& n : normals) n.normalize();
-  frame.positions.reserve(posed.size() * 3);
-  for (const auto& p : posed) frame.positions.insert(frame.positions.end(), {p.x(), p.y(), p.z()});
-  frame.visibility = VertexVisibility(model.mesh.triangles, posed, normals, cameras, o, runner);
-  frame.weights = BlendWeights(posed, normals, cameras, frame.visibility, o.dominance);
+  frame.positions.reserve(positions.size() * 3);
+  for (const auto& p : positions) {
+    frame.positions.insert(frame.positions.end(), {p.x(), p.y(), p.z()});
+  }
+  frame.visibility = VertexVisibility(triangles, positions, normals, cameras, o, runner);
+  frame.weights = BlendWeights(positions, normals, cameras, frame.visibility, o.dominance);
   frame.images.resize(cameras.size());
   runner(uint32_t(cameras.size()), [&](uint32_t c) {
     frame.images[c] =
         ExpandSilhouette(images[c], silhouettes.empty() ? Image() : silhouettes[c], o.expand_px);
   });
-  frame.root = JointPositions(model.skeleton, dofs)[0];
+  return frame;
+}
+
+StatusOr<ProjectiveFrame> MakeProjectiveFrame(
+    const BodyModel& model, const std::vector<double>& dofs, const std::vector<Camera>& cameras,
+    const std::vector<Image>& images, const std::vector<Image>& silhouettes,
+    const ProjectiveOptions& o, const ParallelRunner& runner) {
+  if (dofs.size() != model.skeleton.Dofs().size()) {
+    return InvalidArgument("projective texturing: " + std::to_string(dofs.size()) +
+                           " pose values for a skeleton of " +
+                           std::to_string(model.skeleton.Dofs().size()) + " DOFs");
+  }
+  std::vector<Eigen::Vector3f> normals;
+  const std::vector<Eigen::Vector3f> posed =
+      SkinPositions(model.mesh, SkinningMatrices(model.skeleton, dofs), &normals);
+  for (auto& n : normals) n.normalize();
+  StatusOr<ProjectiveFrame> frame = MakeProjectiveFrameForMesh(
+      model.mesh.triangles, posed, normals, cameras, images, silhouettes, o, runner);
+  if (frame.ok()) frame->root = JointPositions(model.skeleton, dofs)[0];
   return frame;
 }
 

@@ -73,6 +73,15 @@ struct ProjectiveFrame {
   Eigen::Vector3d root{0, 0, 0};                 // the root joint, where views look
 };
 
+// Any mesh in world space (e.g. a visual hull's surface): its visibility and
+// weights in the cameras, and their images with expanded silhouettes.
+StatusOr<ProjectiveFrame> MakeProjectiveFrameForMesh(
+    const std::vector<std::array<uint32_t, 3>>& triangles,
+    const std::vector<Eigen::Vector3f>& positions, const std::vector<Eigen::Vector3f>& normals,
+    const std::vector<Camera>& cameras, const std::vector<Image>& images,
+    const std::vector<Image>& silhouettes, const ProjectiveOptions& options,
+    const ParallelRunner& runner = SerialRunner);
+
 // The model posed by `dofs` (generic-body DOF order), its visibility and
 // weights in the cameras, and their images with expanded silhouettes (an
 // empty silhouette list: none).

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <unordered_map>
 
 #include "encoder/capture/calibration.h"
 
@@ -191,6 +192,50 @@ StatusOr<VisualHull> CarveVisualHull(const std::vector<Camera>& cameras,
                                o.voxel_size, o.max_voxels, &fine));
   Carve(views, o, runner, &fine);
   return fine;
+}
+
+void VisualHull::SurfaceMesh(std::vector<Eigen::Vector3f>* positions,
+                             std::vector<std::array<uint32_t, 3>>* triangles) const {
+  positions->clear();
+  triangles->clear();
+  std::unordered_map<uint64_t, uint32_t> corner_index;
+  const auto corner = [&](int x, int y, int z) {
+    const uint64_t key =
+        (uint64_t(uint32_t(x)) << 42) | (uint64_t(uint32_t(y)) << 21) | uint64_t(uint32_t(z));
+    const auto it = corner_index.emplace(key, uint32_t(positions->size()));
+    if (it.second) {
+      positions->push_back((origin + voxel_size * Eigen::Vector3d(x, y, z)).cast<float>());
+    }
+    return it.first->second;
+  };
+  // Per axis and side: the neighbour offset and the face's corners,
+  // counter-clockwise seen from outside.
+  struct Face {
+    int dx, dy, dz;
+    int c[4][3];
+  };
+  static const Face kFaces[6] = {
+      {-1, 0, 0, {{0, 0, 0}, {0, 0, 1}, {0, 1, 1}, {0, 1, 0}}},
+      {1, 0, 0, {{1, 0, 0}, {1, 1, 0}, {1, 1, 1}, {1, 0, 1}}},
+      {0, -1, 0, {{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}}},
+      {0, 1, 0, {{0, 1, 0}, {0, 1, 1}, {1, 1, 1}, {1, 1, 0}}},
+      {0, 0, -1, {{0, 0, 0}, {0, 1, 0}, {1, 1, 0}, {1, 0, 0}}},
+      {0, 0, 1, {{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}}},
+  };
+  for (int z = 0; z < dims[2]; ++z) {
+    for (int y = 0; y < dims[1]; ++y) {
+      for (int x = 0; x < dims[0]; ++x) {
+        if (!occupied[Index(x, y, z)]) continue;
+        for (const Face& f : kFaces) {
+          if (At(x + f.dx, y + f.dy, z + f.dz)) continue;
+          uint32_t q[4];
+          for (int k = 0; k < 4; ++k) q[k] = corner(x + f.c[k][0], y + f.c[k][1], z + f.c[k][2]);
+          triangles->push_back({q[0], q[1], q[2]});
+          triangles->push_back({q[0], q[2], q[3]});
+        }
+      }
+    }
+  }
 }
 
 Status WritePointCloudPly(const std::string& path, const std::vector<Eigen::Vector3d>& points) {

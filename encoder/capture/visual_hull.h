@@ -43,6 +43,11 @@ struct VisualHull {
   double Volume() const;  // cubic metres
   // Centres of the occupied voxels with an empty (or outside) face neighbour.
   std::vector<Eigen::Vector3d> SurfaceVoxels() const;
+  // The hull's boundary as a closed triangle mesh: every face between an
+  // occupied voxel and an empty one (or the grid's outside), two triangles
+  // each, wound outwards, voxel corners shared.
+  void SurfaceMesh(std::vector<Eigen::Vector3f>* positions,
+                   std::vector<std::array<uint32_t, 3>>* triangles) const;
 };
 
 // One silhouette (grey, non-zero = actor) per camera, each the camera's size.

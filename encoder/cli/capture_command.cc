@@ -216,6 +216,11 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
   s->add_option("--stature", o->stature, "Built-in actor's size (1.0 = 1.75 m)")
       ->capture_default_str()
       ->check(CLI::Range(0.5, 1.4));
+  s->add_option("--surface-detail", o->surface_detail,
+                "Built-in actor: bumps and hollows off the generic shape, up to this many metres "
+                "(a true surface for shape refinement to recover)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 0.1));
   s->add_option("--noise", o->noise, "Sensor noise (std. dev., 8-bit levels)")
       ->capture_default_str();
   s->add_option("--colour-mismatch", o->colour_mismatch, "Per-camera gain spread (0.05 = 5 %)")

@@ -14,6 +14,7 @@
 #include "encoder/synth/body_texture.h"
 #include "encoder/synth/gltf_actor.h"
 #include "encoder/synth/procedural_motion.h"
+#include "encoder/synth/surface_detail.h"
 #include "encoder/synth/synth_renderer.h"
 #include "player/render/headless.h"
 
@@ -94,6 +95,10 @@ StatusOr<std::unique_ptr<Actor>> MakeSynthActor(const SynthOptions& o) {
   shape.stature = o.stature;
   FVV_RETURN_IF_ERROR(ValidateBodyShape(shape));
   BodyModel model = MakeGenericBody(shape);
+  if (!(o.surface_detail >= 0 && o.surface_detail <= 0.1)) {
+    return InvalidArgument("synth: surface detail must be 0..0.1 m");
+  }
+  AddSurfaceDetail(o.surface_detail, o.seed, &model);
   std::vector<std::vector<double>> poses;
   std::string motion = "built-in walk";
   if (!o.motion.empty()) {
@@ -294,6 +299,7 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
   if (body) {
     truth["body_model"] = "generic";
     truth["stature"] = o.stature;
+    truth["surface_detail"] = o.surface_detail;
     nlohmann::json dofs = nlohmann::json::array();
     for (const DofRef& d : body->model().skeleton.Dofs()) {
       static const char* kKinds[] = {"rx", "ry", "rz", "tx", "ty", "tz"};

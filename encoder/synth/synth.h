@@ -33,6 +33,7 @@ struct SynthOptions {
   double motion_start = 0;        // seconds into the BVH clip
   std::string actor = "builtin";  // "builtin" or a glTF 2.0 file (.glb/.gltf)
   double stature = 1.0;           // the built-in actor's size (1.0 = 1.75 m)
+  double surface_detail = 0.0;    // the built-in actor's bumps off the generic shape (metres)
   double noise = 1.5;             // sensor noise, standard deviation in 8-bit levels
   double colour_mismatch = 0.0;   // per-camera gain spread, e.g. 0.05 for +-5 %
   bool unlit = false;             // the actor without shading: its texture's own colours
