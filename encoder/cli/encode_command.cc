@@ -18,7 +18,7 @@ struct EncodeArgs {
   uint64_t bytes = 0;
   uint32_t atlas = 512, threads = 2;
   uint16_t gop_frames = 8, gop_cameras = 1, key_interval = 1;
-  bool no_masks = false, extract = false, fixed_shape = false, quiet = false;
+  bool no_masks = false, extract = false, fixed_shape = false, quiet = false, refine_shape = false;
   int margin = 2;
   std::vector<std::string> meta;
 };
@@ -37,6 +37,7 @@ int RunEncode(const EncodeArgs& a) {
   if (!range.ok()) return Fail(range);
   s.extract_silhouettes = a.extract;
   s.tracker.adapt_shape = !a.fixed_shape;
+  s.refine_shape = a.refine_shape;
   s.resample.silhouette_margin = a.margin;
   s.atlas_size = a.atlas;
   s.gop_frames = a.gop_frames;
@@ -128,6 +129,9 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
   e->add_flag("--extract", a->extract,
               "Background subtraction even when the capture lists silhouettes");
   e->add_flag("--fixed-shape", a->fixed_shape, "Tracking keeps the generic body's proportions");
+  e->add_flag("--refine-shape", a->refine_shape,
+              "Refine the body model's surface to the actor on the first frame (silhouettes, "
+              "stereo) before resampling; the stream stores the refined model");
   e->add_option("--threads", a->threads, "Worker threads")->capture_default_str();
   e->add_option("--meta", a->meta, "Metadata KEY=VALUE (repeatable)");
   e->add_option("--summary-json", a->summary_json, "Also write the summary as JSON here");

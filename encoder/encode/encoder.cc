@@ -72,11 +72,35 @@ class Session {
   EncodeSummary& summary() { return sum_; }
   const std::vector<std::string>& camera_dirs() const { return camera_dirs_; }
 
-  // The body model and atlas for the actor's shape (once).
-  Status SetShape(const BodyShape& shape) {
+  bool HasShape() const { return !model_.mesh.positions.empty(); }
+  // The body model and atlas for the actor's shape (once); with
+  // refine_shape, the model refined on `first` (its pose, images and
+  // silhouettes) first.
+  Status SetShape(const BodyShape& shape, const RefinementFrame* first) {
     if (!model_.mesh.positions.empty()) return Status::Ok();
     shape_ = shape;
     model_ = MakeGenericBody(shape);
+    if (s_.refine_shape) {
+      if (!first) return InvalidArgument("--refine-shape needs the capture's images");
+      const auto t0 = Clock::now();
+      ShapeRefinementReport report;
+      StatusOr<BodyModel> refined =
+          RefineShape(model_, cameras_, {*first}, s_.refinement, &report, pool_.runner());
+      if (!refined.ok()) return refined.status();
+      model_ = std::move(refined).value();
+      sum_.refine_s = Since(t0);
+      for (const auto& l : report.levels) sum_.refine_moves.push_back(l.mean_move);
+      char line[160];
+      std::snprintf(line, sizeof(line),
+                    "encode: shape refined on the first frame in %.1f s (mean move per level:",
+                    sum_.refine_s);
+      std::string say = line;
+      for (double m : sum_.refine_moves) {
+        std::snprintf(line, sizeof(line), " %.1f mm", m * 1e3);
+        say += line;
+      }
+      if (s_.progress) s_.progress(say + ")");
+    }
     AtlasOptions ao;
     ao.size = s_.atlas_size;
     StatusOr<Atlas> atlas = BuildAtlas(model_.mesh, ao);
@@ -445,13 +469,14 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
 
   if (given) {
     sum.pose_source = s.textures.empty() ? "poses " + s.poses : "textures " + s.textures;
-    FVV_RETURN_IF_ERROR(session.SetShape(given->shape));
     std::unique_ptr<CaptureFrames> frames;
     if (s.textures.empty()) {
       StatusOr<std::unique_ptr<CaptureFrames>> f =
           CaptureFrames::Open(*cap, s.extract_silhouettes, &session.pool());
       if (!f.ok()) return f.status();
       frames = std::move(*f);
+    } else if (s.refine_shape) {
+      return InvalidArgument("--refine-shape needs the capture's images, not --textures");
     }
     for (uint32_t f = first; f <= last; ++f) {
       std::vector<Image> images, sils;
@@ -459,6 +484,10 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
         const auto t0 = Clock::now();
         FVV_RETURN_IF_ERROR(frames->Read(f, &images, &sils));
         sum.read_s += Since(t0);
+      }
+      if (f == first) {
+        const RefinementFrame refine{given->poses[f - given->first_frame], images, sils};
+        FVV_RETURN_IF_ERROR(session.SetShape(given->shape, frames ? &refine : nullptr));
       }
       FVV_RETURN_IF_ERROR(session.AddFrame(f, given->poses[f - given->first_frame], images, sils));
       progress(f, "");
@@ -472,7 +501,10 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
     to.tracker = s.tracker;
     to.on_frame = [&](uint32_t f, const FrameFit& fit, const Tracker& tracker,
                       const std::vector<Image>& images, const std::vector<Image>& sils) -> Status {
-      FVV_RETURN_IF_ERROR(session.SetShape(tracker.shape()));
+      if (!session.HasShape()) {
+        const RefinementFrame refine{fit.dofs, images, sils};
+        FVV_RETURN_IF_ERROR(session.SetShape(tracker.shape(), &refine));
+      }
       FVV_RETURN_IF_ERROR(session.AddFrame(f, fit.dofs, images, sils));
       char extra[96];
       std::snprintf(extra, sizeof(extra), "  IoU %.3f%s", fit.iou,
@@ -521,6 +553,13 @@ std::string EncodeSummary::Table() const {
   if (pose_source == "tracked") {
     add("  tracking          mean IoU %.3f, %d frame(s) flagged\n", mean_iou, flagged_frames);
   }
+  if (!refine_moves.empty()) {
+    add("  shape refinement  %.1f s on the first frame, mean vertex move %.1f mm\n", refine_s, [&] {
+      double sum = 0;
+      for (double m : refine_moves) sum += m;
+      return sum * 1e3;
+    }());
+  }
   const double f = std::max(1u, frames);
   add("  seconds per frame read %.3f  track %.3f  resample %.3f  code %.3f  write %.3f  "
       "total %.3f (%.2f frames/s)\n",
@@ -554,6 +593,10 @@ std::string EncodeSummary::ToJson() const {
                       {"ratio_visible", ratio_visible()},
                       {"psnr", {{"y", psnr[0]}, {"u", psnr[1]}, {"v", psnr[2]}, {"rgb", psnr_rgb}}},
                       {"tracking", {{"mean_iou", mean_iou}, {"flagged", flagged_frames}}},
+                      {"shape_refinement",
+                       {{"refined", !refine_moves.empty()},
+                        {"seconds", refine_s},
+                        {"mean_move_per_level_m", refine_moves}}},
                       {"seconds",
                        {{"read", read_s},
                         {"track", track_s},

@@ -22,6 +22,7 @@
 #include "codec/status.h"
 #include "container/index_box.h"
 #include "container/motion_track.h"
+#include "encoder/capture/shape_refinement.h"
 #include "encoder/capture/tracker.h"
 #include "encoder/encode/resample.h"
 
@@ -35,6 +36,11 @@ struct EncoderSettings {
   bool extract_silhouettes = false;  // background subtraction even if silhouettes are given
   TrackerOptions tracker;
   ResampleOptions resample;
+  // Refine the body model's shape to the actor on the first encoded frame
+  // (silhouettes, stereo; issue 10) before resampling: the stream's model is
+  // then the refined mesh (same topology, skinning and atlas).
+  bool refine_shape = false;
+  ShapeRefinementOptions refinement;
 
   // Format and rate.
   uint32_t atlas_size = 512;  // 16..4096
@@ -76,6 +82,10 @@ struct EncodeSummary {
   std::string pose_source;       // "tracked", "poses FILE", "textures DIR"
   // Seconds spent per stage.
   double read_s = 0, track_s = 0, resample_s = 0, code_s = 0, write_s = 0, total_s = 0;
+  // Shape refinement (refine_shape): seconds, and the vertices' mean move per
+  // level (metres).
+  double refine_s = 0;
+  std::vector<double> refine_moves;
 
   double duration_s() const { return frames / fps; }
   double kbps(uint64_t bytes) const { return bytes * 8.0 / 1000 / duration_s(); }
