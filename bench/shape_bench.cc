@@ -26,9 +26,10 @@ int main(int argc, char** argv) {
   so.link_silhouettes = true;
   uint32_t frame = 0;
   fvv::ShapeRefinementOptions ro;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string a = argv[i];
-    const char* v = argv[i + 1];
+  for (int i = 1; i < argc; i += 2) {
+    // A flag without its value (or --help) falls through to the usage.
+    const std::string a = i + 1 < argc ? argv[i] : "--help";
+    const char* v = i + 1 < argc ? argv[i + 1] : "";
     if (a == "--out") {
       so.output_dir = std::string(v) + "/capture";
     } else if (a == "--detail") {

@@ -13,7 +13,7 @@ cd "$(dirname "$0")/.."
 out=${1:-out/demo}
 ./tools/setup.sh
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build -j2 --target fvv
+cmake --build build -j2 --target fvv shape_bench
 fvv=build/encoder/cli/fvv
 rm -rf "$out" && mkdir -p "$out"
 echo "== the sample capture: 8 cameras at 640x480, 50 frames, with ground truth"
@@ -44,6 +44,8 @@ $fvv render "$out/capture" --renderer projective --poses "$out/poses.json" -o "$
   --cameras-from "$out/capture/truth/heldout" --camera 0 --first 30 --last 33
 $fvv render "$out/capture.fvv" -o "$out/render_heldout" --cameras-from "$out/capture/truth/heldout" \
   --camera 0 --first 30 --last 33
+echo "== shape refinement: generic model, visual hull and refined model against a bumpy actor's true surface"
+build/bench/shape_bench --out "$out/shape"
 echo "== conformance: the suite's streams through the reference decoder (conformance/README.md)"
 $fvv conform conformance -q
 echo
@@ -56,4 +58,5 @@ echo "         $out/encode_summary.json, $out/decoded and $out/decoded_cut (tex_
 echo "         poses.json), $out/render_orbit and $out/render_camera2 (render_fFFFFF.png),"
 echo "         $out/render_orbit/contact_sheet.png (12 novel views of frame 30),"
 echo "         $out/render_projective (Renderer I: contact sheet, held-out camera 0's view of frames 30-33;"
-echo "         $out/render_heldout is Renderer II's, $out/capture/truth/heldout/held00 the truth)"
+echo "         $out/render_heldout is Renderer II's, $out/capture/truth/heldout/held00 the truth),"
+echo "         $out/shape/capture (the bumpy actor's synthetic capture the shape table measured)"
