@@ -11,14 +11,15 @@ namespace fvv {
 namespace {
 
 struct EncodeArgs {
-  std::string capture, output, poses, textures, save_textures, summary_json, frames;
+  std::string capture, output, poses, textures, save_textures, summary_json, frames, static_texture;
   CodecOptionArgs codec;
   std::string motion_coder = "arith";
   double bpp = 0, psnr = 0;
   uint64_t bytes = 0;
   uint32_t atlas = 512, threads = 2;
   uint16_t gop_frames = 8, gop_cameras = 1, key_interval = 1;
-  bool no_masks = false, extract = false, fixed_shape = false, quiet = false, refine_shape = false;
+  bool no_masks = false, extract = false, fixed_shape = false, quiet = false, refine_shape = false,
+       no_fallback = false;
   int margin = 2;
   std::vector<std::string> meta;
 };
@@ -38,6 +39,8 @@ int RunEncode(const EncodeArgs& a) {
   s.extract_silhouettes = a.extract;
   s.tracker.adapt_shape = !a.fixed_shape;
   s.refine_shape = a.refine_shape;
+  s.fallback_texture = !a.no_fallback;
+  s.static_texture = a.static_texture;
   s.resample.silhouette_margin = a.margin;
   s.atlas_size = a.atlas;
   s.gop_frames = a.gop_frames;
@@ -129,6 +132,11 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
   e->add_flag("--extract", a->extract,
               "Background subtraction even when the capture lists silhouettes");
   e->add_flag("--fixed-shape", a->fixed_shape, "Tracking keeps the generic body's proportions");
+  e->add_flag("--no-fallback-texture", a->no_fallback,
+              "Leave texels no camera of a frame sees to the codec's fill, instead of the "
+              "actor's seamless static texture");
+  e->add_option("--static-texture", a->static_texture,
+                "Also write the actor's static seamless texture (atlas layout) to this image");
   e->add_flag("--refine-shape", a->refine_shape,
               "Refine the body model's surface to the actor on the first frame (silhouettes, "
               "stereo) before resampling; the stream stores the refined model");

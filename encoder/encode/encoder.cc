@@ -17,6 +17,7 @@
 #include "encoder/capture/capture_frames.h"
 #include "encoder/capture/track_capture.h"
 #include "encoder/encode/pose_file.h"
+#include "encoder/encode/seamless_texture.h"
 
 namespace fvv {
 namespace {
@@ -110,6 +111,11 @@ class Session {
     const size_t texels = size_t(s_.atlas_size) * s_.atlas_size;
     span_rgb_.assign(size_t(s_.gop_frames) * sum_.cameras * texels * 3, 0);
     span_mask_.assign(size_t(s_.gop_frames) * sum_.cameras * texels, 0);
+    if (s_.fallback_texture || !s_.static_texture.empty()) {
+      static_ = std::make_unique<StaticTexture>(s_.atlas_size);
+      span_fallback_.assign(s_.gop_frames, {});
+      all_seen_.assign(texels, 1);
+    }
     if (!s_.save_textures.empty()) FVV_RETURN_IF_ERROR(MakeTextureDirectories());
     return Status::Ok();
   }
@@ -125,22 +131,22 @@ class Session {
     raw_poses_.push_back(dofs);
     const size_t texels = size_t(s_.atlas_size) * s_.atlas_size;
     const uint32_t slot = (frame - first_) % s_.gop_frames;
+    const std::vector<Affine> skin =
+        SkinningMatrices(skeleton, DequantisePose(skeleton.Dofs(), motion_, q));
+    std::vector<Eigen::Vector3f> normals;
+    const std::vector<Eigen::Vector3f> positions = SkinPositions(model_.mesh, skin, &normals);
     if (images.empty()) {
       FVV_RETURN_IF_ERROR(ReadTextures(frame, slot));
     } else {
-      const std::vector<Affine> skin =
-          SkinningMatrices(skeleton, DequantisePose(skeleton.Dofs(), motion_, q));
-      std::vector<Eigen::Vector3f> normals;
-      const std::vector<Eigen::Vector3f> positions = SkinPositions(model_.mesh, skin, &normals);
       pool_.Run(sum_.cameras, [&](uint32_t c) {
         const size_t plane = size_t(slot) * sum_.cameras + c;
         ResampleView(map_, model_.mesh, positions, normals, cameras_[c], images[c],
                      silhouettes.empty() ? Image() : silhouettes[c], s_.resample,
                      &span_rgb_[plane * texels * 3], &span_mask_[plane * texels]);
       });
-      if (!s_.save_textures.empty()) FVV_RETURN_IF_ERROR(SaveTextures(frame, slot));
     }
     sum_.resample_s += Since(t0);
+    if (static_) AddToStaticTexture(slot, positions);
     if (slot + 1 == s_.gop_frames || frame == last_) FVV_RETURN_IF_ERROR(CodeSpan(slot + 1));
     return Status::Ok();
   }
@@ -175,6 +181,13 @@ class Session {
     }
     sum_.psnr_rgb = PsnrFromMse(sse_rgb_ / std::max<double>(1, 3.0 * sum_.visible_texels));
     if (!s_.save_textures.empty()) FVV_RETURN_IF_ERROR(WriteTexturesJson());
+    if (!s_.static_texture.empty()) {
+      Image img;
+      img.width = img.height = s_.atlas_size;
+      img.channels = 3;
+      img.pixels = static_->Rgb();
+      FVV_RETURN_IF_ERROR(WriteImage(s_.static_texture, img));
+    }
     sum_.write_s += Since(t0);
     return Status::Ok();
   }
@@ -209,10 +222,57 @@ class Session {
 
   // Codes the `frames` frames held for the current time span: one block per
   // camera group.
-  Status CodeSpan(uint32_t frames) {
+  // The frame's seamless texture joins the static one; the best-facing camera
+  // of every texel is kept for the fallback.
+  void AddToStaticTexture(uint32_t slot, const std::vector<Eigen::Vector3f>& positions) {
     const auto t0 = Clock::now();
+    const size_t texels = size_t(s_.atlas_size) * s_.atlas_size;
+    CameraTextures textures{s_.atlas_size, {}, {}}, facing{s_.atlas_size, {}, {}};
+    for (uint32_t c = 0; c < sum_.cameras; ++c) {
+      const size_t plane = size_t(slot) * sum_.cameras + c;
+      textures.rgb.push_back(&span_rgb_[plane * texels * 3]);
+      textures.masks.push_back(&span_mask_[plane * texels]);
+      facing.rgb.push_back(textures.rgb.back());
+      facing.masks.push_back(all_seen_.data());
+    }
+    const std::vector<int16_t> labels =
+        BestCameraLabels(map_, model_.mesh, positions, cameras_, textures);
+    static_->Add(BlendSeamless(textures, labels), labels);
+    span_fallback_[slot] = BestCameraLabels(map_, model_.mesh, positions, cameras_, facing);
+    sum_.seamless_s += Since(t0);
+  }
+
+  // Texels of the span's frames that no camera saw take the static texture's
+  // colour in their best-facing camera.
+  void ApplyFallback(uint32_t frames) {
+    const size_t texels = size_t(s_.atlas_size) * s_.atlas_size;
+    for (uint32_t t = 0; t < frames; ++t) {
+      for (uint32_t texel : map_.texel) {
+        const int16_t camera = span_fallback_[t][texel];
+        if (camera < 0 || !static_->Has(texel)) continue;
+        bool seen = false;
+        for (uint32_t c = 0; c < sum_.cameras && !seen; ++c) {
+          seen = span_mask_[(size_t(t) * sum_.cameras + c) * texels + texel] != 0;
+        }
+        if (seen) continue;
+        const size_t plane = size_t(t) * sum_.cameras + uint32_t(camera);
+        static_->Get(texel, &span_rgb_[(plane * texels + texel) * 3]);
+        span_mask_[plane * texels + texel] = 1;
+        ++sum_.fallback_texels;
+      }
+    }
+  }
+
+  Status CodeSpan(uint32_t frames) {
+    if (s_.fallback_texture && static_) ApplyFallback(frames);
     const uint32_t span_first =
         first_ + uint32_t(fragments_.size() / CameraGroups()) * s_.gop_frames;
+    // Saved as coded (fallback texels included), so other codecs compared on
+    // them code the same content, and --textures encodes them again.
+    if (!s_.save_textures.empty()) {
+      for (uint32_t t = 0; t < frames; ++t) FVV_RETURN_IF_ERROR(SaveTextures(span_first + t, t));
+    }
+    const auto t0 = Clock::now();
     const size_t texels = size_t(s_.atlas_size) * s_.atlas_size;
     for (uint32_t g = 0; g < CameraGroups(); ++g) {
       FragmentData frag;
@@ -379,7 +439,10 @@ class Session {
   BodyShape shape_;
   BodyModel model_;
   TexelMap map_;
-  std::vector<uint8_t> span_rgb_, span_mask_;  // (slot, camera, y, x)
+  std::vector<uint8_t> span_rgb_, span_mask_;        // (slot, camera, y, x)
+  std::unique_ptr<StaticTexture> static_;            // with fallback_texture or static_texture
+  std::vector<std::vector<int16_t>> span_fallback_;  // per slot: best-facing camera per texel
+  std::vector<uint8_t> all_seen_;                    // texels x 1: "every camera" masks
   std::vector<QuantisedPose> poses_;
   std::vector<std::vector<double>> raw_poses_;
   std::vector<FragmentData> fragments_;
@@ -553,6 +616,10 @@ std::string EncodeSummary::Table() const {
   if (pose_source == "tracked") {
     add("  tracking          mean IoU %.3f, %d frame(s) flagged\n", mean_iou, flagged_frames);
   }
+  if (fallback_texels > 0 || seamless_s > 0) {
+    add("  seamless texture  %.3f s per frame; %llu texel(s) no camera saw filled from it\n",
+        seamless_s / std::max(1u, frames), (unsigned long long)fallback_texels);
+  }
   if (!refine_moves.empty()) {
     add("  shape refinement  %.1f s on the first frame, mean vertex move %.1f mm\n", refine_s, [&] {
       double sum = 0;
@@ -569,41 +636,43 @@ std::string EncodeSummary::Table() const {
 }
 
 std::string EncodeSummary::ToJson() const {
-  nlohmann::json j = {{"output", output},
-                      {"level", level},
-                      {"first_frame", first_frame},
-                      {"frames", frames},
-                      {"cameras", cameras},
-                      {"atlas_size", atlas_size},
-                      {"gops", gops},
-                      {"poses", pose_source},
-                      {"bytes",
-                       {{"file", file_bytes},
-                        {"texture", texture_bytes},
-                        {"masks", mask_bytes},
-                        {"motion", motion_bytes}}},
-                      {"kbps",
-                       {{"file", kbps(file_bytes)},
-                        {"texture", kbps(texture_bytes)},
-                        {"masks", kbps(mask_bytes)},
-                        {"motion", kbps(motion_bytes)}}},
-                      {"atlas_texels", atlas_texels},
-                      {"visible_texels", visible_texels},
-                      {"ratio_atlas", ratio_atlas()},
-                      {"ratio_visible", ratio_visible()},
-                      {"psnr", {{"y", psnr[0]}, {"u", psnr[1]}, {"v", psnr[2]}, {"rgb", psnr_rgb}}},
-                      {"tracking", {{"mean_iou", mean_iou}, {"flagged", flagged_frames}}},
-                      {"shape_refinement",
-                       {{"refined", !refine_moves.empty()},
-                        {"seconds", refine_s},
-                        {"mean_move_per_level_m", refine_moves}}},
-                      {"seconds",
-                       {{"read", read_s},
-                        {"track", track_s},
-                        {"resample", resample_s},
-                        {"code", code_s},
-                        {"write", write_s},
-                        {"total", total_s}}}};
+  nlohmann::json j = {
+      {"output", output},
+      {"level", level},
+      {"first_frame", first_frame},
+      {"frames", frames},
+      {"cameras", cameras},
+      {"atlas_size", atlas_size},
+      {"gops", gops},
+      {"poses", pose_source},
+      {"bytes",
+       {{"file", file_bytes},
+        {"texture", texture_bytes},
+        {"masks", mask_bytes},
+        {"motion", motion_bytes}}},
+      {"kbps",
+       {{"file", kbps(file_bytes)},
+        {"texture", kbps(texture_bytes)},
+        {"masks", kbps(mask_bytes)},
+        {"motion", kbps(motion_bytes)}}},
+      {"atlas_texels", atlas_texels},
+      {"visible_texels", visible_texels},
+      {"ratio_atlas", ratio_atlas()},
+      {"ratio_visible", ratio_visible()},
+      {"psnr", {{"y", psnr[0]}, {"u", psnr[1]}, {"v", psnr[2]}, {"rgb", psnr_rgb}}},
+      {"tracking", {{"mean_iou", mean_iou}, {"flagged", flagged_frames}}},
+      {"seamless_texture", {{"seconds", seamless_s}, {"fallback_texels", fallback_texels}}},
+      {"shape_refinement",
+       {{"refined", !refine_moves.empty()},
+        {"seconds", refine_s},
+        {"mean_move_per_level_m", refine_moves}}},
+      {"seconds",
+       {{"read", read_s},
+        {"track", track_s},
+        {"resample", resample_s},
+        {"code", code_s},
+        {"write", write_s},
+        {"total", total_s}}}};
   return j.dump(1) + "\n";
 }
 

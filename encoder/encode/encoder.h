@@ -41,6 +41,14 @@ struct EncoderSettings {
   // then the refined mesh (same topology, skinning and atlas).
   bool refine_shape = false;
   ShapeRefinementOptions refinement;
+  // Seamless texture (issue 10): each frame's camera textures blended into one
+  // (best camera per triangle, multi-resolution splines), averaged over the
+  // frames into a static texture of the actor. With fallback_texture, texels
+  // no camera of a frame sees take the static texture's colour, in the
+  // best-facing camera's texture (its mask marks them), instead of the
+  // codec's smooth fill. `static_texture`: also write it as an image.
+  bool fallback_texture = true;
+  std::string static_texture;
 
   // Format and rate.
   uint32_t atlas_size = 512;  // 16..4096
@@ -86,6 +94,9 @@ struct EncodeSummary {
   // level (metres).
   double refine_s = 0;
   std::vector<double> refine_moves;
+  // Texels filled from the static texture (summed over frames), and its time.
+  uint64_t fallback_texels = 0;
+  double seamless_s = 0;
 
   double duration_s() const { return frames / fps; }
   double kbps(uint64_t bytes) const { return bytes * 8.0 / 1000 / duration_s(); }
