@@ -149,7 +149,9 @@ typedef struct {
 typedef struct {
   const uint8_t* pixels; /* atlas texture in the requested format; NULL for a camera the
                             budget's camera_mask left out */
-  const uint8_t* mask;   /* atlas_width x atlas_height bytes, 1 = the camera saw the texel;
+  const uint8_t* mask;   /* atlas_width x atlas_height bytes, 1 = the texture holds a sample
+                            of the surface there (the camera saw the texel, or the encoder
+                            filled it from other frames: SPEC.md section 7);
                             NULL when the stream carries no masks */
 } fvv_view;
 
