@@ -8,6 +8,8 @@
 //                    weights: [--silhouette-weight W] [--stereo-weight W]
 //                    [--regularisation W] [--iterations N] [--min-ncc C] [--patch R]
 //                    [--contour COS] [--noise N (sensor noise, 8-bit levels)]
+//                    [--features 0|1 (the truth's feature points as the features term)]
+//                    [--feature-weight W] [--pose-error M (start from a pose this far off)]
 #include <unistd.h>
 
 #include <cstdio>
@@ -26,6 +28,7 @@ int main(int argc, char** argv) {
   so.link_silhouettes = true;
   uint32_t frame = 0;
   fvv::ShapeRefinementOptions ro;
+  fvv::ComparisonOptions co;
   for (int i = 1; i < argc; i += 2) {
     // A flag without its value (or --help) falls through to the usage.
     const std::string a = i + 1 < argc ? argv[i] : "--help";
@@ -53,6 +56,12 @@ int main(int argc, char** argv) {
       ro.iterations = std::atoi(v);
     } else if (a == "--min-ncc") {
       ro.min_ncc = std::atof(v);
+    } else if (a == "--features") {
+      co.features = std::atoi(v) != 0;
+    } else if (a == "--pose-error") {
+      co.pose_error = std::atof(v);
+    } else if (a == "--feature-weight") {
+      ro.feature_weight = std::atof(v);
     } else if (a == "--noise") {
       so.noise = std::atof(v);
     } else if (a == "--patch") {
@@ -81,7 +90,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", synth.status().ToString().c_str());
     return 1;
   }
-  auto result = fvv::CompareShapes(so, frame, ro);
+  auto result = fvv::CompareShapes(so, frame, ro, co);
   if (!result.ok()) {
     std::fprintf(stderr, "%s\n", result.status().ToString().c_str());
     return 1;

@@ -518,9 +518,9 @@ Status ValidateBodyShape(const BodyShape& shape) {
   return Status::Ok();
 }
 
-BodyModel MakeGenericBody(const BodyShape& shape, const MeshResolution& resolution) {
+Skeleton MakeGenericSkeleton(const BodyShape& shape) {
   const Geometry g = JointPositions(shape);
-  BodyModel model;
+  Skeleton skeleton;
   for (int j = 0; j < kGenericJointCount; ++j) {
     const JointSpec& js = kJoints[j];
     Bone bone;
@@ -535,8 +535,15 @@ BodyModel MakeGenericBody(const BodyShape& shape, const MeshResolution& resoluti
       bone.dof_min[k] = IsRotationDof(k) ? float(js.lo[k]) : -50.0f;
       bone.dof_max[k] = IsRotationDof(k) ? float(js.hi[k]) : 50.0f;
     }
-    model.skeleton.bones.push_back(bone);
+    skeleton.bones.push_back(bone);
   }
+  return skeleton;
+}
+
+BodyModel MakeGenericBody(const BodyShape& shape, const MeshResolution& resolution) {
+  const Geometry g = JointPositions(shape);
+  BodyModel model;
+  model.skeleton = MakeGenericSkeleton(shape);
   std::vector<uint32_t> canonical;
   for (int s = 0; s < kGenericSegmentCount; ++s) {
     AddSegment(s, g, shape, resolution, &model.mesh, &canonical);

@@ -100,6 +100,10 @@ Status ValidateBodyShape(const BodyShape& shape);
 BodyModel MakeGenericBody(const BodyShape& shape = BodyShape(),
                           const MeshResolution& resolution = MeshResolution());
 
+// The skeleton alone (what MakeGenericBody's model has), cheap enough to
+// build inside a fit that varies the shape.
+Skeleton MakeGenericSkeleton(const BodyShape& shape = BodyShape());
+
 }  // namespace fvv
 
 #endif  // FVV_ENCODER_BODY_GENERIC_BODY_H_

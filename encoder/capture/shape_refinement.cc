@@ -350,6 +350,42 @@ StereoTarget MatchVertex(const Context& ctx, const Vector3d& p, const Vector3d& 
   return out;
 }
 
+// The thin-plate spline (3D: phi(r) = r, plus an affine part) through the
+// displacements `values` at `centres`, evaluated at `points`. Fewer than four
+// centres, or coplanar ones, cannot fix the affine part: then the mean
+// displacement everywhere.
+std::vector<Vector3d> ThinPlateDisplacements(const std::vector<Vector3d>& centres,
+                                             const std::vector<Vector3d>& values,
+                                             const std::vector<Vector3f>& points) {
+  const Eigen::Index n = Eigen::Index(centres.size());
+  std::vector<Vector3d> out(points.size(), Vector3d::Zero());
+  if (n == 0) return out;
+  Vector3d mean = Vector3d::Zero();
+  for (const Vector3d& v : values) mean += v / double(n);
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(n + 4, n + 4);
+  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(n + 4, 3);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    for (Eigen::Index j = 0; j < n; ++j) a(i, j) = (centres[i] - centres[j]).norm();
+    a(i, n) = a(n, i) = 1;
+    for (int k = 0; k < 3; ++k) a(i, n + 1 + k) = a(n + 1 + k, i) = centres[i][k];
+    b.row(i) = values[i].transpose();
+  }
+  Eigen::FullPivLU<Eigen::MatrixXd> lu(a);
+  if (n < 4 || lu.rank() < n + 4) {
+    std::fill(out.begin(), out.end(), mean);
+    return out;
+  }
+  const Eigen::MatrixXd w = lu.solve(b);
+  for (size_t v = 0; v < points.size(); ++v) {
+    const Vector3d p = points[v].cast<double>();
+    Vector3d d = w.row(n).transpose();
+    for (int k = 0; k < 3; ++k) d += w.row(n + 1 + k).transpose() * p[k];
+    for (Eigen::Index i = 0; i < n; ++i) d += w.row(i).transpose() * (p - centres[i]).norm();
+    out[v] = d;
+  }
+  return out;
+}
+
 Status CheckFrame(const BodyModel& model, const std::vector<Camera>& cameras,
                   const RefinementFrame& f) {
   if (f.dofs.size() != model.skeleton.Dofs().size()) {
@@ -389,6 +425,22 @@ Status RefineFrame(const BodyModel& model, const std::vector<Camera>& cameras,
     const Vector3d b(model.mesh.positions[v][0], model.mesh.positions[v][1],
                      model.mesh.positions[v][2]);
     p[v] = (skin[v].topLeftCorner<3, 3>() * b + skin[v].topRightCorner<3, 1>()).cast<float>();
+  }
+  // Features: the joint errors, interpolated to every vertex, move the whole
+  // surface once before the descent (a smooth correction the data terms then
+  // refine; as a standing pull it would hold the surface to the start shape).
+  if (!frame.features.empty() && o.feature_weight > 0) {
+    const std::vector<Vector3d> joints = JointPositions(model.skeleton, frame.dofs);
+    std::vector<Vector3d> centres, errors;
+    for (const auto& [name, position] : frame.features) {
+      for (size_t b = 0; b < model.skeleton.bones.size(); ++b) {
+        if (model.skeleton.bones[b].name != name) continue;
+        centres.push_back(joints[b]);
+        errors.push_back(position - joints[b]);
+      }
+    }
+    const std::vector<Vector3d> d = ThinPlateDisplacements(centres, errors, p);
+    for (size_t v = 0; v < p.size(); ++v) p[v] += (o.feature_weight * d[v]).cast<float>();
   }
   // Regularisation holds the posed model's own local shape (skinning bends
   // it away from the bind pose's at the joints; that is not to be undone).

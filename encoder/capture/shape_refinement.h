@@ -18,6 +18,11 @@
 //   the views is undone by the model, as rectification would for a plane).
 //   Occluded views are excluded by a depth-map visibility test of the current
 //   shape.
+// - features (when given): the errors between the model's joint centres and
+//   the reconstructed feature points, interpolated to every vertex by a
+//   thin-plate radial basis function (biharmonic in 3D, |r|, with an affine
+//   part), move the surface with the joints it should follow, once, before
+//   the descent.
 // - regularisation: each vertex kept near its position reconstructed from its
 //   neighbouring triangles' local frames (barycentric coordinates in the plane
 //   of three 1-ring neighbours plus a height along its normal, scaled with the
@@ -30,7 +35,9 @@
 #ifndef FVV_ENCODER_CAPTURE_SHAPE_REFINEMENT_H_
 #define FVV_ENCODER_CAPTURE_SHAPE_REFINEMENT_H_
 
+#include <Eigen/Core>
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -52,6 +59,7 @@ struct ShapeRefinementOptions {
   double silhouette_weight = 1.0;
   double stereo_weight = 0.3;
   double regularisation_weight = 1.0;
+  double feature_weight = 1.0;   // share of the interpolated feature errors applied
   double min_ncc = 0.8;          // weaker stereo matches are not used
   double min_patch_std = 3.0;    // a key patch flatter than this (8-bit levels) has no stereo
   int patch_radius = 2;          // the stereo patch is (2r + 1)^2 samples
@@ -64,6 +72,9 @@ struct ShapeRefinementOptions {
 struct RefinementFrame {
   std::vector<double> dofs;
   std::vector<Image> images, silhouettes;
+  // Optional: reconstructed 3D feature points (joint centres by generic joint
+  // name, e.g. TriangulateFeatures' positions).
+  std::map<std::string, Eigen::Vector3d> features;
 };
 
 struct ShapeRefinementReport {

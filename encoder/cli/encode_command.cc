@@ -11,7 +11,8 @@ namespace fvv {
 namespace {
 
 struct EncodeArgs {
-  std::string capture, output, poses, textures, save_textures, summary_json, frames, static_texture;
+  std::string capture, output, poses, textures, save_textures, summary_json, frames, static_texture,
+      features;
   CodecOptionArgs codec;
   std::string motion_coder = "arith";
   double bpp = 0, psnr = 0;
@@ -41,6 +42,11 @@ int RunEncode(const EncodeArgs& a) {
   s.refine_shape = a.refine_shape;
   s.fallback_texture = !a.no_fallback;
   s.static_texture = a.static_texture;
+  s.features = a.features;
+  if (!a.features.empty() && !a.refine_shape) {
+    std::fprintf(stderr, "fvv: --features is for --refine-shape\n");
+    return 1;
+  }
   s.resample.silhouette_margin = a.margin;
   s.atlas_size = a.atlas;
   s.gop_frames = a.gop_frames;
@@ -137,6 +143,10 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
               "actor's seamless static texture");
   e->add_option("--static-texture", a->static_texture,
                 "Also write the actor's static seamless texture (atlas layout) to this image");
+  e->add_option("--features", a->features,
+                "With --refine-shape: feature points (JSON, joint centres per camera image) for "
+                "the refinement's features term")
+      ->check(CLI::ExistingFile);
   e->add_flag("--refine-shape", a->refine_shape,
               "Refine the body model's surface to the actor on the first frame (silhouettes, "
               "stereo) before resampling; the stream stores the refined model");

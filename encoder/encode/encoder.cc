@@ -15,6 +15,7 @@
 #include "encoder/atlas/atlas.h"
 #include "encoder/body/kinematics.h"
 #include "encoder/capture/capture_frames.h"
+#include "encoder/capture/features.h"
 #include "encoder/capture/track_capture.h"
 #include "encoder/encode/pose_file.h"
 #include "encoder/encode/seamless_texture.h"
@@ -518,6 +519,25 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
                            std::to_string(s.atlas_size) + " (pass --atlas to match)");
   }
 
+  // Feature points for shape refinement's features term (optional).
+  std::optional<FeatureSet> features;
+  if (!s.features.empty()) {
+    std::vector<Camera> cams;
+    for (const auto& c : cap->cameras) cams.push_back(c.calibration);
+    StatusOr<FeatureSet> f = LoadFeatures(s.features, cams, cap->frame_count);
+    if (!f.ok()) return f.status();
+    features = std::move(*f);
+  }
+  const auto FeaturesOf = [&](uint32_t frame) {
+    std::map<std::string, Eigen::Vector3d> out;
+    if (!features || !features->frames.count(frame)) return out;
+    std::vector<Camera> cams;
+    for (const auto& c : cap->cameras) cams.push_back(c.calibration);
+    for (const auto& [name, p] : TriangulateFeatures(features->frames.at(frame), cams)) {
+      out[name] = p.position;
+    }
+    return out;
+  };
   Session session(*cap, output, s, first, last);
   EncodeSummary& sum = session.summary();
   const uint32_t total = last - first + 1;
@@ -549,7 +569,8 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
         sum.read_s += Since(t0);
       }
       if (f == first) {
-        const RefinementFrame refine{given->poses[f - given->first_frame], images, sils};
+        const RefinementFrame refine{given->poses[f - given->first_frame], images, sils,
+                                     FeaturesOf(f)};
         FVV_RETURN_IF_ERROR(session.SetShape(given->shape, frames ? &refine : nullptr));
       }
       FVV_RETURN_IF_ERROR(session.AddFrame(f, given->poses[f - given->first_frame], images, sils));
@@ -565,7 +586,7 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
     to.on_frame = [&](uint32_t f, const FrameFit& fit, const Tracker& tracker,
                       const std::vector<Image>& images, const std::vector<Image>& sils) -> Status {
       if (!session.HasShape()) {
-        const RefinementFrame refine{fit.dofs, images, sils};
+        const RefinementFrame refine{fit.dofs, images, sils, FeaturesOf(f)};
         FVV_RETURN_IF_ERROR(session.SetShape(tracker.shape(), &refine));
       }
       FVV_RETURN_IF_ERROR(session.AddFrame(f, fit.dofs, images, sils));

@@ -41,6 +41,7 @@ struct EncoderSettings {
   // then the refined mesh (same topology, skinning and atlas).
   bool refine_shape = false;
   ShapeRefinementOptions refinement;
+  std::string features;  // feature points (features.json) for the refinement's features term
   // Seamless texture (issue 10): each frame's camera textures blended into one
   // (best camera per triangle, multi-resolution splines), averaged over the
   // frames into a static texture of the actor. With fallback_texture, texels

@@ -9,6 +9,7 @@
 #include "encoder/body/mesh_ops.h"
 #include "encoder/capture/capture.h"
 #include "encoder/capture/capture_frames.h"
+#include "encoder/capture/features.h"
 #include "encoder/capture/projective_texturing.h"
 #include "encoder/capture/visual_hull.h"
 #include "encoder/encode/pose_file.h"
@@ -78,7 +79,8 @@ std::string ShapeComparison::Table() const {
 }
 
 StatusOr<ShapeComparison> CompareShapes(const SynthOptions& so, uint32_t frame,
-                                        const ShapeRefinementOptions& ro) {
+                                        const ShapeRefinementOptions& ro,
+                                        const ComparisonOptions& co) {
   ThreadPool pool(2);
   const ParallelRunner runner = pool.runner();
   StatusOr<Capture> cap = LoadCapture(so.output_dir);
@@ -88,7 +90,13 @@ StatusOr<ShapeComparison> CompareShapes(const SynthOptions& so, uint32_t frame,
   if (frame < poses->first_frame || frame - poses->first_frame >= poses->poses.size()) {
     return InvalidArgument("shape comparison: no true pose for frame " + std::to_string(frame));
   }
-  const std::vector<double>& dofs = poses->poses[frame - poses->first_frame];
+  std::vector<double> dofs = poses->poses[frame - poses->first_frame];
+  if (co.pose_error != 0) {
+    const Skeleton skeleton = MakeGenericSkeleton(poses->shape);
+    const int tx = DofIndex(skeleton, kRoot, 3), bend = DofIndex(skeleton, kLumbar, 0);
+    if (tx >= 0) dofs[tx] += co.pose_error;
+    if (bend >= 0) dofs[bend] += 5 * co.pose_error;
+  }
   std::vector<Camera> cameras;
   for (const auto& c : cap->cameras) cameras.push_back(c.calibration);
   StatusOr<std::unique_ptr<CaptureFrames>> frames = CaptureFrames::Open(*cap, false, &pool);
@@ -96,6 +104,16 @@ StatusOr<ShapeComparison> CompareShapes(const SynthOptions& so, uint32_t frame,
   RefinementFrame input;
   input.dofs = dofs;
   FVV_RETURN_IF_ERROR((*frames)->Read(frame, &input.images, &input.silhouettes));
+  if (co.features) {
+    StatusOr<FeatureSet> features =
+        LoadFeatures(so.output_dir + "/truth/features.json", cameras, cap->frame_count);
+    if (!features.ok()) return features.status();
+    if (features->frames.count(frame)) {
+      for (const auto& [name, f] : TriangulateFeatures(features->frames.at(frame), cameras)) {
+        input.features[name] = f.position;
+      }
+    }
+  }
 
   // The true surface.
   StatusOr<std::unique_ptr<Actor>> actor = MakeSynthActor(so);

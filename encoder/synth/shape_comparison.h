@@ -34,11 +34,21 @@ struct ShapeComparison {
   std::string Table() const;
 };
 
+struct ComparisonOptions {
+  // Refine with the capture's feature points (truth/features.json,
+  // triangulated) as the features term.
+  bool features = false;
+  // Start from a pose this far off (metres, the root moved along x; the
+  // lumbar bent by 5 radians per metre): a tracker's error.
+  double pose_error = 0;
+};
+
 // `synth` made the capture in synth.output_dir (with held-out cameras); it is
 // made again here in memory to know the true surface. Silhouettes are the
 // capture's true ones when it lists them, else extracted.
 StatusOr<ShapeComparison> CompareShapes(const SynthOptions& synth, uint32_t frame,
-                                        const ShapeRefinementOptions& options);
+                                        const ShapeRefinementOptions& options,
+                                        const ComparisonOptions& comparison = {});
 
 }  // namespace fvv
 

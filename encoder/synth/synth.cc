@@ -9,6 +9,7 @@
 #include "encoder/body/generic_body.h"
 #include "encoder/body/kinematics.h"
 #include "encoder/capture/calibration.h"
+#include "encoder/capture/features.h"
 #include "encoder/import/bvh.h"
 #include "encoder/import/retarget.h"
 #include "encoder/synth/body_texture.h"
@@ -235,6 +236,7 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
   FVV_RETURN_IF_ERROR(write_all(&pending));
 
   nlohmann::json truth_frames = nlohmann::json::array();
+  FeatureSet features;
   const auto body = dynamic_cast<const BodyModelActor*>(&actor);
   for (uint32_t f = 0; f < o.frames; ++f) {
     const std::vector<Eigen::Matrix4f> skin = actor.Skinning(f);
@@ -265,6 +267,18 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
     }
     FVV_RETURN_IF_ERROR(write_all(&pending));
 
+    // Feature points: the joints seen by each camera (truth/features.json,
+    // as a studio's annotation or a keypoint detector would give them).
+    for (const NamedPoint& j : actor.Joints(f)) {
+      if (!IsFeatureName(j.name)) continue;
+      for (uint32_t c = 0; c < cameras.size(); ++c) {
+        Eigen::Vector2d px;
+        if (ProjectPoint(cameras[c], j.position, &px) && px.x() >= 0 && px.y() >= 0 &&
+            px.x() <= cameras[c].width - 1 && px.y() <= cameras[c].height - 1) {
+          features.frames[f][j.name][c] = px;
+        }
+      }
+    }
     nlohmann::json tf;
     tf["frame"] = f;
     nlohmann::json joints = nlohmann::json::object();
@@ -308,6 +322,10 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
     truth["dof_names"] = dofs;
   }
   truth["frames"] = truth_frames;
+  const std::string features_text = FeaturesToJson(features, cameras);
+  FVV_RETURN_IF_ERROR(WriteFileAtomic(dir + "/truth/features.json",
+                                      reinterpret_cast<const uint8_t*>(features_text.data()),
+                                      features_text.size()));
   const std::string truth_text = truth.dump(1) + "\n";
   FVV_RETURN_IF_ERROR(WriteFileAtomic(dir + "/truth/truth.json",
                                       reinterpret_cast<const uint8_t*>(truth_text.data()),
