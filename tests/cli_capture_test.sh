@@ -26,6 +26,18 @@ out=$("$fvv" capture sheet "$dir/cap" --frame 2 -o "$dir/sheet.png" 2>&1) || fai
 out=$("$fvv" capture hull "$dir/cap" --frame 1 -o "$dir/hull.ply" --voxel 0.02 2>&1) || fail "hull: $out"
 grep -q "visual hull of frame 1 (2 cameras" <<<"$out" || fail "hull report: $out"
 head -1 "$dir/hull.ply" | grep -q "^ply" && [ "$(grep -c . "$dir/hull.ply")" -gt 100 ] || fail "hull.ply"
+# Poses from feature points (synth writes its joints' as truth/features.json),
+# good enough to encode with; a feature file naming an unknown camera fails.
+out=$("$fvv" capture register "$dir/cap" --features "$dir/cap/truth/features.json" -o "$dir/reg.json" \
+  --truth "$dir/cap" 2>&1) || fail "register: $out"
+grep -q "registered frames 0..2" <<<"$out" && grep -q "joint error against" <<<"$out" ||
+  fail "register report: $out"
+"$fvv" encode "$dir/cap" -o "$dir/reg.fvv" --poses "$dir/reg.json" --atlas 128 -q >/dev/null 2>&1 ||
+  fail "encode with registered poses"
+echo '{"features": [{"frame": 0, "camera": "cam09", "points": {"l_knee": [1, 2]}}]}' >"$dir/bad.json"
+out=$("$fvv" capture register "$dir/cap" --features "$dir/bad.json" -o "$dir/bad_reg.json" 2>&1) &&
+  fail "a feature file with an unknown camera accepted"
+grep -q 'no camera "cam09"' <<<"$out" && [ ! -e "$dir/bad_reg.json" ] || fail "register error: $out"
 out=$("$fvv" capture hull "$dir/cap" --frame 3 -o "$dir/hull3.ply" 2>&1) && fail "hull of frame 3 accepted"
 grep -q "the capture has 3 frames" <<<"$out" && [ ! -e "$dir/hull3.ply" ] || fail "hull frame message: $out"
 

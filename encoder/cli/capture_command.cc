@@ -9,6 +9,7 @@
 #include "encoder/capture/capture.h"
 #include "encoder/capture/capture_frames.h"
 #include "encoder/capture/visual_hull.h"
+#include "encoder/cli/register_command.h"
 #include "encoder/synth/synth.h"
 
 namespace fvv {
@@ -299,6 +300,7 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
   vh->add_flag("--extract", hull->extract,
                "Background subtraction even when the capture lists silhouettes");
   vh->callback([hull, exit_code] { *exit_code = RunHull(*hull); });
+  AddRegisterCommand(cap, exit_code);
 }
 
 }  // namespace fvv
