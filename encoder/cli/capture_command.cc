@@ -239,7 +239,9 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
   s->callback([o, exit_code] { *exit_code = RunSynthCommand(*o); });
 
   CLI::App* cap = app->add_subcommand(
-      "capture", "Capture directories: check, contact sheet, calibration import, visual hull");
+      "capture",
+      "Capture directories: check, contact sheet, calibration import, visual hull, registration "
+      "from feature points");
   cap->require_subcommand(1);
   auto check_path = std::make_shared<std::string>();
   CLI::App* check =
