@@ -18,6 +18,7 @@
 #include "encoder/encode/encoder.h"
 #include "encoder/encode/pose_file.h"
 #include "encoder/synth/synth.h"
+#include "encoder/synth/view_score.h"
 #include "fvv/fvv_decoder.hpp"
 #include "gtest/gtest.h"
 #include "player/decoder/public_camera.h"
@@ -34,19 +35,9 @@ struct ViewScore {
   uint64_t pixels = 0;
 };
 
-// PSNR (RGB) of `rgb` against `truth` over the pixels the silhouette marks.
 ViewScore Score(const std::vector<uint8_t>& rgb, const Image& truth, const Image& silhouette) {
-  double sse = 0;
   ViewScore s;
-  for (size_t i = 0; i < silhouette.pixels.size(); ++i) {
-    if (!silhouette.pixels[i]) continue;
-    ++s.pixels;
-    for (int k = 0; k < 3; ++k) {
-      const double d = double(rgb[i * 3 + k]) - truth.pixels[i * 3 + k];
-      sse += d * d;
-    }
-  }
-  s.psnr = 10 * std::log10(255.0 * 255.0 / std::max(sse / (3.0 * s.pixels), 1e-9));
+  s.psnr = ActorPsnr(rgb, truth, silhouette, &s.pixels);
   return s;
 }
 

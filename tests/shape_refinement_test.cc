@@ -22,10 +22,7 @@
 #include "encoder/encode/encoder.h"
 #include "encoder/encode/pose_file.h"
 #include "encoder/synth/shape_comparison.h"
-#include "fvv/fvv_decoder.hpp"
-#include "player/decoder/public_camera.h"
-#include "player/render/headless.h"
-#include "player/render/renderer.h"
+#include "encoder/synth/view_score.h"
 
 namespace fvv {
 namespace {
@@ -217,55 +214,6 @@ TEST_F(ShapeRefinementTest, RefinedBindPoseSkinsBackToTheRefinedPose) {
   EXPECT_EQ(RefineShape(generic, cameras, {bad}, o).status().code(), StatusCode::kInvalidArgument);
 }
 
-// RGB PSNR of a Renderer II view of `stream` from held-out camera 0 at
-// `frame`, over the generator's silhouette of that view.
-double HeldOutPsnr(const std::string& stream, const std::string& capture, uint32_t frame) {
-  auto held = LoadCapture(capture + "/truth/heldout");
-  EXPECT_TRUE(held.ok());
-  if (!held.ok()) return 0;
-  CaptureReader reader(*held);
-  const Camera& cam = held->cameras[0].calibration;
-  DecoderPtr dec = MakeDecoder();
-  EXPECT_EQ(fvv_decoder_open_file(dec.get(), stream.c_str()), FVV_OK);
-  fvv_stream_info info;
-  fvv_decoder_get_info(dec.get(), &info);
-  fvv_model model;
-  fvv_decoder_get_model(dec.get(), &model);
-  const int w = int(cam.width), h = int(cam.height);
-  auto ctx = HeadlessContext::Create(w, h);
-  EXPECT_TRUE(ctx.ok());
-  if (!ctx.ok()) return 0;
-  auto r = Renderer::Create((*ctx)->gl(), model, CameraCentres(dec.get()), info.atlas_width,
-                            info.atlas_height);
-  EXPECT_TRUE(r.ok());
-  if (!r.ok()) return 0;
-  FramePtr f = DecodeFrame(dec.get(), frame, nullptr);
-  EXPECT_TRUE(f);
-  if (!f) return 0;
-  RenderView view;
-  CameraViewProjection(PublicCamera(cam), 0.05f, 50.0f, &view.view, &view.projection);
-  const auto c = cam.Centre();
-  view.eye = glm::vec3(c[0], c[1], c[2]);
-  std::vector<uint8_t> rgb;
-  EXPECT_TRUE((*r)->SetFrame(*f).ok());
-  EXPECT_TRUE((*r)->Draw(view, w, h).ok());
-  EXPECT_TRUE((*r)->ReadRgb(w, h, &rgb).ok());
-  auto truth = reader.ReadFrame(0, frame);
-  auto sil = reader.ReadSilhouette(0, frame);
-  EXPECT_TRUE(truth.ok() && sil.ok());
-  double sse = 0;
-  uint64_t n = 0;
-  for (size_t i = 0; i < sil->pixels.size(); ++i) {
-    if (!sil->pixels[i]) continue;
-    ++n;
-    for (int k = 0; k < 3; ++k) {
-      const double d = double(rgb[i * 3 + k]) - truth->pixels[i * 3 + k];
-      sse += d * d;
-    }
-  }
-  return 10 * std::log10(255.0 * 255.0 / std::max(sse / (3.0 * std::max<uint64_t>(n, 1)), 1e-9));
-}
-
 TEST_F(ShapeRefinementTest, EncoderStoresTheRefinedModelAndTheStreamRendersBetter) {
   EncoderSettings s;
   s.poses = synth_.output_dir;  // true poses: this measures the shape
@@ -280,8 +228,10 @@ TEST_F(ShapeRefinementTest, EncoderStoresTheRefinedModelAndTheStreamRendersBette
   EXPECT_GT(better->refine_moves[0], 0.001);
   EXPECT_TRUE(plain->refine_moves.empty());
   for (uint32_t f = 0; f < 2; ++f) {
-    const double a = HeldOutPsnr(dir_ + "/plain.fvv", synth_.output_dir, f);
-    const double b = HeldOutPsnr(dir_ + "/refined.fvv", synth_.output_dir, f);
+    const StatusOr<double> pa = HeldOutStreamPsnr(dir_ + "/plain.fvv", synth_.output_dir, 0, f);
+    const StatusOr<double> pb = HeldOutStreamPsnr(dir_ + "/refined.fvv", synth_.output_dir, 0, f);
+    ASSERT_TRUE(pa.ok() && pb.ok());
+    const double a = *pa, b = *pb;
     std::printf(
         "  held-out camera, frame %u: Renderer II %.2f dB with the generic model, %.2f dB "
         "with the refined one\n",

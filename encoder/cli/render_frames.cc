@@ -22,7 +22,22 @@ double Since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
-class StreamFrames : public RenderFrames {
+// Frames drawn by renderer type R (both renderers draw and read back alike).
+template <class R>
+class FramesDrawnBy : public RenderFrames {
+ public:
+  Status Draw(const RenderView& view, int width, int height) override {
+    return renderer_->Draw(view, width, height);
+  }
+  Status ReadRgb(int width, int height, std::vector<uint8_t>* rgb) override {
+    return renderer_->ReadRgb(width, height, rgb);
+  }
+
+ protected:
+  std::unique_ptr<R> renderer_;
+};
+
+class StreamFrames : public FramesDrawnBy<Renderer> {
  public:
   Status Open(const std::string& path, const StreamRenderOptions& o) {
     decoder_ = MakeDecoder();
@@ -63,12 +78,6 @@ class StreamFrames : public RenderFrames {
     *root = glm::vec3(frame->bone_world[12], frame->bone_world[13], frame->bone_world[14]);
     return Status::Ok();
   }
-  Status Draw(const RenderView& view, int width, int height) override {
-    return renderer_->Draw(view, width, height);
-  }
-  Status ReadRgb(int width, int height, std::vector<uint8_t>* rgb) override {
-    return renderer_->ReadRgb(width, height, rgb);
-  }
   std::string LoadTimes(uint32_t frames) const override {
     char line[160];
     std::snprintf(line, sizeof(line),
@@ -82,11 +91,10 @@ class StreamFrames : public RenderFrames {
   DecoderPtr decoder_;
   fvv_stream_info info_{};
   fvv_decode_budget budget_{};
-  std::unique_ptr<Renderer> renderer_;
   double decode_s_ = 0, upload_s_ = 0;
 };
 
-class CaptureFramesSource : public RenderFrames {
+class CaptureFramesSource : public FramesDrawnBy<ProjectiveRenderer> {
  public:
   CaptureFramesSource() : pool_(2) {}
   Status Open(const std::string& path, const CaptureRenderOptions& o) {
@@ -164,12 +172,6 @@ class CaptureFramesSource : public RenderFrames {
     *root = glm::vec3(float(frame->root.x()), float(frame->root.y()), float(frame->root.z()));
     return Status::Ok();
   }
-  Status Draw(const RenderView& view, int width, int height) override {
-    return renderer_->Draw(view, width, height);
-  }
-  Status ReadRgb(int width, int height, std::vector<uint8_t>* rgb) override {
-    return renderer_->ReadRgb(width, height, rgb);
-  }
   std::string LoadTimes(uint32_t frames) const override {
     char line[200];
     std::snprintf(line, sizeof(line),
@@ -187,7 +189,6 @@ class CaptureFramesSource : public RenderFrames {
   BodyModel model_;
   std::vector<std::vector<double>> poses_;  // first_..last_
   std::unique_ptr<CaptureFrames> frames_;
-  std::unique_ptr<ProjectiveRenderer> renderer_;
   double read_s_ = 0, prepare_s_ = 0, upload_s_ = 0;
 };
 

@@ -13,6 +13,7 @@
 #include "encoder/capture/projective_texturing.h"
 #include "encoder/capture/visual_hull.h"
 #include "encoder/encode/pose_file.h"
+#include "encoder/synth/view_score.h"
 #include "player/decoder/public_camera.h"
 #include "player/render/headless.h"
 #include "player/render/projective_renderer.h"
@@ -41,21 +42,6 @@ std::vector<Eigen::Vector3d> SeenPoints(const Shape& s, const std::vector<Camera
     if (seen) out.push_back(s.positions[v].cast<double>());
   }
   return out;
-}
-
-// RGB PSNR of `rgb` against `truth` over the silhouette's pixels.
-double ActorPsnr(const std::vector<uint8_t>& rgb, const Image& truth, const Image& silhouette) {
-  double sse = 0;
-  uint64_t n = 0;
-  for (size_t i = 0; i < silhouette.pixels.size(); ++i) {
-    if (!silhouette.pixels[i]) continue;
-    ++n;
-    for (int k = 0; k < 3; ++k) {
-      const double d = double(rgb[i * 3 + k]) - truth.pixels[i * 3 + k];
-      sse += d * d;
-    }
-  }
-  return n ? 10 * std::log10(255.0 * 255.0 / std::max(sse / (3.0 * n), 1e-9)) : 0.0;
 }
 
 }  // namespace
