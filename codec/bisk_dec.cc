@@ -1,0 +1,45 @@
+#include <algorithm>
+
+#include "codec/bisk.h"
+#include "codec/bisk_coder.h"
+
+namespace fvv {
+
+Status BiskDecode(const uint8_t* data, size_t size, WaveletKernel kernel, int levels,
+                  ShapePlane* image, BiskDecodeInfo* info) {
+  const size_t n = size_t(image->width) * image->height;
+  if (image->mask.size() != n) return InvalidArgument("BISK: the shape is not width x height");
+  const std::vector<uint8_t> shape = image->mask;
+  image->samples.assign(n, 0);
+  BiskDecodeInfo local;
+  if (size == 0) {
+    local.truncated = true;
+    if (info) *info = local;
+    return Status::Ok();
+  }
+  if (data[0] == 255) {
+    if (info) *info = local;
+    return Status::Ok();
+  }
+  if (data[0] > 30) return Corrupt("BISK: top bitplane " + std::to_string(data[0]) + " > 30");
+  const int top = data[0];
+  // The coefficients' layout is the shape's, transformed.
+  const std::vector<std::vector<uint8_t>> masks =
+      ShapeAdaptiveMasks(shape, image->width, image->height, levels);
+  const std::vector<uint8_t>& layout = masks.back();
+  RangeDecoder dec(data + 1, size - 1);
+  bisk::BiskCoder<false> coder(image->width, image->height, layout, levels, image->samples.data(),
+                               nullptr, &dec);
+  local.planes_completed = coder.Run(top);
+  local.truncated = local.planes_completed < top + 1;
+  coder.Reconstruct();
+  image->mask = layout;
+  InverseShapeAdaptive(kernel, levels, shape, image);
+  for (size_t i = 0; i < n; ++i) {
+    if (!shape[i]) image->samples[i] = 0;
+  }
+  if (info) *info = local;
+  return Status::Ok();
+}
+
+}  // namespace fvv

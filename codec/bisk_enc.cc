@@ -1,0 +1,31 @@
+#include <algorithm>
+#include <cstdlib>
+
+#include "codec/bisk.h"
+#include "codec/bisk_coder.h"
+
+namespace fvv {
+
+std::vector<uint8_t> BiskEncode(const ShapePlane& image, WaveletKernel kernel, int levels) {
+  ShapePlane p = image;
+  ForwardShapeAdaptive(kernel, levels, &p);
+  int32_t max = 0;
+  for (size_t i = 0; i < p.samples.size(); ++i) {
+    if (p.mask[i]) max = std::max(max, std::abs(p.samples[i]));
+  }
+  std::vector<uint8_t> out;
+  if (max == 0) {
+    out.push_back(255);
+    return out;
+  }
+  const int top = bisk::Log2Floor(uint64_t(max));
+  out.push_back(uint8_t(top));
+  RangeEncoder enc;
+  bisk::BiskCoder<true> coder(p.width, p.height, p.mask, levels, p.samples.data(), &enc, nullptr);
+  coder.Run(top);
+  const std::vector<uint8_t> body = enc.Finish();
+  out.insert(out.end(), body.begin(), body.end());
+  return out;
+}
+
+}  // namespace fvv
