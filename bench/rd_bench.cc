@@ -2,6 +2,8 @@
 // multi-view atlas textures (what `fvv encode --save-textures` writes), at
 // four compression ratios, one table from one run:
 //   fvv      4D wavelet + 4D SPIHT on 8x8 GOP blocks (in process, 2 threads)
+//   fvv BISK the predictive scheme (T00, R0, R per 8-frame GOP of all cameras)
+//            with shape-adaptive BISK (in process, 1 thread; issue 9)
 //   OpenJPEG per-frame JPEG 2000 (opj_compress -I, 9/7, -r at fvv's bytes)
 //   x264     each camera's atlas sequence as one H.264 video (yuv444p, preset
 //            medium, two-pass at fvv's bitrate)
@@ -26,6 +28,7 @@
 #include <vector>
 
 #include "codec/fill.h"
+#include "codec/predictive_texture.h"
 #include "encoder/encode/encoder.h"
 #include "fvv/fvv_decoder.hpp"
 #include "tools/imageio/image_io.h"
@@ -160,6 +163,51 @@ Result RunFvv(const Sequence& seq, const std::string& capture, const std::string
     }
   }
   r.decode_s = Since(t1);
+  r.psnr = Psnr(sse, n);
+  r.ok = true;
+  return r;
+}
+
+// The predictive scheme with shape-adaptive BISK (issue 9), in process: GOPs
+// of 8 frames x every camera (T00 per GOP), each given its share of `target`.
+Result RunPredictive(const Sequence& seq, uint64_t target) {
+  Result r;
+  const uint32_t cameras = uint32_t(seq.cameras.size()), span = 8;
+  const size_t texels = size_t(seq.size) * seq.size;
+  double sse = 0;
+  uint64_t n = 0;
+  for (uint32_t first = 0; first < seq.frames; first += span) {
+    PredictiveGop g;
+    g.frames = std::min(span, seq.frames - first);
+    g.cameras = cameras;
+    g.width = g.height = seq.size;
+    for (uint32_t t = 0; t < g.frames; ++t) {
+      for (uint32_t c = 0; c < cameras; ++c) {
+        const Image& tex = seq.textures[(first + t) * cameras + c];
+        const Image& m = seq.mask(first + t, c);
+        g.rgb.insert(g.rgb.end(), tex.pixels.begin(), tex.pixels.end());
+        for (size_t i = 0; i < texels; ++i) g.mask.push_back(m.pixels[i] != 0);
+      }
+    }
+    PredictiveEncodeOptions o;
+    o.target_bytes = target * g.frames / seq.frames;
+    const auto t0 = Clock::now();
+    StatusOr<PredictiveStreams> streams = EncodePredictive(g, o);
+    r.encode_s += Since(t0);
+    if (!streams.ok()) return r;
+    r.bytes += streams->Bytes();
+    const auto t1 = Clock::now();
+    PredictiveDecoded dec;
+    if (!DecodePredictive(*streams, g, &dec).ok()) return r;
+    r.decode_s += Since(t1);
+    for (uint32_t t = 0; t < g.frames; ++t) {
+      for (uint32_t c = 0; c < cameras; ++c) {
+        AddError(seq.textures[(first + t) * cameras + c],
+                 &dec.rgb[(size_t(t) * cameras + c) * texels * 3], seq.mask(first + t, c), &sse,
+                 &n);
+      }
+    }
+  }
   r.psnr = Psnr(sse, n);
   r.ok = true;
   return r;
@@ -320,6 +368,7 @@ int Main(int argc, char** argv) {
     uint64_t mask_bytes = 0;
     const Result f = RunFvv(seq, capture, textures, work, ratio, &mask_bytes);
     if (!f.ok) return Fail("fvv failed");
+    const Result pr = RunPredictive(seq, f.bytes);
     const Result jp = RunOpenJpeg(seq, work, f.bytes);
     const Result h4 = RunVideo(seq, work, f.bytes, "libx264", fps);
     const Result h5 = RunVideo(seq, work, f.bytes, "libx265", fps);
@@ -333,6 +382,7 @@ int Main(int argc, char** argv) {
                   r.decode_s / seq.frames);
     };
     row("fvv", f);
+    row("fvv BISK", pr);
     row("OpenJPEG", jp);
     row("x264", h4);
     row("x265", h5);

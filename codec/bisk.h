@@ -35,8 +35,11 @@
 namespace fvv {
 
 // Transforms `image` (samples inside its mask) with `levels` levels of the
-// shape-adaptive transform and codes every bitplane.
-std::vector<uint8_t> BiskEncode(const ShapePlane& image, WaveletKernel kernel, int levels);
+// shape-adaptive transform and codes every bitplane. `plane_ends` (may be
+// null) receives, per bitplane from the top, the stream bytes a decoder needs
+// to complete it: the truncation points rate control cuts at.
+std::vector<uint8_t> BiskEncode(const ShapePlane& image, WaveletKernel kernel, int levels,
+                                std::vector<size_t>* plane_ends = nullptr);
 
 struct BiskDecodeInfo {
   int planes_completed = 0;  // whole bitplanes decoded (sorting and refinement)

@@ -96,9 +96,12 @@ class BiskCoder {
         low_[at] = uint8_t(n);
       }
       ++completed;
+      if (kEncode && plane_ends_) plane_ends_->push_back(size_t(enc_->BytesNeeded()));
     }
     return completed;
   }
+  // Encoder: where each completed plane ends in the range coder's bytes.
+  void set_plane_ends(std::vector<size_t>* ends) { plane_ends_ = ends; }
 
   // Decoder: each significant coefficient at the middle of the interval its
   // known bits leave (its lowest known bit: the plane it joined in or was
@@ -228,6 +231,7 @@ class BiskCoder {
   std::vector<uint8_t> negative_;
   std::vector<Set> lis_;
   std::vector<uint32_t> lsp_;
+  std::vector<size_t>* plane_ends_ = nullptr;
   int plane_ = 0;
 };
 
