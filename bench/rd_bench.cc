@@ -15,6 +15,7 @@
 // only (fvv's masks, which every codec's player would need, are listed apart).
 //
 // Usage: rd_bench TEXTURES_DIR CAPTURE_DIR WORK_DIR [--ratios 20,50,120,280] [--frames N]
+//                 [--bisk-kernel 53|97]
 #include <unistd.h>
 
 #include <chrono>
@@ -170,7 +171,7 @@ Result RunFvv(const Sequence& seq, const std::string& capture, const std::string
 
 // The predictive scheme with shape-adaptive BISK (issue 9), in process: GOPs
 // of 8 frames x every camera (T00 per GOP), each given its share of `target`.
-Result RunPredictive(const Sequence& seq, uint64_t target) {
+Result RunPredictive(const Sequence& seq, uint64_t target, WaveletKernel kernel) {
   Result r;
   const uint32_t cameras = uint32_t(seq.cameras.size()), span = 8;
   const size_t texels = size_t(seq.size) * seq.size;
@@ -190,6 +191,7 @@ Result RunPredictive(const Sequence& seq, uint64_t target) {
       }
     }
     PredictiveEncodeOptions o;
+    o.kernel = kernel;
     o.target_bytes = target * g.frames / seq.frames;
     const auto t0 = Clock::now();
     StatusOr<PredictiveStreams> streams = EncodePredictive(g, o);
@@ -309,16 +311,22 @@ Result RunVideo(const Sequence& seq, const std::string& work, uint64_t target, c
 int Main(int argc, char** argv) {
   if (argc < 4) {
     std::fprintf(stderr,
-                 "usage: rd_bench TEXTURES_DIR CAPTURE_DIR WORK_DIR [--ratios 20,50,120,280] "
+                 "usage: rd_bench TEXTURES_DIR CAPTURE_DIR WORK_DIR [--bisk-kernel 53|97] "
+                 "[--ratios 20,50,120,280] "
                  "[--frames N]\n");
     return 2;
   }
   const std::string textures = argv[1], capture = argv[2], work = argv[3];
   std::vector<double> ratios = {20, 50, 120, 280};
+  WaveletKernel bisk_kernel = WaveletKernel::kLeGall53;
   uint32_t max_frames = UINT32_MAX;
   for (int i = 4; i + 1 < argc; i += 2) {
     const std::string opt = argv[i];
-    if (opt == "--ratios") {
+    if (opt == "--bisk-kernel") {
+      const std::string k = argv[i + 1];
+      if (k != "53" && k != "97") return Fail("--bisk-kernel 53 or 97");
+      bisk_kernel = k == "53" ? WaveletKernel::kLeGall53 : WaveletKernel::kCdf97;
+    } else if (opt == "--ratios") {
       ratios.clear();
       std::stringstream ss(argv[i + 1]);
       std::string item;
@@ -368,7 +376,7 @@ int Main(int argc, char** argv) {
     uint64_t mask_bytes = 0;
     const Result f = RunFvv(seq, capture, textures, work, ratio, &mask_bytes);
     if (!f.ok) return Fail("fvv failed");
-    const Result pr = RunPredictive(seq, f.bytes);
+    const Result pr = RunPredictive(seq, f.bytes, bisk_kernel);
     const Result jp = RunOpenJpeg(seq, work, f.bytes);
     const Result h4 = RunVideo(seq, work, f.bytes, "libx264", fps);
     const Result h5 = RunVideo(seq, work, f.bytes, "libx265", fps);

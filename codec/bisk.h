@@ -6,7 +6,9 @@
 // Sets are rectangles of coefficients, each shrunk to the bounding box of the
 // in-shape coefficients it holds (the decoder knows the shape, so it shrinks
 // alike; empty sets vanish). The list of insignificant sets starts with the
-// subbands, coarsest first. Per bitplane n, from the top:
+// subbands, coarsest first. Coefficients are scaled by whole bits per subband
+// first (an orthonormal transform's relative weights), so each bitplane
+// lowers the squared error about evenly. Per bitplane n, from the top:
 // - sorting: each listed set is tested (max |c| >= 2^n); a significant set
 //   splits into two halves, alternately across x and across y, each tested in
 //   turn (the second without a bit when the first was insignificant: one of

@@ -33,6 +33,21 @@ inline uint32_t Extent(uint32_t n, int level) {
   return n;
 }
 
+// Bits coefficient (x, y) is scaled up by before coding, so that a bit of
+// any coefficient is worth about the same squared error: the lifting kernels
+// leave the low band's gain at 1 and the high band's at about 2 per split, so
+// a coarse coefficient's error spreads over more samples. Relative weights of
+// an orthonormal transform, in whole bits: LL of L levels 2^(L+1), HL and LH
+// of level l 2^l, HH of level l 2^(l-1).
+inline int SubbandShift(uint32_t x, uint32_t y, uint32_t width, uint32_t height, int levels) {
+  for (int l = 1; l <= levels; ++l) {
+    const uint32_t wl = Extent(width, l), hl = Extent(height, l);
+    const bool high_x = x >= wl, high_y = y >= hl;
+    if (high_x || high_y) return high_x && high_y ? l - 1 : l;
+  }
+  return levels + 1;
+}
+
 inline int Log2Floor(uint64_t v) {
   int l = 0;
   while (v > 1) v >>= 1, ++l;

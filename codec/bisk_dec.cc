@@ -33,6 +33,15 @@ Status BiskDecode(const uint8_t* data, size_t size, WaveletKernel kernel, int le
   local.planes_completed = coder.Run(top);
   local.truncated = local.planes_completed < top + 1;
   coder.Reconstruct();
+  // Back from the coding scale, to the nearest integer.
+  for (uint32_t y = 0; y < image->height; ++y) {
+    for (uint32_t x = 0; x < image->width; ++x) {
+      const int shift = bisk::SubbandShift(x, y, image->width, image->height, levels);
+      int32_t& c = image->samples[size_t(y) * image->width + x];
+      const int32_t half = (int32_t(1) << shift) >> 1;
+      c = c >= 0 ? (c + half) >> shift : -((-c + half) >> shift);
+    }
+  }
   image->mask = layout;
   InverseShapeAdaptive(kernel, levels, shape, image);
   for (size_t i = 0; i < n; ++i) {

@@ -10,6 +10,12 @@ std::vector<uint8_t> BiskEncode(const ShapePlane& image, WaveletKernel kernel, i
                                 std::vector<size_t>* plane_ends) {
   ShapePlane p = image;
   ForwardShapeAdaptive(kernel, levels, &p);
+  for (uint32_t y = 0; y < p.height; ++y) {
+    for (uint32_t x = 0; x < p.width; ++x) {
+      const size_t i = size_t(y) * p.width + x;
+      p.samples[i] *= int32_t(1) << bisk::SubbandShift(x, y, p.width, p.height, levels);
+    }
+  }
   int32_t max = 0;
   for (size_t i = 0; i < p.samples.size(); ++i) {
     if (p.mask[i]) max = std::max(max, std::abs(p.samples[i]));

@@ -119,7 +119,9 @@ TEST(Bisk, EveryPrefixDecodesAndQualityGrowsWithBytes) {
       BiskDecodeInfo info;
       ASSERT_TRUE(BiskDecode(stream.data(), bytes, k, levels, &out, &info).ok()) << bytes;
       const double mse = InShapeMse(in, out, in.mask);
-      EXPECT_LE(mse, last * 1.02 + 1e-9) << "bytes " << bytes;
+      // Monotone, up to the wobble of mid-interval reconstruction next to
+      // lossless (squared errors about 1).
+      EXPECT_LE(mse, last * 1.02 + 0.25) << "bytes " << bytes;
       EXPECT_GE(info.planes_completed, last_planes);
       last = std::min(last, mse);
       last_planes = info.planes_completed;
