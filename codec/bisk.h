@@ -50,9 +50,13 @@ struct BiskDecodeInfo {
 
 // Decodes `size` bytes (any prefix of a BiskEncode stream) into `image`, whose
 // width, height and mask (the shape) must be set; samples outside the shape
-// are 0. Corrupt only when the header is impossible.
+// are 0. Corrupt only when the header is impossible. Any input is safe:
+// arithmetic wraps as the inverse transform defines, and nothing overflows.
+// `stage_masks` (may be null) are ShapeAdaptiveMasks(shape, ...), for callers
+// that decode several signals over one shape.
 Status BiskDecode(const uint8_t* data, size_t size, WaveletKernel kernel, int levels,
-                  ShapePlane* image, BiskDecodeInfo* info = nullptr);
+                  ShapePlane* image, BiskDecodeInfo* info = nullptr,
+                  const std::vector<std::vector<uint8_t>>* stage_masks = nullptr);
 
 }  // namespace fvv
 

@@ -6,7 +6,8 @@
 namespace fvv {
 
 Status BiskDecode(const uint8_t* data, size_t size, WaveletKernel kernel, int levels,
-                  ShapePlane* image, BiskDecodeInfo* info) {
+                  ShapePlane* image, BiskDecodeInfo* info,
+                  const std::vector<std::vector<uint8_t>>* stage_masks) {
   const size_t n = size_t(image->width) * image->height;
   if (image->mask.size() != n) return InvalidArgument("BISK: the shape is not width x height");
   const std::vector<uint8_t> shape = image->mask;
@@ -24,9 +25,12 @@ Status BiskDecode(const uint8_t* data, size_t size, WaveletKernel kernel, int le
   if (data[0] > 30) return Corrupt("BISK: top bitplane " + std::to_string(data[0]) + " > 30");
   const int top = data[0];
   // The coefficients' layout is the shape's, transformed.
-  const std::vector<std::vector<uint8_t>> masks =
-      ShapeAdaptiveMasks(shape, image->width, image->height, levels);
-  const std::vector<uint8_t>& layout = masks.back();
+  std::vector<std::vector<uint8_t>> own_masks;
+  if (stage_masks == nullptr) {
+    own_masks = ShapeAdaptiveMasks(shape, image->width, image->height, levels);
+    stage_masks = &own_masks;
+  }
+  const std::vector<uint8_t>& layout = stage_masks->back();
   RangeDecoder dec(data + 1, size - 1);
   bisk::BiskCoder<false> coder(image->width, image->height, layout, levels, image->samples.data(),
                                nullptr, &dec);
@@ -38,12 +42,13 @@ Status BiskDecode(const uint8_t* data, size_t size, WaveletKernel kernel, int le
     for (uint32_t x = 0; x < image->width; ++x) {
       const int shift = bisk::SubbandShift(x, y, image->width, image->height, levels);
       int32_t& c = image->samples[size_t(y) * image->width + x];
-      const int32_t half = (int32_t(1) << shift) >> 1;
-      c = c >= 0 ? (c + half) >> shift : -((-c + half) >> shift);
+      // 64-bit: a magnitude near 2^31 plus the rounding would overflow.
+      const int64_t v = c, half = (int64_t(1) << shift) >> 1;
+      c = int32_t(v >= 0 ? (v + half) >> shift : -((-v + half) >> shift));
     }
   }
   image->mask = layout;
-  InverseShapeAdaptive(kernel, levels, shape, image);
+  InverseShapeAdaptive(kernel, levels, *stage_masks, image);
   for (size_t i = 0; i < n; ++i) {
     if (!shape[i]) image->samples[i] = 0;
   }

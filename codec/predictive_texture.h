@@ -25,6 +25,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "codec/parallel.h"
 #include "codec/status.h"
 #include "codec/wavelet.h"
 
@@ -40,26 +41,48 @@ using ChannelStreams = std::array<std::vector<uint8_t>, 3>;  // Y, U, V (BISK st
 
 struct PredictiveStreams {
   WaveletKernel kernel = WaveletKernel::kLeGall53;
-  int levels = 0;
+  int levels = 0;  // ShapeAdaptiveLevels(width, height)
   ChannelStreams t00;
   std::vector<ChannelStreams> r0;  // per frame
   std::vector<ChannelStreams> r;   // per (t, c)
   uint64_t Bytes() const;
+  // Every stream in the bitstream's order (SPEC.md 9.8): T00 Y, U, V; R0(t)
+  // Y, U, V for t = 0..; R(t, c) Y, U, V for t = 0.., c = 0...
+  std::vector<const std::vector<uint8_t>*> Ordered() const;
+  std::vector<std::vector<uint8_t>*> Ordered();
+  // Empty streams of the right count for a GOP of `frames` x `cameras`.
+  void Resize(uint32_t frames, uint32_t cameras);
 };
 
 struct PredictiveEncodeOptions {
   WaveletKernel kernel = WaveletKernel::kLeGall53;
-  uint64_t target_bytes = 0;  // 0: every stream whole (lossless with reversible kernels)
+  // Rate: a byte target for all streams together, else a PSNR target
+  // (channel-weighted YUV over the seen texels, as the SPIHT coder's), else
+  // every stream whole (lossless in YUV with the reversible kernels).
+  uint64_t target_bytes = 0;
+  double target_psnr = 0;
+  std::array<double, 3> channel_weights{1.0, 1.0861, 0.8252};
+  ParallelRunner runner = SerialRunner;
 };
 
 // The decoded GOP: per (t, c) RGB (0 where unseen), and the decoded
-// references it was built from (YUV planes, width * height each).
+// references it was built from (YUV planes, width * height each; each signal
+// is 0 outside its support).
 struct PredictiveDecoded {
-  std::vector<uint8_t> rgb;                              // (t, c, y, x, 3)
-  std::array<std::vector<int32_t>, 3> t00;               // decoded T00
-  std::vector<std::array<std::vector<int32_t>, 3>> r0;   // decoded R0(t)
-  std::vector<std::array<std::vector<int32_t>, 3>> r;    // decoded R(t, c)
-  std::vector<std::array<std::vector<int32_t>, 3>> yuv;  // per (t, c): T00 + R0 + R
+  std::vector<uint8_t> rgb;                             // (t, c, y, x, 3)
+  std::array<std::vector<int32_t>, 3> t00;              // decoded T00 + 128
+  std::vector<std::array<std::vector<int32_t>, 3>> r0;  // decoded R0(t)
+  std::vector<std::array<std::vector<int32_t>, 3>> r;   // decoded R(t, c)
+  // Per (t, c), every texel: clamp(T00 + R0 + R, 0, 255), the output samples
+  // (outside the camera's mask they carry no information).
+  std::vector<std::array<std::vector<int32_t>, 3>> yuv;
+};
+
+struct PredictiveDecodeOptions {
+  // Bytes for all streams together; 0 = whole. Stream s of size S_s keeps its
+  // first floor(S_s * max_bytes / S) bytes (S: all streams), SPEC.md B.2.
+  uint64_t max_bytes = 0;
+  ParallelRunner runner = SerialRunner;
 };
 
 StatusOr<PredictiveStreams> EncodePredictive(const PredictiveGop& gop,
@@ -67,9 +90,12 @@ StatusOr<PredictiveStreams> EncodePredictive(const PredictiveGop& gop,
                                              PredictiveDecoded* reconstruction = nullptr);
 
 // Decodes streams made for `gop`'s shape and masks (rgb unused). Streams may
-// be cut (any prefix of each decodes).
+// be cut (any prefix of each decodes); any bytes decode safely. Fills out->rgb
+// only when `want_rgb`.
 Status DecodePredictive(const PredictiveStreams& streams, const PredictiveGop& gop,
-                        PredictiveDecoded* out);
+                        PredictiveDecoded* out,
+                        const PredictiveDecodeOptions& options = PredictiveDecodeOptions(),
+                        bool want_rgb = true);
 
 }  // namespace fvv
 

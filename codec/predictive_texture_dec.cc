@@ -1,3 +1,5 @@
+#include <algorithm>
+
 #include "codec/bisk.h"
 #include "codec/colour.h"
 #include "codec/predictive_texture.h"
@@ -7,13 +9,42 @@ namespace fvv {
 
 uint64_t PredictiveStreams::Bytes() const {
   uint64_t n = 0;
-  for (const auto& s : t00) n += s.size();
-  for (const auto& set : {&r0, &r}) {
+  for (const std::vector<uint8_t>* s : Ordered()) n += s->size();
+  return n;
+}
+
+std::vector<const std::vector<uint8_t>*> PredictiveStreams::Ordered() const {
+  std::vector<const std::vector<uint8_t>*> out;
+  out.reserve(3 * (1 + r0.size() + r.size()));
+  for (const auto& s : t00) out.push_back(&s);
+  for (const auto* set : {&r0, &r}) {
     for (const ChannelStreams& c : *set) {
-      for (const auto& s : c) n += s.size();
+      for (const auto& s : c) out.push_back(&s);
     }
   }
-  return n;
+  return out;
+}
+
+std::vector<std::vector<uint8_t>*> PredictiveStreams::Ordered() {
+  std::vector<std::vector<uint8_t>*> out;
+  for (const std::vector<uint8_t>* s : static_cast<const PredictiveStreams*>(this)->Ordered()) {
+    out.push_back(const_cast<std::vector<uint8_t>*>(s));
+  }
+  return out;
+}
+
+void PredictiveStreams::Resize(uint32_t frames, uint32_t cameras) {
+  for (auto& s : t00) s.clear();
+  r0.assign(frames, {});
+  r.assign(size_t(frames) * cameras, {});
+}
+
+SignalShape MakeSignalShape(std::vector<uint8_t> mask, uint32_t width, uint32_t height,
+                            int levels) {
+  SignalShape s;
+  s.stages = ShapeAdaptiveMasks(mask, width, height, levels);
+  s.mask = std::move(mask);
+  return s;
 }
 
 PredictiveSupports MakeSupports(const PredictiveGop& gop) {
@@ -32,13 +63,14 @@ PredictiveSupports MakeSupports(const PredictiveGop& gop) {
   return s;
 }
 
-std::vector<int32_t> DecodeSignal(const std::vector<uint8_t>& stream, WaveletKernel kernel,
+std::vector<int32_t> DecodeSignal(const uint8_t* data, size_t size, WaveletKernel kernel,
                                   int levels, uint32_t width, uint32_t height,
-                                  const std::vector<uint8_t>& shape, Status* status) {
+                                  const SignalShape& shape, Status* status) {
   ShapePlane p;
-  p.width = width, p.height = height, p.mask = shape;
-  const Status s = BiskDecode(stream.data(), stream.size(), kernel, levels, &p);
+  p.width = width, p.height = height, p.mask = shape.mask;
+  const Status s = BiskDecode(data, size, kernel, levels, &p, nullptr, &shape.stages);
   if (!s.ok() && status->ok()) *status = s;
+  for (int32_t& v : p.samples) v = std::clamp(v, kPredictiveSignalMin, kPredictiveSignalMax);
   return p.samples;
 }
 
@@ -58,43 +90,69 @@ void AssembleRgb(const PredictiveGop& gop, PredictiveDecoded* out) {
 }
 
 Status DecodePredictive(const PredictiveStreams& streams, const PredictiveGop& gop,
-                        PredictiveDecoded* out) {
+                        PredictiveDecoded* out, const PredictiveDecodeOptions& options,
+                        bool want_rgb) {
   const size_t texels = size_t(gop.width) * gop.height;
   const size_t views = size_t(gop.frames) * gop.cameras;
   if (gop.mask.size() != views * texels || streams.r0.size() != gop.frames ||
       streams.r.size() != views) {
     return InvalidArgument("predictive texture: streams and GOP shape disagree");
   }
+  if (streams.levels != ShapeAdaptiveLevels(gop.width, gop.height)) {
+    return InvalidArgument("predictive texture: levels do not follow the atlas size");
+  }
+  // The byte budget, shared in proportion to the streams' sizes (B.2).
+  const uint64_t total = streams.Bytes();
+  const auto kept = [&](const std::vector<uint8_t>& s) -> size_t {
+    if (options.max_bytes == 0 || options.max_bytes >= total) return s.size();
+    return size_t(uint64_t(s.size()) * options.max_bytes / total);  // < 2^32 * 2^32
+  };
   const PredictiveSupports sup = MakeSupports(gop);
-  Status status = Status::Ok();
+  const ParallelRunner& run = options.runner;
+  const uint32_t w = gop.width, h = gop.height;
+  const int levels = streams.levels;
+  const WaveletKernel kernel = streams.kernel;
+  // Each stage's signals in parallel (T00, then every R0(t), then every
+  // R(t, c)); a signal's three channels share its shape's masks.
+  std::vector<Status> statuses(3 + gop.frames + views, Status::Ok());
+  const SignalShape all = MakeSignalShape(sup.all, w, h, levels);
+  run(3, [&](uint32_t k) {
+    out->t00[k] = DecodeSignal(streams.t00[k].data(), kept(streams.t00[k]), kernel, levels, w, h,
+                               all, &statuses[k]);
+    for (int32_t& v : out->t00[k]) v += kPredictiveLevelShift;
+  });
   out->r0.assign(gop.frames, {});
+  run(gop.frames, [&](uint32_t t) {
+    const SignalShape shape = MakeSignalShape(sup.frame[t], w, h, levels);
+    Status s = Status::Ok();
+    for (int k = 0; k < 3; ++k) {
+      const std::vector<uint8_t>& st = streams.r0[t][k];
+      out->r0[t][k] = DecodeSignal(st.data(), kept(st), kernel, levels, w, h, shape, &s);
+    }
+    statuses[3 + t] = s;
+  });
   out->r.assign(views, {});
   out->yuv.assign(views, {});
-  for (int k = 0; k < 3; ++k) {
-    out->t00[k] = DecodeSignal(streams.t00[k], streams.kernel, streams.levels, gop.width,
-                               gop.height, sup.all, &status);
-    for (size_t i = 0; i < texels; ++i) {
-      if (sup.all[i]) out->t00[k][i] += kPredictiveLevelShift;
+  run(uint32_t(views), [&](uint32_t tc) {
+    const uint32_t t = tc / gop.cameras;
+    const SignalShape shape = MakeSignalShape(
+        std::vector<uint8_t>(gop.mask.begin() + tc * texels, gop.mask.begin() + (tc + 1) * texels),
+        w, h, levels);
+    Status s = Status::Ok();
+    for (int k = 0; k < 3; ++k) {
+      const std::vector<uint8_t>& st = streams.r[tc][k];
+      out->r[tc][k] = DecodeSignal(st.data(), kept(st), kernel, levels, w, h, shape, &s);
+      std::vector<int32_t>& yuv = out->yuv[tc][k];
+      yuv.resize(texels);
+      const int32_t* a = out->t00[k].data();
+      const int32_t* b = out->r0[t][k].data();
+      const int32_t* c = out->r[tc][k].data();
+      for (size_t i = 0; i < texels; ++i) yuv[i] = PredictiveSample(a[i], b[i], c[i]);
     }
-    for (uint32_t t = 0; t < gop.frames; ++t) {
-      out->r0[t][k] = DecodeSignal(streams.r0[t][k], streams.kernel, streams.levels, gop.width,
-                                   gop.height, sup.frame[t], &status);
-      for (uint32_t c = 0; c < gop.cameras; ++c) {
-        const size_t tc = size_t(t) * gop.cameras + c;
-        const std::vector<uint8_t> shape(gop.mask.begin() + tc * texels,
-                                         gop.mask.begin() + (tc + 1) * texels);
-        out->r[tc][k] = DecodeSignal(streams.r[tc][k], streams.kernel, streams.levels, gop.width,
-                                     gop.height, shape, &status);
-        std::vector<int32_t>& yuv = out->yuv[tc][k];
-        yuv.assign(texels, 0);
-        for (size_t i = 0; i < texels; ++i) {
-          if (shape[i]) yuv[i] = out->t00[k][i] + out->r0[t][k][i] + out->r[tc][k][i];
-        }
-      }
-    }
-  }
-  if (!status.ok()) return status;
-  AssembleRgb(gop, out);
+    statuses[3 + gop.frames + tc] = s;
+  });
+  for (const Status& s : statuses) FVV_RETURN_IF_ERROR(s);
+  if (want_rgb) AssembleRgb(gop, out);
   return Status::Ok();
 }
 

@@ -103,15 +103,18 @@ void ForwardShapeAdaptive(WaveletKernel kernel, int levels, ShapePlane* p) {
 
 void InverseShapeAdaptive(WaveletKernel kernel, int levels, const std::vector<uint8_t>& shape,
                           ShapePlane* p) {
-  const std::vector<std::vector<uint8_t>> masks =
-      ShapeAdaptiveMasks(shape, p->width, p->height, levels);
+  InverseShapeAdaptive(kernel, levels, ShapeAdaptiveMasks(shape, p->width, p->height, levels), p);
+}
+
+void InverseShapeAdaptive(WaveletKernel kernel, int levels,
+                          const std::vector<std::vector<uint8_t>>& masks, ShapePlane* p) {
   for (int l = levels - 1; l >= 0; --l) {
     const uint32_t w = LevelExtent(p->width, l), h = LevelExtent(p->height, l);
     // Columns were transformed last: undone first, with the runs they had.
     Pass(kernel, false, false, p->width, w, h, masks[2 * l + 1], nullptr, p->samples.data());
     Pass(kernel, false, true, p->width, w, h, masks[2 * l], nullptr, p->samples.data());
   }
-  p->mask = shape;
+  p->mask = masks.front();
 }
 
 }  // namespace fvv

@@ -46,6 +46,9 @@ void ForwardShapeAdaptive(WaveletKernel kernel, int levels, ShapePlane* plane);
 // mask (`shape`); restores the mask to `shape`.
 void InverseShapeAdaptive(WaveletKernel kernel, int levels, const std::vector<uint8_t>& shape,
                           ShapePlane* plane);
+// The same with the stage masks already derived (ShapeAdaptiveMasks(shape)).
+void InverseShapeAdaptive(WaveletKernel kernel, int levels,
+                          const std::vector<std::vector<uint8_t>>& stage_masks, ShapePlane* plane);
 
 }  // namespace fvv
 

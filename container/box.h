@@ -34,6 +34,7 @@ constexpr FourCC kFragment = MakeFourCC("frag");
 constexpr FourCC kFragmentHeader = MakeFourCC("fghd");
 constexpr FourCC kMotion = MakeFourCC("motn");
 constexpr FourCC kTexture = MakeFourCC("texr");
+constexpr FourCC kPredictiveTexture = MakeFourCC("ptex");
 constexpr FourCC kMasks = MakeFourCC("mask");
 constexpr FourCC kVertexVisibility = MakeFourCC("vvis");
 constexpr FourCC kChecksum = MakeFourCC("fcrc");

@@ -29,6 +29,8 @@ const char* CodingToolName(uint32_t tool_bit) {
       return "motion-interpolation";
     case kToolMotionZstd:
       return "motion-zstd";
+    case kToolPredictiveTexture:
+      return "predictive-texture";
     default:
       return "unknown";
   }
@@ -55,6 +57,8 @@ const LevelLimits* FindLevel(uint8_t level) {
   }
   return nullptr;
 }
+
+uint16_t RequiredFormatVersion(uint32_t tools) { return (tools & kToolPredictiveTexture) ? 2 : 1; }
 
 uint32_t ProfileTools(Profile profile) { return profile == Profile::kMain ? kAllKnownTools : 0; }
 
@@ -96,6 +100,15 @@ Status ValidateFileHeader(const FileHeader& h) {
   }
   if ((h.tools & ~ProfileTools(h.profile)) != 0) {
     return LimitExceeded(at + "tools outside the profile");
+  }
+  if (RequiredFormatVersion(h.tools) > h.format_version) {
+    // A version 1 decoder would not know the bit; this one knows it is newer.
+    return Corrupt(at + "tools of format version " +
+                   std::to_string(RequiredFormatVersion(h.tools)) + " in a version " +
+                   std::to_string(h.format_version) + " stream");
+  }
+  if ((h.tools & kToolPredictiveTexture) && !(h.tools & kToolMasks)) {
+    return Corrupt(at + "predictive texture without masks (its supports are the masks)");
   }
   if (h.frame_rate_num == 0 || h.frame_rate_den == 0) {
     return Corrupt(at + "frame rate " + std::to_string(h.frame_rate_num) + "/" +

@@ -12,8 +12,10 @@
 
 namespace fvv {
 
-// Highest format version this library reads and the one it writes.
-constexpr uint16_t kFormatVersion = 1;
+// Highest format version this library reads. Writers write the lowest version
+// that has every tool they use (RequiredFormatVersion), so streams without
+// the newer tools stay readable by older decoders.
+constexpr uint16_t kFormatVersion = 2;
 
 // Coding tools (FileHeader::tools bits). A stream declares every tool it uses;
 // a profile allows a subset.
@@ -29,8 +31,11 @@ enum CodingTool : uint32_t {
   kToolVertexVisibility = 1u << 8,
   kToolMotionInterpolation = 1u << 9,
   kToolMotionZstd = 1u << 10,
+  kToolPredictiveTexture = 1u << 11,  // format version 2: 'ptex' instead of 'texr'
 };
-constexpr uint32_t kAllKnownTools = (1u << 11) - 1;
+constexpr uint32_t kAllKnownTools = (1u << 12) - 1;
+// The format version that introduced the newest of `tools`.
+uint16_t RequiredFormatVersion(uint32_t tools);
 const char* CodingToolName(uint32_t tool_bit);
 
 enum class Profile : uint8_t { kMain = 1 };

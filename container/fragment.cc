@@ -1,6 +1,7 @@
 #include "container/fragment.h"
 
 #include "codec/block_syntax.h"
+#include "codec/sa_wavelet.h"
 #include "container/crc32c.h"
 
 namespace fvv {
@@ -19,6 +20,10 @@ uint32_t TextureTools(WaveletKernel kernel, EntropyCoder coder, ColourSpace colo
   if (chroma == ChromaFormat::k420) tools |= kToolChroma420;
   if (colour == ColourSpace::kRct) tools |= kToolReversibleColour;
   return tools;
+}
+
+uint64_t TextureBytes(const FragmentData& f) {
+  return f.predictive ? f.predictive_texture.Bytes() : f.texture.total_bytes();
 }
 
 StatusOr<FragmentInfo> FragmentInfoFor(const FileHeader& h, uint32_t gop_index) {
@@ -51,7 +56,15 @@ std::vector<uint8_t> WriteFragmentBox(const FragmentData& f) {
     AppendBox(box::kFragmentHeader, 0, kBoxFlagEssential, w.bytes(), &payload);
   }
   if (!f.motion.empty()) AppendBox(box::kMotion, 0, kBoxFlagEssential, f.motion, &payload);
-  {
+  if (f.predictive) {
+    ByteWriter w;
+    const PredictiveStreams& p = f.predictive_texture;
+    w.U8(static_cast<uint8_t>(p.kernel));
+    const auto streams = p.Ordered();
+    for (const std::vector<uint8_t>* s : streams) w.U32(static_cast<uint32_t>(s->size()));
+    for (const std::vector<uint8_t>* s : streams) w.Bytes(*s);
+    AppendBox(box::kPredictiveTexture, 0, kBoxFlagEssential, w.bytes(), &payload);
+  } else {
     ByteWriter w;
     const BlockParams& p = f.texture.params;
     w.U8(static_cast<uint8_t>(p.kernel));
@@ -143,6 +156,44 @@ Status ReadTexture(const BoxHeader& b, const uint8_t* payload, const FileHeader&
   return CheckFullyRead(r, b);
 }
 
+// 'ptex' (SPEC.md 9.8): the kernel, every stream's size, the streams.
+Status ReadPredictiveTexture(const BoxHeader& b, const uint8_t* payload, const FileHeader& h,
+                             const FragmentInfo& info, PredictiveStreams* texture) {
+  const std::string at = BoxContext(b);
+  if (b.version != 0) return Unsupported(at + "version " + std::to_string(b.version));
+  ByteReader r(payload, b.payload_size());
+  const uint8_t kernel = r.U8();
+  if (r.overrun()) return Corrupt(at + "too short");
+  if (kernel > 2) return Unsupported(at + "kernel " + std::to_string(kernel));
+  texture->kernel = static_cast<WaveletKernel>(kernel);
+  const uint32_t kernel_tool = kernel == 0 ? kToolHaar : kernel == 1 ? kToolLeGall53 : kToolCdf97;
+  if (!(h.tools & kernel_tool)) {
+    return Corrupt(at + "uses a kernel the file header does not declare");
+  }
+  texture->levels = ShapeAdaptiveLevels(h.atlas_width, h.atlas_height);
+  // Counts are bounded by the GOP grid (level-checked), sizes by the payload.
+  texture->Resize(info.frame_count, info.camera_count);
+  const std::vector<std::vector<uint8_t>*> streams = texture->Ordered();
+  std::vector<uint32_t> sizes(streams.size());
+  uint64_t sum = 0;
+  for (uint32_t& size : sizes) {
+    size = r.U32();
+    sum += size;
+  }
+  if (r.overrun()) {
+    return Corrupt(at + "too short for its " + std::to_string(streams.size()) + " stream sizes");
+  }
+  if (sum != r.remaining()) {
+    return Corrupt(at + "stream sizes add up to " + std::to_string(sum) + " bytes, " +
+                   std::to_string(r.remaining()) + " follow");
+  }
+  for (size_t i = 0; i < streams.size(); ++i) {
+    const uint8_t* p = r.Bytes(sizes[i]);
+    streams[i]->assign(p, p + sizes[i]);
+  }
+  return CheckFullyRead(r, b);
+}
+
 }  // namespace
 
 Status ReadFragment(const BoxHeader& box, const uint8_t* payload, const FileHeader& h,
@@ -206,9 +257,17 @@ Status ReadFragment(const BoxHeader& box, const uint8_t* payload, const FileHead
       FVV_RETURN_IF_ERROR(once(!f->motion.empty()));
       if (n == 0) return Corrupt(BoxContext(b) + "empty");
       f->motion.assign(p, p + n);
-    } else if (b.type == box::kTexture) {
+    } else if (b.type == box::kTexture || b.type == box::kPredictiveTexture) {
+      const bool predictive = b.type == box::kPredictiveTexture;
       FVV_RETURN_IF_ERROR(once(have_texture));
-      FVV_RETURN_IF_ERROR(ReadTexture(b, p, h, f->info, &f->texture));
+      if (predictive != ((h.tools & kToolPredictiveTexture) != 0)) {
+        return Corrupt(BoxContext(b) + (predictive ? "without" : "with") +
+                       " the predictive-texture tool in the header");
+      }
+      f->predictive = predictive;
+      FVV_RETURN_IF_ERROR(predictive
+                              ? ReadPredictiveTexture(b, p, h, f->info, &f->predictive_texture)
+                              : ReadTexture(b, p, h, f->info, &f->texture));
       have_texture = true;
     } else if (b.type == box::kMasks) {
       FVV_RETURN_IF_ERROR(once(!f->masks.empty()));
@@ -228,7 +287,9 @@ Status ReadFragment(const BoxHeader& box, const uint8_t* payload, const FileHead
     }
   }
   if (!have_header) return Corrupt(at + "no 'fghd'");
-  if (!have_texture) return Corrupt(at + "no 'texr'");
+  if (!have_texture) {
+    return Corrupt(at + ((h.tools & kToolPredictiveTexture) ? "no 'ptex'" : "no 'texr'"));
+  }
   const bool wants_motion = f->info.first_camera == 0;
   if (wants_motion != !f->motion.empty()) {
     return Corrupt(at + (wants_motion ? "no 'motn' in the first camera group"

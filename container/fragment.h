@@ -1,7 +1,8 @@
 // The fragment box 'frag' (SPEC.md 3.5): one GOP (a time span x a camera range),
 // decodable on its own. Sub-boxes: 'fghd' (first), 'motn' (in the fragment of
-// camera range 0), 'texr', 'mask' and 'vvis' when the header declares those
-// tools, and 'fcrc' (last): CRC-32C of every payload byte before it.
+// camera range 0), 'texr' (or 'ptex' with the predictive-texture tool),
+// 'mask' and 'vvis' when the header declares those tools, and 'fcrc' (last):
+// CRC-32C of every payload byte before it.
 #ifndef FVV_CONTAINER_FRAGMENT_H_
 #define FVV_CONTAINER_FRAGMENT_H_
 
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include "codec/block_codec.h"
+#include "codec/predictive_texture.h"
 #include "codec/status.h"
 #include "container/box.h"
 #include "container/file_header.h"
@@ -35,6 +37,8 @@ struct FragmentData {
   FragmentInfo info;
   std::vector<uint8_t> motion;             // 'motn' payload; empty = absent
   EncodedBlock texture;                    // params.shape follows info and the header
+  bool predictive = false;                 // the texture is 'ptex', in `predictive_texture`
+  PredictiveStreams predictive_texture;    // levels follow the atlas size
   std::vector<uint8_t> masks;              // coded masks (codec/mask_coder.h); empty = absent
   std::vector<uint8_t> vertex_visibility;  // coded; empty = absent
   uint32_t checksum = 0;                   // filled by the reader
@@ -44,6 +48,9 @@ struct FragmentData {
 // parameters uses; the header must declare all of them.
 uint32_t TextureTools(WaveletKernel kernel, EntropyCoder coder, ColourSpace colour,
                       ChromaFormat chroma);
+
+// Texture bytes of a fragment (whichever texture box it has).
+uint64_t TextureBytes(const FragmentData& f);
 
 // The fragment info the header's GOP grid gives to fragment `gop_index`.
 StatusOr<FragmentInfo> FragmentInfoFor(const FileHeader& h, uint32_t gop_index);

@@ -4,6 +4,7 @@
 
 #include "codec/block_codec.h"
 #include "codec/mask_coder.h"
+#include "codec/predictive_texture.h"
 #include "container/stream_reader.h"
 #include "container/vertex_visibility.h"
 
@@ -29,8 +30,9 @@ Status DecodeFragment(const StreamInfo& info, const FragmentData& f, DecodeAllRe
     }
     report->frames += frames.size();
   }
+  std::vector<uint8_t> masks;
   if (!f.masks.empty()) {
-    std::vector<uint8_t> masks(shape.count());
+    masks.resize(shape.count());
     FVV_RETURN_IF_ERROR(DecodeMasks(f.masks.data(), f.masks.size(), shape, masks.data()));
     Mix(&report->hash, masks.data(), masks.size());
   }
@@ -40,9 +42,22 @@ Status DecodeFragment(const StreamInfo& info, const FragmentData& f, DecodeAllRe
         f.vertex_visibility.data(), f.vertex_visibility.size(), shape.frames(), shape.cameras(),
         static_cast<uint32_t>(info.model.mesh.positions.size()), &bits));
   }
-  FVV_ASSIGN_OR_RETURN(const Block block, DecodeBlock(f.texture, DecodeBudget(), SerialRunner));
-  for (const Plane4D& p : block.channels) {
-    Mix(&report->hash, p.samples.data(), p.samples.size() * sizeof(p.samples[0]));
+  if (f.predictive) {
+    PredictiveGop gop;
+    gop.frames = shape.frames(), gop.cameras = shape.cameras();
+    gop.width = shape.width(), gop.height = shape.height();
+    gop.mask = std::move(masks);
+    PredictiveDecoded decoded;
+    FVV_RETURN_IF_ERROR(
+        DecodePredictive(f.predictive_texture, gop, &decoded, PredictiveDecodeOptions(), false));
+    for (const auto& view : decoded.yuv) {
+      for (const auto& p : view) Mix(&report->hash, p.data(), p.size() * sizeof(p[0]));
+    }
+  } else {
+    FVV_ASSIGN_OR_RETURN(const Block block, DecodeBlock(f.texture, DecodeBudget(), SerialRunner));
+    for (const Plane4D& p : block.channels) {
+      Mix(&report->hash, p.samples.data(), p.samples.size() * sizeof(p.samples[0]));
+    }
   }
   ++report->fragments;
   return Status::Ok();

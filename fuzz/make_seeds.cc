@@ -70,6 +70,11 @@ int Run(const std::string& dir) {
          o->motion_coder = MotionCoder::kZstd;
          o->key_interval = 2;
        }},
+      {"predictive_53",
+       [](SampleStreamOptions* o) {
+         o->kernel = WaveletKernel::kLeGall53;
+         o->predictive = true;
+       }},
       {"end_index_vvis",
        [](SampleStreamOptions* o) {
          o->fast_start = false;

@@ -36,6 +36,16 @@ inline void AddCodecOptions(CLI::App* app, CodecOptionArgs* a) {
       ->capture_default_str();
 }
 
+// --texture-codec for the stream writers (`fvv encode`, `fvv sample`).
+inline void AddTextureCodecOption(CLI::App* app, std::string* codec) {
+  app->add_option("--texture-codec", *codec,
+                  "spiht: 4D wavelet + 4D SPIHT per GOP ('texr'); predictive: T00 + R0(t) + "
+                  "R(t,c) with shape-adaptive BISK ('ptex', format version 2; needs masks, "
+                  "4:4:4; default kernel 5/3)")
+      ->check(CLI::IsMember({"spiht", "predictive"}))
+      ->capture_default_str();
+}
+
 }  // namespace fvv
 
 #endif  // FVV_ENCODER_CLI_CODEC_OPTIONS_H_

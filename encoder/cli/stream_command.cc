@@ -103,7 +103,25 @@ int RunInfo(const InfoArgs& a) {
     } else {
       g["status"] = a.no_checksum ? "not verified" : "ok";
       uint64_t tex = 0;
-      for (int c = 0; c < 3; ++c) {
+      for (int c = 0; c < 3 && f->predictive; ++c) {
+        // 'ptex': bytes per channel over all its streams, and per signal.
+        const PredictiveStreams& p = f->predictive_texture;
+        uint64_t r0 = 0, r = 0;
+        for (const ChannelStreams& cs : p.r0) r0 += cs[c].size();
+        for (const ChannelStreams& cs : p.r) r += cs[c].size();
+        const uint64_t t00 = p.t00[c].size();
+        const int top = t00 > 0 && p.t00[c][0] <= 30 ? p.t00[c][0] + 1 : 0;
+        tex += t00 + r0 + r;
+        g["texture"][c == 0   ? "Y"
+                     : c == 1 ? "U"
+                              : "V"] = {{"bytes", t00 + r0 + r},
+                                        {"bitplanes", top},
+                                        {"truncation_points", nlohmann::json::array()},
+                                        {"t00_bytes", t00},
+                                        {"r0_bytes", r0},
+                                        {"r_bytes", r}};
+      }
+      for (int c = 0; c < 3 && !f->predictive; ++c) {
         const ChannelStream& s = f->texture.channels[c];
         tex += s.data.size();
         nlohmann::json points = nlohmann::json::array();
@@ -113,6 +131,7 @@ int RunInfo(const InfoArgs& a) {
                               : "V"] = {
             {"bytes", s.data.size()}, {"bitplanes", s.planes}, {"truncation_points", points}};
       }
+      g["texture_codec"] = f->predictive ? "predictive" : "spiht";
       g["motion_bytes"] = f->motion.size();
       g["mask_bytes"] = f->masks.size();
       texture += tex;
@@ -161,7 +180,8 @@ int RunInfo(const InfoArgs& a) {
       "  bitrate kbps: texture %.1f, motion %.2f, masks %.1f, vertex visibility %.1f, total %.1f\n",
       kbps(texture), kbps(motion), kbps(masks), kbps(visibility), kbps((*source)->size()));
   std::printf("  %-5s %-9s %-7s %9s %9s %7s %7s  %s\n", "gop", "frames", "cameras", "offset",
-              "bytes", "motion", "masks", "Y/U/V bytes (bitplanes, truncation points)");
+              "bytes", "motion", "masks",
+              "Y/U/V bytes (bitplanes, truncation points; predictive: T00, R0, R bytes)");
   for (const auto& g : j["gops"]) {
     std::printf("  %-5d %4d+%-4d %3d+%-3d %9llu %9llu ", g["gop"].get<int>(),
                 g["frames"][0].get<int>(), g["frames"][1].get<int>(), g["cameras"][0].get<int>(),
@@ -172,6 +192,16 @@ int RunInfo(const InfoArgs& a) {
       continue;
     }
     std::printf("%7d %7d ", g["motion_bytes"].get<int>(), g["mask_bytes"].get<int>());
+    if (g["texture_codec"] == "predictive") {
+      // T00 / R0 / R bytes per channel (BISK streams: no truncation points).
+      for (const char* c : {"Y", "U", "V"}) {
+        const auto& t = g["texture"][c];
+        std::printf(" %s %d (T00 %d R0 %d R %d)", c, t["bytes"].get<int>(),
+                    t["t00_bytes"].get<int>(), t["r0_bytes"].get<int>(), t["r_bytes"].get<int>());
+      }
+      std::printf("  %s\n", g["status"].get<std::string>().c_str());
+      continue;
+    }
     for (const char* c : {"Y", "U", "V"}) {
       std::printf(" %s %d (%d, %zu)", c, g["texture"][c]["bytes"].get<int>(),
                   g["texture"][c]["bitplanes"].get<int>(),
@@ -191,7 +221,7 @@ struct SampleArgs {
   std::string output;
   SampleStreamOptions o;
   CodecOptionArgs codec;
-  std::string motion_coder = "arith";
+  std::string motion_coder = "arith", texture_codec = "spiht";
   std::vector<uint32_t> atlas{64, 64}, gop{8, 8};
   bool no_masks = false, end_index = false;
   unsigned threads = 0;
@@ -201,6 +231,7 @@ int RunSample(SampleArgs a) {
   a.o.kernel = a.codec.Kernel();
   a.o.coder = a.codec.Coder();
   a.o.chroma = a.codec.Chroma();
+  a.o.predictive = a.texture_codec == "predictive";
   a.o.motion_coder = a.motion_coder == "zstd" ? MotionCoder::kZstd : MotionCoder::kArith;
   a.o.atlas_width = static_cast<uint16_t>(a.atlas[0]);
   a.o.atlas_height = static_cast<uint16_t>(a.atlas[1]);
@@ -263,6 +294,7 @@ void AddStreamCommands(CLI::App* app, int* exit_code) {
       ->capture_default_str()
       ->check(CLI::Range(1, 64));
   AddCodecOptions(s, &smp->codec);
+  AddTextureCodecOption(s, &smp->texture_codec);
   s->add_option("--bpp", smp->o.bpp, "Texture bits per texel")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);

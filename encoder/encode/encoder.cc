@@ -10,6 +10,7 @@
 #include "codec/colour.h"
 #include "codec/fill.h"
 #include "codec/mask_coder.h"
+#include "codec/predictive_texture.h"
 #include "codec/thread_pool.h"
 #include "container/writer.h"
 #include "encoder/atlas/atlas.h"
@@ -206,10 +207,17 @@ class Session {
     h->atlas_width = h->atlas_height = uint16_t(s_.atlas_size);
     h->gop_frames = s_.gop_frames;
     h->gop_cameras = s_.gop_cameras;
-    h->tools = TextureTools(s_.kernel, s_.coder, ColourSpace::kYCbCr601, s_.chroma);
+    if (s_.texture_codec == TextureCodec::kPredictive) {
+      h->tools = (TextureTools(s_.kernel, s_.coder, ColourSpace::kYCbCr601, s_.chroma) &
+                  (kToolHaar | kToolLeGall53 | kToolCdf97)) |
+                 kToolPredictiveTexture;
+    } else {
+      h->tools = TextureTools(s_.kernel, s_.coder, ColourSpace::kYCbCr601, s_.chroma);
+    }
     if (s_.masks) h->tools |= kToolMasks;
     if (s_.key_interval > 1) h->tools |= kToolMotionInterpolation;
     if (s_.motion_coder == MotionCoder::kZstd) h->tools |= kToolMotionZstd;
+    h->format_version = RequiredFormatVersion(h->tools);
     // The lowest level whose limits hold the stream.
     for (const LevelLimits& l : AllLevels()) {
       h->level = l.level;
@@ -296,6 +304,11 @@ class Session {
         }
       }
       const Block block = BlockFromRgb(rgb.data(), shape, ColourSpace::kYCbCr601, s_.chroma);
+      if (s_.texture_codec == TextureCodec::kPredictive) {
+        FVV_RETURN_IF_ERROR(CodePredictive(block, rgb, used, shape, &frag));
+        fragments_.push_back(std::move(frag));
+        continue;
+      }
       EncodeSettings es;
       es.kernel = s_.kernel;
       es.coder = s_.coder;
@@ -314,6 +327,42 @@ class Session {
       fragments_.push_back(std::move(frag));
     }
     sum_.code_s += Since(t0);
+    return Status::Ok();
+  }
+
+  // One GOP with the predictive scheme; the same rate targets as SPIHT's.
+  Status CodePredictive(const Block& block, std::vector<uint8_t>& rgb, const UsedMask& used,
+                        const Shape4D& shape, FragmentData* frag) {
+    PredictiveGop gop;
+    gop.frames = shape.frames(), gop.cameras = shape.cameras();
+    gop.width = shape.width(), gop.height = shape.height();
+    gop.rgb = std::move(rgb);
+    gop.mask = used;
+    PredictiveEncodeOptions o;
+    o.kernel = s_.kernel;
+    o.runner = pool_.runner();
+    if (s_.rate_mode == RateMode::kPsnr) {
+      o.target_psnr = s_.rate_value;
+    } else if (s_.rate_mode == RateMode::kTotalBytes) {
+      o.target_bytes = uint64_t(s_.rate_value);
+    } else if (s_.rate_mode == RateMode::kBitsPerSample) {
+      o.target_bytes = uint64_t(std::ceil(s_.rate_value * double(shape.count()) / 8));
+    }
+    PredictiveDecoded rec;
+    FVV_ASSIGN_OR_RETURN(frag->predictive_texture, EncodePredictive(gop, o, &rec));
+    frag->predictive = true;
+    frag->masks = EncodeMasks(used.data(), shape);
+    sum_.texture_bytes += frag->predictive_texture.Bytes();
+    sum_.mask_bytes += frag->masks.size();
+    Block decoded = block;
+    const size_t texels = size_t(gop.width) * gop.height;
+    for (int k = 0; k < 3; ++k) {
+      for (size_t tc = 0; tc < rec.yuv.size(); ++tc) {
+        std::copy(rec.yuv[tc][k].begin(), rec.yuv[tc][k].end(),
+                  decoded.channels[k].samples.begin() + tc * texels);
+      }
+    }
+    Measure(block, decoded, used, gop.rgb);
     return Status::Ok();
   }
 
@@ -456,7 +505,15 @@ Status CheckSettings(const EncoderSettings& s) {
   if (s.atlas_size < 16 || s.atlas_size > 4096) {
     return InvalidArgument("atlas size " + std::to_string(s.atlas_size) + " is not in 16..4096");
   }
-  if (s.gop_frames < 1 || s.gop_cameras < 1) return InvalidArgument("GOP sizes must be >= 1");
+  if (s.gop_frames < 1) return InvalidArgument("GOP frames must be >= 1");
+  if (s.texture_codec == TextureCodec::kPredictive) {
+    if (!s.masks) {
+      return InvalidArgument("the predictive texture codec needs masks (they are its supports)");
+    }
+    if (s.chroma != ChromaFormat::k444) {
+      return InvalidArgument("the predictive texture codec codes 4:4:4 only");
+    }
+  }
   if (!s.poses.empty() && !s.textures.empty()) {
     return InvalidArgument("give poses or textures, not both (textures carry their poses)");
   }
@@ -484,12 +541,14 @@ std::string TextureMaskPath(const std::string& dir, const std::string& camera, u
 }
 
 StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std::string& output,
-                                      const EncoderSettings& s) {
+                                      const EncoderSettings& s_in) {
   const auto start = Clock::now();
-  FVV_RETURN_IF_ERROR(CheckSettings(s));
+  FVV_RETURN_IF_ERROR(CheckSettings(s_in));
   StatusOr<Capture> cap = LoadCapture(capture_path);
   if (!cap.ok()) return cap.status();
   if (cap->cameras.size() > 65535) return InvalidArgument("more than 65535 cameras");
+  EncoderSettings s = s_in;
+  if (s.gop_cameras == 0) s.gop_cameras = uint16_t(cap->cameras.size());
 
   // Poses given (a file, or the textures' own record), or tracked below.
   std::optional<PoseSequence> given;

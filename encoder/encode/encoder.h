@@ -28,6 +28,8 @@
 
 namespace fvv {
 
+enum class TextureCodec : uint8_t { kSpiht4d, kPredictive };
+
 struct EncoderSettings {
   // Input. With neither, the tracker runs on the capture.
   std::string poses;     // poses.json (fvv track) or truth.json: no tracking
@@ -58,7 +60,12 @@ struct EncoderSettings {
   // same bytes (the cameras see different parts of the body; see
   // docs/encoder.md), and single-camera fragments let a player decode only the
   // cameras it blends.
-  uint16_t gop_frames = 8, gop_cameras = 1;
+  uint16_t gop_frames = 8, gop_cameras = 1;  // gop_cameras 0: all the capture's cameras
+  // kSpiht4d: 4D wavelet + 4D SPIHT per GOP block ('texr'). kPredictive: the
+  // predictive multi-view scheme with shape-adaptive BISK ('ptex', format
+  // version 2), which predicts across the GOP's cameras (give it several per
+  // GOP), needs masks, and codes 4:4:4 only.
+  TextureCodec texture_codec = TextureCodec::kSpiht4d;
   WaveletKernel kernel = WaveletKernel::kCdf97;
   EntropyCoder coder = EntropyCoder::kArith;
   ChromaFormat chroma = ChromaFormat::k444;

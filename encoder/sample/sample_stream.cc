@@ -4,6 +4,7 @@
 
 #include "codec/colour.h"
 #include "codec/mask_coder.h"
+#include "codec/predictive_texture.h"
 #include "container/vertex_visibility.h"
 #include "container/writer.h"
 #include "encoder/sample/sample_volume.h"
@@ -219,6 +220,13 @@ StatusOr<SampleStream> MakeSampleStream(const SampleStreamOptions& o,
   if (o.vertex_visibility) h.tools |= kToolVertexVisibility;
   if (o.key_interval > 1) h.tools |= kToolMotionInterpolation;
   if (o.motion_coder == MotionCoder::kZstd) h.tools |= kToolMotionZstd;
+  if (o.predictive) {
+    if (!o.masks) return InvalidArgument("sample: the predictive texture needs masks");
+    if (o.chroma != ChromaFormat::k444) return InvalidArgument("sample: predictive is 4:4:4");
+    h.tools = (h.tools & ~(kToolSpihtArith | kToolSpihtBinary | kToolReversibleColour)) |
+              kToolPredictiveTexture;
+  }
+  h.format_version = RequiredFormatVersion(h.tools);
   info.cameras = MakeRingCameras(o.cameras, 640, 480);
   info.model = MakeSampleBodyModel();
   info.motion.coder = o.motion_coder;
@@ -264,6 +272,19 @@ StatusOr<SampleStream> MakeSampleStream(const SampleStreamOptions& o,
         std::copy_n(out.masks.begin() + src, texels, used.begin() + dst);
       }
     }
+    if (o.predictive) {
+      PredictiveGop gop;
+      gop.frames = shape.frames(), gop.cameras = shape.cameras();
+      gop.width = shape.width(), gop.height = shape.height();
+      gop.rgb = rgb;
+      gop.mask = used;
+      PredictiveEncodeOptions po;
+      po.kernel = o.kernel;
+      po.runner = runner;
+      if (!o.lossless) po.target_bytes = uint64_t(std::ceil(o.bpp * double(shape.count()) / 8));
+      FVV_ASSIGN_OR_RETURN(frag.predictive_texture, EncodePredictive(gop, po));
+      frag.predictive = true;
+    }
     const ColourSpace colour = o.lossless ? ColourSpace::kRct : ColourSpace::kYCbCr601;
     const Block block = BlockFromRgb(rgb.data(), shape, colour, o.chroma);
     EncodeSettings settings;
@@ -272,7 +293,9 @@ StatusOr<SampleStream> MakeSampleStream(const SampleStreamOptions& o,
     settings.rate_mode = o.lossless ? RateMode::kLossless : RateMode::kBitsPerSample;
     settings.rate_value = o.bpp;
     settings.runner = runner;
-    FVV_ASSIGN_OR_RETURN(frag.texture, EncodeBlock(block, o.masks ? &used : nullptr, settings));
+    if (!o.predictive) {
+      FVV_ASSIGN_OR_RETURN(frag.texture, EncodeBlock(block, o.masks ? &used : nullptr, settings));
+    }
     if (o.masks) frag.masks = EncodeMasks(used.data(), shape);
     if (fi.first_camera == 0) {
       std::vector<QuantisedPose> poses(out.poses.begin() + fi.first_frame,

@@ -24,6 +24,9 @@ struct SampleStreamOptions {
   EntropyCoder coder = EntropyCoder::kArith;
   ChromaFormat chroma = ChromaFormat::k444;
   bool lossless = false;  // 5/3 or Haar + RCT at full rate
+  // The predictive scheme with shape-adaptive BISK ('ptex', format version 2;
+  // needs masks). `lossless` then means every stream whole (lossless in YUV).
+  bool predictive = false;
   double bpp = 0.5;
   bool masks = true;
   bool vertex_visibility = false;

@@ -6,7 +6,7 @@ namespace {
 constexpr uint64_t kDefaultMemoryCap = uint64_t{1} << 30;
 
 uint64_t FragmentBytes(const FragmentData& f) {
-  return f.texture.total_bytes() + f.motion.size() + f.masks.size() + f.vertex_visibility.size();
+  return TextureBytes(f) + f.motion.size() + f.masks.size() + f.vertex_visibility.size();
 }
 
 }  // namespace

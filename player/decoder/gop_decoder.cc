@@ -7,6 +7,7 @@
 
 #include "codec/block_codec.h"
 #include "codec/mask_coder.h"
+#include "codec/predictive_texture.h"
 
 namespace fvv {
 
@@ -24,6 +25,43 @@ bool GopBudget::WantsGroup(uint32_t first, uint32_t count) const {
   }
   return false;
 }
+
+namespace {
+
+// A 'ptex' texture decoded to the same YUV block a 'texr' gives (YCbCr 4:4:4).
+// A time budget does not cut it (its streams are cut by bytes only).
+StatusOr<Block> DecodePredictiveFragment(const FragmentData& f, const Shape4D& shape,
+                                         uint64_t max_bytes, const std::vector<uint8_t>& masks,
+                                         const ParallelRunner& runner, DecodeReport* report) {
+  PredictiveGop gop;
+  gop.frames = shape.frames(), gop.cameras = shape.cameras();
+  gop.width = shape.width(), gop.height = shape.height();
+  gop.mask = masks;
+  PredictiveDecodeOptions options;
+  options.max_bytes = max_bytes;
+  options.runner = runner;
+  PredictiveDecoded decoded;
+  FVV_RETURN_IF_ERROR(DecodePredictive(f.predictive_texture, gop, &decoded, options, false));
+  Block block;
+  block.colour = ColourSpace::kYCbCr601;
+  block.chroma = ChromaFormat::k444;
+  const size_t texels = size_t(gop.width) * gop.height;
+  for (int k = 0; k < 3; ++k) {
+    Plane4D& plane = block.channels[k];
+    plane = Plane4D(shape);
+    for (size_t tc = 0; tc < decoded.yuv.size(); ++tc) {
+      std::copy(decoded.yuv[tc][k].begin(), decoded.yuv[tc][k].end(),
+                plane.samples.begin() + tc * texels);
+    }
+  }
+  const uint64_t total = f.predictive_texture.Bytes();
+  report->bytes_read = max_bytes == 0 || max_bytes >= total ? total : max_bytes;
+  report->complete = report->bytes_read == total;
+  report->planes_completed = {0, 0, 0};  // bitplanes differ per stream; not summarised
+  return block;
+}
+
+}  // namespace
 
 StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
                                                 const std::vector<FragmentData>& fragments,
@@ -91,6 +129,22 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
     const auto decode_masks = [&f, shape, &masks] {
       return DecodeMasks(f.masks.data(), f.masks.size(), shape, masks.data());
     };
+    if (f.predictive) {
+      // 'ptex': the masks are the signals' supports, so they come first.
+      masks.resize(shape.count());
+      Status st = decode_masks();
+      if (st.ok()) {
+        auto decoded =
+            DecodePredictiveFragment(f, shape, budget.max_bytes, masks, inner, &reports[i]);
+        if (decoded.ok()) {
+          gop->textures[i] = std::move(decoded).value();
+        } else {
+          st = decoded.status();
+        }
+      }
+      statuses[i] = st;
+      return;
+    }
     std::future<Status> masks_done;
     Status mask_status;
     if (!f.masks.empty()) {
@@ -123,7 +177,7 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
     if (!gop->decoded[i]) continue;
     const DecodeReport& report = reports[i];
     gop->bytes_decoded += report.bytes_read;
-    gop->bytes_available += fragments[i].texture.total_bytes();
+    gop->bytes_available += TextureBytes(fragments[i]);
     for (int c = 0; c < 3; ++c) {
       gop->bitplanes[c] = std::min(gop->bitplanes[c], report.planes_completed[c]);
     }
