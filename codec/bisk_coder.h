@@ -105,7 +105,8 @@ class BiskCoder {
       for (size_t i = 0; i < old_lsp; ++i) {
         const uint32_t at = lsp_[i];
         uint32_t bit = kEncode ? (uint32_t(std::abs(c_[at])) >> n) & 1u : 0;
-        const int ctx = kCtxRefine + (joined_[at] == n + 1 ? 0 : 1);
+        // First refinement (joined in the plane above) or a later one.
+        const int ctx = kCtxRefine + (joined_[at] == n + 2 ? 0 : 1);
         if (!Code(ctx, &bit)) return completed;
         if (!kEncode) magnitude_[at] |= bit << n;
         low_[at] = uint8_t(n);

@@ -189,20 +189,21 @@ TEST(PredictiveStream, BadPayloadsAndHeadersAreRefused) {
   EXPECT_TRUE(ReadEdited(*s, [](FragmentData*, FileHeader*) {}).ok());
   // 'ptex' in a stream whose header does not declare the tool, and 'texr'
   // where it does.
-  EXPECT_EQ(ReadEdited(*s, [](FragmentData*, FileHeader* h) {
-              h->tools &= ~kToolPredictiveTexture;
-              h->tools |= kToolSpihtArith;
-            }).code(),
+  EXPECT_EQ(ReadEdited(*s,
+                       [](FragmentData*, FileHeader* h) {
+                         h->tools &= ~kToolPredictiveTexture;
+                         h->tools |= kToolSpihtArith;
+                       })
+                .code(),
             StatusCode::kCorrupt);
   EXPECT_EQ(ReadEdited(*s, [](FragmentData* f, FileHeader*) { f->predictive = false; }).code(),
             StatusCode::kCorrupt);
   // A kernel the header does not declare; an unknown kernel.
-  EXPECT_EQ(ReadEdited(*s,
-                       [](FragmentData* f, FileHeader*) {
-                         f->predictive_texture.kernel = WaveletKernel::kCdf97;
-                       })
-                .code(),
-            StatusCode::kCorrupt);
+  EXPECT_EQ(
+      ReadEdited(*s, [](FragmentData* f,
+                        FileHeader*) { f->predictive_texture.kernel = WaveletKernel::kCdf97; })
+          .code(),
+      StatusCode::kCorrupt);
   EXPECT_EQ(ReadEdited(*s,
                        [](FragmentData* f, FileHeader*) {
                          f->predictive_texture.kernel = static_cast<WaveletKernel>(7);

@@ -308,8 +308,12 @@ TEST(Stream, BadStreamsGiveTheirPinnedStatus) {
 
   // Newer format version.
   auto newer = *good;
-  newer[12] = 2;
+  newer[12] = kFormatVersion + 1;
   EXPECT_EQ(DecodeCode(newer), StatusCode::kUnsupported);
+  // A version 1 stream read as version 2 is still valid (version 2 only adds).
+  auto v2 = *good;
+  v2[12] = 2;
+  EXPECT_EQ(DecodeCode(v2), StatusCode::kOk);
   // Level beyond its limits: level 1 allows 8 cameras; claim 200 (the header is
   // checked before the camera box that disagrees).
   auto cams = *good;

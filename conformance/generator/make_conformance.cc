@@ -89,8 +89,14 @@ std::vector<std::string> Sections(const StreamInfo& info, const CaseSpec& spec) 
   std::vector<std::string> s = {"2",   "3.1", "3.2", "3.3", "3.4", "3.5", "5",
                                 "6.1", "6.2", "6.3", "6.4", "9.1", "9.2", "9.3"};
   const uint32_t t = info.header.tools;
-  if (t & kToolSpihtArith) s.push_back("9.4");
-  s.insert(s.end(), {"9.5", "9.6", "9.7"});
+  if (t & kToolPredictiveTexture) {
+    // No SPIHT: the BISK streams use the range decoder and the inverse lifting.
+    s.erase(std::find(s.begin(), s.end(), "9.1"), s.end());
+    s.insert(s.end(), {"4", "9.4", "9.6", "9.7", "9.8"});
+  } else {
+    if (t & kToolSpihtArith) s.push_back("9.4");
+    s.insert(s.end(), {"9.5", "9.6", "9.7"});
+  }
   if (t & kToolMasks) s.push_back("7");
   if (t & kToolVertexVisibility) s.push_back("8");
   if (!info.metadata.empty()) s.push_back("3.7");
@@ -128,7 +134,7 @@ Status MakeCase(const CaseSpec& spec, const std::string& dir, bool force) {
   c.dir = dir;
   c.name = spec.name;
   c.description = spec.description;
-  c.format_version = FVV_FORMAT_VERSION;
+  c.format_version = sample.info.header.format_version;
   c.profile = 1;
   c.level = spec.options.level;
   c.tools = ToolNames(sample.info.header.tools);
@@ -290,6 +296,26 @@ std::vector<CaseSpec> ValidCases() {
   o = Base(1, 64, 8, 8, 1, 64);
   o.level = 4;
   add("level4_cameras", "level 4 limits on cameras and GOP cameras (64)", o, {200}, {"5"});
+
+  // Format version 2: the predictive texture (9.8).
+  o = Base(6, 3, 40, 32, 4, 3);
+  o.predictive = true;
+  o.kernel = WaveletKernel::kLeGall53;
+  o.bpp = 1.0;
+  add("predictive_53",
+      "predictive texture (T00, R0, R with shape-adaptive BISK), 5/3; a short last span", o,
+      {200, 1000});
+  o = Base(4, 2, 24, 20, 4, 2);
+  o.predictive = true;
+  o.lossless = true;
+  o.kernel = WaveletKernel::kHaar;
+  add("predictive_haar_lossless", "predictive texture, Haar, whole streams: lossless in YCbCr", o,
+      {100, 800});
+  o = Base(5, 5, 33, 17, 4, 3);
+  o.predictive = true;
+  o.bpp = 0.8;
+  add("predictive_97_partial",
+      "predictive texture, 9/7, odd atlas (33x17), partial GOPs on both axes", o, {150});
   return v;
 }
 
@@ -510,6 +536,43 @@ std::vector<CaseSpec> InvalidCases() {
   add("motion_bad_predictor", "motion predictor 2 (checksum recomputed)", StatusCode::kCorrupt,
       {"6.2", "10"})
       ->edit = patch_first_fragment(box::kMotion, 0, 2);
+
+  // Format version 2: the predictive texture.
+  const auto predictive = [](CaseSpec* c) {
+    c->options.predictive = true;
+    c->options.kernel = WaveletKernel::kLeGall53;
+    return c;
+  };
+  predictive(add("predictive_in_version_1",
+                 "the predictive-texture tool (bit 11) in a format version 1 header",
+                 StatusCode::kCorrupt, {"3.1", "4", "10"}))
+      ->edit = [header](std::vector<EditBox>* boxes) {
+    StoreLe(&header(boxes), fvvh::kFormatVersion, 1, 2);
+    return Status::Ok();
+  };
+  predictive(add("ptex_without_tool",
+                 "a 'ptex' texture in a stream whose header declares SPIHT instead of bit 11",
+                 StatusCode::kCorrupt, {"3.1", "3.5", "9.8", "10"}))
+      ->edit = [header](std::vector<EditBox>* boxes) {
+    std::vector<uint8_t>& h = header(boxes);
+    const uint32_t tools = h[fvvh::kTools] | h[fvvh::kTools + 1] << 8 | h[fvvh::kTools + 2] << 16 |
+                           uint32_t{h[fvvh::kTools + 3]} << 24;
+    StoreLe(&h, fvvh::kTools, (tools & ~kToolPredictiveTexture) | kToolSpihtArith, 4);
+    StoreLe(&h, fvvh::kFormatVersion, 1, 2);
+    return Status::Ok();
+  };
+  // The first fragment of the tiny stream is 2 frames x 2 cameras: 3 (1 + 2 + 4)
+  // = 21 stream sizes after the kernel byte; T00 Y's first byte follows them.
+  predictive(add("ptex_sizes_mismatch",
+                 "a 'ptex' whose stream sizes add up to more than the bytes that follow "
+                 "(checksum recomputed)",
+                 StatusCode::kCorrupt, {"9.8", "10"}))
+      ->edit = patch_first_fragment(box::kPredictiveTexture, 2, 0x40);
+  predictive(add("ptex_top_plane",
+                 "a 'ptex' stream whose top bitplane byte is 31 (checksum "
+                 "recomputed)",
+                 StatusCode::kCorrupt, {"9.8", "10"}))
+      ->edit = patch_first_fragment(box::kPredictiveTexture, 1 + 4 * 21, 31);
   return v;
 }
 

@@ -10,6 +10,9 @@
 #include "codec/simd.h"
 #include "fvv/fvv_decoder.h"
 #include "player/decoder/decoder.h"
+
+static_assert(FVV_FORMAT_VERSION == fvv::kFormatVersion,
+              "the public header and the container must agree on the format version");
 #include "player/decoder/pose.h"
 #include "player/decoder/public_camera.h"
 
