@@ -74,6 +74,15 @@ class BiskCoder {
         low_(significant_.size(), 0) {
     if (!kEncode)
       magnitude_.assign(significant_.size(), 0), negative_.assign(significant_.size(), 0);
+    const size_t stride = size_t(width) + 1;
+    sat_.assign(stride * (size_t(height) + 1), 0);
+    for (uint32_t y = 0; y < height; ++y) {
+      uint32_t row = 0;
+      for (uint32_t x = 0; x < width; ++x) {
+        row += layout_[size_t(y) * width + x] ? 1 : 0;
+        sat_[(y + 1) * stride + x + 1] = sat_[y * stride + x + 1] + row;
+      }
+    }
   }
 
   // Codes planes top..0; returns the whole planes completed.
@@ -146,19 +155,43 @@ class BiskCoder {
   }
 
   // Shrinks to the bounding box of in-shape coefficients; false if none.
+  // Each side by bisection over the summed-area table: O(log) per side, not
+  // a scan of the set (which made shrinking most of the coder's time).
   bool Shrink(Set* s) const {
-    uint32_t x0 = s->x + s->w, y0 = s->y + s->h, x1 = s->x, y1 = s->y;
-    for (uint32_t y = s->y; y < s->y + s->h; ++y) {
-      const uint8_t* row = &layout_[size_t(y) * w_];
-      for (uint32_t x = s->x; x < s->x + s->w; ++x) {
-        if (!row[x]) continue;
-        x0 = std::min(x0, x), x1 = std::max(x1, x + 1);
-        y0 = std::min(y0, y), y1 = std::max(y1, y + 1);
-      }
-    }
-    if (x0 >= x1) return false;
+    const uint32_t xs = s->x, ys = s->y, xe = s->x + s->w, ye = s->y + s->h;
+    const uint32_t total = Count(xs, ys, xe, ye);
+    if (total == 0) return false;
+    const uint32_t y0 =
+        SmallestEnd(ys, ye, [&](uint32_t e) { return Count(xs, ys, xe, e) > 0; }) - 1;
+    const uint32_t y1 =
+        SmallestEnd(ys, ye, [&](uint32_t e) { return Count(xs, ys, xe, e) == total; });
+    const uint32_t x0 =
+        SmallestEnd(xs, xe, [&](uint32_t e) { return Count(xs, y0, e, y1) > 0; }) - 1;
+    const uint32_t x1 =
+        SmallestEnd(xs, xe, [&](uint32_t e) { return Count(xs, y0, e, y1) == total; });
     s->x = x0, s->y = y0, s->w = x1 - x0, s->h = y1 - y0;
     return true;
+  }
+
+  // The smallest e in (lo, hi] with pred(e), for pred false then true, true at hi.
+  template <typename Pred>
+  static uint32_t SmallestEnd(uint32_t lo, uint32_t hi, const Pred& pred) {
+    while (hi - lo > 1) {
+      const uint32_t mid = lo + (hi - lo) / 2;
+      if (pred(mid)) {
+        hi = mid;
+      } else {
+        lo = mid;
+      }
+    }
+    return hi;
+  }
+
+  // Layout positions in [x0, x1) x [y0, y1), from the summed-area table.
+  uint32_t Count(uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1) const {
+    const size_t stride = size_t(w_) + 1;
+    return sat_[y1 * stride + x1] - sat_[y0 * stride + x1] - sat_[y1 * stride + x0] +
+           sat_[y0 * stride + x0];
   }
 
   bool SetSignificant(const Set& s) const {
@@ -240,6 +273,7 @@ class BiskCoder {
   RangeEncoder* enc_;
   RangeDecoder* dec_;
   std::vector<uint16_t> probs_;
+  std::vector<uint32_t> sat_;  // summed-area table of the layout, (w + 1) x (h + 1)
   std::vector<uint8_t> significant_;
   std::vector<uint8_t> joined_;  // 1 + the plane a coefficient became significant in
   std::vector<uint8_t> low_;     // its lowest known bit plane
