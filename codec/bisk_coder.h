@@ -48,6 +48,30 @@ inline int SubbandShift(uint32_t x, uint32_t y, uint32_t width, uint32_t height,
   return levels + 1;
 }
 
+// SubbandShift for a whole plane at O(1) per coefficient: per column the
+// first level whose high band holds it (levels + 1: none), likewise per row.
+class SubbandShifts {
+ public:
+  SubbandShifts(uint32_t width, uint32_t height, int levels)
+      : levels_(levels), lx_(First(width, levels)), ly_(First(height, levels)) {}
+  int operator()(uint32_t x, uint32_t y) const {
+    const int lx = lx_[x], ly = ly_[y];
+    if (lx > levels_ && ly > levels_) return levels_ + 1;
+    return lx == ly ? lx - 1 : std::min(lx, ly);
+  }
+
+ private:
+  static std::vector<uint8_t> First(uint32_t n, int levels) {
+    std::vector<uint8_t> out(n, uint8_t(levels + 1));
+    for (int l = levels; l >= 1; --l) {
+      for (uint32_t i = Extent(n, l); i < n; ++i) out[i] = uint8_t(l);
+    }
+    return out;
+  }
+  int levels_;
+  std::vector<uint8_t> lx_, ly_;
+};
+
 inline int Log2Floor(uint64_t v) {
   int l = 0;
   while (v > 1) v >>= 1, ++l;

@@ -38,9 +38,10 @@ Status BiskDecode(const uint8_t* data, size_t size, WaveletKernel kernel, int le
   local.truncated = local.planes_completed < top + 1;
   coder.Reconstruct();
   // Back from the coding scale, to the nearest integer.
+  const bisk::SubbandShifts shifts(image->width, image->height, levels);
   for (uint32_t y = 0; y < image->height; ++y) {
     for (uint32_t x = 0; x < image->width; ++x) {
-      const int shift = bisk::SubbandShift(x, y, image->width, image->height, levels);
+      const int shift = shifts(x, y);
       int32_t& c = image->samples[size_t(y) * image->width + x];
       // 64-bit: a magnitude near 2^31 plus the rounding would overflow.
       const int64_t v = c, half = (int64_t(1) << shift) >> 1;

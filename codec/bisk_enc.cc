@@ -10,10 +10,11 @@ std::vector<uint8_t> BiskEncode(const ShapePlane& image, WaveletKernel kernel, i
                                 std::vector<size_t>* plane_ends) {
   ShapePlane p = image;
   ForwardShapeAdaptive(kernel, levels, &p);
+  const bisk::SubbandShifts shifts(p.width, p.height, levels);
   for (uint32_t y = 0; y < p.height; ++y) {
     for (uint32_t x = 0; x < p.width; ++x) {
       const size_t i = size_t(y) * p.width + x;
-      p.samples[i] *= int32_t(1) << bisk::SubbandShift(x, y, p.width, p.height, levels);
+      p.samples[i] *= int32_t(1) << shifts(x, y);
     }
   }
   int32_t max = 0;
