@@ -83,6 +83,8 @@ class EncodeTest : public ::testing::Test {
     return s;
   }
 
+  static void RoundTrip(EncoderSettings s, const std::string& name, uint32_t gops);
+
   static std::string dir_;
   static Status synth_;
 };
@@ -212,16 +214,18 @@ TEST_F(EncodeTest, ResampledTexturesMatchTheActorsSurfaceTexture) {
   EXPECT_GT(control_p75, 1.5 * p75);
 }
 
-TEST_F(EncodeTest, RoundTripReachesTheReportedPsnr) {
-  EncoderSettings s = Settings();
-  s.save_textures = dir_ + "/rt";
+// Encodes with `s`, then decodes through the public decoder API and checks
+// the decoded RGB against the textures the encoder saved before coding.
+void EncodeTest::RoundTrip(EncoderSettings s, const std::string& name, uint32_t gops) {
+  const std::string rt = dir_ + "/" + name;
+  s.save_textures = rt;
   s.rate_mode = RateMode::kBitsPerSample;
   s.rate_value = 0.3;
-  StatusOr<EncodeSummary> sum = EncodeCapture(dir_ + "/cap", dir_ + "/rt.fvv", s);
+  StatusOr<EncodeSummary> sum = EncodeCapture(dir_ + "/cap", rt + ".fvv", s);
   ASSERT_TRUE(sum.ok()) << sum.status().ToString();
   EXPECT_EQ(sum->frames, 3u);
   EXPECT_EQ(sum->cameras, 6u);
-  EXPECT_EQ(sum->gops, 4u);  // 2 time spans x 2 camera groups
+  EXPECT_EQ(sum->gops, gops);
   EXPECT_GT(sum->psnr_rgb, 25);
   EXPECT_LT(sum->psnr_rgb, 60);
 
@@ -229,7 +233,7 @@ TEST_F(EncodeTest, RoundTripReachesTheReportedPsnr) {
   // textures the encoder saved before coding.
   fvv::DecoderPtr dec = fvv::MakeDecoder();
   ASSERT_TRUE(dec);
-  ASSERT_EQ(fvv_decoder_open_file(dec.get(), (dir_ + "/rt.fvv").c_str()), FVV_OK)
+  ASSERT_EQ(fvv_decoder_open_file(dec.get(), (rt + ".fvv").c_str()), FVV_OK)
       << fvv_decoder_error(dec.get());
   StatusOr<Capture> cap = LoadCapture(dir_ + "/cap");
   ASSERT_TRUE(cap.ok());
@@ -241,15 +245,15 @@ TEST_F(EncodeTest, RoundTripReachesTheReportedPsnr) {
     ASSERT_EQ(frame->camera_count, 6u);
     ASSERT_EQ(frame->width, 256u);
     for (uint32_t c = 0; c < 6; ++c) {
-      const std::string name = cap->cameras[c].calibration.name;
-      StatusOr<Image> tex = ReadImage(TexturePath(dir_ + "/rt", name, f));
-      StatusOr<Image> mask = ReadImage(TextureMaskPath(dir_ + "/rt", name, f));
+      const std::string camera = cap->cameras[c].calibration.name;
+      StatusOr<Image> tex = ReadImage(TexturePath(rt, camera, f));
+      StatusOr<Image> mask = ReadImage(TextureMaskPath(rt, camera, f));
       ASSERT_TRUE(tex.ok() && mask.ok());
       const fvv_view& view = frame->views[c];
       ASSERT_NE(view.mask, nullptr);
       for (size_t i = 0; i < size_t(256) * 256; ++i) {
         // The decoded masks are the encoder's, exactly (lossless).
-        ASSERT_EQ(view.mask[i] != 0, mask->pixels[i] != 0) << name << " frame " << f;
+        ASSERT_EQ(view.mask[i] != 0, mask->pixels[i] != 0) << camera << " frame " << f;
         if (!view.mask[i]) continue;
         ++visible;
         for (int k = 0; k < 3; ++k) {
@@ -264,6 +268,19 @@ TEST_F(EncodeTest, RoundTripReachesTheReportedPsnr) {
   std::printf("  decoded RGB PSNR %.3f dB, encoder reported %.3f dB, %.1f:1 vs visible texels\n",
               psnr, sum->psnr_rgb, sum->ratio_visible());
   EXPECT_NEAR(psnr, sum->psnr_rgb, 0.01);
+}
+
+TEST_F(EncodeTest, RoundTripReachesTheReportedPsnr) {
+  RoundTrip(Settings(), "rt", 4);  // 2 time spans x 2 camera groups
+}
+
+// The predictive texture codec ('ptex'): every camera in one GOP by default.
+TEST_F(EncodeTest, PredictiveRoundTripReachesTheReportedPsnr) {
+  EncoderSettings s = Settings();
+  s.texture_codec = TextureCodec::kPredictive;
+  s.kernel = WaveletKernel::kLeGall53;
+  s.gop_cameras = 0;
+  RoundTrip(s, "rt_predictive", 2);  // 2 time spans x 1 camera group
 }
 
 TEST_F(EncodeTest, EncodesAgainFromSavedTexturesToTheSameStream) {
@@ -296,6 +313,14 @@ TEST_F(EncodeTest, RefusesBadInputWithErrorsThatNameIt) {
   EncoderSettings s = Settings();
   s.atlas_size = 8;
   expect_error(s, dir_ + "/cap", "atlas size");
+  // The predictive texture codec's requirements.
+  s = Settings();
+  s.texture_codec = TextureCodec::kPredictive;
+  s.masks = false;
+  expect_error(s, dir_ + "/cap", "needs masks");
+  s.masks = true;
+  s.chroma = ChromaFormat::k420;
+  expect_error(s, dir_ + "/cap", "4:4:4");
 
   // Poses of another skeleton.
   {

@@ -19,9 +19,11 @@ fvv::Status ToSettings(const fvv_encoder_settings& c, fvv::EncoderSettings* s) {
   using fvv::InvalidArgument;
   if (c.atlas_size < 16 || c.atlas_size > 4096)
     return InvalidArgument("atlas_size is not 16..4096");
-  if (c.gop_frames < 1 || c.gop_frames > 65535 || c.gop_cameras < 1 || c.gop_cameras > 65535) {
-    return InvalidArgument("gop_frames and gop_cameras must be 1..65535");
+  if (c.gop_frames < 1 || c.gop_frames > 65535 || c.gop_cameras > 65535) {
+    return InvalidArgument("gop_frames must be 1..65535 and gop_cameras 0..65535");
   }
+  if (c.texture_codec > FVV_TEXTURE_PREDICTIVE)
+    return InvalidArgument("texture_codec is not an fvv_texture_codec");
   if (c.kernel > FVV_KERNEL_HAAR) return InvalidArgument("kernel is not an fvv_kernel");
   if (c.coder > FVV_CODER_BINARY) return InvalidArgument("coder is not an fvv_entropy_coder");
   if (c.chroma > FVV_CHROMA_420) return InvalidArgument("chroma is not an fvv_chroma");
@@ -43,6 +45,8 @@ fvv::Status ToSettings(const fvv_encoder_settings& c, fvv::EncoderSettings* s) {
   s->coder = c.coder == FVV_CODER_BINARY ? fvv::EntropyCoder::kBinary : fvv::EntropyCoder::kArith;
   s->chroma = c.chroma == FVV_CHROMA_420 ? fvv::ChromaFormat::k420 : fvv::ChromaFormat::k444;
   s->masks = c.mask_mode == FVV_MASKS_CODED;
+  s->texture_codec = c.texture_codec == FVV_TEXTURE_PREDICTIVE ? fvv::TextureCodec::kPredictive
+                                                               : fvv::TextureCodec::kSpiht4d;
   static const fvv::RateMode kModes[] = {fvv::RateMode::kPsnr, fvv::RateMode::kBitsPerSample,
                                          fvv::RateMode::kTotalBytes};
   s->rate_mode = kModes[c.rate_mode];
@@ -82,6 +86,7 @@ void fvv_encoder_default_settings(fvv_encoder_settings* settings) {
   settings->coder = FVV_CODER_ARITH;
   settings->chroma = FVV_CHROMA_444;
   settings->mask_mode = FVV_MASKS_CODED;
+  settings->texture_codec = FVV_TEXTURE_SPIHT;
   settings->rate_mode = FVV_RATE_PSNR;
   settings->rate_value = 36;
   settings->key_interval = 1;

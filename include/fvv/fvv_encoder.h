@@ -45,12 +45,16 @@ typedef enum { FVV_KERNEL_CDF97 = 0, FVV_KERNEL_LEGALL53 = 1, FVV_KERNEL_HAAR = 
 typedef enum { FVV_CODER_ARITH = 0, FVV_CODER_BINARY = 1 } fvv_entropy_coder;
 typedef enum { FVV_CHROMA_444 = 0, FVV_CHROMA_420 = 1 } fvv_chroma;
 typedef enum { FVV_MASKS_CODED = 0, FVV_MASKS_NONE = 1 } fvv_mask_mode;
+/* FVV_TEXTURE_SPIHT: 4D wavelet + 4D SPIHT per GOP. FVV_TEXTURE_PREDICTIVE: T00 + R0(t) + R(t, c)
+   with shape-adaptive BISK (format version 2; needs coded masks and 4:4:4; give it several
+   cameras per GOP: gop_cameras 0 = all, and the 5/3 kernel). */
+typedef enum { FVV_TEXTURE_SPIHT = 0, FVV_TEXTURE_PREDICTIVE = 1 } fvv_texture_codec;
 
 typedef struct {
   /* Format. */
   uint32_t atlas_size;   /* atlas side in texels, 16..4096 (default 512) */
   uint32_t gop_frames;   /* frames per GOP (default 8) */
-  uint32_t gop_cameras;  /* cameras per GOP (default 1: see docs/encoder.md) */
+  uint32_t gop_cameras;  /* cameras per GOP (default 1: see docs/encoder.md); 0 = all */
   uint32_t kernel;       /* an fvv_kernel */
   uint32_t coder;        /* an fvv_entropy_coder */
   uint32_t chroma;       /* an fvv_chroma */
@@ -68,6 +72,7 @@ typedef struct {
   /* Called with one line of progress per frame and stage; may be NULL. */
   void (*progress)(void* user, const char* line);
   void* progress_user;
+  uint32_t texture_codec; /* an fvv_texture_codec (default FVV_TEXTURE_SPIHT) */
 } fvv_encoder_settings;
 
 typedef struct {
