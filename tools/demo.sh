@@ -33,6 +33,11 @@ $fvv info "$out/capture.fvv"
 echo "== decode it with the decoder library, in full and at 20000 bytes per GOP"
 $fvv decode "$out/capture.fvv" -o "$out/decoded" --frames 0:7
 $fvv decode "$out/capture.fvv" -o "$out/decoded_cut" --frames 0:7 --bytes 20000
+echo "== the second texture codec: 8 frames of the same textures, predictive (T00, R0, R with shape-adaptive BISK)"
+$fvv encode "$out/capture" -o "$out/capture_predictive.fvv" --textures "$out/textures" --frames 0:7 \
+  --texture-codec predictive -q
+$fvv render "$out/capture_predictive.fvv" -o "$out/render_predictive" --size 640x480 --camera 2 \
+  --first 7 --last 7
 echo "== render it headless with Renderer II: an orbit, capture camera 2's view, 12 novel views"
 $fvv render "$out/capture.fvv" -o "$out/render_orbit" --size 640x480
 $fvv render "$out/capture.fvv" -o "$out/render_camera2" --size 640x480 --camera 2 --last 7
@@ -59,4 +64,5 @@ echo "         poses.json), $out/render_orbit and $out/render_camera2 (render_fF
 echo "         $out/render_orbit/contact_sheet.png (12 novel views of frame 30),"
 echo "         $out/render_projective (Renderer I: contact sheet, held-out camera 0's view of frames 30-33;"
 echo "         $out/render_heldout is Renderer II's, $out/capture/truth/heldout/held00 the truth),"
-echo "         $out/shape/capture (the bumpy actor's synthetic capture the shape table measured)"
+echo "         $out/shape/capture (the bumpy actor's synthetic capture the shape table measured),"
+echo "         $out/capture_predictive.fvv and $out/render_predictive (the predictive texture codec)"

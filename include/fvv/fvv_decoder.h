@@ -136,7 +136,9 @@ typedef struct {
   uint64_t max_bytes_per_gop; /* texture bytes to decode per GOP fragment; 0 = all */
   double max_ms_per_gop;      /* time for the GOP's embedded-stream (SPIHT) decoding, after which
                                  it stops with what it has; set-up and the inverse transform come
-                                 on top. 0 = no limit */
+                                 on top. 0 = no limit. GOPs of the predictive texture (format
+                                 version 2, 'ptex') are cut by max_bytes_per_gop only: a time
+                                 budget decodes them whole */
   uint32_t format;            /* an fvv_pixel_format (a plain integer: any value is checked) */
   uint64_t camera_mask;       /* cameras to decode: bit c = camera c (streams have at most 64);
                                  0 = all. A player passes the cameras its view blends; with one
