@@ -2,7 +2,9 @@
 #include "player/render/renderer.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "container/writer.h"
@@ -22,18 +24,23 @@ struct Scene {
   std::unique_ptr<HeadlessContext> ctx;
   std::unique_ptr<Renderer> renderer;
   std::vector<fvv_camera> cameras;
+  std::string path;  // the stream file
 };
 
-void MakeScene(Scene* s, uint16_t gop_cameras = 4) {
+void MakeScene(Scene* s, uint16_t gop_cameras = 4, bool predictive = false, double bpp = 0.5) {
   SampleStreamOptions o = TinySampleOptions();
   o.cameras = 4;
   o.gop_cameras = gop_cameras;
   o.atlas_width = o.atlas_height = 32;
+  o.bpp = bpp;
+  if (predictive) o.predictive = true, o.kernel = WaveletKernel::kLeGall53;
   auto bytes = MakeSampleStreamBytes(o);
   ASSERT_TRUE(bytes.ok());
-  const std::string path =
-      ::testing::TempDir() + "/fvv_renderer_test_" + std::to_string(gop_cameras) + ".fvv";
+  const std::string path = ::testing::TempDir() + "/fvv_renderer_test_" +
+                           std::to_string(gop_cameras) + (predictive ? "_predictive" : "") + "_" +
+                           std::to_string(getpid()) + ".fvv";
   ASSERT_TRUE(WriteFileAtomic(path, bytes->data(), bytes->size()).ok());
+  s->path = path;
   s->dec = MakeDecoder();
   ASSERT_EQ(fvv_decoder_open_file(s->dec.get(), path.c_str()), FVV_OK);
   auto ctx = HeadlessContext::Create(kW, kH);
@@ -93,6 +100,27 @@ TEST(Renderer, DrawsTheActorFromACaptureCamera) {
   EXPECT_NE(RenderFromCamera(&s, 2, 0), a);
 }
 
+// A stream with the predictive texture ('ptex', format version 2) plays like
+// the SPIHT one: the same views within coding error.
+TEST(Renderer, PredictiveTextureStreamsRenderLikeSpihtOnes) {
+  Scene spiht, predictive;
+  MakeScene(&spiht, 4, false, 2.0);
+  if (HasFatalFailure()) return;
+  MakeScene(&predictive, 4, true, 2.0);
+  if (HasFatalFailure()) return;
+  for (uint32_t frame : {0u, 2u}) {
+    const std::vector<uint8_t> a = RenderFromCamera(&spiht, frame, 1);
+    const std::vector<uint8_t> b = RenderFromCamera(&predictive, frame, 1);
+    ASSERT_EQ(a.size(), b.size());
+    double sse = 0;
+    for (size_t i = 0; i < a.size(); ++i) sse += (double(a[i]) - b[i]) * (double(a[i]) - b[i]);
+    const double psnr = 10 * std::log10(255.0 * 255.0 * a.size() / std::max(sse, 1e-9));
+    std::printf("  frame %u: predictive vs SPIHT render %.2f dB\n", frame, psnr);
+    EXPECT_GT(psnr, 30);
+    EXPECT_GT(ForegroundPixels(b, RenderView()), size_t{kW} * kH / 100);
+  }
+}
+
 TEST(Renderer, RefusesMismatchedFramesAndEarlyDraws) {
   Scene s;
   MakeScene(&s);
@@ -126,9 +154,7 @@ TEST(Renderer, FramesWithOnlyTheViewsCamerasRenderLikeFullOnes) {
   budget.camera_mask = ViewCameras(centres, centres[0], root);
   EXPECT_EQ(budget.camera_mask, 0b1011u);  // camera 2, behind the actor, is left out
   DecoderPtr dec = MakeDecoder();
-  ASSERT_EQ(
-      fvv_decoder_open_file(dec.get(), (::testing::TempDir() + "/fvv_renderer_test_1.fvv").c_str()),
-      FVV_OK);
+  ASSERT_EQ(fvv_decoder_open_file(dec.get(), s.path.c_str()), FVV_OK);
   FramePtr part = DecodeFrame(dec.get(), 1, &budget);
   ASSERT_TRUE(part);
   ASSERT_EQ(part->views[2].pixels, nullptr);
