@@ -1,12 +1,16 @@
-// Mask-coder benchmark: bits per mask texel of the fvv context coder against
-// zstd -19 (bit-packed and one byte per texel) on the same GOP of masks, with
-// encode/decode times, measured side by side.
+// Mask-coder benchmark: bits per mask texel of the fvv mask coder (mode 1:
+// context coding; mode 2: mixed context models) against zstd -19 (bit-packed
+// and one byte per texel) on the same GOPs of masks, with encode/decode times,
+// measured side by side.
 //
-//   build/bench/mask_bench [--size N] [--dir DIR --frames F --cameras C]
+//   build/bench/mask_bench [--size N] [--dir DIR --frames F --cameras C [--gops G]]
 // Built-in inputs: (1) the sample volume's moving elliptical masks; (2) atlas
 // visibility masks of the sample body model (texels of triangles facing each
-// camera of a ring while the actor turns). --dir reads DIR/mask_tTTT_cCC.png
-// (the layout `fvv block sample` writes) instead.
+// camera of a ring while the actor turns). --dir reads masks from a directory
+// instead: DIR/camCC/mask_FFFFFF.png (what `fvv encode --save-textures` writes)
+// or DIR/mask_tTTT_cCC.png (what `fvv block sample` writes); G consecutive GOPs
+// of F frames, each camera of the C its own GOP when C is 1 (the encoder's
+// default shape), are summed.
 #include <zstd.h>
 
 #include <chrono>
@@ -96,11 +100,20 @@ std::vector<uint8_t> AtlasVisibilityMasks(const Shape4D& s) {
   return m;
 }
 
-Status LoadDir(const std::string& dir, Shape4D* s, std::vector<uint8_t>* m) {
+// Frames first_frame.. of cameras first_camera.. of a mask directory.
+Status LoadDir(const std::string& dir, uint32_t first_frame, uint32_t first_camera, Shape4D* s,
+               std::vector<uint8_t>* m) {
+  const bool encoder_layout = ReadImage(dir + "/cam00/mask_000000.png").ok();
   for (uint32_t t = 0; t < s->frames(); ++t)
     for (uint32_t c = 0; c < s->cameras(); ++c) {
       char name[64];
-      std::snprintf(name, sizeof(name), "/mask_t%03u_c%02u.png", t, c);
+      if (encoder_layout) {
+        std::snprintf(name, sizeof(name), "/cam%02u/mask_%06u.png", first_camera + c,
+                      first_frame + t);
+      } else {
+        std::snprintf(name, sizeof(name), "/mask_t%03u_c%02u.png", first_frame + t,
+                      first_camera + c);
+      }
       FVV_ASSIGN_OR_RETURN(Image img, ReadImage(dir + name));
       if (t == 0 && c == 0) {
         s->n[2] = img.height;
@@ -117,29 +130,49 @@ Status LoadDir(const std::string& dir, Shape4D* s, std::vector<uint8_t>* m) {
   return Status::Ok();
 }
 
-void Report(const char* name, const Shape4D& s, const std::vector<uint8_t>& m) {
-  auto t0 = Clock::now();
-  const std::vector<uint8_t> coded = EncodeMasks(m.data(), s);
-  const double enc_ms = Ms(t0);
-  std::vector<uint8_t> back(s.count());
-  t0 = Clock::now();
-  const Status st = DecodeMasks(coded.data(), coded.size(), s, back.data());
-  const double dec_ms = Ms(t0);
-  if (!st.ok() || back != m) {
-    std::fprintf(stderr, "mask_bench: %s: round trip failed\n", name);
-    std::exit(1);
+// Sizes and times summed over GOPs.
+struct Tally {
+  double texels = 0, used = 0;
+  size_t coded[2] = {0, 0}, zpacked = 0, zbytes = 0;
+  double enc_ms[2] = {0, 0}, dec_ms[2] = {0, 0}, z_ms = 0;
+
+  void Add(const Shape4D& s, const std::vector<uint8_t>& m) {
+    for (int k = 0; k < 2; ++k) {
+      const MaskCoding mode = k == 0 ? MaskCoding::kContext : MaskCoding::kMixing;
+      auto t0 = Clock::now();
+      const std::vector<uint8_t> coded_masks = EncodeMasks(m.data(), s, mode);
+      enc_ms[k] += Ms(t0);
+      std::vector<uint8_t> back(s.count());
+      t0 = Clock::now();
+      const Status st = DecodeMasks(coded_masks.data(), coded_masks.size(), s, mode, back.data());
+      dec_ms[k] += Ms(t0);
+      if (!st.ok() || back != m) {
+        std::fprintf(stderr, "mask_bench: mode %d: round trip failed\n", k + 1);
+        std::exit(1);
+      }
+      coded[k] += coded_masks.size();
+    }
+    auto t0 = Clock::now();
+    zpacked += Zstd(PackBits(m));
+    z_ms += Ms(t0);
+    zbytes += Zstd(m);
+    for (uint8_t v : m) used += v;
+    texels += double(s.count());
   }
-  t0 = Clock::now();
-  const size_t zpacked = Zstd(PackBits(m));
-  const double z_ms = Ms(t0);
-  const size_t zbytes = Zstd(m);
-  size_t used = 0;
-  for (uint8_t v : m) used += v;
-  const double texels = double(s.count());
-  std::printf("%-22s %5.1f%% | %8.5f %8.5f %8.5f | %6.2fx %6.2fx | %7.1f %7.1f %7.1f\n", name,
-              100.0 * used / texels, coded.size() * 8 / texels, zpacked * 8 / texels,
-              zbytes * 8 / texels, double(zpacked) / coded.size(), double(zbytes) / coded.size(),
-              enc_ms, dec_ms, z_ms);
+  void Print(const char* name) const {
+    for (int k = 0; k < 2; ++k) {
+      std::printf("%-22s %d %5.1f%% | %8.5f %8.5f %8.5f | %6.2fx %6.2fx | %7.1f %7.1f %7.1f\n",
+                  name, k + 1, 100.0 * used / texels, coded[k] * 8 / texels, zpacked * 8 / texels,
+                  zbytes * 8 / texels, double(zpacked) / coded[k], double(zbytes) / coded[k],
+                  enc_ms[k], dec_ms[k], z_ms);
+    }
+  }
+};
+
+void Report(const char* name, const Shape4D& s, const std::vector<uint8_t>& m) {
+  Tally t;
+  t.Add(s, m);
+  t.Print(name);
 }
 
 }  // namespace
@@ -147,7 +180,7 @@ void Report(const char* name, const Shape4D& s, const std::vector<uint8_t>& m) {
 
 int main(int argc, char** argv) {
   using namespace fvv;
-  uint32_t size = 512, frames = 8, cameras = 8;
+  uint32_t size = 512, frames = 8, cameras = 8, gops = 1;
   std::string dir;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -159,8 +192,10 @@ int main(int argc, char** argv) {
       frames = std::atoi(argv[++i]);
     else if (a == "--cameras" && i + 1 < argc)
       cameras = std::atoi(argv[++i]);
+    else if (a == "--gops" && i + 1 < argc)
+      gops = std::atoi(argv[++i]);
     else {
-      std::printf("usage: %s [--size N] [--dir DIR --frames F --cameras C]\n", argv[0]);
+      std::printf("usage: %s [--size N] [--dir DIR --frames F --cameras C [--gops G]]\n", argv[0]);
       return a == "-h" || a == "--help" ? 0 : 2;
     }
   }
@@ -169,16 +204,28 @@ int main(int argc, char** argv) {
   std::printf(
       "masks: one GOP of %u frames x %u cameras; bits per texel, zstd -19 over the whole GOP\n",
       frames, cameras);
-  std::printf("%-22s %6s | %8s %8s %8s | %7s %7s | %7s %7s %7s\n", "input", "used", "fvv",
+  std::printf("%-22s %s %6s | %8s %8s %8s | %7s %7s | %7s %7s %7s\n", "input", "m", "used", "fvv",
               "zstd bit", "zstd B", "vs bit", "vs B", "enc ms", "dec ms", "zstd ms");
   if (!dir.empty()) {
-    std::vector<uint8_t> m;
-    Status st = LoadDir(dir, &s, &m);
-    if (!st.ok()) {
-      std::fprintf(stderr, "mask_bench: %s\n", st.ToString().c_str());
-      return 1;
+    // With --cameras 1, every camera of the directory is a GOP of its own.
+    Tally tally;
+    for (uint32_t g = 0; g < gops; ++g) {
+      for (uint32_t c0 = 0;; c0 += cameras) {
+        std::vector<uint8_t> m;
+        Shape4D gop = s;
+        const Status st = LoadDir(dir, g * frames, c0, &gop, &m);
+        if (!st.ok()) {
+          if (c0 > 0) break;  // past the last camera
+          std::fprintf(stderr, "mask_bench: %s\n", st.ToString().c_str());
+          return 1;
+        }
+        tally.Add(gop, m);
+        if (cameras != 1) break;
+      }
     }
-    Report(dir.c_str(), s, m);
+    std::printf("(%u GOPs of %u frames x %s)\n", gops, frames,
+                cameras == 1 ? "1 camera, every camera" : std::to_string(cameras).c_str());
+    tally.Print(dir.c_str());
     return 0;
   }
   Report("sample ellipses", s, EllipseMasks(s));

@@ -26,14 +26,22 @@ class RangeEncoder {
   // kShift: adaptation rate; SPIHT uses the default, short streams (motion) adapt faster.
   template <int kShift = kProbAdaptShift>
   void Encode(uint32_t bit, uint16_t* prob) {
-    const uint32_t bound = (range_ >> kProbBits) * *prob;
+    EncodeWithProbability(bit, *prob);
+    if (bit == 0) {
+      *prob += ((1u << kProbBits) - *prob) >> kShift;
+    } else {
+      *prob -= *prob >> kShift;
+    }
+  }
+  // Codes `bit` with a given 15-bit probability of a 0 in [1, 32767], which the
+  // caller adapts (mixed models, codec/logistic_mixing.h).
+  void EncodeWithProbability(uint32_t bit, uint32_t prob_zero) {
+    const uint32_t bound = (range_ >> kProbBits) * prob_zero;
     if (bit == 0) {
       range_ = bound;
-      *prob += ((1u << kProbBits) - *prob) >> kShift;
     } else {
       low_ += bound;
       range_ -= bound;
-      *prob -= *prob >> kShift;
     }
     while (range_ < kRangeTop) {
       range_ <<= 8;
@@ -89,16 +97,24 @@ class RangeDecoder {
   bool ok() const { return !exhausted_; }
   template <int kShift = kProbAdaptShift>
   uint32_t Decode(uint16_t* prob) {
-    const uint32_t bound = (range_ >> kProbBits) * *prob;
+    const uint32_t bit = DecodeWithProbability(*prob);
+    if (bit == 0) {
+      *prob += ((1u << kProbBits) - *prob) >> kShift;
+    } else {
+      *prob -= *prob >> kShift;
+    }
+    return bit;
+  }
+  // The decoder of RangeEncoder::EncodeWithProbability.
+  uint32_t DecodeWithProbability(uint32_t prob_zero) {
+    const uint32_t bound = (range_ >> kProbBits) * prob_zero;
     uint32_t bit;
     if (code_ < bound) {
       range_ = bound;
-      *prob += ((1u << kProbBits) - *prob) >> kShift;
       bit = 0;
     } else {
       code_ -= bound;
       range_ -= bound;
-      *prob -= *prob >> kShift;
       bit = 1;
     }
     while (range_ < kRangeTop) {

@@ -1,15 +1,13 @@
 #include "container/fragment.h"
 
+#include <algorithm>
+
 #include "codec/block_syntax.h"
 #include "codec/sa_wavelet.h"
 #include "container/crc32c.h"
 
 namespace fvv {
-namespace {
-
-constexpr uint8_t kMaskModeContextCoded = 1;
-
-}  // namespace
+namespace {}  // namespace
 
 uint32_t TextureTools(WaveletKernel kernel, EntropyCoder coder, ColourSpace colour,
                       ChromaFormat chroma) {
@@ -20,6 +18,11 @@ uint32_t TextureTools(WaveletKernel kernel, EntropyCoder coder, ColourSpace colo
   if (chroma == ChromaFormat::k420) tools |= kToolChroma420;
   if (colour == ColourSpace::kRct) tools |= kToolReversibleColour;
   return tools;
+}
+
+uint16_t RequiredFormatVersion(uint32_t tools, MaskCoding mask_coding) {
+  const uint16_t masks = (tools & kToolMasks) && mask_coding == MaskCoding::kMixing ? 2 : 1;
+  return std::max(RequiredFormatVersion(tools), masks);
 }
 
 uint64_t TextureBytes(const FragmentData& f) {
@@ -76,7 +79,7 @@ std::vector<uint8_t> WriteFragmentBox(const FragmentData& f) {
   }
   if (!f.masks.empty()) {
     ByteWriter w;
-    w.U8(kMaskModeContextCoded);
+    w.U8(static_cast<uint8_t>(f.mask_mode));
     w.Bytes(f.masks);
     AppendBox(box::kMasks, 0, kBoxFlagEssential, w.bytes(), &payload);
   }
@@ -271,10 +274,18 @@ Status ReadFragment(const BoxHeader& box, const uint8_t* payload, const FileHead
       have_texture = true;
     } else if (b.type == box::kMasks) {
       FVV_RETURN_IF_ERROR(once(!f->masks.empty()));
-      if (n < 2 || p[0] != kMaskModeContextCoded) {
-        return n < 2 ? Corrupt(BoxContext(b) + "empty")
-                     : Unsupported(BoxContext(b) + "mask mode " + std::to_string(p[0]));
+      if (n < 2) return Corrupt(BoxContext(b) + "empty");
+      const bool known =
+          p[0] == static_cast<uint8_t>(MaskCoding::kContext) ||
+          (p[0] == static_cast<uint8_t>(MaskCoding::kMixing) && h.format_version >= 2);
+      if (!known) {
+        return Unsupported(
+            BoxContext(b) + "mask mode " + std::to_string(p[0]) +
+            (p[0] == static_cast<uint8_t>(MaskCoding::kMixing)
+                 ? " needs format version 2, the header says " + std::to_string(h.format_version)
+                 : ""));
       }
+      f->mask_mode = static_cast<MaskCoding>(p[0]);
       f->masks.assign(p + 1, p + n);
     } else if (b.type == box::kVertexVisibility) {
       FVV_RETURN_IF_ERROR(once(!f->vertex_visibility.empty()));

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "codec/block_codec.h"
+#include "codec/mask_coder.h"
 #include "codec/predictive_texture.h"
 #include "codec/status.h"
 #include "container/box.h"
@@ -35,19 +36,23 @@ struct FragmentInfo {
 // them (decoding the payloads is the decoder's job).
 struct FragmentData {
   FragmentInfo info;
-  std::vector<uint8_t> motion;             // 'motn' payload; empty = absent
-  EncodedBlock texture;                    // params.shape follows info and the header
-  bool predictive = false;                 // the texture is 'ptex', in `predictive_texture`
-  PredictiveStreams predictive_texture;    // levels follow the atlas size
-  std::vector<uint8_t> masks;              // coded masks (codec/mask_coder.h); empty = absent
-  std::vector<uint8_t> vertex_visibility;  // coded; empty = absent
-  uint32_t checksum = 0;                   // filled by the reader
+  std::vector<uint8_t> motion;                  // 'motn' payload; empty = absent
+  EncodedBlock texture;                         // params.shape follows info and the header
+  bool predictive = false;                      // the texture is 'ptex', in `predictive_texture`
+  PredictiveStreams predictive_texture;         // levels follow the atlas size
+  std::vector<uint8_t> masks;                   // coded masks (codec/mask_coder.h); empty = absent
+  MaskCoding mask_mode = MaskCoding::kContext;  // how `masks` is coded (mode 2: version 2)
+  std::vector<uint8_t> vertex_visibility;       // coded; empty = absent
+  uint32_t checksum = 0;                        // filled by the reader
 };
 
 // The coding tools (FileHeader::tools bits) a texture coded with these
 // parameters uses; the header must declare all of them.
 uint32_t TextureTools(WaveletKernel kernel, EntropyCoder coder, ColourSpace colour,
                       ChromaFormat chroma);
+
+// The format version a stream needs: that of its tools, and 2 for mask mode 2.
+uint16_t RequiredFormatVersion(uint32_t tools, MaskCoding mask_coding);
 
 // Texture bytes of a fragment (whichever texture box it has).
 uint64_t TextureBytes(const FragmentData& f);

@@ -33,7 +33,8 @@ Status DecodeFragment(const StreamInfo& info, const FragmentData& f, DecodeAllRe
   std::vector<uint8_t> masks;
   if (!f.masks.empty()) {
     masks.resize(shape.count());
-    FVV_RETURN_IF_ERROR(DecodeMasks(f.masks.data(), f.masks.size(), shape, masks.data()));
+    FVV_RETURN_IF_ERROR(
+        DecodeMasks(f.masks.data(), f.masks.size(), shape, f.mask_mode, masks.data()));
     Mix(&report->hash, masks.data(), masks.size());
   }
   if (!f.vertex_visibility.empty()) {

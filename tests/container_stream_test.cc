@@ -191,9 +191,17 @@ TEST_P(StreamRoundTrip, EveryBoxSurvivesBothReaders) {
 
 INSTANTIATE_TEST_SUITE_P(IndexPlacement, StreamRoundTrip, ::testing::Bool());
 
-TEST(Stream, DecodedPayloadsMatchTheSource) {
-  auto sample = MakeSampleStream(Small());
+class DecodedPayloads : public ::testing::TestWithParam<MaskCoding> {};
+INSTANTIATE_TEST_SUITE_P(MaskModes, DecodedPayloads,
+                         ::testing::Values(MaskCoding::kContext, MaskCoding::kMixing));
+
+TEST_P(DecodedPayloads, MatchTheSource) {
+  SampleStreamOptions o = Small();
+  o.mask_coding = GetParam();
+  auto sample = MakeSampleStream(o);
   ASSERT_TRUE(sample.ok());
+  // Mask mode 2 makes a version 2 stream; mode 1 keeps version 1.
+  EXPECT_EQ(sample->info.header.format_version, GetParam() == MaskCoding::kMixing ? 2 : 1);
   auto bytes = WriteStreamToMemory(sample->info, sample->fragments);
   ASSERT_TRUE(bytes.ok());
   MemorySource src(bytes->data(), bytes->size());
@@ -203,9 +211,11 @@ TEST(Stream, DecodedPayloadsMatchTheSource) {
   for (size_t i = 0; i < (*reader)->fragment_count(); ++i) {
     auto f = (*reader)->ReadFragment(i);
     ASSERT_TRUE(f.ok());
+    EXPECT_EQ(f->mask_mode, GetParam());
     const Shape4D shape = f->info.TextureShape(info.header);
     std::vector<uint8_t> masks(shape.count());
-    ASSERT_TRUE(DecodeMasks(f->masks.data(), f->masks.size(), shape, masks.data()).ok());
+    ASSERT_TRUE(
+        DecodeMasks(f->masks.data(), f->masks.size(), shape, f->mask_mode, masks.data()).ok());
     const size_t texels = size_t{shape.height()} * shape.width();
     for (uint32_t t = 0; t < shape.frames(); ++t)
       for (uint32_t c = 0; c < shape.cameras(); ++c)
@@ -225,6 +235,26 @@ TEST(Stream, DecodedPayloadsMatchTheSource) {
       }
     }
   }
+}
+
+// Mask mode 2 exists from format version 2 on: in a version 1 stream the
+// reader refuses it as unsupported, naming the mode and the version.
+TEST(Stream, MaskMode2NeedsFormatVersion2) {
+  SampleStreamOptions o = Small();
+  o.mask_coding = MaskCoding::kMixing;
+  auto sample = MakeSampleStream(o);
+  ASSERT_TRUE(sample.ok());
+  sample->info.header.format_version = 1;
+  auto bytes = WriteStreamToMemory(sample->info, sample->fragments);
+  ASSERT_TRUE(bytes.ok());
+  MemorySource src(bytes->data(), bytes->size());
+  auto reader = FileReader::Open(&src);
+  ASSERT_TRUE(reader.ok());
+  auto f = (*reader)->ReadFragment(0);
+  ASSERT_FALSE(f.ok());
+  EXPECT_EQ(f.status().code(), StatusCode::kUnsupported);
+  EXPECT_NE(f.status().message().find("mask mode 2 needs format version 2"), std::string::npos)
+      << f.status().ToString();
 }
 
 TEST(Stream, FileWriterRenamesOnlyOnSuccess) {

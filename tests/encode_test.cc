@@ -437,6 +437,29 @@ TEST_F(EncodeTest, CApiEncodesAndReportsAndRefusesMisuse) {
   ASSERT_EQ(fvv_decoder_get_info(dec.get(), &info), FVV_OK);
   EXPECT_EQ(info.frame_count, 3u);
   EXPECT_EQ(info.camera_count, 6u);
+  EXPECT_EQ(info.format_version, 2u);  // mask mode 2 by default
+
+  // FVV_MASKS_CODED_V1: mask mode 1 keeps the stream at format version 1, with
+  // larger masks; an unknown mask mode is refused.
+  s.progress = nullptr;
+  s.mask_mode = FVV_MASKS_CODED_V1;
+  fvv::EncoderPtr v1 = fvv::MakeEncoder(&s);
+  ASSERT_TRUE(v1);
+  const std::string out_v1 = dir_ + "/c_api_v1.fvv";
+  fvv_encode_report report_v1;
+  ASSERT_EQ(
+      fvv_encoder_encode_capture(v1.get(), (dir_ + "/cap").c_str(), out_v1.c_str(), &report_v1),
+      FVV_OK)
+      << fvv_encoder_error(v1.get());
+  EXPECT_EQ(report_v1.texture_bytes, report.texture_bytes);
+  EXPECT_GT(report_v1.mask_bytes, report.mask_bytes);
+  fvv::DecoderPtr dec_v1 = fvv::MakeDecoder();
+  ASSERT_EQ(fvv_decoder_open_file(dec_v1.get(), out_v1.c_str()), FVV_OK);
+  ASSERT_EQ(fvv_decoder_get_info(dec_v1.get(), &info), FVV_OK);
+  EXPECT_EQ(info.format_version, 1u);
+  s.mask_mode = 3;
+  EXPECT_EQ(fvv_encoder_create(&s, &none), FVV_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(fvv_encoder_settings_error()).find("mask_mode"), std::string::npos);
 }
 
 }  // namespace

@@ -316,6 +316,21 @@ std::vector<CaseSpec> ValidCases() {
   o.bpp = 0.8;
   add("predictive_97_partial",
       "predictive texture, 9/7, odd atlas (33x17), partial GOPs on both axes", o, {150});
+
+  // Format version 2: mask mode 2 (7.2).
+  o = Base(9, 4, 48, 40, 4, 3);
+  o.mask_coding = MaskCoding::kMixing;
+  add("masks_mixing",
+      "mask mode 2 (two context models mixed per texel): a camera reference in each GOP's "
+      "first frame, references two frames back, a short last span and group",
+      o, {60, 400});
+  o = Base(3, 2, 37, 23, 3, 2);
+  o.mask_coding = MaskCoding::kMixing;
+  o.predictive = true;
+  o.kernel = WaveletKernel::kLeGall53;
+  o.bpp = 1.0;
+  add("masks_mixing_predictive", "mask mode 2 with the predictive texture (its supports)", o,
+      {120});
   return v;
 }
 
@@ -568,6 +583,14 @@ std::vector<CaseSpec> InvalidCases() {
                  "(checksum recomputed)",
                  StatusCode::kCorrupt, {"9.8", "10"}))
       ->edit = patch_first_fragment(box::kPredictiveTexture, 2, 0x40);
+  add("mask_mode_unknown_v2",
+      "mask coding mode 3 in a format version 2 stream (checksum "
+      "recomputed)",
+      StatusCode::kUnsupported, {"7", "10"})
+      ->edit = [patch_first_fragment](std::vector<EditBox>* boxes) {
+    StoreLe(&(*boxes)[FindBox(*boxes, box::kFileHeader)].payload, fvvh::kFormatVersion, 2, 2);
+    return patch_first_fragment(box::kMasks, 0, 3)(boxes);
+  };
   predictive(add("ptex_top_plane",
                  "a 'ptex' stream whose top bitplane byte is 31 (checksum "
                  "recomputed)",

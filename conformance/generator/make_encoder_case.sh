@@ -19,7 +19,8 @@ trap 'rm -rf "$work"' EXIT
   --with-silhouettes >/dev/null
 mkdir -p "$case_dir"
 "$fvv" encode "$work/capture" -o "$case_dir/stream.fvv" --poses "$work/capture/truth/truth.json" \
-  --atlas 128 --gop-frames 2 --psnr 30 --meta title="fvv conformance: encoder_body" -q >/dev/null
+  --atlas 128 --gop-frames 2 --psnr 30 --mask-coder context \
+  --meta title="fvv conformance: encoder_body" -q >/dev/null
 cat >"$case_dir/test.json" <<JSON
 {
  "name": "encoder_body",

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "codec/block_codec.h"
+#include "codec/mask_coder.h"
 
 namespace fvv {
 
@@ -44,6 +45,18 @@ inline void AddTextureCodecOption(CLI::App* app, std::string* codec) {
                   "4:4:4; default kernel 5/3)")
       ->check(CLI::IsMember({"spiht", "predictive"}))
       ->capture_default_str();
+}
+
+// --mask-coder for the stream writers; `coder` holds its value.
+inline void AddMaskCoderOption(CLI::App* app, std::string* coder) {
+  app->add_option("--mask-coder", *coder,
+                  "mixing: mask mode 2, two context models mixed per texel (format version 2, "
+                  "about 12 % smaller); context: mask mode 1, readable by version 1 decoders")
+      ->check(CLI::IsMember({"mixing", "context"}))
+      ->capture_default_str();
+}
+inline MaskCoding MaskCoderFromName(const std::string& coder) {
+  return coder == "context" ? MaskCoding::kContext : MaskCoding::kMixing;
 }
 
 }  // namespace fvv

@@ -14,7 +14,7 @@ struct EncodeArgs {
   std::string capture, output, poses, textures, save_textures, summary_json, frames, static_texture,
       features;
   CodecOptionArgs codec;
-  std::string motion_coder = "arith", texture_codec = "spiht";
+  std::string motion_coder = "arith", texture_codec = "spiht", mask_coder = "mixing";
   bool kernel_given = false, gop_cameras_given = false;
   double bpp = 0, psnr = 0;
   uint64_t bytes = 0;
@@ -72,6 +72,7 @@ int RunEncode(const EncodeArgs& a) {
     s.rate_mode = RateMode::kPsnr, s.rate_value = a.psnr;
   }
   s.masks = !a.no_masks;
+  s.mask_coding = MaskCoderFromName(a.mask_coder);
   s.motion_coder = a.motion_coder == "zstd" ? MotionCoder::kZstd : MotionCoder::kArith;
   s.key_interval = a.key_interval;
   s.threads = a.threads;
@@ -133,6 +134,7 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
   e->add_option("--gop-cameras", a->gop_cameras, "Cameras per GOP")->capture_default_str();
   AddCodecOptions(e, &a->codec);
   AddTextureCodecOption(e, &a->texture_codec);
+  AddMaskCoderOption(e, &a->mask_coder);
   e->add_flag("--no-masks", a->no_masks,
               "Do not code visibility masks (the player then blends every camera everywhere)");
   e->add_option("--motion-coder", a->motion_coder, "Motion track entropy coder")

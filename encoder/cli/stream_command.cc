@@ -134,6 +134,7 @@ int RunInfo(const InfoArgs& a) {
       g["texture_codec"] = f->predictive ? "predictive" : "spiht";
       g["motion_bytes"] = f->motion.size();
       g["mask_bytes"] = f->masks.size();
+      if (!f->masks.empty()) g["mask_mode"] = static_cast<int>(f->mask_mode);
       texture += tex;
       motion += f->motion.size();
       masks += f->masks.size();
@@ -221,7 +222,7 @@ struct SampleArgs {
   std::string output;
   SampleStreamOptions o;
   CodecOptionArgs codec;
-  std::string motion_coder = "arith", texture_codec = "spiht";
+  std::string motion_coder = "arith", texture_codec = "spiht", mask_coder = "context";
   std::vector<uint32_t> atlas{64, 64}, gop{8, 8};
   bool no_masks = false, end_index = false;
   unsigned threads = 0;
@@ -232,6 +233,7 @@ int RunSample(SampleArgs a) {
   a.o.coder = a.codec.Coder();
   a.o.chroma = a.codec.Chroma();
   a.o.predictive = a.texture_codec == "predictive";
+  a.o.mask_coding = MaskCoderFromName(a.mask_coder);
   a.o.motion_coder = a.motion_coder == "zstd" ? MotionCoder::kZstd : MotionCoder::kArith;
   a.o.atlas_width = static_cast<uint16_t>(a.atlas[0]);
   a.o.atlas_height = static_cast<uint16_t>(a.atlas[1]);
@@ -295,6 +297,7 @@ void AddStreamCommands(CLI::App* app, int* exit_code) {
       ->check(CLI::Range(1, 64));
   AddCodecOptions(s, &smp->codec);
   AddTextureCodecOption(s, &smp->texture_codec);
+  AddMaskCoderOption(s, &smp->mask_coder);
   s->add_option("--bpp", smp->o.bpp, "Texture bits per texel")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);

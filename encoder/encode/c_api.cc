@@ -27,7 +27,7 @@ fvv::Status ToSettings(const fvv_encoder_settings& c, fvv::EncoderSettings* s) {
   if (c.kernel > FVV_KERNEL_HAAR) return InvalidArgument("kernel is not an fvv_kernel");
   if (c.coder > FVV_CODER_BINARY) return InvalidArgument("coder is not an fvv_entropy_coder");
   if (c.chroma > FVV_CHROMA_420) return InvalidArgument("chroma is not an fvv_chroma");
-  if (c.mask_mode > FVV_MASKS_NONE) return InvalidArgument("mask_mode is not an fvv_mask_mode");
+  if (c.mask_mode > FVV_MASKS_CODED_V1) return InvalidArgument("mask_mode is not an fvv_mask_mode");
   if (c.rate_mode > FVV_RATE_BYTES_PER_GOP)
     return InvalidArgument("rate_mode is not an fvv_rate_mode");
   if (!(c.rate_value > 0) || c.rate_value > 1e15)
@@ -44,7 +44,9 @@ fvv::Status ToSettings(const fvv_encoder_settings& c, fvv::EncoderSettings* s) {
   s->kernel = kKernels[c.kernel];
   s->coder = c.coder == FVV_CODER_BINARY ? fvv::EntropyCoder::kBinary : fvv::EntropyCoder::kArith;
   s->chroma = c.chroma == FVV_CHROMA_420 ? fvv::ChromaFormat::k420 : fvv::ChromaFormat::k444;
-  s->masks = c.mask_mode == FVV_MASKS_CODED;
+  s->masks = c.mask_mode != FVV_MASKS_NONE;
+  s->mask_coding =
+      c.mask_mode == FVV_MASKS_CODED_V1 ? fvv::MaskCoding::kContext : fvv::MaskCoding::kMixing;
   s->texture_codec = c.texture_codec == FVV_TEXTURE_PREDICTIVE ? fvv::TextureCodec::kPredictive
                                                                : fvv::TextureCodec::kSpiht4d;
   static const fvv::RateMode kModes[] = {fvv::RateMode::kPsnr, fvv::RateMode::kBitsPerSample,

@@ -217,7 +217,7 @@ class Session {
     if (s_.masks) h->tools |= kToolMasks;
     if (s_.key_interval > 1) h->tools |= kToolMotionInterpolation;
     if (s_.motion_coder == MotionCoder::kZstd) h->tools |= kToolMotionZstd;
-    h->format_version = RequiredFormatVersion(h->tools);
+    h->format_version = RequiredFormatVersion(h->tools, s_.mask_coding);
     // The lowest level whose limits hold the stream.
     for (const LevelLimits& l : AllLevels()) {
       h->level = l.level;
@@ -320,7 +320,10 @@ class Session {
       report.decoded = &decoded;  // what a decoder reconstructs at full length
       FVV_ASSIGN_OR_RETURN(frag.texture,
                            EncodeBlock(block, s_.masks ? &used : nullptr, es, &report));
-      if (s_.masks) frag.masks = EncodeMasks(used.data(), shape);
+      if (s_.masks) {
+        frag.masks = EncodeMasks(used.data(), shape, s_.mask_coding);
+        frag.mask_mode = s_.mask_coding;
+      }
       sum_.texture_bytes += frag.texture.total_bytes();
       sum_.mask_bytes += frag.masks.size();
       Measure(block, decoded, used, rgb);
@@ -351,7 +354,8 @@ class Session {
     PredictiveDecoded rec;
     FVV_ASSIGN_OR_RETURN(frag->predictive_texture, EncodePredictive(gop, o, &rec));
     frag->predictive = true;
-    frag->masks = EncodeMasks(used.data(), shape);
+    frag->masks = EncodeMasks(used.data(), shape, s_.mask_coding);
+    frag->mask_mode = s_.mask_coding;
     sum_.texture_bytes += frag->predictive_texture.Bytes();
     sum_.mask_bytes += frag->masks.size();
     Block decoded = block;

@@ -226,7 +226,7 @@ StatusOr<SampleStream> MakeSampleStream(const SampleStreamOptions& o,
     h.tools = (h.tools & ~(kToolSpihtArith | kToolSpihtBinary | kToolReversibleColour)) |
               kToolPredictiveTexture;
   }
-  h.format_version = RequiredFormatVersion(h.tools);
+  h.format_version = RequiredFormatVersion(h.tools, o.mask_coding);
   info.cameras = MakeRingCameras(o.cameras, 640, 480);
   info.model = MakeSampleBodyModel();
   info.motion.coder = o.motion_coder;
@@ -296,7 +296,10 @@ StatusOr<SampleStream> MakeSampleStream(const SampleStreamOptions& o,
     if (!o.predictive) {
       FVV_ASSIGN_OR_RETURN(frag.texture, EncodeBlock(block, o.masks ? &used : nullptr, settings));
     }
-    if (o.masks) frag.masks = EncodeMasks(used.data(), shape);
+    if (o.masks) {
+      frag.masks = EncodeMasks(used.data(), shape, o.mask_coding);
+      frag.mask_mode = o.mask_coding;
+    }
     if (fi.first_camera == 0) {
       std::vector<QuantisedPose> poses(out.poses.begin() + fi.first_frame,
                                        out.poses.begin() + fi.first_frame + fi.frame_count);

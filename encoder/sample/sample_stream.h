@@ -29,6 +29,9 @@ struct SampleStreamOptions {
   bool predictive = false;
   double bpp = 0.5;
   bool masks = true;
+  // Mode 1 by default: the conformance suite's released version-1 cases are
+  // made from these options and must stay byte-identical.
+  MaskCoding mask_coding = MaskCoding::kContext;
   bool vertex_visibility = false;
   MotionCoder motion_coder = MotionCoder::kArith;
   uint16_t key_interval = 1;

@@ -44,7 +44,10 @@ typedef enum {
 typedef enum { FVV_KERNEL_CDF97 = 0, FVV_KERNEL_LEGALL53 = 1, FVV_KERNEL_HAAR = 2 } fvv_kernel;
 typedef enum { FVV_CODER_ARITH = 0, FVV_CODER_BINARY = 1 } fvv_entropy_coder;
 typedef enum { FVV_CHROMA_444 = 0, FVV_CHROMA_420 = 1 } fvv_chroma;
-typedef enum { FVV_MASKS_CODED = 0, FVV_MASKS_NONE = 1 } fvv_mask_mode;
+/* FVV_MASKS_CODED: mask mode 2 (two context models mixed per texel; format version 2).
+   FVV_MASKS_CODED_V1: mask mode 1, about 12 % larger, keeps a SPIHT stream at format version 1
+   for older decoders. FVV_MASKS_NONE: no masks (the player blends every camera everywhere). */
+typedef enum { FVV_MASKS_CODED = 0, FVV_MASKS_NONE = 1, FVV_MASKS_CODED_V1 = 2 } fvv_mask_mode;
 /* FVV_TEXTURE_SPIHT: 4D wavelet + 4D SPIHT per GOP. FVV_TEXTURE_PREDICTIVE: T00 + R0(t) + R(t, c)
    with shape-adaptive BISK (format version 2; needs coded masks and 4:4:4; give it several
    cameras per GOP: gop_cameras 0 = all, and the 5/3 kernel). */

@@ -127,7 +127,7 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
     std::vector<uint8_t>& masks = gop->masks[i];
     const Shape4D shape = f.info.TextureShape(info.header);
     const auto decode_masks = [&f, shape, &masks] {
-      return DecodeMasks(f.masks.data(), f.masks.size(), shape, masks.data());
+      return DecodeMasks(f.masks.data(), f.masks.size(), shape, f.mask_mode, masks.data());
     };
     if (f.predictive) {
       // 'ptex': the masks are the signals' supports, so they come first.
