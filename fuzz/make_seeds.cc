@@ -75,6 +75,7 @@ int Run(const std::string& dir) {
          o->kernel = WaveletKernel::kLeGall53;
          o->predictive = true;
        }},
+      {"masks_mixing", [](SampleStreamOptions* o) { o->mask_coding = MaskCoding::kMixing; }},
       {"end_index_vvis",
        [](SampleStreamOptions* o) {
          o->fast_start = false;
@@ -101,8 +102,8 @@ int Run(const std::string& dir) {
     if (!f.masks.empty()) {
       const Shape4D s = f.info.TextureShape(stream->info.header);
       put("fuzz_mask", v.name,
-          Prefixed({uint8_t(s.frames() - 1), uint8_t(s.cameras() - 1), uint8_t(s.height() - 1),
-                    uint8_t(s.width() - 1)},
+          Prefixed({uint8_t((s.frames() - 1) | (f.mask_mode == MaskCoding::kMixing ? 0x10 : 0)),
+                    uint8_t(s.cameras() - 1), uint8_t(s.height() - 1), uint8_t(s.width() - 1)},
                    f.masks));
     }
     EncodedBlock block = f.texture;
