@@ -8,6 +8,7 @@
 #include "encoder/body/kinematics.h"
 #include "encoder/capture/calibration.h"
 #include "encoder/capture/powell.h"
+#include "encoder/capture/silhouette_raster.h"
 
 namespace fvv {
 namespace {
@@ -55,38 +56,6 @@ struct View {
            xor_integral[size_t(y0) * s + x0];
   }
 };
-
-struct Box {
-  int x0, y0, x1, y1;  // inclusive; empty when x0 > x1
-};
-
-// Sets pixels whose centres lie inside front-facing triangles (pixel centres at
-// integer coordinates, as the calibration's); grows `box` by what it touches.
-void Rasterise(const std::vector<uint32_t>& tris, const std::vector<Vector2f>& px, int w, int h,
-               uint8_t* out, Box* box) {
-  for (size_t t = 0; t + 2 < tris.size(); t += 3) {
-    const Vector2f a = px[tris[t]], b = px[tris[t + 1]], c = px[tris[t + 2]];
-    const float area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
-    // Outward counter-clockwise winding appears clockwise in y-down images: a
-    // closed mesh's silhouette is the union of its front faces (area < 0).
-    if (area >= 0) continue;
-    const int x0 = std::max(0, int(std::ceil(std::min({a.x(), b.x(), c.x()}))));
-    const int x1 = std::min(w - 1, int(std::floor(std::max({a.x(), b.x(), c.x()}))));
-    const int y0 = std::max(0, int(std::ceil(std::min({a.y(), b.y(), c.y()}))));
-    const int y1 = std::min(h - 1, int(std::floor(std::max({a.y(), b.y(), c.y()}))));
-    if (x0 > x1 || y0 > y1) continue;
-    box->x0 = std::min(box->x0, x0), box->x1 = std::max(box->x1, x1);
-    box->y0 = std::min(box->y0, y0), box->y1 = std::max(box->y1, y1);
-    const float inv = 1.0f / area;
-    for (int y = y0; y <= y1; ++y) {
-      for (int x = x0; x <= x1; ++x) {
-        const float w0 = ((c.x() - b.x()) * (y - b.y()) - (c.y() - b.y()) * (x - b.x())) * inv;
-        const float w1 = ((a.x() - c.x()) * (y - c.y()) - (a.y() - c.y()) * (x - c.x())) * inv;
-        if (w0 >= 0 && w1 >= 0 && w0 + w1 <= 1) out[size_t(y) * w + x] = 1;
-      }
-    }
-  }
-}
 
 // A set of DOFs optimised together, and what moves when they change.
 struct Stage {
@@ -344,8 +313,8 @@ struct Tracker::Impl {
       std::fill(v.fixed.begin(), v.fixed.end(), 0);
       std::vector<Vector2f> px(posed.size());
       for (size_t i = 0; i < posed.size(); ++i) px[i] = v.Project(posed[i]);
-      Box box{v.w, v.h, -1, -1};
-      Rasterise(stage.fixed_tris, px, v.w, v.h, v.fixed.data(), &box);
+      RasterBox box{v.w, v.h, -1, -1};
+      RasteriseSilhouette(stage.fixed_tris, px, v.w, v.h, v.fixed.data(), &box);
       const int s = v.w + 1;
       v.xor_total = 0;
       for (int y = 0; y < v.h; ++y) {
@@ -399,10 +368,10 @@ struct Tracker::Impl {
       View& v = views[level][c];
       std::vector<Vector2f> px(posed.size());
       for (uint32_t i : stage.moving_verts) px[i] = v.Project(posed[i]);
-      Box box{v.w, v.h, -1, -1};
+      RasterBox box{v.w, v.h, -1, -1};
       // Clear the scratch where the last evaluation may have drawn: the whole
       // image is cheap at these sizes only once; afterwards by box.
-      Rasterise(stage.moving_tris, px, v.w, v.h, v.scratch.data(), &box);
+      RasteriseSilhouette(stage.moving_tris, px, v.w, v.h, v.scratch.data(), &box);
       if (box.x0 > box.x1) {
         per_camera[c] = v.xor_total;
         return;
@@ -540,8 +509,8 @@ struct Tracker::Impl {
       std::vector<Vector2f> px(posed.size());
       for (size_t i = 0; i < posed.size(); ++i) px[i] = v.Project(posed[i]);
       std::vector<uint8_t> m(v.sil.size(), 0);
-      Box box{v.w, v.h, -1, -1};
-      Rasterise(all.moving_tris, px, v.w, v.h, m.data(), &box);
+      RasterBox box{v.w, v.h, -1, -1};
+      RasteriseSilhouette(all.moving_tris, px, v.w, v.h, m.data(), &box);
       for (size_t i = 0; i < m.size(); ++i) inter += m[i] & v.sil[i], uni += m[i] | v.sil[i];
       area += v.sil_area;
     }
@@ -788,8 +757,8 @@ Image Tracker::ModelSilhouette(uint32_t camera, const std::vector<double>& dofs)
   Image out;
   out.width = cam.width, out.height = cam.height, out.channels = 1;
   out.pixels.assign(size_t{cam.width} * cam.height, 0);
-  Box box{v.w, v.h, -1, -1};
-  Rasterise(tris, px, v.w, v.h, out.pixels.data(), &box);
+  RasterBox box{v.w, v.h, -1, -1};
+  RasteriseSilhouette(tris, px, v.w, v.h, out.pixels.data(), &box);
   for (uint8_t& p : out.pixels) p = p ? 255 : 0;
   return out;
 }
