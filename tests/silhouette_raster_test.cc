@@ -23,10 +23,12 @@ void ReferenceRaster(const std::vector<uint32_t>& tris, const std::vector<Vector
     const float area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
     if (!(area < 0)) continue;
     const float inv = 1.0f / area;
-    const int x0 = std::max(0, int(std::ceil(std::min({a.x(), b.x(), c.x()}))));
-    const int x1 = std::min(w - 1, int(std::floor(std::max({a.x(), b.x(), c.x()}))));
-    const int y0 = std::max(0, int(std::ceil(std::min({a.y(), b.y(), c.y()}))));
-    const int y1 = std::min(h - 1, int(std::floor(std::max({a.y(), b.y(), c.y()}))));
+    // Every pixel centre of the triangle's box within the image.
+    auto clip = [](double v, int n) { return std::min(std::max(v, -1.0), double(n)); };
+    const int x0 = std::max(0, int(std::ceil(clip(std::min({a.x(), b.x(), c.x()}), w))));
+    const int x1 = std::min(w - 1, int(std::floor(clip(std::max({a.x(), b.x(), c.x()}), w))));
+    const int y0 = std::max(0, int(std::ceil(clip(std::min({a.y(), b.y(), c.y()}), h))));
+    const int y1 = std::min(h - 1, int(std::floor(clip(std::max({a.y(), b.y(), c.y()}), h))));
     for (int y = y0; y <= y1; ++y) {
       for (int x = x0; x <= x1; ++x) {
         if (PixelInTriangle(a, b, c, inv, x, y)) out[size_t(y) * w + x] = 1;
@@ -82,6 +84,47 @@ TEST(SilhouetteRaster, EqualsThePerPixelDefinitionOnRandomTriangles) {
   // The inputs reach the interesting cases: many triangles draw something.
   EXPECT_GT(drawn, 10000);
   EXPECT_GT(pixels, 1000000);
+}
+
+// A mesh-like batch in one call (shared vertices, a count that is not a
+// multiple of four): the path that culls four triangles at a time.
+TEST(SilhouetteRaster, BatchesEqualTheDefinition) {
+  constexpr int kW = 160, kH = 120;
+  std::mt19937 rng(11);
+  for (int round = 0; round < 40; ++round) {
+    std::uniform_real_distribution<float> pos(-20, kW + 20), jitter(-4, 4);
+    std::vector<Vector2f> px;
+    for (int i = 0; i < 300; ++i) px.push_back({pos(rng), pos(rng) * kH / kW});
+    std::vector<uint32_t> tris;
+    std::uniform_int_distribution<uint32_t> pick(0, 299);
+    const int count = 1001 + round;
+    for (int i = 0; i < count; ++i) {
+      const uint32_t a = pick(rng);
+      // Mostly small triangles: neighbours of a vertex moved a few pixels.
+      px.push_back(px[a] + Vector2f(jitter(rng), jitter(rng)));
+      px.push_back(px[a] + Vector2f(jitter(rng), jitter(rng)));
+      if (round % 4 == 3) px.back() = {1e12f, -3e9f};  // far behind-camera projections
+      tris.insert(tris.end(), {a, uint32_t(px.size() - 2), uint32_t(px.size() - 1)});
+    }
+    std::vector<uint8_t> got(size_t(kW) * kH, 0), want(size_t(kW) * kH, 0);
+    RasterBox box{kW, kH, -1, -1};
+    RasteriseSilhouette(tris, px, kW, kH, got.data(), &box);
+    ReferenceRaster(tris, px, kW, kH, want.data());
+    ASSERT_EQ(got, want) << "round " << round;
+    EXPECT_GT(std::count(want.begin(), want.end(), 1), 500);
+    RasterBox ref_box{kW, kH, -1, -1};
+    for (size_t t = 0; t < tris.size(); t += 3) {  // the box: union of the drawn triangles' boxes
+      RasterBox one{kW, kH, -1, -1};
+      std::vector<uint8_t> scratch(size_t(kW) * kH, 0);
+      RasteriseSilhouette({tris[t], tris[t + 1], tris[t + 2]}, px, kW, kH, scratch.data(), &one);
+      ref_box = {std::min(ref_box.x0, one.x0), std::min(ref_box.y0, one.y0),
+                 std::max(ref_box.x1, one.x1), std::max(ref_box.y1, one.y1)};
+    }
+    EXPECT_EQ(box.x0, ref_box.x0);
+    EXPECT_EQ(box.y0, ref_box.y0);
+    EXPECT_EQ(box.x1, ref_box.x1);
+    EXPECT_EQ(box.y1, ref_box.y1);
+  }
 }
 
 TEST(SilhouetteRaster, BackFacesAndDegenerateTrianglesDrawNothing) {

@@ -18,6 +18,7 @@
 #include "encoder/capture/capture_frames.h"
 #include "encoder/capture/features.h"
 #include "encoder/capture/track_capture.h"
+#include "encoder/encode/ordered_queue.h"
 #include "encoder/encode/pose_file.h"
 #include "encoder/encode/seamless_texture.h"
 
@@ -646,20 +647,28 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
     to.last = last;
     to.extract = s.extract_silhouettes;
     to.tracker = s.tracker;
+    // Resampling and coding a frame run on a thread of their own, beside the
+    // tracking of the next frames (at most one GOP and a frame queued), in
+    // frame order, so the output is what a sequential run writes.
+    OrderedQueue behind_tracking(s.gop_frames + 1);
     to.on_frame = [&](uint32_t f, const FrameFit& fit, const Tracker& tracker,
                       const std::vector<Image>& images, const std::vector<Image>& sils) -> Status {
-      if (!session.HasShape()) {
+      if (!session.HasShape()) {  // the shape: once, before any frame is resampled
         const RefinementFrame refine{fit.dofs, images, sils, FeaturesOf(f)};
         FVV_RETURN_IF_ERROR(session.SetShape(tracker.shape(), &refine));
       }
-      FVV_RETURN_IF_ERROR(session.AddFrame(f, fit.dofs, images, sils));
       char extra[96];
       std::snprintf(extra, sizeof(extra), "  IoU %.3f%s", fit.iou,
                     fit.poor ? ("  FLAGGED: " + fit.note).c_str() : "");
-      progress(f, extra);
-      return Status::Ok();
+      return behind_tracking.Push(
+          [&session, &progress, f, dofs = fit.dofs, images, sils, line = std::string(extra)] {
+            FVV_RETURN_IF_ERROR(session.AddFrame(f, dofs, images, sils));
+            progress(f, line);
+            return Status::Ok();
+          });
     };
     StatusOr<TrackCaptureResult> tracked = TrackCapture(capture_path, to);
+    FVV_RETURN_IF_ERROR(behind_tracking.Finish());
     if (!tracked.ok()) return tracked.status();
     sum.read_s = tracked->silhouette_seconds;
     sum.track_s = tracked->fit_seconds;
