@@ -34,6 +34,7 @@ struct View {
   std::vector<uint8_t> sil;  // 0/1
   int64_t sil_area = 0;
   std::vector<uint8_t> fixed, scratch;
+  std::vector<Vector2f> projected;    // per-evaluation vertex positions, kept to spare allocations
   std::vector<int32_t> xor_integral;  // (w + 1) x (h + 1) prefix sums of fixed ^ sil
   int64_t xor_total = 0;
 
@@ -366,7 +367,8 @@ struct Tracker::Impl {
     std::vector<int64_t> per_camera(cameras.size(), 0);
     pool.Run(uint32_t(cameras.size()), [&](uint32_t c) {
       View& v = views[level][c];
-      std::vector<Vector2f> px(posed.size());
+      std::vector<Vector2f>& px = v.projected;  // only the moving vertices are read
+      if (px.size() < posed.size()) px.resize(posed.size());
       for (uint32_t i : stage.moving_verts) px[i] = v.Project(posed[i]);
       RasterBox box{v.w, v.h, -1, -1};
       // Clear the scratch where the last evaluation may have drawn: the whole
