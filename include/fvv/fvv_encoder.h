@@ -22,7 +22,9 @@
  * The output appears only when encoding succeeds (a temporary file is renamed over it).
  *
  * Thread safety: one encoder is used by one thread at a time; different encoders are independent.
- * The progress callback runs on the calling thread, between frames.
+ * The progress callback is called one line at a time, never concurrently, while
+ * fvv_encoder_encode_capture runs. When the encoder tracks, a frame's resampling and coding run
+ * on a worker thread beside the tracking of the next frames, and its lines come from that thread.
  */
 #ifndef FVV_FVV_ENCODER_H_
 #define FVV_FVV_ENCODER_H_
