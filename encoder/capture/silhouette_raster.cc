@@ -28,8 +28,8 @@ inline void FillTriangle(const Eigen::Vector2f& a, const Eigen::Vector2f& b,
   const __m128 v_cby = _mm_set1_ps(cby), v_acy = _mm_set1_ps(acy);
   const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
   const __m128 lane = _mm_setr_ps(0, 1, 2, 3);
-  // Byte masks of the 16 four-pixel patterns, OR-ed into the row where four
-  // bytes fit inside it.
+  // Byte masks of the 16 four-pixel patterns (in x86's little-endian byte
+  // order: lane i is byte i), OR-ed into the row where four bytes fit inside it.
   static constexpr uint32_t kBytes[16] = {0x00000000, 0x00000001, 0x00000100, 0x00000101,
                                           0x00010000, 0x00010001, 0x00010100, 0x00010101,
                                           0x01000000, 0x01000001, 0x01000100, 0x01000101,
