@@ -70,15 +70,13 @@ StatusOr<Block> DecodeBlock(const EncodedBlock& encoded, const DecodeBudget& bud
   const int frac = TransformFracBits(p.kernel);
   for (int c = 0; c < 3; ++c) {
     const WaveletGeometry g(shapes[c]);
-    InverseTransform4D(p.kernel, g, runner, coeffs[c].data());
     const SampleRange range = ChannelRange(p.colour, c);
     const int32_t round = frac ? 1 << (frac - 1) : 0;
-    constexpr size_t kSlice = 1 << 16;  // output scaling in slices over the runner
     int32_t* data = coeffs[c].data();
-    const size_t count = coeffs[c].size();
-    runner(static_cast<uint32_t>((count + kSlice - 1) / kSlice), [&](uint32_t k) {
-      ScaleOutput(data, size_t{k} * kSlice, std::min(count, (size_t{k} + 1) * kSlice), round, frac,
-                  range.offset, range.min, range.max);
+    // Output scaling of each part as soon as the transform is done with it
+    // (while it is still in cache where the transform works plane by plane).
+    InverseTransform4D(p.kernel, g, runner, data, [&](size_t begin, size_t end) {
+      ScaleOutput(data, begin, end, round, frac, range.offset, range.min, range.max);
     });
     block.channels[c].shape = shapes[c];
     block.channels[c].samples = std::move(coeffs[c]);

@@ -11,4 +11,12 @@
 #define FVV_SIMD_CLONES
 #endif
 
+// Helpers called from a clone must be inlined into it to run with its
+// instruction set: a separate copy is compiled for the baseline only.
+#if defined(__GNUC__)
+#define FVV_ALWAYS_INLINE inline __attribute__((always_inline))
+#else
+#define FVV_ALWAYS_INLINE inline
+#endif
+
 #endif  // FVV_CODEC_SIMD_H_

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <functional>
 
 #include "codec/simd.h"
 
@@ -41,10 +42,20 @@ constexpr int32_t kAlpha = -103949, kBeta = -3472, kGamma = 57862, kDelta = 2906
 constexpr double kAlphaR = -1.586134342059924, kBetaR = -0.052980118572961,
                  kGammaR = 0.882911075530934, kDeltaR = 0.443506852043971;
 
-// sum is the 32-bit (wrapped) sum of two neighbours, so the product is a 32x32 -> 64
-// bit multiply, which vectorises (pmuldq) where a 64x64 one does not.
-inline int32_t MulQ16(int32_t c, int32_t sum) {
-  return static_cast<int32_t>((int64_t{c} * sum + 32768) >> 16);
+// floor((C * x + 2^15) / 2^16) modulo 2^32, for x the 32-bit (wrapped) sum of two
+// neighbours, in 32-bit operations only, so it vectorises without 64-bit lanes.
+// With x = xh 2^16 + xl and C = ch 2^16 + cl (xl, cl in [0, 2^16)):
+//   C x + 2^15 = (C xh + ch xl) 2^16 + (cl xl + 2^15),
+// and cl xl + 2^15 < 2^32, so its floor quotient is an unsigned shift. The
+// identity is exact, so this equals the 64-bit expression of SPEC.md 9.5.
+template <int32_t C>
+inline int32_t MulQ16(int32_t x) {
+  constexpr int32_t ch = C >> 16;
+  constexpr uint32_t cl = static_cast<uint32_t>(C) & 0xffffu;
+  const int32_t xh = x >> 16;
+  const uint32_t xl = static_cast<uint32_t>(x) & 0xffffu;
+  return static_cast<int32_t>(static_cast<uint32_t>(C) * static_cast<uint32_t>(xh) +
+                              static_cast<uint32_t>(ch) * xl + ((cl * xl + 32768u) >> 16));
 }
 
 // Lifting updates wrap modulo 2^32 instead of overflowing: valid streams never
@@ -56,8 +67,9 @@ inline int32_t WrapAdd(int32_t a, int32_t b) {
 inline int32_t WrapSub(int32_t a, int32_t b) {
   return static_cast<int32_t>(static_cast<uint32_t>(a) - static_cast<uint32_t>(b));
 }
-inline int32_t NegMulQ16(int32_t c, int32_t sum) {
-  return static_cast<int32_t>(-((int64_t{c} * sum + 32768) >> 16));
+template <int32_t C>
+inline int32_t NegMulQ16(int32_t x) {
+  return static_cast<int32_t>(0u - static_cast<uint32_t>(MulQ16<C>(x)));
 }
 
 // Lifting step on row vectors: target row i gets f(src row i + src row i+di) where the
@@ -65,7 +77,7 @@ inline int32_t NegMulQ16(int32_t c, int32_t sum) {
 // Predict steps (target = odd rows d, source = even rows s) use neighbours i, i+1;
 // update steps (target = s, source = d) use i-1, i.
 template <typename F>
-inline void PredictStep(int32_t* d, uint32_t nd, const int32_t* s, uint32_t ns, uint32_t v, F f) {
+FVV_ALWAYS_INLINE void PredictStep(int32_t* d, uint32_t nd, const int32_t* s, uint32_t ns, uint32_t v, F f) {
   for (uint32_t i = 0; i < nd; ++i) {
     const int32_t* a = s + size_t{i} * v;
     const int32_t* b = s + size_t{std::min(i + 1, ns - 1)} * v;
@@ -74,12 +86,70 @@ inline void PredictStep(int32_t* d, uint32_t nd, const int32_t* s, uint32_t ns, 
   }
 }
 template <typename F>
-inline void UpdateStep(int32_t* s, uint32_t ns, const int32_t* d, uint32_t nd, uint32_t v, F f) {
+FVV_ALWAYS_INLINE void UpdateStep(int32_t* s, uint32_t ns, const int32_t* d, uint32_t nd, uint32_t v, F f) {
   for (uint32_t i = 0; i < ns; ++i) {
     const int32_t* a = d + size_t{i == 0 ? 0 : std::min(i - 1, nd - 1)} * v;
     const int32_t* b = d + size_t{std::min(i, nd - 1)} * v;
     int32_t* t = s + size_t{i} * v;
     for (uint32_t j = 0; j < v; ++j) t[j] = WrapAdd(t[j], f(a[j], b[j]));
+  }
+}
+
+// The same steps on one line (v = 1): the boundary samples are peeled off so the
+// interior loops run over contiguous neighbours and vectorise along the line.
+template <typename F>
+FVV_ALWAYS_INLINE void PredictLine(int32_t* __restrict d, uint32_t nd, const int32_t* __restrict s,
+                        uint32_t ns, F f) {
+  const uint32_t inner = std::min(nd, ns - 1);  // d[i] with both s[i] and s[i + 1]
+  for (uint32_t i = 0; i < inner; ++i) d[i] = WrapAdd(d[i], f(s[i], s[i + 1]));
+  for (uint32_t i = inner; i < nd; ++i) d[i] = WrapAdd(d[i], f(s[ns - 1], s[ns - 1]));
+}
+template <typename F>
+FVV_ALWAYS_INLINE void UpdateLine(int32_t* __restrict s, uint32_t ns, const int32_t* __restrict d,
+                       uint32_t nd, F f) {
+  s[0] = WrapAdd(s[0], f(d[0], d[0]));
+  const uint32_t inner = std::min(ns, nd);  // s[i], i >= 1, with both d[i - 1] and d[i]
+  for (uint32_t i = 1; i < inner; ++i) s[i] = WrapAdd(s[i], f(d[i - 1], d[i]));
+  for (uint32_t i = std::max(inner, 1u); i < ns; ++i)
+    s[i] = WrapAdd(s[i], f(d[nd - 1], d[nd - 1]));
+}
+
+// The kernels' lifting steps, applied through Predict/Update functors so that the
+// row-vector and the single-line layouts share them.
+template <typename Predict, typename Update>
+FVV_ALWAYS_INLINE void ForwardSteps(WaveletKernel kernel, Predict predict, Update update) {
+  switch (kernel) {
+    case WaveletKernel::kHaar:
+      break;  // callers handle Haar
+    case WaveletKernel::kLeGall53:
+      predict([](int32_t a, int32_t b) { return static_cast<int32_t>(-((int64_t{a} + b) >> 1)); });
+      update([](int32_t a, int32_t b) { return static_cast<int32_t>((int64_t{a} + b + 2) >> 2); });
+      break;
+    case WaveletKernel::kCdf97:
+      predict([](int32_t a, int32_t b) { return MulQ16<kAlpha>(WrapAdd(a, b)); });
+      update([](int32_t a, int32_t b) { return MulQ16<kBeta>(WrapAdd(a, b)); });
+      predict([](int32_t a, int32_t b) { return MulQ16<kGamma>(WrapAdd(a, b)); });
+      update([](int32_t a, int32_t b) { return MulQ16<kDelta>(WrapAdd(a, b)); });
+      break;
+  }
+}
+template <typename Predict, typename Update>
+FVV_ALWAYS_INLINE void InverseSteps(WaveletKernel kernel, Predict predict, Update update) {
+  switch (kernel) {
+    case WaveletKernel::kHaar:
+      break;
+    case WaveletKernel::kLeGall53:
+      update([](int32_t a, int32_t b) {
+        return static_cast<int32_t>(-((int64_t{a} + b + 2) >> 2));
+      });
+      predict([](int32_t a, int32_t b) { return static_cast<int32_t>((int64_t{a} + b) >> 1); });
+      break;
+    case WaveletKernel::kCdf97:
+      update([](int32_t a, int32_t b) { return NegMulQ16<kDelta>(WrapAdd(a, b)); });
+      predict([](int32_t a, int32_t b) { return NegMulQ16<kGamma>(WrapAdd(a, b)); });
+      update([](int32_t a, int32_t b) { return NegMulQ16<kBeta>(WrapAdd(a, b)); });
+      predict([](int32_t a, int32_t b) { return NegMulQ16<kAlpha>(WrapAdd(a, b)); });
+      break;
   }
 }
 
@@ -93,32 +163,20 @@ void LiftForward(WaveletKernel kernel, uint32_t m, uint32_t v, int32_t* rows) {
   const uint32_t ns = (m + 1) / 2, nd = m / 2;
   int32_t* s = rows;
   int32_t* d = rows + size_t{ns} * v;
-  switch (kernel) {
-    case WaveletKernel::kHaar:
-      // d = odd - even; s = even + floor(d / 2). A trailing even sample stays as is.
-      for (size_t i = 0; i < size_t{nd} * v; ++i) {
-        d[i] = WrapSub(d[i], s[i]);
-        s[i] = WrapAdd(s[i], d[i] >> 1);
-      }
-      break;
-    case WaveletKernel::kLeGall53:
-      PredictStep(d, nd, s, ns, v, [](int32_t a, int32_t b) {
-        return static_cast<int32_t>(-((int64_t{a} + b) >> 1));
-      });
-      UpdateStep(s, ns, d, nd, v, [](int32_t a, int32_t b) {
-        return static_cast<int32_t>((int64_t{a} + b + 2) >> 2);
-      });
-      break;
-    case WaveletKernel::kCdf97:
-      PredictStep(d, nd, s, ns, v,
-                  [](int32_t a, int32_t b) { return MulQ16(kAlpha, WrapAdd(a, b)); });
-      UpdateStep(s, ns, d, nd, v,
-                 [](int32_t a, int32_t b) { return MulQ16(kBeta, WrapAdd(a, b)); });
-      PredictStep(d, nd, s, ns, v,
-                  [](int32_t a, int32_t b) { return MulQ16(kGamma, WrapAdd(a, b)); });
-      UpdateStep(s, ns, d, nd, v,
-                 [](int32_t a, int32_t b) { return MulQ16(kDelta, WrapAdd(a, b)); });
-      break;
+  if (kernel == WaveletKernel::kHaar) {
+    // d = odd - even; s = even + floor(d / 2). A trailing even sample stays as is.
+    for (size_t i = 0; i < size_t{nd} * v; ++i) {
+      d[i] = WrapSub(d[i], s[i]);
+      s[i] = WrapAdd(s[i], d[i] >> 1);
+    }
+  } else if (v == 1) {
+    ForwardSteps(
+        kernel, [&](auto f) __attribute__((always_inline)) { PredictLine(d, nd, s, ns, f); },
+        [&](auto f) __attribute__((always_inline)) { UpdateLine(s, ns, d, nd, f); });
+  } else {
+    ForwardSteps(
+        kernel, [&](auto f) __attribute__((always_inline)) { PredictStep(d, nd, s, ns, v, f); },
+        [&](auto f) __attribute__((always_inline)) { UpdateStep(s, ns, d, nd, v, f); });
   }
 }
 
@@ -128,30 +186,19 @@ void LiftInverse(WaveletKernel kernel, uint32_t m, uint32_t v, int32_t* rows) {
   const uint32_t ns = (m + 1) / 2, nd = m / 2;
   int32_t* s = rows;
   int32_t* d = rows + size_t{ns} * v;
-  switch (kernel) {
-    case WaveletKernel::kHaar:
-      for (size_t i = 0; i < size_t{nd} * v; ++i) {
-        s[i] = WrapSub(s[i], d[i] >> 1);
-        d[i] = WrapAdd(d[i], s[i]);
-      }
-      break;
-    case WaveletKernel::kLeGall53:
-      UpdateStep(s, ns, d, nd, v, [](int32_t a, int32_t b) {
-        return static_cast<int32_t>(-((int64_t{a} + b + 2) >> 2));
-      });
-      PredictStep(d, nd, s, ns, v,
-                  [](int32_t a, int32_t b) { return static_cast<int32_t>((int64_t{a} + b) >> 1); });
-      break;
-    case WaveletKernel::kCdf97:
-      UpdateStep(s, ns, d, nd, v,
-                 [](int32_t a, int32_t b) { return NegMulQ16(kDelta, WrapAdd(a, b)); });
-      PredictStep(d, nd, s, ns, v,
-                  [](int32_t a, int32_t b) { return NegMulQ16(kGamma, WrapAdd(a, b)); });
-      UpdateStep(s, ns, d, nd, v,
-                 [](int32_t a, int32_t b) { return NegMulQ16(kBeta, WrapAdd(a, b)); });
-      PredictStep(d, nd, s, ns, v,
-                  [](int32_t a, int32_t b) { return NegMulQ16(kAlpha, WrapAdd(a, b)); });
-      break;
+  if (kernel == WaveletKernel::kHaar) {
+    for (size_t i = 0; i < size_t{nd} * v; ++i) {
+      s[i] = WrapSub(s[i], d[i] >> 1);
+      d[i] = WrapAdd(d[i], s[i]);
+    }
+  } else if (v == 1) {
+    InverseSteps(
+        kernel, [&](auto f) __attribute__((always_inline)) { PredictLine(d, nd, s, ns, f); },
+        [&](auto f) __attribute__((always_inline)) { UpdateLine(s, ns, d, nd, f); });
+  } else {
+    InverseSteps(
+        kernel, [&](auto f) __attribute__((always_inline)) { PredictStep(d, nd, s, ns, v, f); },
+        [&](auto f) __attribute__((always_inline)) { UpdateStep(s, ns, d, nd, v, f); });
   }
 }
 
@@ -192,84 +239,164 @@ void LiftInverseReal(WaveletKernel kernel, uint32_t m, double* x) {
 
 namespace {
 
-// Lines along the x axis are grouped this many at a time and transposed, so the
-// lifting loops run over row vectors and vectorise like the other axes.
-constexpr uint32_t kXGroup = 16;
+// Rows along the x axis are handed out this many to a task.
+constexpr uint32_t kRowsPerTask = 16;
+// Lines along the other axes are cut into column strips of at most this many
+// samples (m rows x strip), so a strip's lifting steps run in the core's cache.
+constexpr size_t kStripSamples = 32 * 1024;
+// With at least this many (t, c) planes in a level's region, each plane's y and
+// x passes run together as one task while the plane is in cache; with fewer,
+// each pass is spread over the runner on its own.
+constexpr uint32_t kMinPlanesToFuse = 4;
 
 struct Region {
   std::array<uint32_t, kAxes> ext;  // extents of R(l-1)
+  uint32_t Planes() const { return ext[0] * ext[1]; }
 };
 
-// One 1D pass along `axis` over the region; forward or inverse.
+// Scratch for one line or strip, kept per thread across passes and blocks.
+int32_t* Scratch(size_t samples) {
+  thread_local std::vector<int32_t> buffer;
+  if (buffer.size() < samples) buffer.resize(samples);
+  return buffer.data();
+}
+
+// Rows along x, each lifted on its own in the cache-resident scratch and then
+// (inverse) interleaved back or (forward) stored deinterleaved.
+FVV_SIMD_CLONES
+void RowsPass(WaveletKernel kernel, uint32_t m, bool forward, int32_t* row, size_t row_stride,
+              uint32_t rows) {
+  const uint32_t ns = (m + 1) / 2, nd = m / 2;
+  int32_t* buf = Scratch(m);
+  for (uint32_t r = 0; r < rows; ++r, row += row_stride) {
+    if (forward) {
+      for (uint32_t i = 0; i < nd; ++i) {
+        buf[i] = row[2 * i];
+        buf[ns + i] = row[2 * i + 1];
+      }
+      if (ns > nd) buf[nd] = row[m - 1];
+      LiftForward(kernel, m, 1, buf);
+      std::memcpy(row, buf, m * sizeof(int32_t));
+    } else {
+      std::memcpy(buf, row, m * sizeof(int32_t));
+      LiftInverse(kernel, m, 1, buf);
+      for (uint32_t i = 0; i < nd; ++i) {
+        row[2 * i] = buf[i];
+        row[2 * i + 1] = buf[ns + i];
+      }
+      if (ns > nd) row[m - 1] = buf[nd];
+    }
+  }
+}
+
+// One strip of a line along a slower axis: m row vectors of `width` samples,
+// `stride` apart, gathered (deinterleaved for the forward pass), lifted and
+// scattered back.
+void StripPass(WaveletKernel kernel, uint32_t m, bool forward, int32_t* base, size_t stride,
+               uint32_t width) {
+  const uint32_t ns = (m + 1) / 2;
+  // Row position of sample i in the deinterleaved buffer.
+  auto slot = [ns](uint32_t i) { return (i & 1) ? ns + i / 2 : i / 2; };
+  int32_t* buf = Scratch(size_t{m} * width);
+  for (uint32_t i = 0; i < m; ++i)
+    std::memcpy(buf + size_t{forward ? slot(i) : i} * width, base + i * stride,
+                width * sizeof(int32_t));
+  if (forward)
+    LiftForward(kernel, m, width, buf);
+  else
+    LiftInverse(kernel, m, width, buf);
+  for (uint32_t i = 0; i < m; ++i)
+    std::memcpy(base + i * stride, buf + size_t{forward ? i : slot(i)} * width,
+                width * sizeof(int32_t));
+}
+
+uint32_t StripWidth(uint32_t m, uint32_t vlen) {
+  return static_cast<uint32_t>(
+      std::min<size_t>(vlen, std::max<size_t>(16, kStripSamples / m / 16 * 16)));
+}
+
+// The y pass of one (t, c) plane of the region, whose row 0 starts at `plane`.
+void PlaneYPass(WaveletKernel kernel, const Shape4D& shape, const Region& region, bool forward,
+                int32_t* plane) {
+  const uint32_t m = region.ext[2], vlen = region.ext[3];
+  if (m < 2) return;
+  const uint32_t strip = StripWidth(m, vlen);
+  for (uint32_t x0 = 0; x0 < vlen; x0 += strip)
+    StripPass(kernel, m, forward, plane + x0, shape.Stride(2), std::min(strip, vlen - x0));
+}
+
+// One 1D pass along `axis` over the region, spread over the runner.
 void AxisPass(WaveletKernel kernel, const Shape4D& shape, const Region& region, int axis,
               bool forward, const ParallelRunner& runner, int32_t* data) {
   const uint32_t m = region.ext[axis];
   if (m < 2) return;
-  const uint32_t ns = (m + 1) / 2;
-  const size_t stride = shape.Stride(axis);
-  // Row position of sample i in the deinterleaved buffer.
-  auto slot = [ns](uint32_t i) { return (i & 1) ? ns + i / 2 : i / 2; };
-
   if (axis == kAxes - 1) {
     // x axis: lines are rows; enumerate (t, c, y) rows in the region, in groups.
     const uint32_t rows = region.ext[0] * region.ext[1] * region.ext[2];
-    const uint32_t groups = (rows + kXGroup - 1) / kXGroup;
-    runner(groups, [&](uint32_t g) {
-      std::vector<int32_t> buf(size_t{m} * kXGroup);
-      const uint32_t r0 = g * kXGroup, nr = std::min(kXGroup, rows - r0);
-      int32_t* line[kXGroup];
-      for (uint32_t r = 0; r < nr; ++r) {
-        uint32_t q = r0 + r;
-        const uint32_t y = q % region.ext[2];
-        q /= region.ext[2];
-        const uint32_t c = q % region.ext[1], t = q / region.ext[1];
-        line[r] = data + shape.Index(t, c, y, 0);
-      }
-      for (uint32_t i = 0; i < m; ++i) {
-        int32_t* dst = buf.data() + size_t{forward ? slot(i) : i} * kXGroup;
-        for (uint32_t r = 0; r < nr; ++r) dst[r] = line[r][i];
-        for (uint32_t r = nr; r < kXGroup; ++r) dst[r] = 0;
-      }
-      if (forward)
-        LiftForward(kernel, m, kXGroup, buf.data());
-      else
-        LiftInverse(kernel, m, kXGroup, buf.data());
-      for (uint32_t i = 0; i < m; ++i) {
-        const int32_t* src = buf.data() + size_t{forward ? i : slot(i)} * kXGroup;
-        for (uint32_t r = 0; r < nr; ++r) line[r][i] = src[r];
+    runner((rows + kRowsPerTask - 1) / kRowsPerTask, [&](uint32_t task) {
+      const uint32_t r0 = task * kRowsPerTask, r1 = std::min(rows, r0 + kRowsPerTask);
+      for (uint32_t q = r0; q < r1;) {
+        // A run of rows of one plane is evenly strided.
+        const uint32_t y = q % region.ext[2], tc = q / region.ext[2];
+        const uint32_t run = std::min(r1 - q, region.ext[2] - y);
+        const uint32_t c = tc % region.ext[1], t = tc / region.ext[1];
+        RowsPass(kernel, m, forward, data + shape.Index(t, c, y, 0), shape.Stride(2), run);
+        q += run;
       }
     });
     return;
   }
-
   // Other axes: a line of row vectors, each row vector being `vlen` contiguous
-  // samples (the x extent of the region). Enumerate every combination of the axes
-  // other than `axis` and x.
+  // samples (the x extent of the region), cut into strips. Enumerate every
+  // combination of the axes other than `axis` and x, times the strips.
   const uint32_t vlen = region.ext[kAxes - 1];
+  const uint32_t strip = StripWidth(m, vlen);
+  const uint32_t strips = (vlen + strip - 1) / strip;
   std::array<uint32_t, kAxes> loop = region.ext;
   loop[axis] = 1;
   loop[kAxes - 1] = 1;
   const uint32_t lines = loop[0] * loop[1] * loop[2];
-  runner(lines, [&](uint32_t li) {
+  runner(lines * strips, [&](uint32_t task) {
+    const uint32_t x0 = task % strips * strip;
     std::array<uint32_t, kAxes> pos{0, 0, 0, 0};
-    uint32_t q = li;
+    uint32_t q = task / strips;
     for (int a = kAxes - 2; a >= 0; --a) {
       pos[a] = q % loop[a];
       q /= loop[a];
     }
-    int32_t* base = data + shape.Index(pos[0], pos[1], pos[2], 0);
-    std::vector<int32_t> buf(size_t{m} * vlen);
-    for (uint32_t i = 0; i < m; ++i)
-      std::memcpy(buf.data() + size_t{forward ? slot(i) : i} * vlen, base + i * stride,
-                  vlen * sizeof(int32_t));
-    if (forward)
-      LiftForward(kernel, m, vlen, buf.data());
-    else
-      LiftInverse(kernel, m, vlen, buf.data());
-    for (uint32_t i = 0; i < m; ++i)
-      std::memcpy(base + i * stride, buf.data() + size_t{forward ? i : slot(i)} * vlen,
-                  vlen * sizeof(int32_t));
+    StripPass(kernel, m, forward, data + shape.Index(pos[0], pos[1], pos[2], x0),
+              shape.Stride(axis), std::min(strip, vlen - x0));
   });
+}
+
+// The spatial passes of one level: per plane when there are enough planes
+// (inverse: y then x; forward: x then y, the order of the level's passes),
+// otherwise axis by axis. `plane_done(begin, end)` is called on each plane's
+// sample range once its passes are over (fused case only; returns whether it
+// was used).
+bool SpatialPasses(WaveletKernel kernel, const WaveletGeometry& g, const Region& region, int l,
+                   bool forward, const ParallelRunner& runner, int32_t* data,
+                   const std::function<void(size_t, size_t)>* plane_done) {
+  const bool split_y = g.AxisSplitAt(2, l), split_x = g.AxisSplitAt(3, l);
+  const Shape4D& shape = g.shape;
+  if (region.Planes() < kMinPlanesToFuse) {
+    if (forward && split_x) AxisPass(kernel, shape, region, 3, true, runner, data);
+    if (split_y) AxisPass(kernel, shape, region, 2, forward, runner, data);
+    if (!forward && split_x) AxisPass(kernel, shape, region, 3, false, runner, data);
+    return false;
+  }
+  runner(region.Planes(), [&](uint32_t p) {
+    int32_t* plane = data + shape.Index(p / region.ext[1], p % region.ext[1], 0, 0);
+    const uint32_t rows = region.ext[2];
+    if (forward && split_x) RowsPass(kernel, region.ext[3], true, plane, shape.Stride(2), rows);
+    if (split_y) PlaneYPass(kernel, shape, region, forward, plane);
+    if (!forward && split_x) RowsPass(kernel, region.ext[3], false, plane, shape.Stride(2), rows);
+    if (plane_done) {
+      const size_t begin = static_cast<size_t>(plane - data);
+      (*plane_done)(begin, begin + shape.Stride(1));
+    }
+  });
+  return true;
 }
 
 Region RegionAt(const WaveletGeometry& g, int l) {
@@ -284,17 +411,31 @@ void ForwardTransform4D(WaveletKernel kernel, const WaveletGeometry& g,
                         const ParallelRunner& runner, int32_t* data) {
   for (int l = 1; l <= g.levels; ++l) {
     const Region region = RegionAt(g, l - 1);
-    for (int a = kAxes - 1; a >= 0; --a)
+    SpatialPasses(kernel, g, region, l, true, runner, data, nullptr);
+    for (int a = 1; a >= 0; --a)
       if (g.AxisSplitAt(a, l)) AxisPass(kernel, g.shape, region, a, true, runner, data);
   }
 }
 
 void InverseTransform4D(WaveletKernel kernel, const WaveletGeometry& g,
-                        const ParallelRunner& runner, int32_t* data) {
+                        const ParallelRunner& runner, int32_t* data,
+                        const std::function<void(size_t, size_t)>& finish) {
+  constexpr size_t kSlice = 1 << 16;  // finishing in slices over the runner otherwise
+  bool finished = false;
   for (int l = g.levels; l >= 1; --l) {
     const Region region = RegionAt(g, l - 1);
-    for (int a = 0; a < kAxes; ++a)
+    for (int a = 0; a < 2; ++a)
       if (g.AxisSplitAt(a, l)) AxisPass(kernel, g.shape, region, a, false, runner, data);
+    // Level 1's region is the whole block, so its planes are final after it.
+    const bool last = l == 1 && finish;
+    finished = SpatialPasses(kernel, g, region, l, false, runner, data, last ? &finish : nullptr) &&
+               last;
+  }
+  if (finish && !finished) {
+    const size_t count = g.shape.count();
+    runner(static_cast<uint32_t>((count + kSlice - 1) / kSlice), [&](uint32_t k) {
+      finish(size_t{k} * kSlice, std::min(count, (size_t{k} + 1) * kSlice));
+    });
   }
 }
 

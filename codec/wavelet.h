@@ -15,7 +15,9 @@
 #define FVV_CODEC_WAVELET_H_
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "codec/block.h"
@@ -57,8 +59,13 @@ struct WaveletGeometry {
 // level-shift (and for the 9/7 scale by 2^TransformFracBits) around them.
 void ForwardTransform4D(WaveletKernel kernel, const WaveletGeometry& geometry,
                         const ParallelRunner& runner, int32_t* data);
+// `finish(begin, end)`, when given, is called (possibly from the runner's
+// threads) on disjoint sample ranges that together cover the block, each once
+// its samples are final: while a plane is still in cache where the transform
+// works plane by plane, at the end otherwise.
 void InverseTransform4D(WaveletKernel kernel, const WaveletGeometry& geometry,
-                        const ParallelRunner& runner, int32_t* data);
+                        const ParallelRunner& runner, int32_t* data,
+                        const std::function<void(size_t, size_t)>& finish = nullptr);
 
 // 1D lifting on m rows of v elements each, deinterleaved: rows [0, ceil(m/2)) are
 // the even samples (become low band), the rest the odd ones (become high band).
