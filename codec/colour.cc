@@ -2,6 +2,11 @@
 
 #include <algorithm>
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define FVV_COLOUR_AVX2 1
+#endif
+
 namespace fvv {
 namespace {
 
@@ -10,7 +15,92 @@ int32_t Clamp(int32_t v, int32_t lo, int32_t hi) { return std::min(std::max(v, l
 // Rounded (a * 2^-16) for signed a: floor(a / 65536 + 1/2).
 int32_t RoundQ16(int64_t a) { return static_cast<int32_t>((a + 32768) >> 16); }
 
+// The 32-bit form of YuvToRgb's YCbCr branch for samples in 0..255, where every
+// product fits 32 bits.
+inline void YcbcrToRgb8(int32_t y, int32_t u, int32_t v, uint8_t* out) {
+  const int32_t cb = u - 128, cr = v - 128;
+  const int32_t r = y + ((91881 * cr + 32768) >> 16);
+  const int32_t g = y + ((-22554 * cb - 46802 * cr + 32768) >> 16);
+  const int32_t b = y + ((116130 * cb + 32768) >> 16);
+  out[0] = static_cast<uint8_t>(Clamp(r, 0, 255));
+  out[1] = static_cast<uint8_t>(Clamp(g, 0, 255));
+  out[2] = static_cast<uint8_t>(Clamp(b, 0, 255));
+}
+
+#ifdef FVV_COLOUR_AVX2
+// pshufb masks that put channel k of 16 texels at its places in output bytes
+// [16 j, 16 j + 16) of 48 interleaved ones (0x80: leave zero).
+struct InterleaveMasks {
+  alignas(16) uint8_t m[3][3][16];  // [output block j][channel k]
+  constexpr InterleaveMasks() : m{} {
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k)
+        for (int i = 0; i < 16; ++i) {
+          const int byte = 16 * j + i;
+          m[j][k][i] = byte % 3 == k ? static_cast<uint8_t>(byte / 3) : 0x80;
+        }
+  }
+};
+constexpr InterleaveMasks kInterleave;
+
+// 16 int32 lanes (two vectors) clamped to 0..255 by saturating packs, in order.
+__attribute__((target("avx2"))) inline __m128i PackToBytes(__m256i lo, __m256i hi) {
+  const __m256i words = _mm256_permute4x64_epi64(_mm256_packs_epi32(lo, hi), 0xD8);
+  const __m256i bytes = _mm256_packus_epi16(words, words);
+  return _mm256_castsi256_si128(_mm256_permute4x64_epi64(bytes, 0x08));
+}
+
+__attribute__((target("avx2"))) uint32_t YcbcrRowToRgb8Avx2(const int32_t* y, const int32_t* u,
+                                                            const int32_t* v, uint32_t n,
+                                                            uint8_t* out) {
+  const __m256i k128 = _mm256_set1_epi32(128), half = _mm256_set1_epi32(32768);
+  const __m256i kr = _mm256_set1_epi32(91881), kgb = _mm256_set1_epi32(-22554),
+                kgr = _mm256_set1_epi32(-46802), kb = _mm256_set1_epi32(116130);
+  uint32_t i = 0;
+  for (; i + 16 <= n; i += 16) {
+    __m256i r[2], g[2], b[2];
+    for (int h = 0; h < 2; ++h) {
+      const __m256i Y = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(y + i + 8 * h));
+      const __m256i cb = _mm256_sub_epi32(
+          _mm256_loadu_si256(reinterpret_cast<const __m256i*>(u + i + 8 * h)), k128);
+      const __m256i cr = _mm256_sub_epi32(
+          _mm256_loadu_si256(reinterpret_cast<const __m256i*>(v + i + 8 * h)), k128);
+      r[h] = _mm256_add_epi32(
+          Y, _mm256_srai_epi32(_mm256_add_epi32(_mm256_mullo_epi32(kr, cr), half), 16));
+      g[h] = _mm256_add_epi32(
+          Y, _mm256_srai_epi32(_mm256_add_epi32(_mm256_add_epi32(_mm256_mullo_epi32(kgb, cb),
+                                                                 _mm256_mullo_epi32(kgr, cr)),
+                                                half),
+                               16));
+      b[h] = _mm256_add_epi32(
+          Y, _mm256_srai_epi32(_mm256_add_epi32(_mm256_mullo_epi32(kb, cb), half), 16));
+    }
+    const __m128i planes[3] = {PackToBytes(r[0], r[1]), PackToBytes(g[0], g[1]),
+                               PackToBytes(b[0], b[1])};
+    for (int j = 0; j < 3; ++j) {
+      __m128i block = _mm_setzero_si128();
+      for (int k = 0; k < 3; ++k)
+        block = _mm_or_si128(
+            block, _mm_shuffle_epi8(planes[k], _mm_load_si128(reinterpret_cast<const __m128i*>(
+                                                   kInterleave.m[j][k]))));
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(out + 3 * i + 16 * j), block);
+    }
+  }
+  return i;
+}
+#endif
+
 }  // namespace
+
+void YcbcrRowToRgb8(const int32_t* y, const int32_t* u, const int32_t* v, uint32_t n,
+                    uint8_t* rgb) {
+  uint32_t i = 0;
+#ifdef FVV_COLOUR_AVX2
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  if (avx2) i = YcbcrRowToRgb8Avx2(y, u, v, n, rgb);
+#endif
+  for (; i < n; ++i) YcbcrToRgb8(y[i], u[i], v[i], rgb + 3 * i);
+}
 
 Yuv RgbToYuv(ColourSpace colour, int r, int g, int b) {
   if (colour == ColourSpace::kRct) {

@@ -52,28 +52,6 @@ inline int Squash(int d) {
   return (kKnots[i] * (128 - w) + kKnots[i + 1] * w + 64) >> 7;
 }
 
-// stretch(q): the least d in [-2047, 2047] with squash(d) >= q, else 2047.
-class StretchTable {
- public:
-  StretchTable() {
-    int q = 0;
-    for (int d = -2047; d <= 2047; ++d) {
-      const int s = Squash(d);
-      while (q <= s && q < 4096) table_[q++] = static_cast<int16_t>(d);
-    }
-    while (q < 4096) table_[q++] = 2047;
-  }
-  int operator()(int q) const { return table_[q]; }
-
- private:
-  std::array<int16_t, 4096> table_{};
-};
-
-inline const StretchTable& Stretch() {
-  static const StretchTable table;
-  return table;
-}
-
 // floor(a * b / 256) for a possibly negative a, without relying on how >> treats
 // negative numbers.
 inline int FloorMulShift8(int a, int b) {
@@ -81,14 +59,47 @@ inline int FloorMulShift8(int a, int b) {
   return prod >= 0 ? prod >> 8 : -((-prod + 255) >> 8);
 }
 
-// The 15-bit probability of a 0 that the range coder uses for the mix of two
-// models: squash(floor(154 * (stretch(qa) + stretch(qb)) / 256)), kept in [1, 4095].
+// The mix of two models as the spec defines it (SPEC.md 7.2): the 15-bit
+// probability of a 0 for the sum `stretch_sum` = stretch(qa) + stretch(qb),
+// squash(floor(154 * stretch_sum / 256)) kept in [1, 4095].
 constexpr int kMixWeight = 154;  // about 0.6 per model, in 1/256
-inline uint32_t MixedProbZero(const StretchTable& st, const CountedProb& a, const CountedProb& b) {
-  int q = Squash(FloorMulShift8(st(ProbOne12(a)) + st(ProbOne12(b)), kMixWeight));
+inline uint32_t MixOfStretchSum(int stretch_sum) {
+  int q = Squash(FloorMulShift8(stretch_sum, kMixWeight));
   if (q < 1) q = 1;
   if (q > 4095) q = 4095;
   return static_cast<uint32_t>(4096 - q) << 3;
+}
+
+// The per-texel work as two table lookups: stretch(q) for q in [0, 4095], the
+// least d in [-2047, 2047] with squash(d) >= q, else 2047; and the mix of every
+// possible stretch sum.
+class MixTables {
+ public:
+  static constexpr int kMaxStretch = 2047;
+  MixTables() {
+    int q = 0;
+    for (int d = -kMaxStretch; d <= kMaxStretch; ++d) {
+      const int s = Squash(d);
+      while (q <= s && q < 4096) stretch_[q++] = static_cast<int16_t>(d);
+    }
+    while (q < 4096) stretch_[q++] = kMaxStretch;
+    for (int sum = -2 * kMaxStretch; sum <= 2 * kMaxStretch; ++sum)
+      mix_[sum + 2 * kMaxStretch] = static_cast<uint16_t>(MixOfStretchSum(sum));
+  }
+  int Stretch(int q) const { return stretch_[q]; }
+  // The range coder's 15-bit probability of a 0 for models a and b.
+  uint32_t MixedProbZero(const CountedProb& a, const CountedProb& b) const {
+    return mix_[Stretch(ProbOne12(a)) + Stretch(ProbOne12(b)) + 2 * kMaxStretch];
+  }
+
+ private:
+  std::array<int16_t, 4096> stretch_{};
+  std::array<uint16_t, 4 * kMaxStretch + 1> mix_{};
+};
+
+inline const MixTables& Tables() {
+  static const MixTables tables;
+  return tables;
 }
 
 }  // namespace mixing

@@ -146,9 +146,9 @@ struct CodedMask {
 #endif
 
 template <class Side>
-FVV_MASK_INLINE uint32_t CodeMixed(Side& side, const mixing::StretchTable& st, uint32_t bit,
+FVV_MASK_INLINE uint32_t CodeMixed(Side& side, const mixing::MixTables& st, uint32_t bit,
                                    mixing::CountedProb* a, mixing::CountedProb* b) {
-  bit = side.Code(bit, mixing::MixedProbZero(st, *a, *b));
+  bit = side.Code(bit, st.MixedProbZero(*a, *b));
   mixing::Update(bit, a);
   mixing::Update(bit, b);
   return bit;
@@ -170,7 +170,7 @@ void CodeMaskMixing(Side& side, MixingContexts& ctx, uint32_t h, uint32_t w, con
                     const PaddedPlane* ref2, CodedMask* cur) {
   uint32_t prev_copied = 0, prev_above = 0;
   const uint32_t has_ref = ref != nullptr;
-  const mixing::StretchTable& st = mixing::Stretch();
+  const mixing::MixTables& st = mixing::Tables();
   for (uint32_t y = 0; y < h; ++y) {
     uint8_t* row = cur->plane.Row(y);
     const uint8_t* up = cur->plane.Row(int64_t{y} - 1);  // zeros above row 0

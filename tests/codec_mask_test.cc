@@ -2,6 +2,7 @@
 // smaller than mode 1, safe on bad input; the mixing primitives' invariants.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -149,9 +150,9 @@ TEST(LogisticMixing, SquashAndStretchAreInverse) {
   }
   EXPECT_EQ(mixing::Squash(0), 2048);
   EXPECT_EQ(mixing::Squash(5000), mixing::Squash(2047));
-  const auto& stretch = mixing::Stretch();
+  const auto& tables = mixing::Tables();
   for (int q = 0; q < 4096; ++q) {
-    const int d = stretch(q);
+    const int d = tables.Stretch(q);
     if (d < 2047) {
       EXPECT_GE(mixing::Squash(d), q) << q;
     }
@@ -169,11 +170,32 @@ TEST(LogisticMixing, MixAndCountedAdaptation) {
   EXPECT_EQ(m.p0, kProbInit + (kProbInit >> 1));
   for (int i = 0; i < 50; ++i) mixing::Update(0, &m);
   EXPECT_EQ(m.count, mixing::kMaxCount);
-  const uint32_t mixed = mixing::MixedProbZero(mixing::Stretch(), m, m);
+  const mixing::MixTables& tables = mixing::Tables();
+  const uint32_t mixed = tables.MixedProbZero(m, m);
   EXPECT_GT(mixed, m.p0);
   EXPECT_LT(mixed, 32768u);
   mixing::CountedProb fresh;
-  EXPECT_EQ(mixing::MixedProbZero(mixing::Stretch(), fresh, fresh), 16384u);
+  EXPECT_EQ(tables.MixedProbZero(fresh, fresh), 16384u);
+}
+
+// The mix table is the spec's formula for every pair of 15-bit model
+// probabilities (stepped) and every stretch sum.
+TEST(LogisticMixing, MixTableIsTheFormula) {
+  const mixing::MixTables& tables = mixing::Tables();
+  for (int sum = -4094; sum <= 4094; ++sum) {
+    const int q = mixing::Squash(mixing::FloorMulShift8(sum, mixing::kMixWeight));
+    ASSERT_EQ(mixing::MixOfStretchSum(sum), static_cast<uint32_t>(4096 - std::clamp(q, 1, 4095)) << 3)
+        << sum;
+  }
+  for (uint32_t pa = 1; pa < 32768; pa += 37) {
+    for (uint32_t pb = 1; pb < 32768; pb += 53) {
+      mixing::CountedProb a, b;
+      a.p0 = static_cast<uint16_t>(pa);
+      b.p0 = static_cast<uint16_t>(pb);
+      const int sum = tables.Stretch(mixing::ProbOne12(a)) + tables.Stretch(mixing::ProbOne12(b));
+      ASSERT_EQ(tables.MixedProbZero(a, b), mixing::MixOfStretchSum(sum)) << pa << " " << pb;
+    }
+  }
 }
 
 }  // namespace

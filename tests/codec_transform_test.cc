@@ -41,6 +41,30 @@ TEST(Colour, Bt601RoundTripWithinRounding) {
   EXPECT_EQ(white.v, 128);
 }
 
+// The row converter (vectorised where the CPU allows) is YuvToRgb exactly, for
+// every Y, U, V in 0..255, at every position of a 16-texel vector and in tails.
+TEST(Colour, RowConversionIsYuvToRgbForEverySample) {
+  std::vector<int32_t> y(256 + 7), u(y.size()), v(y.size());
+  std::vector<uint8_t> rgb(3 * y.size());
+  for (int cb = 0; cb < 256; ++cb) {
+    for (int cr = 0; cr < 256; ++cr) {
+      const uint32_t n = 256 + static_cast<uint32_t>((cb + cr) % 8);  // 256 .. 263: tails
+      for (uint32_t i = 0; i < n; ++i) {
+        y[i] = static_cast<int32_t>((i * 7 + static_cast<uint32_t>(cr)) % 256);
+        u[i] = (i % 3 == 0) ? cb : 255 - cb;
+        v[i] = (i % 5 == 0) ? 255 - cr : cr;
+      }
+      YcbcrRowToRgb8(y.data(), u.data(), v.data(), n, rgb.data());
+      for (uint32_t i = 0; i < n; ++i) {
+        const Rgb8 p = YuvToRgb(ColourSpace::kYCbCr601, y[i], u[i], v[i]);
+        ASSERT_EQ(rgb[3 * i], p.r) << i << " " << y[i] << " " << u[i] << " " << v[i];
+        ASSERT_EQ(rgb[3 * i + 1], p.g) << i;
+        ASSERT_EQ(rgb[3 * i + 2], p.b) << i;
+      }
+    }
+  }
+}
+
 TEST(Colour, Chroma420AveragesAndReplicates) {
   const Shape4D shape{{1, 1, 3, 3}};
   std::vector<uint8_t> rgb(9 * 3);

@@ -7,7 +7,6 @@
 #include <vector>
 
 #include "codec/colour.h"
-#include "codec/simd.h"
 #include "fvv/fvv_decoder.h"
 #include "player/decoder/decoder.h"
 
@@ -68,22 +67,6 @@ void BuildModel(fvv_decoder* d) {
   d->model_built = true;
 }
 
-// One row of BT.601 YCbCr (SPEC.md 9.7) to interleaved RGB8. Decoded samples lie
-// in 0..255, so every product fits 32 bits and the loop vectorises; the results
-// equal fvv::YuvToRgb's exactly.
-FVV_SIMD_CLONES
-void YcbcrRowToRgb(const int32_t* Y, const int32_t* U, const int32_t* V, uint32_t n, uint8_t* out) {
-  for (uint32_t i = 0; i < n; ++i) {
-    const int32_t cb = U[i] - 128, cr = V[i] - 128;
-    const int32_t r = Y[i] + ((91881 * cr + 32768) >> 16);
-    const int32_t g = Y[i] + ((-22554 * cb - 46802 * cr + 32768) >> 16);
-    const int32_t b = Y[i] + ((116130 * cb + 32768) >> 16);
-    out[3 * i] = static_cast<uint8_t>(r < 0 ? 0 : r > 255 ? 255 : r);
-    out[3 * i + 1] = static_cast<uint8_t>(g < 0 ? 0 : g > 255 ? 255 : g);
-    out[3 * i + 2] = static_cast<uint8_t>(b < 0 ? 0 : b > 255 ? 255 : b);
-  }
-}
-
 // One camera's atlas texture of a decoded GOP, in the requested format.
 void ConvertView(const fvv::Block& block, uint32_t t, uint32_t c, fvv_pixel_format format,
                  std::vector<uint8_t>* out) {
@@ -99,7 +82,7 @@ void ConvertView(const fvv::Block& block, uint32_t t, uint32_t c, fvv_pixel_form
   if (format == FVV_FORMAT_RGB8 && !half && block.colour == fvv::ColourSpace::kYCbCr601) {
     for (uint32_t y = 0; y < h; ++y) {
       const size_t row = size_t{y} * w;
-      YcbcrRowToRgb(Y + row, U + row, V + row, w, out->data() + 3 * row);
+      fvv::YcbcrRowToRgb8(Y + row, U + row, V + row, w, out->data() + 3 * row);
     }
     return;
   }
