@@ -13,6 +13,7 @@
 
 #include "codec/block.h"
 #include "codec/parallel.h"
+#include "codec/sample_pool.h"
 #include "codec/spiht4d_common.h"
 #include "codec/status.h"
 #include "codec/wavelet.h"
@@ -85,6 +86,9 @@ struct DecodeBudget {
   // when the deadline comes; a pool with fewer threads would start the last
   // channel late and leave it starved.
   ParallelRunner channel_runner;
+  // Where the channels' sample buffers come from (optional): a pool that
+  // recycles the buffers of blocks decoded before.
+  SamplePool* sample_pool = nullptr;
 };
 
 struct DecodeReport {

@@ -55,6 +55,8 @@ StatusOr<Block> DecodeBlock(const EncodedBlock& encoded, const DecodeBudget& bud
   }
   std::array<SpihtDecodeResult, 3> results;
   std::array<std::vector<int32_t>, 3> coeffs;
+  if (budget.sample_pool)
+    for (auto& c : coeffs) c = budget.sample_pool->Take();
   const ParallelRunner& channel_runner = budget.channel_runner ? budget.channel_runner : runner;
   channel_runner(3, [&](uint32_t c) {
     const WaveletGeometry g(shapes[c]);

@@ -130,7 +130,9 @@ void SpihtTraverse(const SpihtTree& tree, int planes, Side* side) {
   const Shape4D& shape = tree.geometry().shape;
   const uint32_t w = shape.width();
   // 0: not (yet) significant; 1: significant, positive; 2: significant, negative.
-  std::vector<uint8_t> significant(tree.size(), 0);
+  // Kept per thread: a fresh multi-megabyte array per channel costs page faults.
+  thread_local std::vector<uint8_t> significant;
+  significant.assign(tree.size(), 0);
   // Significant spatial neighbours (x +- 1, y +- 1), clipped to 2: the context.
   auto neighbours = [&](uint32_t idx) {
     int k = 0;

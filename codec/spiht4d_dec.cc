@@ -17,7 +17,7 @@ class DecoderSide {
         range_(data, budget),
         deadline_(std::chrono::steady_clock::time_point::max()),
         mag_(*magnitudes),
-        state_(tree.size(), 0),
+        state_(StateBuffer(tree.size())),
         probs_(ctx::kCount, kProbInit) {
     // The clock starts after the buffers above exist: the budget is for decisions.
     if (limits.max_ms > 0) {
@@ -97,12 +97,20 @@ class DecoderSide {
     return false;
   }
 
+  // Per-coefficient state, read only where Sign has written it first, so a
+  // per-thread buffer is reused without clearing.
+  static uint8_t* StateBuffer(size_t n) {
+    thread_local std::vector<uint8_t> buffer;
+    if (buffer.size() < n) buffer.resize(n);
+    return buffer.data();
+  }
+
   EntropyCoder coder_;
   BitReader bits_;
   RangeDecoder range_;
   std::chrono::steady_clock::time_point deadline_;
   std::vector<int32_t>& mag_;
-  std::vector<uint8_t> state_;  // bit 7: negative; bits 0-4: lowest bitplane known
+  uint8_t* state_;  // bit 7: negative; bits 0-4: lowest bitplane known
   std::vector<uint32_t> significant_;
   std::vector<uint16_t> probs_;
   uint64_t decisions_ = 0;

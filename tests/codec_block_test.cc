@@ -14,6 +14,7 @@ namespace fvv {
 namespace {
 
 using ::fvv::testing::RandomBlock;
+using ::fvv::testing::HashBlock;
 using ::fvv::testing::SmoothBlock;
 
 double WeightedPsnr(const Block& a, const Block& b, const UsedMask* mask) {
@@ -209,6 +210,44 @@ TEST(Decoder, RandomStreamsWithValidHeadersDecodeToClampedSamples) {
         for (int32_t v : p.samples) ASSERT_TRUE(v >= 0 && v <= 255);
     }
   }
+}
+
+// Buffers recycled through a SamplePool (dirty, of other sizes) decode to the
+// same samples as fresh ones; the pool keeps at most its limit.
+TEST(Decoder, RecycledSampleBuffersGiveTheSameBlock) {
+  const Block a = SmoothBlock(Shape4D{{2, 3, 20, 28}}, ColourSpace::kYCbCr601, 3);
+  const Block b = RandomBlock(Shape4D{{3, 2, 17, 9}}, ColourSpace::kYCbCr601, 4);
+  EncodeSettings s;
+  s.rate_value = 1.0;
+  auto ea = EncodeBlock(a, nullptr, s);
+  auto eb = EncodeBlock(b, nullptr, s);
+  ASSERT_TRUE(ea.ok() && eb.ok());
+  auto fresh_a = DecodeBlock(*ea, DecodeBudget{}, SerialRunner);
+  auto fresh_b = DecodeBlock(*eb, DecodeBudget{}, SerialRunner);
+  ASSERT_TRUE(fresh_a.ok() && fresh_b.ok());
+
+  SamplePool pool;
+  pool.SetLimit(3);
+  // Dirty buffers, larger and smaller than a channel.
+  for (size_t n : {10u, 5000u, 100000u, 7u}) pool.Give(std::vector<int32_t>(n, -12345));
+  EXPECT_EQ(pool.pooled(), 3u);
+  DecodeBudget budget;
+  budget.sample_pool = &pool;
+  for (int round = 0; round < 3; ++round) {
+    auto da = DecodeBlock(*ea, budget, SerialRunner);
+    ASSERT_TRUE(da.ok());
+    EXPECT_EQ(HashBlock(*da), HashBlock(*fresh_a)) << "round " << round;
+    for (Plane4D& p : da->channels) pool.Give(std::move(p.samples));
+    auto db = DecodeBlock(*eb, budget, SerialRunner);
+    ASSERT_TRUE(db.ok());
+    EXPECT_EQ(HashBlock(*db), HashBlock(*fresh_b)) << "round " << round;
+    for (Plane4D& p : db->channels) pool.Give(std::move(p.samples));
+    EXPECT_LE(pool.pooled(), 3u);
+  }
+  pool.SetLimit(1);
+  EXPECT_EQ(pool.pooled(), 1u);
+  EXPECT_TRUE(pool.Take().empty());
+  EXPECT_EQ(pool.pooled(), 0u);
 }
 
 TEST(ThreadPool, RunsEveryTaskOnceIncludingNestedCalls) {

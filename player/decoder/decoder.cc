@@ -129,7 +129,8 @@ Status Decoder::SpanFragments(uint32_t span, std::vector<FragmentData>* out) {
 StatusOr<std::shared_ptr<DecodedGop>> Decoder::DecodeSpan(uint32_t span, const GopBudget& budget) {
   std::vector<FragmentData> fragments;
   FVV_RETURN_IF_ERROR(SpanFragments(span, &fragments));
-  return DecodeGop(info(), fragments, budget, pool_.runner(), pool_.size());
+  samples_->SetLimit(3 * fragments.size());
+  return DecodeGop(info(), fragments, budget, pool_.runner(), pool_.size(), samples_);
 }
 
 void Decoder::StartBackgroundDecode(uint32_t span, const GopBudget& budget, bool requested) {
@@ -144,9 +145,12 @@ void Decoder::StartBackgroundDecode(uint32_t span, const GopBudget& budget, bool
   ahead_budget_ = budget;
   const StreamInfo* si = &info();
   ThreadPool* pool = &pool_;
-  ahead_ = std::async(std::launch::async, [si, pool, budget, fragments = std::move(fragments)] {
-    return DecodeGop(*si, fragments, budget, pool->runner(), pool->size());
-  });
+  samples_->SetLimit(3 * fragments.size());
+  ahead_ = std::async(std::launch::async,
+                      [si, pool, budget, samples = samples_, fragments = std::move(fragments)] {
+                        return DecodeGop(*si, fragments, budget, pool->runner(), pool->size(),
+                                         samples);
+                      });
 }
 
 void Decoder::WaitDecodeAhead() {

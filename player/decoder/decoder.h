@@ -9,6 +9,7 @@
 #include <memory>
 #include <string>
 
+#include "codec/sample_pool.h"
 #include "codec/thread_pool.h"
 #include "container/file_reader.h"
 #include "container/stream_reader.h"
@@ -54,6 +55,8 @@ class Decoder {
 
   fvv_decoder_settings settings_;
   ThreadPool pool_;
+  // Texture buffers of dropped GOPs, for the next decode (one span's worth).
+  std::shared_ptr<SamplePool> samples_ = std::make_shared<SamplePool>();
   bool ready_ = false, ready_reported_ = false, end_reported_ = false;
   uint32_t frames_available_ = 0, frames_reported_ = 0;
 

@@ -63,10 +63,17 @@ StatusOr<Block> DecodePredictiveFragment(const FragmentData& f, const Shape4D& s
 
 }  // namespace
 
+DecodedGop::~DecodedGop() {
+  if (!sample_pool) return;
+  for (Block& block : textures)
+    for (Plane4D& plane : block.channels) sample_pool->Give(std::move(plane.samples));
+}
+
 StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
                                                 const std::vector<FragmentData>& fragments,
                                                 const GopBudget& budget,
-                                                const ParallelRunner& runner, unsigned threads) {
+                                                const ParallelRunner& runner, unsigned threads,
+                                                std::shared_ptr<SamplePool> sample_pool) {
   const auto start = std::chrono::steady_clock::now();
   if (fragments.empty() || fragments[0].info.first_camera != 0) {
     return Internal("GOP decode without its first camera group");
@@ -77,6 +84,7 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
   gop->first_frame = first.info.first_frame;
   gop->frame_count = first.info.frame_count;
   gop->budget = budget;
+  gop->sample_pool = std::move(sample_pool);
   FVV_RETURN_IF_ERROR(DecodeMotion(MotionBoxHeader(first), first.motion.data(), info.model.skeleton,
                                    info.motion, first.info.frame_count, &gop->motion));
   gop->bitplanes = {99, 99, 99};
@@ -108,6 +116,7 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
     if (!gop->decoded[i]) return;  // a camera the player does not blend now
     DecodeBudget b;
     b.max_bytes = budget.max_bytes;
+    b.sample_pool = gop->sample_pool.get();
     if (budget.max_ms > 0 && parallel) {
       b.channel_runner = SerialRunner;
       b.max_ms = channel_ms;

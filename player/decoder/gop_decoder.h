@@ -8,6 +8,7 @@
 
 #include "codec/block.h"
 #include "codec/parallel.h"
+#include "codec/sample_pool.h"
 #include "container/fragment.h"
 #include "container/motion_track.h"
 #include "container/stream_info.h"
@@ -27,6 +28,12 @@ struct GopBudget {
 };
 
 struct DecodedGop {
+  DecodedGop() = default;
+  DecodedGop(const DecodedGop&) = default;
+  DecodedGop& operator=(const DecodedGop&) = default;
+  // Hands the texture buffers back to the pool they came from, if any.
+  ~DecodedGop();
+
   uint32_t span = 0;
   uint32_t first_frame = 0, frame_count = 0;
   GopBudget budget;
@@ -39,14 +46,17 @@ struct DecodedGop {
   std::array<int, 3> bitplanes{};  // fewest complete bitplanes over the groups
   double ms = 0;
   bool complete = true;
+  std::shared_ptr<SamplePool> sample_pool;  // where `textures` go when the GOP is dropped
 };
 
 // `fragments` are the span's fragments, camera group 0 first; `threads` is how
-// many tasks `runner` runs at once.
+// many tasks `runner` runs at once; `sample_pool` (optional) supplies the
+// textures' buffers and takes them back when the GOP is dropped.
 StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
                                                 const std::vector<FragmentData>& fragments,
                                                 const GopBudget& budget,
-                                                const ParallelRunner& runner, unsigned threads = 1);
+                                                const ParallelRunner& runner, unsigned threads = 1,
+                                                std::shared_ptr<SamplePool> sample_pool = nullptr);
 
 }  // namespace fvv
 
