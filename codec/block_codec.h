@@ -8,12 +8,14 @@
 #define FVV_CODEC_BLOCK_CODEC_H_
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <vector>
 
 #include "codec/block.h"
 #include "codec/parallel.h"
 #include "codec/sample_pool.h"
+#include "codec/spiht4d.h"
 #include "codec/spiht4d_common.h"
 #include "codec/status.h"
 #include "codec/wavelet.h"
@@ -102,6 +104,34 @@ struct DecodeReport {
 
 StatusOr<Block> DecodeBlock(const EncodedBlock& encoded, const DecodeBudget& budget,
                             const ParallelRunner& runner, DecodeReport* report = nullptr);
+
+// DecodeBlock in steps, for callers that schedule channels as tasks of their own
+// (a GOP's fragments x channels): Start, then SPIHT and reconstruction of each
+// channel (channels in any order or in parallel; a channel's Reconstruct after
+// its Spiht), then Finish. `encoded` and `budget` must outlive the object.
+class BlockDecode {
+ public:
+  Status Start(const EncodedBlock& encoded, const DecodeBudget& budget);
+  // SPIHT decoding of channel c under its share of the byte budget and the time budget.
+  void Spiht(int c);
+  // Inverse transform and output scaling of channel c, spread over `runner`.
+  void Reconstruct(int c, const ParallelRunner& runner);
+  // Both, on the calling thread.
+  void Channel(int c) {
+    Spiht(c);
+    Reconstruct(c, SerialRunner);
+  }
+  Block Finish(DecodeReport* report);
+
+ private:
+  const EncodedBlock* encoded_ = nullptr;
+  const DecodeBudget* budget_ = nullptr;
+  std::chrono::steady_clock::time_point start_;
+  std::array<Shape4D, 3> shapes_;
+  std::array<SpihtDecodeLimits, 3> limits_;
+  std::array<SpihtDecodeResult, 3> results_;
+  std::array<std::vector<int32_t>, 3> coeffs_;
+};
 
 // Validates parameters against the codec's limits (sizes, enum values, planes).
 Status ValidateParams(const BlockParams& params);

@@ -26,9 +26,10 @@ void ScaleOutput(int32_t* data, size_t begin, size_t end, int32_t round, int fra
 
 }  // namespace
 
-StatusOr<Block> DecodeBlock(const EncodedBlock& encoded, const DecodeBudget& budget,
-                            const ParallelRunner& runner, DecodeReport* report) {
-  const auto start = std::chrono::steady_clock::now();
+Status BlockDecode::Start(const EncodedBlock& encoded, const DecodeBudget& budget) {
+  start_ = std::chrono::steady_clock::now();
+  encoded_ = &encoded;
+  budget_ = &budget;
   const BlockParams& p = encoded.params;
   FVV_RETURN_IF_ERROR(ValidateParams(p));
   for (int c = 0; c < 3; ++c)
@@ -36,70 +37,85 @@ StatusOr<Block> DecodeBlock(const EncodedBlock& encoded, const DecodeBudget& bud
       return Corrupt("channel " + std::to_string(c) + " declares " +
                      std::to_string(encoded.channels[c].planes) + " bitplanes (at most " +
                      std::to_string(kMaxBitplanes) + ")");
-  Block block;
-  block.colour = p.colour;
-  block.chroma = p.chroma;
-  const std::array<Shape4D, 3> shapes{p.shape, ChromaShape(p.shape, p.chroma),
-                                      ChromaShape(p.shape, p.chroma)};
+  shapes_ = {p.shape, ChromaShape(p.shape, p.chroma), ChromaShape(p.shape, p.chroma)};
   const uint64_t total = encoded.total_bytes();
-  SpihtDecodeLimits limits[3];
   for (int c = 0; c < 3; ++c) {
+    limits_[c] = SpihtDecodeLimits{};
     if (budget.max_bytes > 0 && budget.max_bytes < total) {
       // Same fraction of every stream: the streams were allocated at equal RD slope,
       // so equal fractions keep them close to it. Integer arithmetic, because the
       // conformance suite pins the result (SPEC.md Annex B).
       using Wide = unsigned __int128;
-      limits[c].max_bytes =
+      limits_[c].max_bytes =
           static_cast<uint64_t>(Wide{encoded.channels[c].data.size()} * budget.max_bytes / total);
     }
+    if (budget.sample_pool) coeffs_[c] = budget.sample_pool->Take();
   }
-  std::array<SpihtDecodeResult, 3> results;
-  std::array<std::vector<int32_t>, 3> coeffs;
-  if (budget.sample_pool)
-    for (auto& c : coeffs) c = budget.sample_pool->Take();
-  const ParallelRunner& channel_runner = budget.channel_runner ? budget.channel_runner : runner;
-  channel_runner(3, [&](uint32_t c) {
-    const WaveletGeometry g(shapes[c]);
-    const SpihtTree tree(g);
-    const SubbandQuantisers q(p.kernel, g);
-    const ChannelStream& s = encoded.channels[c];
-    // The time budget is for decoding decisions: it starts once the channel's
-    // set-up is done (which no budget could shorten).
-    limits[c].max_ms = budget.max_ms;
-    results[c] = SpihtDecode(tree, q, s.data.data(), s.data.size(), s.planes, p.coder, limits[c],
-                             &coeffs[c]);
-  });
+  return Status::Ok();
+}
+
+void BlockDecode::Spiht(int c) {
+  const WaveletGeometry g(shapes_[c]);
+  const SpihtTree tree(g);
+  const SubbandQuantisers q(encoded_->params.kernel, g);
+  const ChannelStream& s = encoded_->channels[c];
+  // The time budget is for decoding decisions: it starts once the channel's
+  // set-up is done (which no budget could shorten).
+  limits_[c].max_ms = budget_->max_ms;
+  results_[c] = SpihtDecode(tree, q, s.data.data(), s.data.size(), s.planes,
+                            encoded_->params.coder, limits_[c], &coeffs_[c]);
+}
+
+void BlockDecode::Reconstruct(int c, const ParallelRunner& runner) {
+  const BlockParams& p = encoded_->params;
   const int frac = TransformFracBits(p.kernel);
+  const WaveletGeometry g(shapes_[c]);
+  const SampleRange range = ChannelRange(p.colour, c);
+  const int32_t round = frac ? 1 << (frac - 1) : 0;
+  int32_t* data = coeffs_[c].data();
+  // Output scaling of each part as soon as the transform is done with it
+  // (while it is still in cache where the transform works plane by plane).
+  InverseTransform4D(p.kernel, g, runner, data, [&](size_t begin, size_t end) {
+    ScaleOutput(data, begin, end, round, frac, range.offset, range.min, range.max);
+  });
+}
+
+Block BlockDecode::Finish(DecodeReport* report) {
+  Block block;
+  block.colour = encoded_->params.colour;
+  block.chroma = encoded_->params.chroma;
   for (int c = 0; c < 3; ++c) {
-    const WaveletGeometry g(shapes[c]);
-    const SampleRange range = ChannelRange(p.colour, c);
-    const int32_t round = frac ? 1 << (frac - 1) : 0;
-    int32_t* data = coeffs[c].data();
-    // Output scaling of each part as soon as the transform is done with it
-    // (while it is still in cache where the transform works plane by plane).
-    InverseTransform4D(p.kernel, g, runner, data, [&](size_t begin, size_t end) {
-      ScaleOutput(data, begin, end, round, frac, range.offset, range.min, range.max);
-    });
-    block.channels[c].shape = shapes[c];
-    block.channels[c].samples = std::move(coeffs[c]);
+    block.channels[c].shape = shapes_[c];
+    block.channels[c].samples = std::move(coeffs_[c]);
   }
   if (report) {
     report->bytes_read = 0;
     report->complete = true;
     report->hit_deadline = false;
     for (int c = 0; c < 3; ++c) {
-      report->channel_bytes_read[c] = results[c].bytes_used;
-      report->planes_completed[c] = results[c].planes_completed;
-      report->bytes_read += results[c].bytes_used;
+      report->channel_bytes_read[c] = results_[c].bytes_used;
+      report->planes_completed[c] = results_[c].planes_completed;
+      report->bytes_read += results_[c].bytes_used;
       // Complete: the stream ended (by its own end or the encoder's cut), not a budget.
-      report->complete = report->complete && !results[c].hit_deadline &&
-                         limits[c].max_bytes >= encoded.channels[c].data.size();
-      report->hit_deadline = report->hit_deadline || results[c].hit_deadline;
+      report->complete = report->complete && !results_[c].hit_deadline &&
+                         limits_[c].max_bytes >= encoded_->channels[c].data.size();
+      report->hit_deadline = report->hit_deadline || results_[c].hit_deadline;
     }
     report->ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_)
+            .count();
   }
   return block;
+}
+
+StatusOr<Block> DecodeBlock(const EncodedBlock& encoded, const DecodeBudget& budget,
+                            const ParallelRunner& runner, DecodeReport* report) {
+  BlockDecode decode;
+  FVV_RETURN_IF_ERROR(decode.Start(encoded, budget));
+  const ParallelRunner& channel_runner = budget.channel_runner ? budget.channel_runner : runner;
+  channel_runner(3, [&](uint32_t c) { decode.Spiht(static_cast<int>(c)); });
+  for (int c = 0; c < 3; ++c) decode.Reconstruct(c, runner);
+  return decode.Finish(report);
 }
 
 }  // namespace fvv

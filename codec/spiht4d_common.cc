@@ -89,11 +89,11 @@ int SpihtTree::Children(uint32_t idx, uint32_t* out) const {
 }
 
 bool SpihtTree::HasGrandchildren(uint32_t idx) const {
-  std::array<uint32_t, kAxes> p;
-  Coords(idx, &p);
   // Every coefficient of level >= 2 has children, and a root (level L + 1) has its
-  // children at level L; so grandchildren exist exactly from level 3 up.
-  return Level(p) >= 3;
+  // children at level L; so grandchildren exist exactly from level 3 up: level
+  // classes 1 (level >= 4) and 2 (level 3), and roots when L >= 2.
+  const int cls = LevelClass(idx);
+  return cls == 0 ? g_.levels >= 2 : cls <= 2;
 }
 
 void SpihtTree::BuildPositionTable() {

@@ -243,7 +243,7 @@ namespace {
 constexpr uint32_t kRowsPerTask = 16;
 // Lines along the other axes are cut into column strips of at most this many
 // samples (m rows x strip), so a strip's lifting steps run in the core's cache.
-constexpr size_t kStripSamples = 32 * 1024;
+constexpr size_t kStripSamples = 128 * 1024;
 // With at least this many (t, c) planes in a level's region, each plane's y and
 // x passes run together as one task while the plane is in cache; with fewer,
 // each pass is spread over the runner on its own.

@@ -2,6 +2,7 @@
 // status codes and messages, and the flat arrays C callers read.
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/mat4x4.hpp>
+#include <memory>
 #include <new>
 #include <string>
 #include <vector>
@@ -34,7 +35,9 @@ struct FrameImpl {
   fvv_frame frame;  // first member: fvv_frame* and FrameImpl* convert by reinterpret_cast
   std::vector<float> world, skin;
   std::vector<fvv_view> views;
-  std::vector<std::vector<uint8_t>> pixels;
+  // Uninitialised on allocation: every byte is written by ConvertView, and
+  // zero-filling megabytes per frame first would cost a pass over memory.
+  std::vector<std::unique_ptr<uint8_t[]>> pixels;
   std::shared_ptr<const fvv::DecodedGop> gop;  // keeps the masks alive
 };
 
@@ -69,12 +72,13 @@ void BuildModel(fvv_decoder* d) {
 
 // One camera's atlas texture of a decoded GOP, in the requested format.
 void ConvertView(const fvv::Block& block, uint32_t t, uint32_t c, fvv_pixel_format format,
-                 std::vector<uint8_t>* out) {
+                 std::unique_ptr<uint8_t[]>* pixels) {
   const fvv::Shape4D& luma = block.shape();
   const fvv::Shape4D& chroma = block.channels[1].shape;
   const uint32_t w = luma.width(), h = luma.height();
   const bool half = block.chroma == fvv::ChromaFormat::k420;
-  out->resize(size_t{w} * h * 3);
+  pixels->reset(new uint8_t[size_t{w} * h * 3]);
+  uint8_t* out = pixels->get();
   const int32_t* Y = block.channels[0].samples.data() + luma.Index(t, c, 0, 0);
   const int32_t* U = block.channels[1].samples.data() + chroma.Index(t, c, 0, 0);
   const int32_t* V = block.channels[2].samples.data() + chroma.Index(t, c, 0, 0);
@@ -82,7 +86,7 @@ void ConvertView(const fvv::Block& block, uint32_t t, uint32_t c, fvv_pixel_form
   if (format == FVV_FORMAT_RGB8 && !half && block.colour == fvv::ColourSpace::kYCbCr601) {
     for (uint32_t y = 0; y < h; ++y) {
       const size_t row = size_t{y} * w;
-      fvv::YcbcrRowToRgb8(Y + row, U + row, V + row, w, out->data() + 3 * row);
+      fvv::YcbcrRowToRgb8(Y + row, U + row, V + row, w, out + 3 * row);
     }
     return;
   }
@@ -92,13 +96,13 @@ void ConvertView(const fvv::Block& block, uint32_t t, uint32_t c, fvv_pixel_form
       const size_t ci = half ? size_t{y >> 1} * cw + (x >> 1) : i;
       if (format == FVV_FORMAT_RGB8) {
         const fvv::Rgb8 p = fvv::YuvToRgb(block.colour, Y[i], U[ci], V[ci]);
-        (*out)[3 * i] = p.r;
-        (*out)[3 * i + 1] = p.g;
-        (*out)[3 * i + 2] = p.b;
+        out[3 * i] = p.r;
+        out[3 * i + 1] = p.g;
+        out[3 * i + 2] = p.b;
       } else {
-        (*out)[i] = static_cast<uint8_t>(Y[i]);
-        (*out)[size_t{w} * h + i] = static_cast<uint8_t>(U[ci]);
-        (*out)[2 * size_t{w} * h + i] = static_cast<uint8_t>(V[ci]);
+        out[i] = static_cast<uint8_t>(Y[i]);
+        out[size_t{w} * h + i] = static_cast<uint8_t>(U[ci]);
+        out[2 * size_t{w} * h + i] = static_cast<uint8_t>(V[ci]);
       }
     }
   }
@@ -281,7 +285,7 @@ fvv_status fvv_decoder_decode_frame(fvv_decoder* d, uint32_t index, const fvv_de
     }
     ConvertView(g.textures[group], t, local, static_cast<fvv_pixel_format>(b.format),
                 &impl->pixels[c]);
-    impl->views[c].pixels = impl->pixels[c].data();
+    impl->views[c].pixels = impl->pixels[c].get();
     const auto& masks = g.masks[group];
     const uint32_t group_cameras = g.groups[group].camera_count;
     impl->views[c].mask =

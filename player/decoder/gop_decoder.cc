@@ -169,10 +169,56 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
       gop->textures[i] = std::move(decoded).value();
     }
   };
-  if (parallel) {
-    // Several camera groups (one camera per fragment by default): whole
-    // fragments in parallel, each on one thread, balance the cores better than
-    // the three unequal channel streams of one fragment can.
+  if (parallel && budget.max_ms == 0) {
+    // Several camera groups (one camera per fragment by default) without a time
+    // budget: every fragment's channels and masks are tasks of their own, the
+    // large ones first, so the threads run out of work together at the span's
+    // end (whole fragments per thread leave one idle for half a fragment).
+    DecodeBudget whole;
+    whole.max_bytes = budget.max_bytes;
+    whole.sample_pool = gop->sample_pool.get();
+    std::vector<BlockDecode> blocks(n);
+    std::vector<Status> mask_statuses(n);
+    enum Kind : uint8_t { kY, kU, kV, kMasks, kWhole };
+    std::vector<std::pair<uint32_t, Kind>> tasks;
+    for (uint32_t i : wanted) {
+      if (fragments[i].predictive) {
+        tasks.emplace_back(i, kWhole);  // 'ptex': its masks come first, in one task
+        continue;
+      }
+      statuses[i] = blocks[i].Start(fragments[i].texture, whole);
+      if (!statuses[i].ok()) continue;
+      for (Kind k : {kY, kU, kV}) tasks.emplace_back(i, k);
+      if (!fragments[i].masks.empty()) {
+        gop->masks[i].resize(fragments[i].info.TextureShape(info.header).count());
+        tasks.emplace_back(i, kMasks);
+      }
+    }
+    std::stable_sort(tasks.begin(), tasks.end(), [](const auto& x, const auto& y) {
+      static constexpr int kOrder[] = {1, 3, 4, 2, 0};  // whole, Y, masks, U, V
+      return kOrder[x.second] < kOrder[y.second];
+    });
+    runner(static_cast<uint32_t>(tasks.size()), [&](uint32_t k) {
+      const auto [i, kind] = tasks[k];
+      const FragmentData& f = fragments[i];
+      if (kind == kWhole) {
+        decode_one(i, SerialRunner, false);
+      } else if (kind == kMasks) {
+        mask_statuses[i] = DecodeMasks(f.masks.data(), f.masks.size(),
+                                       f.info.TextureShape(info.header), f.mask_mode,
+                                       gop->masks[i].data());
+      } else {
+        blocks[i].Channel(kind);
+      }
+    });
+    for (uint32_t i : wanted) {
+      if (fragments[i].predictive || !statuses[i].ok()) continue;
+      gop->textures[i] = blocks[i].Finish(&reports[i]);
+      statuses[i] = mask_statuses[i];
+    }
+  } else if (parallel) {
+    // The same under a time budget: whole fragments in parallel, each on one
+    // thread with an equal share of the time for each of its channels.
     runner(static_cast<uint32_t>(wanted.size()),
            [&](uint32_t k) { decode_one(wanted[k], SerialRunner, false); });
   } else {
