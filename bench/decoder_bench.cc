@@ -16,13 +16,13 @@
 //
 // --gop-cameras 1 (the encoder's default) codes each camera's atlas sequence as
 // its own fragment; 8 puts all cameras of a time span in one 4D block.
+#include <unistd.h>
+
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <vector>
-
-#include <unistd.h>
 
 #include "codec/thread_pool.h"
 #include "container/writer.h"

@@ -81,8 +81,9 @@ __attribute__((target("avx2"))) uint32_t YcbcrRowToRgb8Avx2(const int32_t* y, co
       __m128i block = _mm_setzero_si128();
       for (int k = 0; k < 3; ++k)
         block = _mm_or_si128(
-            block, _mm_shuffle_epi8(planes[k], _mm_load_si128(reinterpret_cast<const __m128i*>(
-                                                   kInterleave.m[j][k]))));
+            block,
+            _mm_shuffle_epi8(
+                planes[k], _mm_load_si128(reinterpret_cast<const __m128i*>(kInterleave.m[j][k]))));
       _mm_storeu_si128(reinterpret_cast<__m128i*>(out + 3 * i + 16 * j), block);
     }
   }

@@ -34,8 +34,7 @@ inline Rgb8 YuvToRgb(ColourSpace colour, int32_t y, int32_t u, int32_t v) {
 // One row of BT.601 YCbCr samples, each in 0..255 (what the decoder outputs), to
 // interleaved RGB8: exactly YuvToRgb(kYCbCr601, ...) per texel, 16 texels at a
 // time with AVX2 where the CPU has it.
-void YcbcrRowToRgb8(const int32_t* y, const int32_t* u, const int32_t* v, uint32_t n,
-                    uint8_t* rgb);
+void YcbcrRowToRgb8(const int32_t* y, const int32_t* u, const int32_t* v, uint32_t n, uint8_t* rgb);
 
 // Interleaved RGB8 frames (one per (t, c), each h*w*3) <-> a block.
 // In 4:2:0 each chroma sample is the rounded mean of its (up to) 2x2 luma sites,

@@ -15,8 +15,10 @@
 // instruction set: a separate copy is compiled for the baseline only.
 #if defined(__GNUC__)
 #define FVV_ALWAYS_INLINE inline __attribute__((always_inline))
+#define FVV_INLINE_LAMBDA __attribute__((always_inline))  // after a lambda's parameters
 #else
 #define FVV_ALWAYS_INLINE inline
+#define FVV_INLINE_LAMBDA
 #endif
 
 #endif  // FVV_CODEC_SIMD_H_

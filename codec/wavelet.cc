@@ -77,7 +77,8 @@ inline int32_t NegMulQ16(int32_t x) {
 // Predict steps (target = odd rows d, source = even rows s) use neighbours i, i+1;
 // update steps (target = s, source = d) use i-1, i.
 template <typename F>
-FVV_ALWAYS_INLINE void PredictStep(int32_t* d, uint32_t nd, const int32_t* s, uint32_t ns, uint32_t v, F f) {
+FVV_ALWAYS_INLINE void PredictStep(int32_t* d, uint32_t nd, const int32_t* s, uint32_t ns,
+                                   uint32_t v, F f) {
   for (uint32_t i = 0; i < nd; ++i) {
     const int32_t* a = s + size_t{i} * v;
     const int32_t* b = s + size_t{std::min(i + 1, ns - 1)} * v;
@@ -86,7 +87,8 @@ FVV_ALWAYS_INLINE void PredictStep(int32_t* d, uint32_t nd, const int32_t* s, ui
   }
 }
 template <typename F>
-FVV_ALWAYS_INLINE void UpdateStep(int32_t* s, uint32_t ns, const int32_t* d, uint32_t nd, uint32_t v, F f) {
+FVV_ALWAYS_INLINE void UpdateStep(int32_t* s, uint32_t ns, const int32_t* d, uint32_t nd,
+                                  uint32_t v, F f) {
   for (uint32_t i = 0; i < ns; ++i) {
     const int32_t* a = d + size_t{i == 0 ? 0 : std::min(i - 1, nd - 1)} * v;
     const int32_t* b = d + size_t{std::min(i, nd - 1)} * v;
@@ -99,19 +101,18 @@ FVV_ALWAYS_INLINE void UpdateStep(int32_t* s, uint32_t ns, const int32_t* d, uin
 // interior loops run over contiguous neighbours and vectorise along the line.
 template <typename F>
 FVV_ALWAYS_INLINE void PredictLine(int32_t* __restrict d, uint32_t nd, const int32_t* __restrict s,
-                        uint32_t ns, F f) {
+                                   uint32_t ns, F f) {
   const uint32_t inner = std::min(nd, ns - 1);  // d[i] with both s[i] and s[i + 1]
   for (uint32_t i = 0; i < inner; ++i) d[i] = WrapAdd(d[i], f(s[i], s[i + 1]));
   for (uint32_t i = inner; i < nd; ++i) d[i] = WrapAdd(d[i], f(s[ns - 1], s[ns - 1]));
 }
 template <typename F>
 FVV_ALWAYS_INLINE void UpdateLine(int32_t* __restrict s, uint32_t ns, const int32_t* __restrict d,
-                       uint32_t nd, F f) {
+                                  uint32_t nd, F f) {
   s[0] = WrapAdd(s[0], f(d[0], d[0]));
   const uint32_t inner = std::min(ns, nd);  // s[i], i >= 1, with both d[i - 1] and d[i]
   for (uint32_t i = 1; i < inner; ++i) s[i] = WrapAdd(s[i], f(d[i - 1], d[i]));
-  for (uint32_t i = std::max(inner, 1u); i < ns; ++i)
-    s[i] = WrapAdd(s[i], f(d[nd - 1], d[nd - 1]));
+  for (uint32_t i = std::max(inner, 1u); i < ns; ++i) s[i] = WrapAdd(s[i], f(d[nd - 1], d[nd - 1]));
 }
 
 // The kernels' lifting steps, applied through Predict/Update functors so that the
@@ -139,9 +140,8 @@ FVV_ALWAYS_INLINE void InverseSteps(WaveletKernel kernel, Predict predict, Updat
     case WaveletKernel::kHaar:
       break;
     case WaveletKernel::kLeGall53:
-      update([](int32_t a, int32_t b) {
-        return static_cast<int32_t>(-((int64_t{a} + b + 2) >> 2));
-      });
+      update(
+          [](int32_t a, int32_t b) { return static_cast<int32_t>(-((int64_t{a} + b + 2) >> 2)); });
       predict([](int32_t a, int32_t b) { return static_cast<int32_t>((int64_t{a} + b) >> 1); });
       break;
     case WaveletKernel::kCdf97:
@@ -171,12 +171,12 @@ void LiftForward(WaveletKernel kernel, uint32_t m, uint32_t v, int32_t* rows) {
     }
   } else if (v == 1) {
     ForwardSteps(
-        kernel, [&](auto f) __attribute__((always_inline)) { PredictLine(d, nd, s, ns, f); },
-        [&](auto f) __attribute__((always_inline)) { UpdateLine(s, ns, d, nd, f); });
+        kernel, [&](auto f) FVV_INLINE_LAMBDA { PredictLine(d, nd, s, ns, f); },
+        [&](auto f) FVV_INLINE_LAMBDA { UpdateLine(s, ns, d, nd, f); });
   } else {
     ForwardSteps(
-        kernel, [&](auto f) __attribute__((always_inline)) { PredictStep(d, nd, s, ns, v, f); },
-        [&](auto f) __attribute__((always_inline)) { UpdateStep(s, ns, d, nd, v, f); });
+        kernel, [&](auto f) FVV_INLINE_LAMBDA { PredictStep(d, nd, s, ns, v, f); },
+        [&](auto f) FVV_INLINE_LAMBDA { UpdateStep(s, ns, d, nd, v, f); });
   }
 }
 
@@ -193,12 +193,12 @@ void LiftInverse(WaveletKernel kernel, uint32_t m, uint32_t v, int32_t* rows) {
     }
   } else if (v == 1) {
     InverseSteps(
-        kernel, [&](auto f) __attribute__((always_inline)) { PredictLine(d, nd, s, ns, f); },
-        [&](auto f) __attribute__((always_inline)) { UpdateLine(s, ns, d, nd, f); });
+        kernel, [&](auto f) FVV_INLINE_LAMBDA { PredictLine(d, nd, s, ns, f); },
+        [&](auto f) FVV_INLINE_LAMBDA { UpdateLine(s, ns, d, nd, f); });
   } else {
     InverseSteps(
-        kernel, [&](auto f) __attribute__((always_inline)) { PredictStep(d, nd, s, ns, v, f); },
-        [&](auto f) __attribute__((always_inline)) { UpdateStep(s, ns, d, nd, v, f); });
+        kernel, [&](auto f) FVV_INLINE_LAMBDA { PredictStep(d, nd, s, ns, v, f); },
+        [&](auto f) FVV_INLINE_LAMBDA { UpdateStep(s, ns, d, nd, v, f); });
   }
 }
 
@@ -428,8 +428,8 @@ void InverseTransform4D(WaveletKernel kernel, const WaveletGeometry& g,
       if (g.AxisSplitAt(a, l)) AxisPass(kernel, g.shape, region, a, false, runner, data);
     // Level 1's region is the whole block, so its planes are final after it.
     const bool last = l == 1 && finish;
-    finished = SpatialPasses(kernel, g, region, l, false, runner, data, last ? &finish : nullptr) &&
-               last;
+    finished =
+        SpatialPasses(kernel, g, region, l, false, runner, data, last ? &finish : nullptr) && last;
   }
   if (finish && !finished) {
     const size_t count = g.shape.count();

@@ -13,8 +13,8 @@
 namespace fvv {
 namespace {
 
-using ::fvv::testing::RandomBlock;
 using ::fvv::testing::HashBlock;
+using ::fvv::testing::RandomBlock;
 using ::fvv::testing::SmoothBlock;
 
 double WeightedPsnr(const Block& a, const Block& b, const UsedMask* mask) {

@@ -184,7 +184,8 @@ TEST(LogisticMixing, MixTableIsTheFormula) {
   const mixing::MixTables& tables = mixing::Tables();
   for (int sum = -4094; sum <= 4094; ++sum) {
     const int q = mixing::Squash(mixing::FloorMulShift8(sum, mixing::kMixWeight));
-    ASSERT_EQ(mixing::MixOfStretchSum(sum), static_cast<uint32_t>(4096 - std::clamp(q, 1, 4095)) << 3)
+    ASSERT_EQ(mixing::MixOfStretchSum(sum), static_cast<uint32_t>(4096 - std::clamp(q, 1, 4095))
+                                                << 3)
         << sum;
   }
   for (uint32_t pa = 1; pa < 32768; pa += 37) {

@@ -146,11 +146,10 @@ void Decoder::StartBackgroundDecode(uint32_t span, const GopBudget& budget, bool
   const StreamInfo* si = &info();
   ThreadPool* pool = &pool_;
   samples_->SetLimit(3 * fragments.size());
-  ahead_ = std::async(std::launch::async,
-                      [si, pool, budget, samples = samples_, fragments = std::move(fragments)] {
-                        return DecodeGop(*si, fragments, budget, pool->runner(), pool->size(),
-                                         samples);
-                      });
+  ahead_ = std::async(
+      std::launch::async, [si, pool, budget, samples = samples_, fragments = std::move(fragments)] {
+        return DecodeGop(*si, fragments, budget, pool->runner(), pool->size(), samples);
+      });
 }
 
 void Decoder::WaitDecodeAhead() {

@@ -204,9 +204,9 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
       if (kind == kWhole) {
         decode_one(i, SerialRunner, false);
       } else if (kind == kMasks) {
-        mask_statuses[i] = DecodeMasks(f.masks.data(), f.masks.size(),
-                                       f.info.TextureShape(info.header), f.mask_mode,
-                                       gop->masks[i].data());
+        mask_statuses[i] =
+            DecodeMasks(f.masks.data(), f.masks.size(), f.info.TextureShape(info.header),
+                        f.mask_mode, gop->masks[i].data());
       } else {
         blocks[i].Channel(kind);
       }
