@@ -15,18 +15,6 @@ int32_t Clamp(int32_t v, int32_t lo, int32_t hi) { return std::min(std::max(v, l
 // Rounded (a * 2^-16) for signed a: floor(a / 65536 + 1/2).
 int32_t RoundQ16(int64_t a) { return static_cast<int32_t>((a + 32768) >> 16); }
 
-// The 32-bit form of YuvToRgb's YCbCr branch for samples in 0..255, where every
-// product fits 32 bits.
-inline void YcbcrToRgb8(int32_t y, int32_t u, int32_t v, uint8_t* out) {
-  const int32_t cb = u - 128, cr = v - 128;
-  const int32_t r = y + ((91881 * cr + 32768) >> 16);
-  const int32_t g = y + ((-22554 * cb - 46802 * cr + 32768) >> 16);
-  const int32_t b = y + ((116130 * cb + 32768) >> 16);
-  out[0] = static_cast<uint8_t>(Clamp(r, 0, 255));
-  out[1] = static_cast<uint8_t>(Clamp(g, 0, 255));
-  out[2] = static_cast<uint8_t>(Clamp(b, 0, 255));
-}
-
 #ifdef FVV_COLOUR_AVX2
 // pshufb masks that put channel k of 16 texels at its places in output bytes
 // [16 j, 16 j + 16) of 48 interleaved ones (0x80: leave zero).
@@ -100,7 +88,12 @@ void YcbcrRowToRgb8(const int32_t* y, const int32_t* u, const int32_t* v, uint32
   static const bool avx2 = __builtin_cpu_supports("avx2");
   if (avx2) i = YcbcrRowToRgb8Avx2(y, u, v, n, rgb);
 #endif
-  for (; i < n; ++i) YcbcrToRgb8(y[i], u[i], v[i], rgb + 3 * i);
+  for (; i < n; ++i) {
+    const Rgb8 p = YuvToRgb(ColourSpace::kYCbCr601, y[i], u[i], v[i]);
+    rgb[3 * i] = p.r;
+    rgb[3 * i + 1] = p.g;
+    rgb[3 * i + 2] = p.b;
+  }
 }
 
 Yuv RgbToYuv(ColourSpace colour, int r, int g, int b) {

@@ -153,53 +153,55 @@ FVV_ALWAYS_INLINE void InverseSteps(WaveletKernel kernel, Predict predict, Updat
   }
 }
 
+// Both directions, written once, inlined into each public entry point.
+template <bool kForward>
+FVV_ALWAYS_INLINE void Lift(WaveletKernel kernel, uint32_t m, uint32_t v, int32_t* rows) {
+  if (m < 2) return;
+  const uint32_t ns = (m + 1) / 2, nd = m / 2;
+  int32_t* s = rows;
+  int32_t* d = rows + size_t{ns} * v;
+  if (kernel == WaveletKernel::kHaar) {
+    // Forward: d = odd - even; s = even + floor(d / 2). A trailing even sample
+    // stays as is. The inverse undoes the two steps in reverse order.
+    for (size_t i = 0; i < size_t{nd} * v; ++i) {
+      if (kForward) {
+        d[i] = WrapSub(d[i], s[i]);
+        s[i] = WrapAdd(s[i], d[i] >> 1);
+      } else {
+        s[i] = WrapSub(s[i], d[i] >> 1);
+        d[i] = WrapAdd(d[i], s[i]);
+      }
+    }
+    return;
+  }
+  const auto steps = [kernel](auto predict, auto update) FVV_INLINE_LAMBDA {
+    if (kForward) {
+      ForwardSteps(kernel, predict, update);
+    } else {
+      InverseSteps(kernel, predict, update);
+    }
+  };
+  if (v == 1) {
+    steps([&](auto f) FVV_INLINE_LAMBDA { PredictLine(d, nd, s, ns, f); },
+          [&](auto f) FVV_INLINE_LAMBDA { UpdateLine(s, ns, d, nd, f); });
+  } else {
+    steps([&](auto f) FVV_INLINE_LAMBDA { PredictStep(d, nd, s, ns, v, f); },
+          [&](auto f) FVV_INLINE_LAMBDA { UpdateStep(s, ns, d, nd, v, f); });
+  }
+}
+
 }  // namespace
 
 // The lifting loops are the transform's inner loops: an AVX2 clone (chosen at load
 // time where the CPU has it) runs them 8 lanes wide; results are identical.
 FVV_SIMD_CLONES
 void LiftForward(WaveletKernel kernel, uint32_t m, uint32_t v, int32_t* rows) {
-  if (m < 2) return;
-  const uint32_t ns = (m + 1) / 2, nd = m / 2;
-  int32_t* s = rows;
-  int32_t* d = rows + size_t{ns} * v;
-  if (kernel == WaveletKernel::kHaar) {
-    // d = odd - even; s = even + floor(d / 2). A trailing even sample stays as is.
-    for (size_t i = 0; i < size_t{nd} * v; ++i) {
-      d[i] = WrapSub(d[i], s[i]);
-      s[i] = WrapAdd(s[i], d[i] >> 1);
-    }
-  } else if (v == 1) {
-    ForwardSteps(
-        kernel, [&](auto f) FVV_INLINE_LAMBDA { PredictLine(d, nd, s, ns, f); },
-        [&](auto f) FVV_INLINE_LAMBDA { UpdateLine(s, ns, d, nd, f); });
-  } else {
-    ForwardSteps(
-        kernel, [&](auto f) FVV_INLINE_LAMBDA { PredictStep(d, nd, s, ns, v, f); },
-        [&](auto f) FVV_INLINE_LAMBDA { UpdateStep(s, ns, d, nd, v, f); });
-  }
+  Lift<true>(kernel, m, v, rows);
 }
 
 FVV_SIMD_CLONES
 void LiftInverse(WaveletKernel kernel, uint32_t m, uint32_t v, int32_t* rows) {
-  if (m < 2) return;
-  const uint32_t ns = (m + 1) / 2, nd = m / 2;
-  int32_t* s = rows;
-  int32_t* d = rows + size_t{ns} * v;
-  if (kernel == WaveletKernel::kHaar) {
-    for (size_t i = 0; i < size_t{nd} * v; ++i) {
-      s[i] = WrapSub(s[i], d[i] >> 1);
-      d[i] = WrapAdd(d[i], s[i]);
-    }
-  } else if (v == 1) {
-    InverseSteps(
-        kernel, [&](auto f) FVV_INLINE_LAMBDA { PredictLine(d, nd, s, ns, f); },
-        [&](auto f) FVV_INLINE_LAMBDA { UpdateLine(s, ns, d, nd, f); });
-  } else {
-    InverseSteps(
-        kernel, [&](auto f) FVV_INLINE_LAMBDA { PredictStep(d, nd, s, ns, v, f); },
-        [&](auto f) FVV_INLINE_LAMBDA { UpdateStep(s, ns, d, nd, v, f); });
-  }
+  Lift<false>(kernel, m, v, rows);
 }
 
 void LiftInverseReal(WaveletKernel kernel, uint32_t m, double* x) {

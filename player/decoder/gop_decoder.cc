@@ -61,6 +61,12 @@ StatusOr<Block> DecodePredictiveFragment(const FragmentData& f, const Shape4D& s
   return block;
 }
 
+// A fragment's coded masks, decoded into `out` (sized here).
+Status DecodeFragmentMasks(const FragmentData& f, const Shape4D& shape, std::vector<uint8_t>* out) {
+  out->resize(shape.count());
+  return DecodeMasks(f.masks.data(), f.masks.size(), shape, f.mask_mode, out->data());
+}
+
 }  // namespace
 
 DecodedGop::~DecodedGop() {
@@ -135,12 +141,9 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
     }
     std::vector<uint8_t>& masks = gop->masks[i];
     const Shape4D shape = f.info.TextureShape(info.header);
-    const auto decode_masks = [&f, shape, &masks] {
-      return DecodeMasks(f.masks.data(), f.masks.size(), shape, f.mask_mode, masks.data());
-    };
+    const auto decode_masks = [&f, shape, &masks] { return DecodeFragmentMasks(f, shape, &masks); };
     if (f.predictive) {
       // 'ptex': the masks are the signals' supports, so they come first.
-      masks.resize(shape.count());
       Status st = decode_masks();
       if (st.ok()) {
         auto decoded =
@@ -156,9 +159,8 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
     }
     std::future<Status> masks_done;
     Status mask_status;
-    if (!f.masks.empty()) {
-      masks.resize(shape.count());
-      if (masks_async) masks_done = std::async(std::launch::async, decode_masks);
+    if (!f.masks.empty() && masks_async) {
+      masks_done = std::async(std::launch::async, decode_masks);
     }
     auto decoded = DecodeBlock(f.texture, b, inner, &reports[i]);
     if (!f.masks.empty()) mask_status = masks_async ? masks_done.get() : decode_masks();
@@ -189,10 +191,7 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
       statuses[i] = blocks[i].Start(fragments[i].texture, whole);
       if (!statuses[i].ok()) continue;
       for (Kind k : {kY, kU, kV}) tasks.emplace_back(i, k);
-      if (!fragments[i].masks.empty()) {
-        gop->masks[i].resize(fragments[i].info.TextureShape(info.header).count());
-        tasks.emplace_back(i, kMasks);
-      }
+      if (!fragments[i].masks.empty()) tasks.emplace_back(i, kMasks);
     }
     std::stable_sort(tasks.begin(), tasks.end(), [](const auto& x, const auto& y) {
       static constexpr int kOrder[] = {1, 3, 4, 2, 0};  // whole, Y, masks, U, V
@@ -204,9 +203,7 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
       if (kind == kWhole) {
         decode_one(i, SerialRunner, false);
       } else if (kind == kMasks) {
-        mask_statuses[i] =
-            DecodeMasks(f.masks.data(), f.masks.size(), f.info.TextureShape(info.header),
-                        f.mask_mode, gop->masks[i].data());
+        mask_statuses[i] = DecodeFragmentMasks(f, f.info.TextureShape(info.header), &gop->masks[i]);
       } else {
         blocks[i].Channel(kind);
       }
