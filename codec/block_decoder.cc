@@ -56,14 +56,14 @@ Status BlockDecode::Start(const EncodedBlock& encoded, const DecodeBudget& budge
 
 void BlockDecode::Spiht(int c) {
   const WaveletGeometry g(shapes_[c]);
-  const SpihtTree tree(g);
+  const std::shared_ptr<const SpihtTree> tree = SharedSpihtTree(g);
   const SubbandQuantisers q(encoded_->params.kernel, g);
   const ChannelStream& s = encoded_->channels[c];
   // The time budget is for decoding decisions: it starts once the channel's
   // set-up is done (which no budget could shorten).
   limits_[c].max_ms = budget_->max_ms;
-  results_[c] = SpihtDecode(tree, q, s.data.data(), s.data.size(), s.planes, encoded_->params.coder,
-                            limits_[c], &coeffs_[c]);
+  results_[c] = SpihtDecode(*tree, q, s.data.data(), s.data.size(), s.planes,
+                            encoded_->params.coder, limits_[c], &coeffs_[c]);
 }
 
 void BlockDecode::Reconstruct(int c, const ParallelRunner& runner) {

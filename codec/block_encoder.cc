@@ -205,9 +205,9 @@ StatusOr<EncodedBlock> EncodeBlock(const Block& block, const UsedMask* mask,
   for (;;) {
     settings.runner(3, [&](uint32_t c) {
       const WaveletGeometry g(block.channels[c].shape);
-      const SpihtTree tree(g);
+      const std::shared_ptr<const SpihtTree> tree = SharedSpihtTree(g);
       const SubbandQuantisers q(settings.kernel, g);
-      SpihtEncoded enc = SpihtEncode(tree, q, coeffs[c], settings.coder, cap);
+      SpihtEncoded enc = SpihtEncode(*tree, q, coeffs[c], settings.coder, cap);
       out.channels[c].planes = enc.planes;
       out.channels[c].data = std::move(enc.data);
       out.channels[c].points = std::move(enc.points);

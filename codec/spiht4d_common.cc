@@ -1,6 +1,7 @@
 #include "codec/spiht4d_common.h"
 
 #include <algorithm>
+#include <mutex>
 #include <vector>
 
 namespace fvv {
@@ -8,6 +9,8 @@ namespace fvv {
 const char* CoderName(EntropyCoder c) { return c == EntropyCoder::kArith ? "arith" : "binary"; }
 
 SpihtTree::SpihtTree(const WaveletGeometry& geometry) : g_(geometry) {
+  for (int a = 0; a < kAxes; ++a)
+    divide_magic_[a] = g_.shape.n[a] > 1 ? ~uint64_t{0} / g_.shape.n[a] + 1 : 0;
   BuildPositionTable();
   // Tree tops, in order: the final low band R(L), then for l = L - 1 down to 1 the
   // detail coefficients of level l that have no parent: those whose every
@@ -134,6 +137,39 @@ void SpihtTree::BuildPositionTable() {
       }
     }
   }
+}
+
+std::shared_ptr<const SpihtTree> SharedSpihtTree(const WaveletGeometry& geometry) {
+  // Bounds: a few shapes (a stream has one or two), and no tree so large that
+  // keeping it would hold memory a caller did not expect to stay in use.
+  constexpr size_t kEntries = 4;
+  constexpr size_t kMaxCoefficients = size_t{1} << 26;
+  if (geometry.shape.count() > kMaxCoefficients) return std::make_shared<SpihtTree>(geometry);
+  static std::mutex mutex;
+  static std::vector<std::shared_ptr<const SpihtTree>> recent;  // most recent last
+  // The most recent tree of this shape, moved to the end; null if none is kept.
+  const auto find = [&]() -> std::shared_ptr<const SpihtTree> {
+    for (size_t i = 0; i < recent.size(); ++i) {
+      if (recent[i]->geometry().shape == geometry.shape) {
+        std::shared_ptr<const SpihtTree> tree = recent[i];
+        recent.erase(recent.begin() + static_cast<std::ptrdiff_t>(i));
+        recent.push_back(tree);
+        return tree;
+      }
+    }
+    return nullptr;
+  };
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (auto tree = find()) return tree;
+  }
+  // Built outside the lock: threads decoding other shapes need not wait.
+  auto tree = std::make_shared<const SpihtTree>(geometry);
+  std::lock_guard<std::mutex> lock(mutex);
+  if (auto other = find()) return other;  // another thread built it meanwhile
+  if (recent.size() == kEntries) recent.erase(recent.begin());
+  recent.push_back(tree);
+  return tree;
 }
 
 }  // namespace fvv

@@ -72,29 +72,37 @@ inline int32_t NegMulQ16(int32_t x) {
   return static_cast<int32_t>(0u - static_cast<uint32_t>(MulQ16<C>(x)));
 }
 
-// Lifting step on row vectors: target row i gets f(src row i + src row i+di) where the
-// neighbour index is clamped into [0, nsrc) (symmetric extension in deinterleaved form).
-// Predict steps (target = odd rows d, source = even rows s) use neighbours i, i+1;
-// update steps (target = s, source = d) use i-1, i.
+// Lifting step on row vectors of v samples: target row i gets f(src row i + src
+// row i+di) where the neighbour index is clamped into [0, nsrc) (symmetric
+// extension in deinterleaved form). Predict steps (target = odd rows d, source =
+// even rows s) use neighbours i, i+1; update steps (target = s, source = d) use
+// i-1, i. The even and the odd rows each lie `pitch` samples apart, in one buffer
+// or in two.
 template <typename F>
-FVV_ALWAYS_INLINE void PredictStep(int32_t* d, uint32_t nd, const int32_t* s, uint32_t ns,
-                                   uint32_t v, F f) {
-  for (uint32_t i = 0; i < nd; ++i) {
-    const int32_t* a = s + size_t{i} * v;
-    const int32_t* b = s + size_t{std::min(i + 1, ns - 1)} * v;
-    int32_t* t = d + size_t{i} * v;
-    for (uint32_t j = 0; j < v; ++j) t[j] = WrapAdd(t[j], f(a[j], b[j]));
-  }
+FVV_ALWAYS_INLINE void PredictRow(int32_t* d, size_t d_pitch, const int32_t* s, size_t s_pitch,
+                                  uint32_t ns, uint32_t v, uint32_t i, F f) {
+  const int32_t* a = s + i * s_pitch;
+  const int32_t* b = s + std::min(i + 1, ns - 1) * s_pitch;
+  int32_t* t = d + i * d_pitch;
+  for (uint32_t j = 0; j < v; ++j) t[j] = WrapAdd(t[j], f(a[j], b[j]));
 }
 template <typename F>
-FVV_ALWAYS_INLINE void UpdateStep(int32_t* s, uint32_t ns, const int32_t* d, uint32_t nd,
-                                  uint32_t v, F f) {
-  for (uint32_t i = 0; i < ns; ++i) {
-    const int32_t* a = d + size_t{i == 0 ? 0 : std::min(i - 1, nd - 1)} * v;
-    const int32_t* b = d + size_t{std::min(i, nd - 1)} * v;
-    int32_t* t = s + size_t{i} * v;
-    for (uint32_t j = 0; j < v; ++j) t[j] = WrapAdd(t[j], f(a[j], b[j]));
-  }
+FVV_ALWAYS_INLINE void UpdateRow(int32_t* s, size_t s_pitch, const int32_t* d, size_t d_pitch,
+                                 uint32_t nd, uint32_t v, uint32_t i, F f) {
+  const int32_t* a = d + (i == 0 ? 0 : std::min(i - 1, nd - 1)) * d_pitch;
+  const int32_t* b = d + std::min(i, nd - 1) * d_pitch;
+  int32_t* t = s + i * s_pitch;
+  for (uint32_t j = 0; j < v; ++j) t[j] = WrapAdd(t[j], f(a[j], b[j]));
+}
+template <typename F>
+FVV_ALWAYS_INLINE void PredictStep(int32_t* d, size_t d_pitch, uint32_t nd, const int32_t* s,
+                                   size_t s_pitch, uint32_t ns, uint32_t v, F f) {
+  for (uint32_t i = 0; i < nd; ++i) PredictRow(d, d_pitch, s, s_pitch, ns, v, i, f);
+}
+template <typename F>
+FVV_ALWAYS_INLINE void UpdateStep(int32_t* s, size_t s_pitch, uint32_t ns, const int32_t* d,
+                                  size_t d_pitch, uint32_t nd, uint32_t v, F f) {
+  for (uint32_t i = 0; i < ns; ++i) UpdateRow(s, s_pitch, d, d_pitch, nd, v, i, f);
 }
 
 // The same steps on one line (v = 1): the boundary samples are peeled off so the
@@ -134,42 +142,91 @@ FVV_ALWAYS_INLINE void ForwardSteps(WaveletKernel kernel, Predict predict, Updat
       break;
   }
 }
+// The inverse steps' functions, named so that the step-by-step form below and
+// the sweep (InverseSweep) share them.
+struct Inverse53Update {
+  int32_t operator()(int32_t a, int32_t b) const {
+    return static_cast<int32_t>(-((int64_t{a} + b + 2) >> 2));
+  }
+};
+struct Inverse53Predict {
+  int32_t operator()(int32_t a, int32_t b) const {
+    return static_cast<int32_t>((int64_t{a} + b) >> 1);
+  }
+};
+template <int32_t C>
+struct InverseQ16Step {
+  int32_t operator()(int32_t a, int32_t b) const { return NegMulQ16<C>(WrapAdd(a, b)); }
+};
+
 template <typename Predict, typename Update>
 FVV_ALWAYS_INLINE void InverseSteps(WaveletKernel kernel, Predict predict, Update update) {
   switch (kernel) {
     case WaveletKernel::kHaar:
       break;
     case WaveletKernel::kLeGall53:
-      update(
-          [](int32_t a, int32_t b) { return static_cast<int32_t>(-((int64_t{a} + b + 2) >> 2)); });
-      predict([](int32_t a, int32_t b) { return static_cast<int32_t>((int64_t{a} + b) >> 1); });
+      update(Inverse53Update());
+      predict(Inverse53Predict());
       break;
     case WaveletKernel::kCdf97:
-      update([](int32_t a, int32_t b) { return NegMulQ16<kDelta>(WrapAdd(a, b)); });
-      predict([](int32_t a, int32_t b) { return NegMulQ16<kGamma>(WrapAdd(a, b)); });
-      update([](int32_t a, int32_t b) { return NegMulQ16<kBeta>(WrapAdd(a, b)); });
-      predict([](int32_t a, int32_t b) { return NegMulQ16<kAlpha>(WrapAdd(a, b)); });
+      update(InverseQ16Step<kDelta>());
+      predict(InverseQ16Step<kGamma>());
+      update(InverseQ16Step<kBeta>());
+      predict(InverseQ16Step<kAlpha>());
       break;
   }
 }
 
-// Both directions, written once, inlined into each public entry point.
+// The inverse steps on row vectors as one sweep down the rows instead of one
+// sweep per step, so each row comes from memory once rather than four times.
+// While the sweep is at k, each step works on the row its inputs are ready for:
+// an update of s[j] reads d[j - 1] and d[j] as the step before left them, a
+// predict of d[j] reads s[j] and s[j + 1], so a predict after an update trails
+// it by one row, an update after a predict runs on the same row. No row is
+// changed before every read of its previous value is done (the readers of a
+// row run on the same or the earlier sweep position), so every sample gets the
+// same operations on the same values as step by step: the result is identical.
+template <typename UpdateRow, typename PredictRow>
+FVV_ALWAYS_INLINE void InverseSweep(WaveletKernel kernel, uint32_t ns, uint32_t nd,
+                                    UpdateRow update, PredictRow predict) {
+  if (kernel == WaveletKernel::kLeGall53) {
+    for (uint32_t k = 0; k <= ns; ++k) {
+      if (k < ns) update(k, Inverse53Update());
+      if (k >= 1 && k - 1 < nd) predict(k - 1, Inverse53Predict());
+    }
+    return;
+  }
+  for (uint32_t k = 0; k <= ns + 1; ++k) {
+    if (k < ns) update(k, InverseQ16Step<kDelta>());
+    if (k >= 1 && k - 1 < nd) predict(k - 1, InverseQ16Step<kGamma>());
+    if (k >= 1 && k - 1 < ns) update(k - 1, InverseQ16Step<kBeta>());
+    if (k >= 2 && k - 2 < nd) predict(k - 2, InverseQ16Step<kAlpha>());
+  }
+}
+
+// Both directions, written once, inlined into each entry point: m rows of v
+// samples, deinterleaved into the ceil(m / 2) even rows `s` and the floor(m / 2)
+// odd rows `d`, each row `pitch` samples after the one before (one line: v and
+// the pitches 1).
 template <bool kForward>
-FVV_ALWAYS_INLINE void Lift(WaveletKernel kernel, uint32_t m, uint32_t v, int32_t* rows) {
+FVV_ALWAYS_INLINE void Lift(WaveletKernel kernel, uint32_t m, uint32_t v, int32_t* s,
+                            size_t s_pitch, int32_t* d, size_t d_pitch) {
   if (m < 2) return;
   const uint32_t ns = (m + 1) / 2, nd = m / 2;
-  int32_t* s = rows;
-  int32_t* d = rows + size_t{ns} * v;
   if (kernel == WaveletKernel::kHaar) {
     // Forward: d = odd - even; s = even + floor(d / 2). A trailing even sample
     // stays as is. The inverse undoes the two steps in reverse order.
-    for (size_t i = 0; i < size_t{nd} * v; ++i) {
-      if (kForward) {
-        d[i] = WrapSub(d[i], s[i]);
-        s[i] = WrapAdd(s[i], d[i] >> 1);
-      } else {
-        s[i] = WrapSub(s[i], d[i] >> 1);
-        d[i] = WrapAdd(d[i], s[i]);
+    for (uint32_t i = 0; i < nd; ++i) {
+      int32_t* si = s + i * s_pitch;
+      int32_t* di = d + i * d_pitch;
+      for (uint32_t j = 0; j < v; ++j) {
+        if (kForward) {
+          di[j] = WrapSub(di[j], si[j]);
+          si[j] = WrapAdd(si[j], di[j] >> 1);
+        } else {
+          si[j] = WrapSub(si[j], di[j] >> 1);
+          di[j] = WrapAdd(di[j], si[j]);
+        }
       }
     }
     return;
@@ -181,13 +238,28 @@ FVV_ALWAYS_INLINE void Lift(WaveletKernel kernel, uint32_t m, uint32_t v, int32_
       InverseSteps(kernel, predict, update);
     }
   };
-  if (v == 1) {
+  if (v == 1 && s_pitch == 1 && d_pitch == 1) {
     steps([&](auto f) FVV_INLINE_LAMBDA { PredictLine(d, nd, s, ns, f); },
           [&](auto f) FVV_INLINE_LAMBDA { UpdateLine(s, ns, d, nd, f); });
+  } else if (!kForward) {
+    InverseSweep(
+        kernel, ns, nd,
+        [&](uint32_t i, auto f)
+            FVV_INLINE_LAMBDA { UpdateRow(s, s_pitch, d, d_pitch, nd, v, i, f); },
+        [&](uint32_t i, auto f)
+            FVV_INLINE_LAMBDA { PredictRow(d, d_pitch, s, s_pitch, ns, v, i, f); });
   } else {
-    steps([&](auto f) FVV_INLINE_LAMBDA { PredictStep(d, nd, s, ns, v, f); },
-          [&](auto f) FVV_INLINE_LAMBDA { UpdateStep(s, ns, d, nd, v, f); });
+    steps([&](auto f) FVV_INLINE_LAMBDA { PredictStep(d, d_pitch, nd, s, s_pitch, ns, v, f); },
+          [&](auto f) FVV_INLINE_LAMBDA { UpdateStep(s, s_pitch, ns, d, d_pitch, nd, v, f); });
   }
+}
+
+// The inverse on rows whose even and odd halves lie apart (the y pass keeps its
+// low rows in the plane and its high rows in scratch; see PlaneInversePasses).
+FVV_SIMD_CLONES
+void LiftInverseSplit(WaveletKernel kernel, uint32_t m, uint32_t v, int32_t* s, size_t s_pitch,
+                      int32_t* d, size_t d_pitch) {
+  Lift<false>(kernel, m, v, s, s_pitch, d, d_pitch);
 }
 
 }  // namespace
@@ -196,12 +268,12 @@ FVV_ALWAYS_INLINE void Lift(WaveletKernel kernel, uint32_t m, uint32_t v, int32_
 // time where the CPU has it) runs them 8 lanes wide; results are identical.
 FVV_SIMD_CLONES
 void LiftForward(WaveletKernel kernel, uint32_t m, uint32_t v, int32_t* rows) {
-  Lift<true>(kernel, m, v, rows);
+  Lift<true>(kernel, m, v, rows, v, rows + size_t{(m + 1) / 2} * v, v);
 }
 
 FVV_SIMD_CLONES
 void LiftInverse(WaveletKernel kernel, uint32_t m, uint32_t v, int32_t* rows) {
-  Lift<false>(kernel, m, v, rows);
+  Lift<false>(kernel, m, v, rows, v, rows + size_t{(m + 1) / 2} * v, v);
 }
 
 void LiftInverseReal(WaveletKernel kernel, uint32_t m, double* x) {
@@ -256,11 +328,32 @@ struct Region {
   uint32_t Planes() const { return ext[0] * ext[1]; }
 };
 
-// Scratch for one line or strip, kept per thread across passes and blocks.
-int32_t* Scratch(size_t samples) {
-  thread_local std::vector<int32_t> buffer;
+// Scratch kept per thread across passes and blocks: kLine for one line or
+// strip, kHighRows for a plane's high-pass rows (PlaneInversePasses).
+enum ScratchUse { kLine = 0, kHighRows = 1 };
+int32_t* Scratch(ScratchUse use, size_t samples) {
+  thread_local std::vector<int32_t> buffers[2];
+  std::vector<int32_t>& buffer = buffers[use];
   if (buffer.size() < samples) buffer.resize(samples);
   return buffer.data();
+}
+
+// One row's inverse x pass: `src` lifted and interleaved into `dst`. A `src`
+// that is not `dst` is lifted where it is (the caller has no further use for
+// it); one that is, in scratch.
+void RowInverse(WaveletKernel kernel, uint32_t m, int32_t* src, int32_t* dst) {
+  const uint32_t ns = (m + 1) / 2, nd = m / 2;
+  int32_t* buf = src;
+  if (src == dst) {
+    buf = Scratch(kLine, m);
+    std::memcpy(buf, src, m * sizeof(int32_t));
+  }
+  LiftInverse(kernel, m, 1, buf);
+  for (uint32_t i = 0; i < nd; ++i) {
+    dst[2 * i] = buf[i];
+    dst[2 * i + 1] = buf[ns + i];
+  }
+  if (ns > nd) dst[m - 1] = buf[nd];
 }
 
 // Rows along x, each lifted on its own in the cache-resident scratch and then
@@ -269,7 +362,7 @@ FVV_SIMD_CLONES
 void RowsPass(WaveletKernel kernel, uint32_t m, bool forward, int32_t* row, size_t row_stride,
               uint32_t rows) {
   const uint32_t ns = (m + 1) / 2, nd = m / 2;
-  int32_t* buf = Scratch(m);
+  int32_t* buf = Scratch(kLine, m);
   for (uint32_t r = 0; r < rows; ++r, row += row_stride) {
     if (forward) {
       for (uint32_t i = 0; i < nd; ++i) {
@@ -280,41 +373,80 @@ void RowsPass(WaveletKernel kernel, uint32_t m, bool forward, int32_t* row, size
       LiftForward(kernel, m, 1, buf);
       std::memcpy(row, buf, m * sizeof(int32_t));
     } else {
-      std::memcpy(buf, row, m * sizeof(int32_t));
-      LiftInverse(kernel, m, 1, buf);
-      for (uint32_t i = 0; i < nd; ++i) {
-        row[2 * i] = buf[i];
-        row[2 * i + 1] = buf[ns + i];
-      }
-      if (ns > nd) row[m - 1] = buf[nd];
+      RowInverse(kernel, m, row, row);
     }
   }
 }
 
+// Inverse lifting of m rows of `width` samples, `stride` apart, deinterleaved
+// (low rows first), without gathering them: the high rows are copied to
+// scratch, the low rows lifted where they are, in column strips of at most
+// `strip`. Then `emit(src, i)` is called for every output row i, from the
+// bottom up, with the lifted row it is made of (low row i / 2 for even i, high
+// row i / 2 for odd i), which nothing reads afterwards: the caller writes
+// output row i from it, and may use it as scratch meanwhile. Bottom up, no
+// low row is overwritten before it is read, as low row i / 2 sits at row
+// i / 2 <= i.
+template <typename Emit>
+void InverseRowsInPlace(WaveletKernel kernel, uint32_t m, uint32_t width, int32_t* base,
+                        size_t stride, uint32_t strip, Emit emit) {
+  const uint32_t ns = (m + 1) / 2, nd = m / 2;
+  int32_t* high = Scratch(kHighRows, size_t{nd} * width);
+  for (uint32_t i = 0; i < nd; ++i)
+    std::memcpy(high + size_t{i} * width, base + (ns + i) * stride, width * sizeof(int32_t));
+  for (uint32_t x0 = 0; x0 < width; x0 += strip)
+    LiftInverseSplit(kernel, m, std::min(strip, width - x0), base + x0, stride, high + x0, width);
+  for (uint32_t i = m; i-- > 0;)
+    emit((i & 1) ? high + size_t{i / 2} * width : base + (i / 2) * stride, i);
+}
+
 // One strip of a line along a slower axis: m row vectors of `width` samples,
-// `stride` apart, gathered (deinterleaved for the forward pass), lifted and
-// scattered back.
+// `stride` apart. Forward: gathered deinterleaved into scratch, lifted and
+// stored back. Inverse: lifted in place and interleaved back.
 void StripPass(WaveletKernel kernel, uint32_t m, bool forward, int32_t* base, size_t stride,
                uint32_t width) {
+  if (!forward) {
+    InverseRowsInPlace(kernel, m, width, base, stride, width, [&](int32_t* src, uint32_t i) {
+      int32_t* dst = base + i * stride;
+      if (src != dst) std::memcpy(dst, src, width * sizeof(int32_t));
+    });
+    return;
+  }
   const uint32_t ns = (m + 1) / 2;
-  // Row position of sample i in the deinterleaved buffer.
-  auto slot = [ns](uint32_t i) { return (i & 1) ? ns + i / 2 : i / 2; };
-  int32_t* buf = Scratch(size_t{m} * width);
+  int32_t* buf = Scratch(kLine, size_t{m} * width);
+  for (uint32_t i = 0; i < m; ++i) {
+    const uint32_t slot = (i & 1) ? ns + i / 2 : i / 2;  // deinterleaved position
+    std::memcpy(buf + size_t{slot} * width, base + i * stride, width * sizeof(int32_t));
+  }
+  LiftForward(kernel, m, width, buf);
   for (uint32_t i = 0; i < m; ++i)
-    std::memcpy(buf + size_t{forward ? slot(i) : i} * width, base + i * stride,
-                width * sizeof(int32_t));
-  if (forward)
-    LiftForward(kernel, m, width, buf);
-  else
-    LiftInverse(kernel, m, width, buf);
-  for (uint32_t i = 0; i < m; ++i)
-    std::memcpy(base + i * stride, buf + size_t{forward ? i : slot(i)} * width,
-                width * sizeof(int32_t));
+    std::memcpy(base + i * stride, buf + size_t{i} * width, width * sizeof(int32_t));
 }
 
 uint32_t StripWidth(uint32_t m, uint32_t vlen) {
   return static_cast<uint32_t>(
       std::min<size_t>(vlen, std::max<size_t>(16, kStripSamples / m / 16 * 16)));
+}
+
+// The inverse y and x passes of one (t, c) plane of the region (whichever the
+// level splits): the x pass interleaves the y pass's rows as it reads them for
+// its own lifting, so neither pass copies the plane in and out of scratch.
+void PlaneInversePasses(WaveletKernel kernel, const Shape4D& shape, const Region& region,
+                        bool split_y, bool split_x, int32_t* plane) {
+  const uint32_t m = region.ext[2], width = region.ext[3];
+  const size_t stride = shape.Stride(2);
+  if (!split_y || m < 2) {
+    if (split_x) RowsPass(kernel, width, false, plane, stride, m);
+    return;
+  }
+  InverseRowsInPlace(kernel, m, width, plane, stride, width, [&](int32_t* src, uint32_t i) {
+    int32_t* dst = plane + i * stride;
+    if (split_x) {
+      RowInverse(kernel, width, src, dst);
+    } else if (src != dst) {
+      std::memcpy(dst, src, width * sizeof(int32_t));
+    }
+  });
 }
 
 // The y pass of one (t, c) plane of the region, whose row 0 starts at `plane`.
@@ -390,9 +522,12 @@ bool SpatialPasses(WaveletKernel kernel, const WaveletGeometry& g, const Region&
   runner(region.Planes(), [&](uint32_t p) {
     int32_t* plane = data + shape.Index(p / region.ext[1], p % region.ext[1], 0, 0);
     const uint32_t rows = region.ext[2];
-    if (forward && split_x) RowsPass(kernel, region.ext[3], true, plane, shape.Stride(2), rows);
-    if (split_y) PlaneYPass(kernel, shape, region, forward, plane);
-    if (!forward && split_x) RowsPass(kernel, region.ext[3], false, plane, shape.Stride(2), rows);
+    if (forward) {
+      if (split_x) RowsPass(kernel, region.ext[3], true, plane, shape.Stride(2), rows);
+      if (split_y) PlaneYPass(kernel, shape, region, true, plane);
+    } else {
+      PlaneInversePasses(kernel, shape, region, split_y, split_x, plane);
+    }
     if (plane_done) {
       const size_t begin = static_cast<size_t>(plane - data);
       (*plane_done)(begin, begin + shape.Stride(1));

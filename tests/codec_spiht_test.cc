@@ -55,6 +55,50 @@ TEST(SpihtTree, GrandchildrenPredicateMatchesStructure) {
   }
 }
 
+// Coords divides by multiplication: compare it with the division it replaces,
+// on every index of small shapes and on sampled indices (from both ends) of
+// larger ones with odd and prime extents.
+TEST(SpihtTree, CoordsAreTheIndexDecomposition) {
+  std::vector<Shape4D> shapes(std::begin(kOddShapes), std::end(kOddShapes));
+  shapes.push_back(Shape4D{{8, 8, 512, 512}});
+  shapes.push_back(Shape4D{{3, 5, 1021, 1365}});
+  shapes.push_back(Shape4D{{1, 255, 3, 9361}});
+  for (const Shape4D& shape : shapes) {
+    const SpihtTree tree{WaveletGeometry(shape)};
+    const uint64_t count = shape.count();
+    const uint64_t step = count <= (1u << 16) ? 1 : count / 65521;
+    for (uint64_t i = 0; i < count; i += step) {
+      for (uint64_t idx : {i, count - 1 - i}) {
+        std::array<uint32_t, kAxes> p;
+        tree.Coords(static_cast<uint32_t>(idx), &p);
+        uint64_t q = idx;
+        for (int a = kAxes - 1; a >= 0; --a) {
+          ASSERT_EQ(p[a], q % shape.n[a]) << shape.ToString() << " index " << idx << " axis " << a;
+          q /= shape.n[a];
+        }
+      }
+    }
+  }
+}
+
+// The shared tree is the tree of the shape asked for, reused while kept.
+TEST(SpihtTree, SharedTreeIsTheShapesTree) {
+  const WaveletGeometry a(Shape4D{{2, 3, 40, 24}}), b(Shape4D{{1, 1, 17, 33}});
+  const auto ta = SharedSpihtTree(a), tb = SharedSpihtTree(b);
+  EXPECT_EQ(ta->geometry().shape, a.shape);
+  EXPECT_EQ(tb->geometry().shape, b.shape);
+  EXPECT_EQ(SharedSpihtTree(a), ta);
+  const SpihtTree fresh(a);
+  EXPECT_EQ(ta->roots(), fresh.roots());
+  uint32_t x[kMaxChildren], y[kMaxChildren];
+  for (uint32_t idx = 0; idx < a.shape.count(); ++idx) {
+    const int n = ta->Children(idx, x);
+    ASSERT_EQ(n, fresh.Children(idx, y));
+    ASSERT_TRUE(std::equal(x, x + n, y));
+    ASSERT_EQ(ta->LevelClass(idx), fresh.LevelClass(idx));
+  }
+}
+
 struct LosslessCase {
   WaveletKernel kernel;
   EntropyCoder coder;
