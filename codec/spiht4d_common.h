@@ -147,8 +147,10 @@ void SpihtTraverse(const SpihtTree& tree, int planes, Side* side) {
   const uint32_t w = shape.width();
   // 0: not (yet) significant; 1: significant, positive; 2: significant, negative.
   // Kept per thread: a fresh multi-megabyte array per channel costs page faults.
+  // It is all zero between traversals (each clears the entries it set, below),
+  // so none has to clear the whole array first.
   thread_local std::vector<uint8_t> significant;
-  significant.assign(tree.size(), 0);
+  if (significant.size() < tree.size()) significant.resize(tree.size());
   // Significant spatial neighbours (x +- 1, y +- 1), clipped to 2: the context.
   auto neighbours = [&](uint32_t idx) {
     int k = 0;
@@ -165,9 +167,21 @@ void SpihtTraverse(const SpihtTree& tree, int planes, Side* side) {
     const int up = tree.HasUp(idx) ? significant[idx - w] : 0;
     return ctx::kSign + tree.LevelClass(idx) * ctx::kSignStates + left * 3 + up;
   };
+  std::vector<uint32_t> lsp;
+  // On every way out: the LSP holds every coefficient marked significant.
+  struct ClearSignificant {
+    std::vector<uint8_t>& flags;
+    const std::vector<uint32_t>& marked;
+    ~ClearSignificant() {
+      for (uint32_t idx : marked) flags[idx] = 0;
+    }
+  } clear_on_exit{significant, lsp};
+  // A newly significant coefficient's sign; it joins the LSP (before it is
+  // marked, so that the clearing above always covers the marks).
   auto code_sign = [&](uint32_t idx, int n) {
     bool negative;
     if (!side->Sign(idx, n, sign_ctx(idx), &negative)) return false;
+    lsp.push_back(idx);
     significant[idx] = negative ? 2 : 1;
     return true;
   };
@@ -177,7 +191,6 @@ void SpihtTraverse(const SpihtTree& tree, int planes, Side* side) {
 
   std::vector<uint32_t> lip = tree.roots();
   std::vector<uint32_t> lis;
-  std::vector<uint32_t> lsp;
   constexpr uint32_t kTypeB = 0x80000000u;
   uint32_t children[kMaxChildren];
   for (uint32_t r : tree.roots())
@@ -194,7 +207,6 @@ void SpihtTraverse(const SpihtTree& tree, int planes, Side* side) {
       if (!side->SigCoeff(idx, n, coeff_ctx(ctx::kSigLip, idx), &sig)) return;
       if (sig) {
         if (!code_sign(idx, n)) return;
-        lsp.push_back(idx);
       } else {
         lip[kept++] = idx;
       }
@@ -226,7 +238,6 @@ void SpihtTraverse(const SpihtTree& tree, int planes, Side* side) {
           siblings += csig;
           if (csig) {
             if (!code_sign(c, n)) return;
-            lsp.push_back(c);
           } else {
             lip.push_back(c);
           }
