@@ -213,18 +213,27 @@ TEST(Decoder, RandomStreamsWithValidHeadersDecodeToClampedSamples) {
   }
 }
 
+// Two blocks (of different shapes, for the tests of state kept between
+// decodes) encoded at `bpp`.
+std::pair<StatusOr<EncodedBlock>, StatusOr<EncodedBlock>> EncodeTwo(const Block& a, const Block& b,
+                                                                    double bpp) {
+  EncodeSettings s;
+  s.rate_value = bpp;
+  return {EncodeBlock(a, nullptr, s), EncodeBlock(b, nullptr, s)};
+}
+
 // The SPIHT traversal keeps per-thread state that each traversal must leave
 // clean, however it ends (a byte budget, a time budget, corrupt data, the end):
 // decodes on one thread after each kind of ending equal decodes on a fresh
 // thread. The blocks have different shapes, so a stale mark would land inside
 // the next one.
 TEST(Decoder, EveryWayADecodeEndsLeavesTheThreadClean) {
-  const Block a = RandomBlock(Shape4D{{2, 3, 20, 28}}, ColourSpace::kYCbCr601, 5);
-  const Block b = SmoothBlock(Shape4D{{3, 2, 17, 30}}, ColourSpace::kYCbCr601, 6);
-  EncodeSettings s;
-  s.rate_value = 2.0;
-  auto ea = EncodeBlock(a, nullptr, s);
-  auto eb = EncodeBlock(b, nullptr, s);
+  // Not a structured binding: the thread's lambda below captures these.
+  const auto encoded =
+      EncodeTwo(RandomBlock(Shape4D{{2, 3, 20, 28}}, ColourSpace::kYCbCr601, 5),
+                SmoothBlock(Shape4D{{3, 2, 17, 30}}, ColourSpace::kYCbCr601, 6), 2.0);
+  const StatusOr<EncodedBlock>& ea = encoded.first;
+  const StatusOr<EncodedBlock>& eb = encoded.second;
   ASSERT_TRUE(ea.ok() && eb.ok());
   uint64_t reference[2];
   std::thread([&] {
@@ -253,12 +262,9 @@ TEST(Decoder, EveryWayADecodeEndsLeavesTheThreadClean) {
 // Buffers recycled through a SamplePool (dirty, of other sizes) decode to the
 // same samples as fresh ones; the pool keeps at most its limit.
 TEST(Decoder, RecycledSampleBuffersGiveTheSameBlock) {
-  const Block a = SmoothBlock(Shape4D{{2, 3, 20, 28}}, ColourSpace::kYCbCr601, 3);
-  const Block b = RandomBlock(Shape4D{{3, 2, 17, 9}}, ColourSpace::kYCbCr601, 4);
-  EncodeSettings s;
-  s.rate_value = 1.0;
-  auto ea = EncodeBlock(a, nullptr, s);
-  auto eb = EncodeBlock(b, nullptr, s);
+  const auto [ea, eb] =
+      EncodeTwo(SmoothBlock(Shape4D{{2, 3, 20, 28}}, ColourSpace::kYCbCr601, 3),
+                RandomBlock(Shape4D{{3, 2, 17, 9}}, ColourSpace::kYCbCr601, 4), 1.0);
   ASSERT_TRUE(ea.ok() && eb.ok());
   auto fresh_a = DecodeBlock(*ea, DecodeBudget{}, SerialRunner);
   auto fresh_b = DecodeBlock(*eb, DecodeBudget{}, SerialRunner);
