@@ -449,14 +449,14 @@ void PlaneInversePasses(WaveletKernel kernel, const Shape4D& shape, const Region
   });
 }
 
-// The y pass of one (t, c) plane of the region, whose row 0 starts at `plane`.
-void PlaneYPass(WaveletKernel kernel, const Shape4D& shape, const Region& region, bool forward,
-                int32_t* plane) {
+// The forward y pass of one (t, c) plane of the region, whose row 0 starts at `plane`.
+void PlaneForwardYPass(WaveletKernel kernel, const Shape4D& shape, const Region& region,
+                       int32_t* plane) {
   const uint32_t m = region.ext[2], vlen = region.ext[3];
   if (m < 2) return;
   const uint32_t strip = StripWidth(m, vlen);
   for (uint32_t x0 = 0; x0 < vlen; x0 += strip)
-    StripPass(kernel, m, forward, plane + x0, shape.Stride(2), std::min(strip, vlen - x0));
+    StripPass(kernel, m, true, plane + x0, shape.Stride(2), std::min(strip, vlen - x0));
 }
 
 // One 1D pass along `axis` over the region, spread over the runner.
@@ -524,7 +524,7 @@ bool SpatialPasses(WaveletKernel kernel, const WaveletGeometry& g, const Region&
     const uint32_t rows = region.ext[2];
     if (forward) {
       if (split_x) RowsPass(kernel, region.ext[3], true, plane, shape.Stride(2), rows);
-      if (split_y) PlaneYPass(kernel, shape, region, true, plane);
+      if (split_y) PlaneForwardYPass(kernel, shape, region, plane);
     } else {
       PlaneInversePasses(kernel, shape, region, split_y, split_x, plane);
     }
