@@ -380,22 +380,20 @@ void RowsPass(WaveletKernel kernel, uint32_t m, bool forward, int32_t* row, size
 
 // Inverse lifting of m rows of `width` samples, `stride` apart, deinterleaved
 // (low rows first), without gathering them: the high rows are copied to
-// scratch, the low rows lifted where they are, in column strips of at most
-// `strip`. Then `emit(src, i)` is called for every output row i, from the
-// bottom up, with the lifted row it is made of (low row i / 2 for even i, high
-// row i / 2 for odd i), which nothing reads afterwards: the caller writes
-// output row i from it, and may use it as scratch meanwhile. Bottom up, no
-// low row is overwritten before it is read, as low row i / 2 sits at row
-// i / 2 <= i.
+// scratch and the low rows lifted where they are. Then `emit(src, i)` is called
+// for every output row i, from the bottom up, with the lifted row it is made of
+// (low row i / 2 for even i, high row i / 2 for odd i), which nothing reads
+// afterwards: the caller writes output row i from it, and may use it as scratch
+// meanwhile. Bottom up, no low row is overwritten before it is read, as low row
+// i / 2 sits at row i / 2 <= i.
 template <typename Emit>
 void InverseRowsInPlace(WaveletKernel kernel, uint32_t m, uint32_t width, int32_t* base,
-                        size_t stride, uint32_t strip, Emit emit) {
+                        size_t stride, Emit emit) {
   const uint32_t ns = (m + 1) / 2, nd = m / 2;
   int32_t* high = Scratch(kHighRows, size_t{nd} * width);
   for (uint32_t i = 0; i < nd; ++i)
     std::memcpy(high + size_t{i} * width, base + (ns + i) * stride, width * sizeof(int32_t));
-  for (uint32_t x0 = 0; x0 < width; x0 += strip)
-    LiftInverseSplit(kernel, m, std::min(strip, width - x0), base + x0, stride, high + x0, width);
+  LiftInverseSplit(kernel, m, width, base, stride, high, width);
   for (uint32_t i = m; i-- > 0;)
     emit((i & 1) ? high + size_t{i / 2} * width : base + (i / 2) * stride, i);
 }
@@ -406,7 +404,7 @@ void InverseRowsInPlace(WaveletKernel kernel, uint32_t m, uint32_t width, int32_
 void StripPass(WaveletKernel kernel, uint32_t m, bool forward, int32_t* base, size_t stride,
                uint32_t width) {
   if (!forward) {
-    InverseRowsInPlace(kernel, m, width, base, stride, width, [&](int32_t* src, uint32_t i) {
+    InverseRowsInPlace(kernel, m, width, base, stride, [&](int32_t* src, uint32_t i) {
       int32_t* dst = base + i * stride;
       if (src != dst) std::memcpy(dst, src, width * sizeof(int32_t));
     });
@@ -439,7 +437,7 @@ void PlaneInversePasses(WaveletKernel kernel, const Shape4D& shape, const Region
     if (split_x) RowsPass(kernel, width, false, plane, stride, m);
     return;
   }
-  InverseRowsInPlace(kernel, m, width, plane, stride, width, [&](int32_t* src, uint32_t i) {
+  InverseRowsInPlace(kernel, m, width, plane, stride, [&](int32_t* src, uint32_t i) {
     int32_t* dst = plane + i * stride;
     if (split_x) {
       RowInverse(kernel, width, src, dst);
