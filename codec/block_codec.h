@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "codec/block.h"
+#include "codec/fill.h"
 #include "codec/parallel.h"
 #include "codec/sample_pool.h"
 #include "codec/spiht4d.h"
@@ -62,6 +63,8 @@ struct EncodeSettings {
   // Relative weight of each channel's squared error in rate allocation and in the
   // PSNR target. The default makes the YUV error match RGB error (BT.601 inverse).
   std::array<double, 3> channel_weights{1.0, 1.0861, 0.8252};
+  // How texels the mask marks unused are filled (codec/fill.h).
+  FillOptions fill;
   ParallelRunner runner = SerialRunner;
 };
 

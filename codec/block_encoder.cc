@@ -183,11 +183,12 @@ StatusOr<EncodedBlock> EncodeBlock(const Block& block, const UsedMask* mask,
     const SampleRange range = ChannelRange(block.colour, c);
     Plane4D plane = src;
     if (mask) {
-      if (c == 0 || block.chroma == ChromaFormat::k444) {
-        FillUnused(*mask, range.offset, &plane);
-      } else {
-        FillUnused(DownsampleMask(*mask, block.shape(), src.shape), range.offset, &plane);
-      }
+      UsedMask chroma_mask;
+      if (c > 0 && block.chroma != ChromaFormat::k444)
+        chroma_mask = DownsampleMask(*mask, block.shape(), src.shape);
+      const UsedMask& m = chroma_mask.empty() ? *mask : chroma_mask;
+      FillUnused(m, range.offset, &plane, settings.fill.pull);
+      SparseFill(settings.kernel, m, range, settings.fill, settings.runner, &plane);
     }
     for (int32_t& s : plane.samples) s = (s - range.offset) * (1 << frac);
     const WaveletGeometry g(plane.shape);

@@ -1,6 +1,10 @@
 #include "codec/fill.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
+
+#include "codec/subband_weights.h"
 
 namespace fvv {
 namespace {
@@ -13,6 +17,22 @@ Shape4D HalfShape(const Shape4D& s) {
 
 bool IsUnit(const Shape4D& s) { return s.count() == 1; }
 
+// Bilinear pull along one axis: child i lies between its own parent i / 2
+// (weight 12/16 of the "near" tap) and the parent on its other side ("far",
+// 4/16), clamped at the ends. With kParent only near[i] = i / 2 is used.
+struct PullTaps {
+  std::vector<uint32_t> near, far;
+  std::vector<uint8_t> near_weight;  // sixteenths
+  PullTaps(uint32_t child_n, uint32_t parent_n)
+      : near(child_n), far(child_n), near_weight(child_n, 12) {
+    for (uint32_t i = 0; i < child_n; ++i) {
+      near[i] = i / 2;
+      const int64_t other = i % 2 == 0 ? int64_t{i / 2} - 1 : int64_t{i / 2} + 1;
+      far[i] = static_cast<uint32_t>(std::clamp<int64_t>(other, 0, parent_n - 1));
+    }
+  }
+};
+
 // Rounded mean, half away from zero, in integers.
 int32_t RoundedMean(int64_t sum, int64_t count) {
   return static_cast<int32_t>(sum >= 0 ? (sum + count / 2) / count : -((-sum + count / 2) / count));
@@ -20,7 +40,7 @@ int32_t RoundedMean(int64_t sum, int64_t count) {
 
 }  // namespace
 
-void FillUnused(const UsedMask& mask, int32_t fill_value, Plane4D* plane) {
+void FillUnused(const UsedMask& mask, int32_t fill_value, Plane4D* plane, FillPull pull) {
   struct Level {
     Shape4D shape;
     std::vector<int32_t> value;
@@ -55,21 +75,97 @@ void FillUnused(const UsedMask& mask, int32_t fill_value, Plane4D* plane) {
     levels.push_back(std::move(parent));
   }
   if (!levels.back().used[0]) levels.back().value[0] = fill_value;
-  // Walk back up: unused texels inherit the parent's final value.
+  // Walk back up: unused texels take their parent's final value, or the
+  // bilinear interpolation of the four nearest parents in y and x.
   for (size_t k = levels.size() - 1; k-- > 0;) {
     Level& child = levels[k];
     const Level& parent = levels[k + 1];
     const auto& cs = child.shape.n;
+    const std::array<PullTaps, 2> taps = {PullTaps(cs[2], parent.shape.n[2]),
+                                          PullTaps(cs[3], parent.shape.n[3])};
     size_t i = 0;
     for (uint32_t t = 0; t < cs[0]; ++t)
       for (uint32_t c = 0; c < cs[1]; ++c)
-        for (uint32_t y = 0; y < cs[2]; ++y)
+        for (uint32_t y = 0; y < cs[2]; ++y) {
+          const int32_t* p0 = &parent.value[parent.shape.Index(t / 2, c / 2, 0, 0)];
+          const int32_t* near_row = p0 + size_t{taps[0].near[y]} * parent.shape.n[3];
+          const int32_t* far_row = p0 + size_t{taps[0].far[y]} * parent.shape.n[3];
           for (uint32_t x = 0; x < cs[3]; ++x, ++i) {
             if (child.used[i]) continue;
-            child.value[i] = parent.value[parent.shape.Index(t / 2, c / 2, y / 2, x / 2)];
+            if (pull == FillPull::kParent) {
+              child.value[i] = near_row[x / 2];
+              continue;
+            }
+            const int64_t wy = taps[0].near_weight[y], wx = taps[1].near_weight[x];
+            const uint32_t xn = taps[1].near[x], xf = taps[1].far[x];
+            const int64_t sum = wy * (wx * near_row[xn] + (16 - wx) * near_row[xf]) +
+                                (16 - wy) * (wx * far_row[xn] + (16 - wx) * far_row[xf]);
+            child.value[i] = RoundedMean(sum, 256);
           }
+        }
   }
   plane->samples = std::move(levels[0].value);
+}
+
+void SparseFill(WaveletKernel kernel, const UsedMask& mask, const SampleRange& range,
+                const FillOptions& options, const ParallelRunner& runner, Plane4D* plane) {
+  if (options.iterations <= 0) return;
+  const WaveletGeometry g(plane->shape);
+  const auto& n = g.shape.n;
+  const int frac = TransformFracBits(kernel);
+  const double scale = 1 << frac;
+  // Per axis position: the reciprocal of its 1D synthesis norm. A coefficient's
+  // norm is the product over its four axes (the transform is separable).
+  std::array<std::vector<double>, kAxes> inv_norm;
+  for (int a = 0; a < kAxes; ++a) {
+    const AxisGeometry& ax = g.axis[a];
+    inv_norm[a].resize(n[a]);
+    for (uint32_t i = 0; i < n[a]; ++i) {
+      const uint32_t q16 =
+          ax.band[i] == 0 ? AxisLowNormQ16(kernel, ax.levels) : AxisHighNormQ16(kernel, ax.band[i]);
+      inv_norm[a][i] = 65536.0 / q16;
+    }
+  }
+  const uint32_t slices = n[0] * n[1];
+  const size_t slice = size_t{n[2]} * n[3];
+  const int32_t half = (1 << frac) >> 1;
+  std::vector<int32_t> w(plane->samples.size());
+  int32_t* samples = plane->samples.data();
+  runner(slices, [&](uint32_t s) {
+    for (size_t i = s * slice; i < (s + 1) * slice; ++i)
+      w[i] = (samples[i] - range.offset) * (1 << frac);
+  });
+  const int iterations = options.iterations;
+  for (int it = 0; it < iterations; ++it) {
+    const double threshold =
+        iterations == 1 ? options.end
+                        : options.start * std::pow(options.end / options.start,
+                                                   static_cast<double>(it) / (iterations - 1));
+    ForwardTransform4D(kernel, g, runner, w.data());
+    runner(slices, [&](uint32_t s) {
+      // |c| * norm / 2^frac < threshold, as an integer bound per texel of a row.
+      const double slice_limit = threshold * scale * inv_norm[0][s / n[1]] * inv_norm[1][s % n[1]];
+      std::vector<int32_t> limit(n[3]);
+      int32_t* row = w.data() + s * slice;
+      for (uint32_t y = 0; y < n[2]; ++y, row += n[3]) {
+        const double row_limit = slice_limit * inv_norm[2][y];
+        for (uint32_t x = 0; x < n[3]; ++x)
+          limit[x] = static_cast<int32_t>(std::min(std::ceil(row_limit * inv_norm[3][x]), 2e9));
+        for (uint32_t x = 0; x < n[3]; ++x) row[x] = std::abs(row[x]) < limit[x] ? 0 : row[x];
+      }
+    });
+    InverseTransform4D(kernel, g, runner, w.data());
+    // Used texels back, unused ones rounded and clamped; and the next
+    // iteration's transform input in the same pass.
+    runner(slices, [&](uint32_t s) {
+      const uint8_t* used = mask.data();
+      for (size_t i = s * slice; i < (s + 1) * slice; ++i) {
+        const int32_t v = std::clamp(((w[i] + half) >> frac) + range.offset, range.min, range.max);
+        samples[i] = used[i] ? samples[i] : v;
+        w[i] = (samples[i] - range.offset) * (1 << frac);
+      }
+    });
+  }
 }
 
 UsedMask DownsampleMask(const UsedMask& mask, const Shape4D& luma, const Shape4D& chroma) {

@@ -111,6 +111,57 @@ TEST(Fill, RoundsMeansHalfAwayFromZero) {
   EXPECT_EQ(p.samples[3], -3);
 }
 
+TEST(Fill, BilinearPullInterpolatesTheNearestParents) {
+  // 1x1x1x4 with 0 at x = 0 and 160 at x = 3: level 1 holds 0 and 160. x = 1
+  // lies 1/4 of the way from parent 0 to parent 1, x = 2 3/4 of the way.
+  Plane4D p(Shape4D{{1, 1, 1, 4}});
+  p.samples = {0, 0, 0, 160};
+  const UsedMask mask = {1, 0, 0, 1};
+  Plane4D parent = p;
+  FillUnused(mask, 128, &parent, FillPull::kParent);
+  EXPECT_EQ(parent.samples, (std::vector<int32_t>{0, 0, 160, 160}));
+  FillUnused(mask, 128, &p, FillPull::kBilinear);
+  EXPECT_EQ(p.samples, (std::vector<int32_t>{0, 40, 120, 160}));
+  // In 2D a hole mixes four parents (weights 9, 3, 3, 1 in sixteenths squared);
+  // the ends clamp, so a texel at a corner sees only its own parent.
+  Plane4D q(Shape4D{{1, 1, 4, 4}});
+  UsedMask m2(16, 0);
+  q.samples[0] = 0, q.samples[3] = 64, q.samples[12] = 128, q.samples[15] = 192;
+  m2[0] = m2[3] = m2[12] = m2[15] = 1;
+  FillUnused(m2, 0, &q, FillPull::kBilinear);
+  EXPECT_EQ(q.samples[5], (9 * 0 + 3 * 64 + 3 * 128 + 1 * 192 + 8) / 16);  // (1, 1)
+  EXPECT_EQ(q.samples[1], (12 * 0 + 4 * 64 + 8) / 16);                     // (0, 1): top row clamps
+  EXPECT_EQ(q.samples[0], 0);
+  EXPECT_EQ(q.samples[15], 192);
+}
+
+TEST(Fill, SparseFillKeepsUsedTexelsAndTheRangeWithEveryKernel) {
+  const Shape4D shape{{3, 2, 21, 17}};
+  std::mt19937 rng(11);
+  UsedMask mask(shape.count());
+  Plane4D p(shape);
+  for (size_t i = 0; i < mask.size(); ++i) {
+    mask[i] = rng() % 5 == 0;
+    p.samples[i] = static_cast<int32_t>(rng() % 256) - 128;
+  }
+  const Plane4D original = p;
+  for (WaveletKernel k : {WaveletKernel::kHaar, WaveletKernel::kLeGall53, WaveletKernel::kCdf97}) {
+    Plane4D f = original;
+    FillUnused(mask, 0, &f, FillPull::kBilinear);
+    FillOptions o;
+    o.iterations = 4;
+    SparseFill(k, mask, {-128, 127, 0}, o, SerialRunner, &f);
+    for (size_t i = 0; i < mask.size(); ++i) {
+      if (mask[i]) {
+        ASSERT_EQ(f.samples[i], original.samples[i]) << KernelName(k) << " changed a used texel";
+      } else {
+        ASSERT_GE(f.samples[i], -128);
+        ASSERT_LE(f.samples[i], 127);
+      }
+    }
+  }
+}
+
 TEST(Wavelet, LevelsPerAxisFollowSize) {
   const WaveletGeometry g(Shape4D{{8, 1, 17, 512}});
   EXPECT_EQ(g.axis[0].levels, 3);

@@ -104,6 +104,7 @@ struct EncodeArgs {
   uint64_t bytes = 0;
   bool lossless = false;
   unsigned threads = 0;
+  int fill_iterations = FillOptions{}.iterations;
 };
 
 int RunEncode(const EncodeArgs& a) {
@@ -121,6 +122,7 @@ int RunEncode(const EncodeArgs& a) {
   EncodeSettings settings;
   settings.kernel = a.codec.Kernel();
   settings.coder = a.codec.Coder();
+  settings.fill.iterations = a.fill_iterations;
   if (a.lossless) {
     settings.rate_mode = RateMode::kLossless;
     if (settings.kernel == WaveletKernel::kCdf97) settings.kernel = WaveletKernel::kLeGall53;
@@ -285,6 +287,7 @@ void AddBlockCommands(CLI::App* app, int* exit_code) {
   e->add_flag("--lossless", enc->lossless, "Lossless (reversible colour, 5/3 or Haar kernel)");
   e->add_option("--mask", enc->masks, "Used-texel masks, one per image (non-zero = used)")
       ->check(CLI::ExistingFile);
+  AddFillOption(e, &enc->fill_iterations);
   e->add_option("--threads", enc->threads, "Worker threads (0 = all cores)")->capture_default_str();
   e->callback([enc, exit_code] { *exit_code = RunEncode(*enc); });
 

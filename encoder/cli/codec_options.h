@@ -37,6 +37,16 @@ inline void AddCodecOptions(CLI::App* app, CodecOptionArgs* a) {
       ->capture_default_str();
 }
 
+// --fill-iterations for the SPIHT encoders that take masks (`fvv encode`,
+// `fvv block encode`); `iterations` holds its value and its default.
+inline void AddFillOption(CLI::App* app, int* iterations) {
+  app->add_option("--fill-iterations", *iterations,
+                  "Sparse-fill projections for texels the masks mark unused (0: the pyramid "
+                  "fill alone; each costs a forward and an inverse transform per channel)")
+      ->check(CLI::Range(0, 64))
+      ->capture_default_str();
+}
+
 // --texture-codec for the stream writers (`fvv encode`, `fvv sample`).
 inline void AddTextureCodecOption(CLI::App* app, std::string* codec) {
   app->add_option("--texture-codec", *codec,

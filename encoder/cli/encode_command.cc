@@ -23,6 +23,7 @@ struct EncodeArgs {
   bool no_masks = false, extract = false, fixed_shape = false, quiet = false, refine_shape = false,
        no_fallback = false;
   int margin = 2;
+  int fill_iterations = FillOptions{}.iterations;
   std::vector<std::string> meta;
 };
 
@@ -55,6 +56,7 @@ int RunEncode(const EncodeArgs& a) {
   s.kernel = a.codec.Kernel();
   s.coder = a.codec.Coder();
   s.chroma = a.codec.Chroma();
+  s.fill.iterations = a.fill_iterations;
   if (a.texture_codec == "predictive") {
     // Its defaults: all cameras in one GOP (it predicts across them) and the
     // 5/3 kernel (1.5-2 dB better than 9/7 with BISK on the demo textures).
@@ -133,6 +135,7 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
   e->add_option("--gop-frames", a->gop_frames, "Frames per GOP")->capture_default_str();
   e->add_option("--gop-cameras", a->gop_cameras, "Cameras per GOP")->capture_default_str();
   AddCodecOptions(e, &a->codec);
+  AddFillOption(e, &a->fill_iterations);
   AddTextureCodecOption(e, &a->texture_codec);
   AddMaskCoderOption(e, &a->mask_coder);
   e->add_flag("--no-masks", a->no_masks,

@@ -1,6 +1,9 @@
 // The fvv command-line tool.
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include "encoder/cli/block_command.h"
 #include "encoder/cli/capture_command.h"
@@ -13,6 +16,16 @@
 #include "encoder/cli/track_command.h"
 
 int main(int argc, char** argv) {
+#if defined(__GLIBC__)
+  // The codec allocates and frees buffers of several MB per GOP and channel
+  // (planes, transform scratch, trial decodes). By default glibc serves each
+  // from a fresh mmap and trims freed heap back to the system, so every one
+  // is page-faulted in again: 14 % of an encode's time. Keeping freed memory
+  // for reuse (peak use is unchanged) made the code stage of `fvv encode`
+  // 25-30 % faster. The libraries leave allocation to their host.
+  mallopt(M_MMAP_THRESHOLD, 256 << 20);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+#endif
   CLI::App app{"fvv: free-viewpoint video of human actors (codec SDK tools)"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "fvv 0.1.0");

@@ -315,6 +315,7 @@ class Session {
       es.coder = s_.coder;
       es.rate_mode = s_.rate_mode;
       es.rate_value = s_.rate_value;
+      es.fill = s_.fill;
       es.runner = pool_.runner();
       Block decoded;
       EncodeReport report;

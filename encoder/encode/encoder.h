@@ -70,6 +70,10 @@ struct EncoderSettings {
   WaveletKernel kernel = WaveletKernel::kCdf97;
   EntropyCoder coder = EntropyCoder::kArith;
   ChromaFormat chroma = ChromaFormat::k444;
+  // Texels no camera saw: the codec's pyramid fill refined by sparse-fill
+  // projections (codec/fill.h). On the demo capture the default's 8 make
+  // textures 45 % smaller at the same PSNR and add about 0.2 s per frame.
+  FillOptions fill;
   // kPsnr: weighted-YUV PSNR over visible texels per GOP; kBitsPerSample: bits
   // per atlas texel (all of them, seen or not); kTotalBytes: bytes per GOP.
   RateMode rate_mode = RateMode::kPsnr;

@@ -292,6 +292,9 @@ StatusOr<SampleStream> MakeSampleStream(const SampleStreamOptions& o,
     settings.coder = o.coder;
     settings.rate_mode = o.lossless ? RateMode::kLossless : RateMode::kBitsPerSample;
     settings.rate_value = o.bpp;
+    // The original pyramid fill: sample streams are what the conformance
+    // generator makes, and it must remake every released case byte for byte.
+    settings.fill = {FillPull::kParent, 0};
     settings.runner = runner;
     if (!o.predictive) {
       FVV_ASSIGN_OR_RETURN(frag.texture, EncodeBlock(block, o.masks ? &used : nullptr, settings));
