@@ -464,7 +464,7 @@ int Main(int argc, char** argv) {
   }
   std::printf(
       "\nfvv above OpenJPEG at %d of %zu rates (target: all); above x264 at %d of %zu "
-      "(target: 3 of 4), each at the peer's own bytes (the \"fvv @\" rows).\n",
+      "(target: 3 of 4), each at the peer's own bytes (the \"fvv at its bytes\" rows).\n",
       wins_j2k, ratios.size(), wins_x264, ratios.size());
   return 0;
 }

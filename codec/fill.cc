@@ -109,7 +109,9 @@ void FillUnused(const UsedMask& mask, int32_t fill_value, Plane4D* plane, FillPu
 
 void SparseFill(WaveletKernel kernel, const UsedMask& mask, const SampleRange& range,
                 const FillOptions& options, const ParallelRunner& runner, Plane4D* plane) {
-  if (options.iterations <= 0) return;
+  // Nothing to refine when every texel is used.
+  if (options.iterations <= 0 || std::all_of(mask.begin(), mask.end(), [](uint8_t u) { return u; }))
+    return;
   const WaveletGeometry g(plane->shape);
   const auto& n = g.shape.n;
   const int frac = TransformFracBits(kernel);
