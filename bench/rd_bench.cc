@@ -77,24 +77,23 @@ struct PeerFill {
 // Texels the cameras did not see, filled as fvv fills them before its
 // transform (`fill`), per camera and GOP of 8 frames so the fill is as steady
 // over time as fvv's: in R, G and B, each a plane of 8 x 1 x size x size.
-std::vector<Image> FilledSequence(const Sequence& seq_ref, const FillOptions& fill) {
-  const Sequence* seq = &seq_ref;
-  const uint32_t cams = uint32_t(seq->cameras.size()), span = 8;
-  const size_t texels = size_t(seq->size) * seq->size;
-  std::vector<Image> filled = seq->textures;
+std::vector<Image> FilledSequence(const Sequence& seq, const FillOptions& fill) {
+  const uint32_t cams = uint32_t(seq.cameras.size()), span = 8;
+  const size_t texels = size_t(seq.size) * seq.size;
+  std::vector<Image> filled = seq.textures;
   for (uint32_t c = 0; c < cams; ++c) {
-    for (uint32_t first = 0; first < seq->frames; first += span) {
+    for (uint32_t first = 0; first < seq.frames; first += span) {
       Shape4D shape;
-      shape.n = {std::min(span, seq->frames - first), 1, seq->size, seq->size};
+      shape.n = {std::min(span, seq.frames - first), 1, seq.size, seq.size};
       UsedMask used(shape.count());
       for (uint32_t t = 0; t < shape.n[0]; ++t) {
-        const Image& m = seq->mask(first + t, c);
+        const Image& m = seq.mask(first + t, c);
         for (size_t i = 0; i < texels; ++i) used[t * texels + i] = m.pixels[i] != 0;
       }
       for (int k = 0; k < 3; ++k) {
         Plane4D plane(shape);
         for (uint32_t t = 0; t < shape.n[0]; ++t) {
-          const Image& tex = seq->textures[(first + t) * cams + c];
+          const Image& tex = seq.textures[(first + t) * cams + c];
           for (size_t i = 0; i < texels; ++i) plane.samples[t * texels + i] = tex.pixels[i * 3 + k];
         }
         FillUnused(used, 128, &plane, fill.pull);
