@@ -178,15 +178,15 @@ StatusOr<EncodedBlock> EncodeBlock(const Block& block, const UsedMask* mask,
   std::array<std::vector<uint64_t>, 3> rd_bytes;
   std::array<std::vector<double>, 3> rd_distortion;
   std::array<std::vector<int32_t>, 3> coeffs;
+  // In 4:2:0 the chroma planes share one mask at their resolution.
+  UsedMask chroma_mask;
+  if (mask && block.chroma != ChromaFormat::k444)
+    chroma_mask = DownsampleMask(*mask, block.shape(), block.channels[1].shape);
   for (int c = 0; c < 3; ++c) {
-    const Plane4D& src = block.channels[c];
     const SampleRange range = ChannelRange(block.colour, c);
-    Plane4D plane = src;
+    Plane4D plane = block.channels[c];
     if (mask) {
-      UsedMask chroma_mask;
-      if (c > 0 && block.chroma != ChromaFormat::k444)
-        chroma_mask = DownsampleMask(*mask, block.shape(), src.shape);
-      const UsedMask& m = chroma_mask.empty() ? *mask : chroma_mask;
+      const UsedMask& m = c == 0 || chroma_mask.empty() ? *mask : chroma_mask;
       FillUnused(m, range.offset, &plane, settings.fill.pull);
       SparseFill(settings.kernel, m, range, settings.fill, settings.runner, &plane);
     }
