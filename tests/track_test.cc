@@ -3,6 +3,7 @@
 // the joints within a bound; empty silhouettes and bad inputs are flagged or
 // refused, never a crash or a wild pose. Also Powell's method on its own.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -152,6 +153,60 @@ TEST_F(TrackTest, EmptyOrMissingSilhouettesAreFlaggedNotWild) {
   StatusOr<FrameFit> w = (*tracker)->Track(wrong);
   ASSERT_FALSE(w.ok());
   EXPECT_NE(w.status().message().find("cam01"), std::string::npos) << w.status().message();
+}
+
+// A character far from the generic body's proportions (CesiumMan: a head
+// twice as wide, short legs, narrow shoulders) is fitted with proportions of
+// its own: initialised from one frame, its joints land far closer to the truth
+// than with the generic proportions scaled to its height.
+TEST(Tracker, ActorWithOtherProportionsGetsItsOwn) {
+  const char* env = std::getenv("FVV_TEST_DATA");
+  const std::string actor = std::string(env ? env : FVV_TEST_DATA_DIR) + "/models/CesiumMan.glb";
+  struct stat st;
+  if (stat(actor.c_str(), &st) != 0) GTEST_SKIP() << actor << " absent (third-party data)";
+  SynthOptions s;
+  s.output_dir = ::testing::TempDir() + "/track_test_cesium_" + std::to_string(getpid());
+  std::system(("rm -rf '" + s.output_dir + "'").c_str());
+  s.actor = actor;
+  s.cameras = 8;
+  s.frames = 1;
+  s.held_out = 0;
+  s.link_silhouettes = true;
+  ASSERT_TRUE(RunSynth(s).ok());
+  StatusOr<Capture> c = LoadCapture(s.output_dir);
+  ASSERT_TRUE(c.ok());
+  CaptureReader reader(*c);
+  std::vector<Image> sils;
+  std::vector<Camera> cameras;
+  for (uint32_t k = 0; k < c->cameras.size(); ++k) {
+    StatusOr<Image> sil = reader.ReadSilhouette(k, 0);
+    ASSERT_TRUE(sil.ok()) << sil.status().ToString();
+    sils.push_back(*sil);
+    cameras.push_back(c->cameras[k].calibration);
+  }
+  double error[2] = {0, 0};
+  BodyShape shape[2];
+  for (int own = 0; own < 2; ++own) {
+    TrackerOptions o;
+    o.proportions_iou = own ? 0.85 : 0.0;  // 0: never leave the generic proportions
+    StatusOr<std::unique_ptr<Tracker>> tracker = Tracker::Create(cameras, o);
+    ASSERT_TRUE(tracker.ok());
+    StatusOr<FrameFit> fit = (*tracker)->Initialise(sils);
+    ASSERT_TRUE(fit.ok()) << fit.status().ToString();
+    StatusOr<JointErrors> e =
+        CompareWithTruth(s.output_dir, (*tracker)->Model().skeleton, {fit->dofs}, 0);
+    ASSERT_TRUE(e.ok()) << e.status().ToString();
+    EXPECT_EQ(e->joints.size(), 13u);
+    error[own] = e->mean;
+    shape[own] = (*tracker)->shape();
+    std::printf("  %s proportions: IoU %.3f, mean joint error %.1f cm\n", own ? "own" : "generic",
+                fit->iou, 100 * e->mean);
+  }
+  std::system(("rm -rf '" + s.output_dir + "'").c_str());
+  EXPECT_LT(error[1], 0.10);
+  EXPECT_LT(error[1], 0.5 * error[0]);
+  // The large head is seen as one: wider than the generic body's, scaled.
+  EXPECT_GT(shape[1].girth[kSegHead], 1.3);
 }
 
 TEST(Tracker, RejectsBrokenCalibration) {

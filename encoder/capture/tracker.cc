@@ -110,6 +110,9 @@ struct Tracker::Impl {
   std::vector<DofRef> refs;
   std::vector<double> lo, hi;
   std::vector<Stage> stages;
+  // The torso stage's DOFs with only the trunk drawn (pelvis to head): the
+  // heading search at initialisation, which the limbs would mislead.
+  Stage trunk;
   // views[level][camera]; level 0 = quarter, 1 = half resolution.
   std::vector<std::vector<View>> views;
   std::vector<double> last, previous;
@@ -121,6 +124,9 @@ struct Tracker::Impl {
   // hidden in front of the torso); empty while initialising.
   std::vector<double> prediction;
   double smoothness_weight = 0;
+  // The actor's height measured from the silhouettes at initialisation.
+  double actor_height = 0;
+  double ankle_above_sole = 0;  // of the current model, standing
 
   explicit Impl(const TrackerOptions& o) : options(o), pool(std::max(1u, o.threads)) {}
 
@@ -128,6 +134,7 @@ struct Tracker::Impl {
 
   void BuildModel() {
     model = MakeGenericBody(shape, kTrackingMesh);
+    ankle_above_sole = AnkleAboveSole();
     refs = model.skeleton.Dofs();
     lo.resize(refs.size()), hi.resize(refs.size());
     for (size_t d = 0; d < refs.size(); ++d) {
@@ -228,6 +235,22 @@ struct Tracker::Impl {
       st.grid_dof_a = sp.grid_a, st.grid_dof_b = sp.grid_b, st.grid_dof_c = sp.grid_c;
       st.twist = sp.twist;
       stages.push_back(std::move(st));
+    }
+    trunk = Stage();
+    trunk.name = "trunk";
+    trunk.dofs = stages[0].dofs;
+    auto in_trunk = [&](uint32_t v) {
+      const int seg = m.segments[v];
+      return seg == kSegPelvis || seg == kSegAbdomen || seg == kSegChest || seg == kSegHead;
+    };
+    std::vector<char> used(m.positions.size(), 0);
+    for (const auto& t : m.triangles) {
+      if (!in_trunk(t[0]) || !in_trunk(t[1]) || !in_trunk(t[2])) continue;
+      trunk.moving_tris.insert(trunk.moving_tris.end(), t.begin(), t.end());
+      used[t[0]] = used[t[1]] = used[t[2]] = 1;
+    }
+    for (size_t v = 0; v < m.positions.size(); ++v) {
+      if (used[v]) trunk.moving_verts.push_back(uint32_t(v));
     }
   }
 
@@ -587,7 +610,7 @@ struct Tracker::Impl {
 
   // Fits stature, overall girth, arm and leg length to the silhouettes of the
   // current frame with the pose held; lengths scale whole limbs symmetrically.
-  void FitShape(std::vector<double>* dofs) {
+  void FitSize(std::vector<double>* dofs) {
     const std::vector<Vector3d> before = JointPositions(model.skeleton, *dofs);
     Eigen::VectorXd x(4), step(4), vlo(4), vhi(4);
     x << shape.stature, shape.girth[kSegChest], shape.length[kSegLeftUpperArm],
@@ -617,6 +640,238 @@ struct Tracker::Impl {
     PowellOptions po;
     po.max_evaluations = 60;
     po.max_iterations = 2;
+    MinimisePowell(f, &x, step, vlo, vhi, po);
+    f(x);  // leave the model built for the best shape
+    *dofs = trial;
+  }
+
+  // The heading search: the torso stage from eight headings with the limbs
+  // neutral. Returns the starting poses sorted by their fit.
+  std::vector<std::vector<double>> Headings(const Vector3d& centre, const Stage& stage) {
+    std::vector<std::pair<double, std::vector<double>>> starts;
+    for (int k = 0; k < 8; ++k) {
+      std::vector<double> p = NeutralPose(centre, 2 * kPi * k / 8 - kPi);
+      const double v = FitStage(stage, &p, 0, 1.0);
+      starts.push_back({v, p});
+    }
+    std::sort(starts.begin(), starts.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<std::vector<double>> out;
+    for (auto& st : starts) out.push_back(std::move(st.second));
+    return out;
+  }
+
+  // The best heading turned by `turn` radians, the torso refitted.
+  std::vector<double> Turned(const Vector3d& centre, const std::vector<double>& from, double turn,
+                             const Stage& stage) {
+    const double yaw = from[Dof(kRoot, 1)] + turn;
+    std::vector<double> p = NeutralPose(centre, std::atan2(std::sin(yaw), std::cos(yaw)));
+    FitStage(stage, &p, 0, 1.0);
+    return p;
+  }
+
+  // Initialisation with the generic body's proportions, scaled: stature from
+  // the measured height, then stature, girth, arm and leg length with the
+  // pose. The best heading and its opposite are fitted completely:
+  // silhouettes barely tell front from back until the limbs are fitted
+  // (knees and elbows bend one way only).
+  std::vector<double> InitialiseScaled(const Vector3d& centre, BodyShape* fitted) {
+    const BodyShape first_guess = InitialShape();
+    shape = first_guess;
+    BuildModel();
+    std::vector<std::vector<double>> starts = Headings(centre, stages[0]);
+    starts[1] = Turned(centre, starts[0], kPi, stages[0]);
+    double best_value = 1e300;
+    std::vector<double> best;
+    for (int k = 0; k < 2; ++k) {
+      std::vector<double> p = starts[k];
+      FitAll(&p, 1.0, Grid::kWide);
+      if (options.adapt_shape) {
+        FitSize(&p);
+        FitAll(&p, 0.5, Grid::kNarrow);
+      }
+      PrepareStage(stages[0], p, 1);
+      const double v = Evaluate(stages[0], p, 1);
+      if (v < best_value) best_value = v, best = p;
+      if (options.adapt_shape && k == 0) {
+        // The second heading starts from the same shape estimate as the first.
+        shape = first_guess;
+        BuildModel();
+      }
+    }
+    if (options.adapt_shape) {
+      // Refit the shape for the chosen heading.
+      FitSize(&best);
+      FitAll(&best, 0.35, Grid::kNone);
+    }
+    *fitted = shape;
+    return best;
+  }
+
+  // Initialisation with proportions of the actor's own (ShapeParam), the
+  // overall size held to the measured height and the lower foot on the floor.
+  // The best heading and its opposite each get their own build: first the
+  // trunk's proportions with the limbs neutral, then the limbs, then every
+  // proportion with the limbs placed; the chosen one is refined at half
+  // resolution.
+  std::vector<double> InitialiseProportions(const Vector3d& centre, BodyShape* fitted) {
+    const BodyShape first_guess = InitialShape();
+    shape = first_guess;
+    BuildModel();
+    // The heading comes from the trunk alone: neutral limbs would turn the
+    // body to cover arms swinging to the front and back with arms held out
+    // to the sides.
+    std::vector<std::vector<double>> starts = Headings(centre, trunk);
+    starts[1] = Turned(centre, starts[0], kPi, trunk);
+    double best_value = 1e300;
+    std::vector<double> best;
+    BodyShape best_shape = first_guess;
+    for (int k = 0; k < 2; ++k) {
+      std::vector<double> p = starts[k];
+      shape = first_guess;
+      BuildModel();
+      FitShape(&p, kTrunkShape, 0, 240);
+      FitStage(stages[0], &p, 0, 0.5);
+      FitAll(&p, 1.0, Grid::kWide);
+      FitShape(&p, kWholeShape, 0, 480);
+      FitAll(&p, 0.5, Grid::kNarrow);
+      PrepareStage(stages[0], p, 1);
+      const double v = Evaluate(stages[0], p, 1);
+      if (v < best_value) best_value = v, best = p, best_shape = shape;
+    }
+    shape = best_shape;
+    BuildModel();
+    FitShape(&best, kWholeShape, 1, 400);
+    FitAll(&best, 0.35, Grid::kNone);
+    *fitted = shape;
+    return best;
+  }
+
+  BodyShape InitialShape() const {
+    BodyShape s;
+    if (options.adapt_shape) s.stature = std::clamp(actor_height / 1.75, 0.6, 1.3);
+    return s;
+  }
+
+  // The body proportions the tracker adapts beyond stature (which follows the
+  // measured height). Each scales a group of segments symmetrically; lengths scale along a
+  // segment's axis, girths across it (the chest's and pelvis's girth also set shoulder and hip
+  // width).
+  enum ShapeParam {
+    kHeadLength,
+    kHeadGirth,
+    kTorsoLength,
+    kTorsoGirth,
+    kArmLength,
+    kArmGirth,
+    kLegLength,
+    kLegGirth,
+    kShapeParamCount
+  };
+  struct ShapeParamSpec {
+    bool length;  // scales lengths (else girths) of its segments
+    std::vector<int> segments;
+    double step, lo, hi;
+  };
+  static const ShapeParamSpec& ShapeSpec(int param) {
+    static const ShapeParamSpec k[kShapeParamCount] = {
+        {true, {kSegHead}, 0.08, 0.7, 2.0},
+        {false, {kSegHead}, 0.1, 0.7, 2.0},
+        {true, {kSegPelvis, kSegAbdomen, kSegChest}, 0.05, 0.7, 1.4},
+        {false, {kSegPelvis, kSegAbdomen, kSegChest}, 0.06, 0.6, 1.5},
+        {true,
+         {kSegLeftUpperArm, kSegLeftForearm, kSegRightUpperArm, kSegRightForearm},
+         0.05,
+         0.7,
+         1.4},
+        {false,
+         {kSegLeftUpperArm, kSegLeftForearm, kSegLeftHand, kSegRightUpperArm, kSegRightForearm,
+          kSegRightHand},
+         0.08,
+         0.55,
+         1.6},
+        {true, {kSegLeftThigh, kSegLeftShank, kSegRightThigh, kSegRightShank}, 0.05, 0.6, 1.4},
+        {false,
+         {kSegLeftThigh, kSegLeftShank, kSegLeftFoot, kSegRightThigh, kSegRightShank,
+          kSegRightFoot},
+         0.08,
+         0.55,
+         1.6}};
+    return k[param];
+  }
+  // The parameters an actor's build is fitted with before its limbs are
+  // placed: what the torso stage sees with the limbs in their neutral pose.
+  static constexpr uint32_t kTrunkShape =
+      1u << kHeadLength | 1u << kHeadGirth | 1u << kTorsoLength | 1u << kTorsoGirth;
+  // Every proportion; the overall size follows the measured height.
+  static constexpr uint32_t kWholeShape = (1u << kShapeParamCount) - 1;
+
+  double ShapeValue(int param) const {
+    const ShapeParamSpec& sp = ShapeSpec(param);
+    return sp.length ? shape.length[sp.segments[0]] : shape.girth[sp.segments[0]];
+  }
+
+  void SetShapeValue(int param, double v) {
+    const ShapeParamSpec& sp = ShapeSpec(param);
+    for (int s : sp.segments) (sp.length ? shape.length[s] : shape.girth[s]) = v;
+  }
+
+  // The model's height standing in the rest pose.
+  double RestHeight() const {
+    double bottom = 1e30, top = -1e30;
+    for (const auto& p : model.mesh.positions) {
+      bottom = std::min(bottom, double(p[1]));
+      top = std::max(top, double(p[1]));
+    }
+    return top - bottom;
+  }
+
+  // How high the ankle joints stand above the soles in the rest pose.
+  double AnkleAboveSole() const {
+    double sole = 1e30;
+    for (const auto& p : model.mesh.positions) sole = std::min(sole, double(p[1]));
+    return JointPositions(model.skeleton, {})[kLeftAnkle].y() - sole;
+  }
+
+  // Fits the proportions in `params` (bits of ShapeParam) to the silhouettes
+  // of the current frame with the pose held: the whole body's XOR at `level`.
+  // Real actors differ from the generic body in more than size (a large head
+  // fitted with a small one pulls the arms up to cover it), so head, torso,
+  // arms and legs each have a length and a girth of their own.
+  void FitShape(std::vector<double>* dofs, uint32_t params, int level, int budget) {
+    std::vector<int> which;
+    for (int k = 0; k < kShapeParamCount; ++k) {
+      if (params >> k & 1) which.push_back(k);
+    }
+    const int n = int(which.size());
+    Eigen::VectorXd x(n), step(n), vlo(n), vhi(n);
+    for (int i = 0; i < n; ++i) {
+      const ShapeParamSpec& sp = ShapeSpec(which[i]);
+      x[i] = std::clamp(ShapeValue(which[i]), sp.lo, sp.hi);
+      step[i] = sp.step, vlo[i] = sp.lo, vhi[i] = sp.hi;
+    }
+    std::vector<double> trial = *dofs;
+    auto f = [&](const Eigen::VectorXd& v) {
+      for (int i = 0; i < n; ++i) SetShapeValue(which[i], v[i]);
+      BuildModel();
+      if (actor_height > 0) {
+        // The actor's measured height fixes the overall size: proportions
+        // trade against each other (a larger head, a shorter trunk).
+        shape.stature = std::clamp(shape.stature * actor_height / RestHeight(), 0.5, 1.4);
+        BuildModel();
+      }
+      // The lower foot stands on the floor (y = 0): the root height follows
+      // the legs, and a long trunk cannot pass for long legs.
+      trial = *dofs;
+      const std::vector<Vector3d> now = JointPositions(model.skeleton, trial);
+      trial[Dof(kRoot, 4)] +=
+          ankle_above_sole - std::min(now[kLeftAnkle].y(), now[kRightAnkle].y());
+      PrepareStage(stages[0], trial, level);
+      return Evaluate(stages[0], trial, level);
+    };
+    PowellOptions po;
+    po.max_evaluations = budget;
+    po.max_iterations = 6;
     MinimisePowell(f, &x, step, vlo, vhi, po);
     f(x);  // leave the model built for the best shape
     *dofs = trial;
@@ -653,49 +908,26 @@ StatusOr<FrameFit> Tracker::Initialise(const std::vector<Image>& silhouettes) {
   double height = 1.75;
   if (!m.Locate(silhouettes, &centre, &height))
     return InvalidArgument("tracker: cannot locate the actor");
-  m.shape = BodyShape();
-  if (m.options.adapt_shape) m.shape.stature = std::clamp(height / 1.75, 0.6, 1.3);
-  m.BuildModel();
-  // Yaw: the torso stage from eight headings, then the two best with every
-  // stage (front and back look alike in silhouettes until limbs disambiguate).
-  std::vector<std::pair<double, std::vector<double>>> starts;
-  for (int k = 0; k < 8; ++k) {
-    std::vector<double> p = m.NeutralPose(centre, 2 * kPi * k / 8 - kPi);
-    const double v = m.FitStage(m.stages[0], &p, 0, 1.0);
-    starts.push_back({v, p});
-  }
-  std::sort(starts.begin(), starts.end(),
-            [](const auto& a, const auto& b) { return a.first < b.first; });
-  // The best heading and its opposite: silhouettes barely tell front from back
-  // until the limbs are fitted (knees and elbows bend one way only).
-  const double yaw = starts[0].second[m.Dof(kRoot, 1)] + kPi;
-  std::vector<double> turned = m.NeutralPose(centre, std::atan2(std::sin(yaw), std::cos(yaw)));
-  m.FitStage(m.stages[0], &turned, 0, 1.0);
-  starts[1] = {0.0, turned};
-  double best_value = 1e300;
-  std::vector<double> best;
-  for (int k = 0; k < 2; ++k) {
-    std::vector<double> p = starts[k].second;
-    m.FitAll(&p, 1.0, Impl::Grid::kWide);
-    if (m.options.adapt_shape) {
-      m.FitShape(&p);
-      m.FitAll(&p, 0.5, Impl::Grid::kNarrow);
-    }
-    m.PrepareStage(m.stages[0], p, 1);
-    const double v = m.Evaluate(m.stages[0], p, 1);
-    if (v < best_value) best_value = v, best = p;
-    if (m.options.adapt_shape && k == 0) {
-      // The second heading starts from the same shape estimate as the first.
-      m.shape = BodyShape();
-      m.shape.stature = std::clamp(height / 1.75, 0.6, 1.3);
-      m.BuildModel();
-    }
-  }
+  m.actor_height = height;
+  // The generic body's proportions at the actor's size first. An actor they
+  // do not fit (a cartoon character's large head and short legs) is fitted
+  // again with proportions of its own, and the better fit kept.
+  BodyShape shape;
+  std::vector<double> best = m.InitialiseScaled(centre, &shape);
   if (m.options.adapt_shape) {
-    // Refit the shape for the chosen heading.
-    m.FitShape(&best);
-    m.FitAll(&best, 0.35, Impl::Grid::kNone);
+    m.PrepareStage(m.stages[0], best, 1);
+    const double scaled = m.Evaluate(m.stages[0], best, 1);
+    FrameFit scaled_fit;
+    m.Measure(best, &scaled_fit);
+    if (scaled_fit.iou < m.options.proportions_iou) {
+      BodyShape own;
+      std::vector<double> p = m.InitialiseProportions(centre, &own);
+      m.PrepareStage(m.stages[0], p, 1);
+      if (m.Evaluate(m.stages[0], p, 1) < scaled) best = p, shape = own;
+    }
   }
+  m.shape = shape;
+  m.BuildModel();
   FrameFit fit;
   m.Measure(best, &fit);
   fit.evaluations = m.evaluations;

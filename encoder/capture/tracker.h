@@ -29,7 +29,11 @@ namespace fvv {
 
 struct TrackerOptions {
   unsigned threads = 2;
-  bool adapt_shape = true;      // fit stature, girth and limb lengths at initialisation
+  bool adapt_shape = true;  // fit stature, girth and limb lengths at initialisation
+  // Below this IoU with the generic body's proportions at initialisation, the
+  // actor is fitted again with proportions of its own (head, trunk, arms and
+  // legs: length and girth each) and the better fit kept.
+  double proportions_iou = 0.85;
   double poor_fit = 0.35;       // XOR / silhouette area above this flags a frame
   int stage_evaluations = 160;  // Powell budget per stage and resolution
   bool refine = true;           // second pass at half resolution

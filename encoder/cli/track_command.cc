@@ -1,11 +1,13 @@
 #include "encoder/cli/track_command.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 
 #include "encoder/capture/joint_truth.h"
 #include "encoder/capture/track_capture.h"
 #include "encoder/cli/frame_range.h"
+#include "tools/imageio/image_io.h"
 
 namespace fvv {
 namespace {
@@ -31,6 +33,11 @@ int RunTrack(const TrackArgs& a) {
   o.tracker.adapt_shape = !a.no_shape;
   o.save_silhouettes = a.save_silhouettes;
   o.overlays = a.overlays;
+  for (const std::string& dir : {a.save_silhouettes, a.overlays}) {
+    if (dir.empty()) continue;
+    const Status made = MakeDirectories(dir);
+    if (!made.ok()) return Fail(made);
+  }
   if (!a.quiet)
     o.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   StatusOr<TrackCaptureResult> r = TrackCapture(a.capture, o);
@@ -41,9 +48,21 @@ int RunTrack(const TrackArgs& a) {
   const size_t count = r->fits.size();
   std::printf("tracked frames %u..%u of %s: %zu frames, %d flagged\n", r->first, r->last,
               a.capture.c_str(), count, r->flagged);
-  std::printf("  body shape: stature %.3f (%.2f m), girth %.3f, arm length %.3f, leg length %.3f\n",
-              r->shape.stature, 1.75 * r->shape.stature, r->shape.girth[kSegChest],
-              r->shape.length[kSegLeftUpperArm], r->shape.length[kSegLeftThigh]);
+  {
+    // Height standing, and each proportion against the generic body's.
+    double bottom = 1e30, top = -1e30;
+    for (const auto& v : r->model.mesh.positions) {
+      bottom = std::min(bottom, double(v[1]));
+      top = std::max(top, double(v[1]));
+    }
+    const BodyShape& b = r->shape;
+    std::printf(
+        "  body shape: %.2f m tall (stature %.3f); length / girth: head %.2f / %.2f, trunk %.2f / "
+        "%.2f, arms %.2f / %.2f, legs %.2f / %.2f\n",
+        top - bottom, b.stature, b.length[kSegHead], b.girth[kSegHead], b.length[kSegChest],
+        b.girth[kSegChest], b.length[kSegLeftUpperArm], b.girth[kSegLeftUpperArm],
+        b.length[kSegLeftThigh], b.girth[kSegLeftThigh]);
+  }
   std::printf("  silhouettes: %s, mean IoU %.3f\n",
               r->given_silhouettes ? "given" : "background subtraction", r->mean_iou);
   std::printf("  time: %.3f s per frame (silhouettes %.3f, fitting %.3f)\n",
@@ -75,11 +94,11 @@ void AddTrackCommand(CLI::App* app, int* exit_code) {
   t->add_flag("--extract", a->extract,
               "Background subtraction even when the capture lists silhouettes");
   t->add_flag("--fixed-shape", a->no_shape, "Keep the generic body's proportions");
-  t->add_option("--save-silhouettes", a->save_silhouettes, "Write the silhouettes used (PNG) here")
-      ->check(CLI::ExistingDirectory);
+  t->add_option("--save-silhouettes", a->save_silhouettes,
+                "Write the silhouettes used (PNG) here (created if missing)");
   t->add_option("--overlays", a->overlays,
-                "Write each frame's cameras with the fit drawn over them (PNG) here")
-      ->check(CLI::ExistingDirectory);
+                "Write each frame's cameras with the fit drawn over them (PNG) here (created if "
+                "missing)");
   t->add_flag("-q,--quiet", a->quiet, "No per-frame progress");
   t->callback([a, exit_code] { *exit_code = RunTrack(*a); });
 }
