@@ -126,7 +126,6 @@ struct Tracker::Impl {
   double smoothness_weight = 0;
   // The actor's height measured from the silhouettes at initialisation.
   double actor_height = 0;
-  double ankle_above_sole = 0;  // of the current model, standing
 
   explicit Impl(const TrackerOptions& o) : options(o), pool(std::max(1u, o.threads)) {}
 
@@ -134,7 +133,6 @@ struct Tracker::Impl {
 
   void BuildModel() {
     model = MakeGenericBody(shape, kTrackingMesh);
-    ankle_above_sole = AnkleAboveSole();
     refs = model.skeleton.Dofs();
     lo.resize(refs.size()), hi.resize(refs.size());
     for (size_t d = 0; d < refs.size(); ++d) {
@@ -816,21 +814,14 @@ struct Tracker::Impl {
     for (int s : sp.segments) (sp.length ? shape.length[s] : shape.girth[s]) = v;
   }
 
-  // The model's height standing in the rest pose.
-  double RestHeight() const {
+  // The lowest and highest points of the model standing in the rest pose.
+  std::pair<double, double> RestExtent() const {
     double bottom = 1e30, top = -1e30;
     for (const auto& p : model.mesh.positions) {
       bottom = std::min(bottom, double(p[1]));
       top = std::max(top, double(p[1]));
     }
-    return top - bottom;
-  }
-
-  // How high the ankle joints stand above the soles in the rest pose.
-  double AnkleAboveSole() const {
-    double sole = 1e30;
-    for (const auto& p : model.mesh.positions) sole = std::min(sole, double(p[1]));
-    return JointPositions(model.skeleton, {})[kLeftAnkle].y() - sole;
+    return {bottom, top};
   }
 
   // Fits the proportions in `params` (bits of ShapeParam) to the silhouettes
@@ -857,9 +848,13 @@ struct Tracker::Impl {
       if (actor_height > 0) {
         // The actor's measured height fixes the overall size: proportions
         // trade against each other (a larger head, a shorter trunk).
-        shape.stature = std::clamp(shape.stature * actor_height / RestHeight(), 0.5, 1.4);
+        const auto [bottom, top] = RestExtent();
+        shape.stature = std::clamp(shape.stature * actor_height / (top - bottom), 0.5, 1.4);
         BuildModel();
       }
+      // How high the ankles stand above the soles in the rest pose.
+      const double ankle_above_sole =
+          JointPositions(model.skeleton, {})[kLeftAnkle].y() - RestExtent().first;
       // The lower foot stands on the floor (y = 0): the root height follows
       // the legs, and a long trunk cannot pass for long legs.
       trial = *dofs;
