@@ -98,6 +98,46 @@ TEST(Capture, ParsesAndRoundTrips) {
   EXPECT_EQ(again->cameras[0].frames.first, 1);
 }
 
+// A z-up capture (as many studios calibrate) is turned into fvv's y-up world:
+// every point projects where its y-up twin does, and the cameras stand as high.
+TEST(Capture, ZUpCapturesAreTurnedIntoTheYUpWorld) {
+  // The camera of TestCamera, calibrated in a z-up world: eye (2, 1.5, 3) and
+  // target (0, 1, 0) in y-up are (2, -3, 1.5) and (0, 0, 1) in z-up.
+  Camera z_cam = LookAtCamera("a", 640, 480, 700, Eigen::Vector3d(2, -3, 1.5),
+                              Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 0, 1));
+  z_cam.distortion = {-0.2, 0.05, 0.001, -0.0015, 0.01};
+  nlohmann::json j = ValidCaptureJson();
+  j["up_axis"] = "z";
+  for (auto& cam : j["cameras"]) {
+    cam["R"] = z_cam.rotation;
+    cam["t"] = z_cam.translation;
+    cam["distortion"] = z_cam.distortion;
+    cam["K"] = {{z_cam.fx, 0, z_cam.cx}, {0, z_cam.fy, z_cam.cy}, {0, 0, 1}};
+  }
+  StatusOr<Capture> c = ParseCapture(j.dump(), "/data/take1");
+  ASSERT_TRUE(c.ok()) << c.status().ToString();
+  EXPECT_EQ(c->up_axis, 'y');
+  EXPECT_EQ(c->declared_up_axis, 'z');
+  const Camera& y_cam = c->cameras[0].calibration;
+  EXPECT_NEAR(CameraCentre(y_cam).y(), 1.5, 1e-9);
+  EXPECT_NEAR(CameraCentre(y_cam).z(), 3.0, 1e-9);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-0.8, 0.8);
+  for (int i = 0; i < 50; ++i) {
+    const Eigen::Vector3d z_point(u(rng), u(rng), 1 + u(rng));
+    const Eigen::Vector3d y_point(z_point.x(), z_point.z(), -z_point.y());
+    Eigen::Vector2d pz, py;
+    ASSERT_TRUE(ProjectPoint(z_cam, z_point, &pz));
+    ASSERT_TRUE(ProjectPoint(y_cam, y_point, &py));
+    EXPECT_LT((pz - py).norm(), 1e-9) << "point " << i;
+  }
+  // Saved again, the capture is y-up and reads back the same cameras.
+  StatusOr<Capture> again = ParseCapture(CaptureToJson(*c), "/data/take1");
+  ASSERT_TRUE(again.ok()) << again.status().ToString();
+  EXPECT_EQ(again->declared_up_axis, 'y');
+  EXPECT_EQ(again->cameras[0].calibration.rotation, y_cam.rotation);
+}
+
 // Each malformed capture.json is refused with a message naming the problem.
 TEST(Capture, MalformedCapturesNameTheProblem) {
   struct Case {

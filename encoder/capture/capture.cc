@@ -196,6 +196,18 @@ bool IsDirectory(const std::string& path) {
   return stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
 }
 
+// A z-up world point X_z is the y-up point X_y = M X_z with M = rows (1 0 0),
+// (0 0 1), (0 -1 0), a proper rotation. The camera sees R X_z + t = R M^T X_y + t,
+// so its rotation becomes R M^T: row i (a, b, c) turns into (a, c, -b).
+void TurnZUpToYUp(Camera* k) {
+  for (int i = 0; i < 3; ++i) {
+    double* row = &k->rotation[3 * i];
+    const double b = row[1];
+    row[1] = row[2];
+    row[2] = -b;
+  }
+}
+
 }  // namespace
 
 StatusOr<Capture> ParseCapture(const std::string& json_text, const std::string& directory) {
@@ -253,6 +265,11 @@ StatusOr<Capture> ParseCapture(const std::string& json_text, const std::string& 
       return Where(label).Bad("duplicate camera name \"" + cam.calibration.name + "\"");
     }
     c.cameras.push_back(std::move(cam));
+  }
+  c.declared_up_axis = c.up_axis;
+  if (c.up_axis == 'z') {
+    for (CaptureCamera& cam : c.cameras) TurnZUpToYUp(&cam.calibration);
+    c.up_axis = 'y';
   }
   return c;
 }

@@ -39,7 +39,11 @@ struct Capture {
   std::string directory;  // where capture.json lives; paths are relative to it
   double frame_rate = 25;
   uint32_t frame_count = 0;
-  char up_axis = 'y';  // 'y' or 'z', positive up
+  // The world axis pointing up. fvv's world is y-up: ParseCapture turns the
+  // cameras of a z-up capture into it and sets 'y' (remembering the original
+  // axis below), so everything downstream sees one convention.
+  char up_axis = 'y';
+  char declared_up_axis = 'y';  // what capture.json said
   std::vector<CaptureCamera> cameras;
 };
 
@@ -48,6 +52,7 @@ constexpr uint32_t kMaxCaptureCameras = 256;
 constexpr uint32_t kMaxCaptureFrames = 1000000;
 
 // Parses and validates capture.json text (`directory` resolves relative paths).
+// A z-up capture's cameras come back in fvv's y-up world (X_y = (x, z, -y)).
 StatusOr<Capture> ParseCapture(const std::string& json_text, const std::string& directory);
 // Loads DIR/capture.json (or a capture.json path).
 StatusOr<Capture> LoadCapture(const std::string& path);
