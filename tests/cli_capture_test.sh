@@ -44,6 +44,9 @@ grep -q "the capture has 3 frames" <<<"$out" && [ ! -e "$dir/hull3.ply" ] || fai
 # fvv track: runs end to end on the capture, writes poses and reports errors against the truth.
 out=$("$fvv" track "$dir/cap" -o "$dir/poses.json" --truth "$dir/cap" -q 2>&1) || fail "track: $out"
 grep -q "tracked frames 0..2" <<<"$out" && grep -q "joint error against" <<<"$out" || fail "track report: $out"
+# ... and the error of each of the three frames, with the best and worst named.
+grep -Eq "^ +cm:( +[0-9]+\.[0-9]){3}$" <<<"$out" && grep -q "per frame: best frame [0-2] " <<<"$out" ||
+  fail "per-frame errors: $out"
 grep -q '"dof_names"' "$dir/poses.json" && [ "$(grep -c '"iou"' "$dir/poses.json")" = 3 ] || fail "poses.json"
 
 # Bad inputs.

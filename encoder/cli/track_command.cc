@@ -74,6 +74,18 @@ int RunTrack(const TrackArgs& a) {
     std::printf("  joint error against %s: mean %.2f cm, max %.2f cm (%zu joints: %s)\n",
                 a.truth.c_str(), 100 * e->mean, 100 * e->max, e->joints.size(),
                 e->Describe().c_str());
+    // Where the error is: drift while tracking shows as a rising run of frames.
+    const std::vector<double>& f = e->per_frame;
+    const size_t worst = size_t(std::max_element(f.begin(), f.end()) - f.begin());
+    const size_t best = size_t(std::min_element(f.begin(), f.end()) - f.begin());
+    std::printf("  per frame: best frame %u (%.2f cm), worst frame %u (%.2f cm)\n",
+                r->first + unsigned(best), 100 * f[best], r->first + unsigned(worst),
+                100 * f[worst]);
+    if (f.size() <= 100) {
+      for (size_t i = 0; i < f.size(); ++i)
+        std::printf("%s%5.1f%s", i % 10 == 0 ? "    cm:" : "", 100 * f[i],
+                    i % 10 == 9 || i + 1 == f.size() ? "\n" : "");
+    }
   }
   std::printf("  poses: %s\n", a.output.c_str());
   return 0;
