@@ -72,8 +72,8 @@ int RunCheck(const std::string& path) {
       if (!img.ok()) return Fail(img.status());
     }
   }
-  std::printf("capture %s: %zu cameras, %u frames at %.3g fps, up axis %s%s%s: OK\n",
-              path.c_str(), c->cameras.size(), c->frame_count, c->frame_rate,
+  std::printf("capture %s: %zu cameras, %u frames at %.3g fps, up axis %s%s%s: OK\n", path.c_str(),
+              c->cameras.size(), c->frame_count, c->frame_rate,
               c->declared_up_axis == 'z' ? "z (cameras below in fvv's y-up world)" : "y",
               reader.HasBackgrounds() ? ", background plates" : "",
               reader.HasSilhouettes() ? ", silhouettes" : "");
