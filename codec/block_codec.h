@@ -19,6 +19,7 @@
 #include "codec/spiht4d.h"
 #include "codec/spiht4d_common.h"
 #include "codec/status.h"
+#include "codec/subband_weights.h"
 #include "codec/wavelet.h"
 
 namespace fvv {
@@ -31,6 +32,10 @@ struct BlockParams {
   EntropyCoder coder = EntropyCoder::kArith;
   ColourSpace colour = ColourSpace::kYCbCr601;
   ChromaFormat chroma = ChromaFormat::k444;
+  // Fractional bits f of the transform's samples (SPEC.md 9.6): 0 for Haar and
+  // 5/3; for the 9/7, kMinFracBits97..kMaxFracBits97 (2 in streams before
+  // format version 3).
+  uint8_t frac_bits = kFracBits97;
 };
 
 struct ChannelStream {
@@ -57,6 +62,9 @@ enum class RateMode : uint8_t {
 
 struct EncodeSettings {
   WaveletKernel kernel = WaveletKernel::kCdf97;
+  // The 9/7's sample precision f (ignored by the reversible kernels). 2 writes
+  // what format versions 1 and 2 read; see subband_weights.h.
+  int frac_bits_97 = kFracBits97;
   EntropyCoder coder = EntropyCoder::kArith;
   RateMode rate_mode = RateMode::kBitsPerSample;
   double rate_value = 0.25;

@@ -57,7 +57,7 @@ Status BlockDecode::Start(const EncodedBlock& encoded, const DecodeBudget& budge
 void BlockDecode::Spiht(int c) {
   const WaveletGeometry g(shapes_[c]);
   const std::shared_ptr<const SpihtTree> tree = SharedSpihtTree(g);
-  const SubbandQuantisers q(encoded_->params.kernel, g);
+  const SubbandQuantisers q(encoded_->params.kernel, encoded_->params.frac_bits, g);
   const ChannelStream& s = encoded_->channels[c];
   // The time budget is for decoding decisions: it starts once the channel's
   // set-up is done (which no budget could shorten).
@@ -68,7 +68,7 @@ void BlockDecode::Spiht(int c) {
 
 void BlockDecode::Reconstruct(int c, const ParallelRunner& runner) {
   const BlockParams& p = encoded_->params;
-  const int frac = TransformFracBits(p.kernel);
+  const int frac = p.frac_bits;
   const WaveletGeometry g(shapes_[c]);
   const SampleRange range = ChannelRange(p.colour, c);
   const int32_t round = frac ? 1 << (frac - 1) : 0;

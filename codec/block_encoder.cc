@@ -138,7 +138,14 @@ double WeightedMse(const Block& a, const Block& b, const UsedMask* mask,
 StatusOr<EncodedBlock> EncodeBlock(const Block& block, const UsedMask* mask,
                                    const EncodeSettings& settings, EncodeReport* report) {
   EncodedBlock out;
-  out.params = {block.shape(), settings.kernel, settings.coder, block.colour, block.chroma};
+  out.params = {
+      block.shape(),  settings.kernel,
+      settings.coder, block.colour,
+      block.chroma,   static_cast<uint8_t>(KernelFracBits(settings.kernel, settings.frac_bits_97))};
+  if (settings.kernel == WaveletKernel::kCdf97 &&
+      (settings.frac_bits_97 < kMinFracBits97 || settings.frac_bits_97 > kMaxFracBits97))
+    return InvalidArgument("9/7 sample precision must be " + std::to_string(kMinFracBits97) + ".." +
+                           std::to_string(kMaxFracBits97) + " fractional bits");
   FVV_RETURN_IF_ERROR(ValidateParams(out.params));
   if (block.channels[1].shape != ChromaShape(block.shape(), block.chroma) ||
       block.channels[2].shape != block.channels[1].shape)
@@ -174,7 +181,7 @@ StatusOr<EncodedBlock> EncodeBlock(const Block& block, const UsedMask* mask,
   }
 
   // Transform and code each channel.
-  const int frac = TransformFracBits(settings.kernel);
+  const int frac = out.params.frac_bits;
   std::array<std::vector<uint64_t>, 3> rd_bytes;
   std::array<std::vector<double>, 3> rd_distortion;
   std::array<std::vector<int32_t>, 3> coeffs;
@@ -193,7 +200,7 @@ StatusOr<EncodedBlock> EncodeBlock(const Block& block, const UsedMask* mask,
     for (int32_t& s : plane.samples) s = (s - range.offset) * (1 << frac);
     const WaveletGeometry g(plane.shape);
     ForwardTransform4D(settings.kernel, g, settings.runner, plane.samples.data());
-    const SubbandQuantisers q(settings.kernel, g);
+    const SubbandQuantisers q(settings.kernel, frac, g);
     ForEachBand(g, [&](size_t i, int band) {
       plane.samples[i] = QuantiseCoefficient(plane.samples[i], q[band].mul_q16);
     });
@@ -207,7 +214,7 @@ StatusOr<EncodedBlock> EncodeBlock(const Block& block, const UsedMask* mask,
     settings.runner(3, [&](uint32_t c) {
       const WaveletGeometry g(block.channels[c].shape);
       const std::shared_ptr<const SpihtTree> tree = SharedSpihtTree(g);
-      const SubbandQuantisers q(settings.kernel, g);
+      const SubbandQuantisers q(settings.kernel, frac, g);
       SpihtEncoded enc = SpihtEncode(*tree, q, coeffs[c], settings.coder, cap);
       out.channels[c].planes = enc.planes;
       out.channels[c].data = std::move(enc.data);

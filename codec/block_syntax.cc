@@ -7,21 +7,33 @@ namespace fvv {
 namespace {
 constexpr char kMagic[4] = {'f', 'v', 'v', 'b'};
 constexpr uint32_t kMaxPoints = 2 * kMaxBitplanes;
+
+// Block files of version 1 (and texture boxes of version 0) predate the
+// precision field: the 9/7 had 2 fractional bits then.
+uint8_t LegacyFracBits(WaveletKernel kernel) {
+  return kernel == WaveletKernel::kCdf97 ? kFracBits97Legacy : 0;
+}
 }  // namespace
 
-void WriteBlockParams(const BlockParams& p, ByteWriter* w) {
+uint8_t BlockFileVersionFor(const BlockParams& p) {
+  return p.frac_bits == LegacyFracBits(p.kernel) ? 1 : 2;
+}
+
+void WriteBlockParams(const BlockParams& p, uint8_t version, ByteWriter* w) {
   w->U8(static_cast<uint8_t>(p.kernel));
   w->U8(static_cast<uint8_t>(p.coder));
   w->U8(static_cast<uint8_t>(p.colour));
   w->U8(static_cast<uint8_t>(p.chroma));
+  if (version >= 2) w->U8(p.frac_bits);
   for (int a = 0; a < kAxes; ++a) w->U32(p.shape.n[a]);
 }
 
-Status ReadBlockParams(ByteReader* r, BlockParams* p) {
+Status ReadBlockParams(ByteReader* r, uint8_t version, BlockParams* p) {
   p->kernel = static_cast<WaveletKernel>(r->U8());
   p->coder = static_cast<EntropyCoder>(r->U8());
   p->colour = static_cast<ColourSpace>(r->U8());
   p->chroma = static_cast<ChromaFormat>(r->U8());
+  p->frac_bits = version >= 2 ? r->U8() : LegacyFracBits(p->kernel);
   for (int a = 0; a < kAxes; ++a) p->shape.n[a] = r->U32();
   if (r->overrun()) return Truncated("block parameters end early");
   return ValidateParams(*p);
@@ -75,8 +87,9 @@ Status ReadChannelStream(ByteReader* r, const char* name, ChannelStream* s) {
 std::vector<uint8_t> WriteBlockFile(const EncodedBlock& block) {
   ByteWriter w;
   for (char c : kMagic) w.U8(static_cast<uint8_t>(c));
-  w.U8(kBlockFileVersion);
-  WriteBlockParams(block.params, &w);
+  const uint8_t version = BlockFileVersionFor(block.params);
+  w.U8(version);
+  WriteBlockParams(block.params, version, &w);
   for (const ChannelStream& s : block.channels) WriteChannelStream(s, &w);
   return std::move(w.bytes());
 }
@@ -90,11 +103,11 @@ StatusOr<EncodedBlock> ReadBlockFile(const uint8_t* data, size_t size) {
     return Corrupt("not an fvv block file (magic 'fvvb' missing)");
   const uint8_t version = r.U8();
   if (r.overrun()) return Truncated("block file ends in its header");
-  if (version != kBlockFileVersion)
-    return Unsupported("block file version " + std::to_string(version) + " (this decoder reads " +
-                       std::to_string(kBlockFileVersion) + ")");
+  if (version < 1 || version > kBlockFileVersion)
+    return Unsupported("block file version " + std::to_string(version) +
+                       " (this decoder reads 1.." + std::to_string(kBlockFileVersion) + ")");
   EncodedBlock block;
-  FVV_RETURN_IF_ERROR(ReadBlockParams(&r, &block.params));
+  FVV_RETURN_IF_ERROR(ReadBlockParams(&r, version, &block.params));
   static const char* const kNames[3] = {"Y", "U", "V"};
   for (int c = 0; c < 3; ++c)
     FVV_RETURN_IF_ERROR(ReadChannelStream(&r, kNames[c], &block.channels[c]));

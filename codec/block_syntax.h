@@ -2,9 +2,10 @@
 // block file (`fvv block`, docs/block_file.md) and, later, the container's
 // texture fragments. In memory only; the caller does file I/O.
 //
-//   block_file()       magic "fvvb", version u8 = 1, block_params(), channel_stream() x 3
-//   block_params()     kernel u8, coder u8, colour u8, chroma u8, frames u32, cameras u32,
-//                      height u32, width u32
+//   block_file()       magic "fvvb", version u8 (1 or 2), block_params(), channel_stream() x 3
+//   block_params()     kernel u8, coder u8, colour u8, chroma u8, [version 2: frac_bits u8],
+//                      frames u32, cameras u32, height u32, width u32
+//                      (version 1: frac_bits is 2 for the 9/7, 0 otherwise)
 //   channel_stream()   planes u8, point_count u16, point_count x (bytes u32, plane u8,
 //                      pass u8), data_size u32, data_size bytes
 // Integers are little-endian.
@@ -20,10 +21,14 @@
 
 namespace fvv {
 
-constexpr uint8_t kBlockFileVersion = 1;
+// Version 2 adds the 9/7's sample precision; writers use version 1 for blocks
+// that version 1 can describe.
+constexpr uint8_t kBlockFileVersion = 2;
 
-void WriteBlockParams(const BlockParams& p, ByteWriter* w);
-Status ReadBlockParams(ByteReader* r, BlockParams* p);
+// The block file version that can hold these parameters.
+uint8_t BlockFileVersionFor(const BlockParams& p);
+void WriteBlockParams(const BlockParams& p, uint8_t version, ByteWriter* w);
+Status ReadBlockParams(ByteReader* r, uint8_t version, BlockParams* p);
 void WriteChannelStream(const ChannelStream& s, ByteWriter* w);
 Status ReadChannelStream(ByteReader* r, const char* name, ChannelStream* s);
 

@@ -114,7 +114,8 @@ void SparseFill(WaveletKernel kernel, const UsedMask& mask, const SampleRange& r
     return;
   const WaveletGeometry g(plane->shape);
   const auto& n = g.shape.n;
-  const int frac = TransformFracBits(kernel);
+  // The fill's own working precision (its output is whole samples).
+  const int frac = DefaultFracBits(kernel);
   const double scale = 1 << frac;
   // Per axis position: the reciprocal of its 1D synthesis norm. A coefficient's
   // norm is the product over its four axes (the transform is separable).

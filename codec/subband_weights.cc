@@ -28,7 +28,7 @@ uint32_t AxisHighNormQ16(WaveletKernel kernel, int k) {
   return kHighNorm[static_cast<int>(kernel)][k - 1];
 }
 
-int TransformFracBits(WaveletKernel kernel) { return Reversible(kernel) ? 0 : 2; }
+int DefaultFracBits(WaveletKernel kernel) { return Reversible(kernel) ? 0 : kFracBits97; }
 
 double ComputeAxisNorm(WaveletKernel kernel, bool high, int level) {
   // An impulse in the middle of the band of a long signal, synthesised to the
@@ -45,9 +45,8 @@ double ComputeAxisNorm(WaveletKernel kernel, bool high, int level) {
   return std::sqrt(energy);
 }
 
-SubbandQuantisers::SubbandQuantisers(WaveletKernel kernel, const WaveletGeometry& g)
+SubbandQuantisers::SubbandQuantisers(WaveletKernel kernel, int frac, const WaveletGeometry& g)
     : bands_(kBandIds) {
-  const int frac = TransformFracBits(kernel);
   // Reversible kernels: weights relative to the finest all-detail band, as powers of two.
   uint64_t ref = 1u << 16;
   for (int a = 0; a < kAxes; ++a)

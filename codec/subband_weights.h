@@ -10,7 +10,7 @@
 //
 // Reversible kernels (Haar, 5/3) round each weight to a power of two so the
 // scaling is a shift and full-rate coding stays lossless; the 9/7 uses exact
-// weights with 2 fractional bits of sample precision.
+// weights, and its samples carry f fractional bits (SPEC.md 9.6).
 #ifndef FVV_CODEC_SUBBAND_WEIGHTS_H_
 #define FVV_CODEC_SUBBAND_WEIGHTS_H_
 
@@ -34,8 +34,23 @@ uint32_t AxisHighNormQ16(WaveletKernel kernel, int k);
 // The same from first principles, in double (for tests and the spec's table).
 double ComputeAxisNorm(WaveletKernel kernel, bool high, int level);
 
-// Bits of sample precision the transform input carries (samples << frac_bits).
-int TransformFracBits(WaveletKernel kernel);
+// Fractional bits of sample precision the transform input carries (samples <<
+// f, SPEC.md 9.6's f). The reversible kernels have none. The 9/7 had 2 up to
+// format version 2 (texr version 0); format version 3 declares f in texr
+// version 1, and the encoder writes 5: at 2 bits the rounding of the lifting
+// steps cost as much as the quantiser at high rates (1.6 dB at 20:1 on the demo
+// atlas textures). Above 6 nothing is gained and the headroom of 32-bit
+// coefficients shrinks.
+constexpr int kFracBits97Legacy = 2;
+constexpr int kFracBits97 = 5;
+constexpr int kMinFracBits97 = 2;
+constexpr int kMaxFracBits97 = 6;
+// What the encoder writes for a kernel: 0, or kFracBits97 for the 9/7.
+int DefaultFracBits(WaveletKernel kernel);
+// A kernel's f given the 9/7 precision setting: 0 for the reversible kernels.
+inline int KernelFracBits(WaveletKernel kernel, int frac_bits_97) {
+  return kernel == WaveletKernel::kCdf97 ? frac_bits_97 : 0;
+}
 
 struct BandQuantiser {
   uint32_t mul_q16 = 1u << 16;  // v = round(c * mul / 2^16)
@@ -45,7 +60,7 @@ struct BandQuantiser {
 
 class SubbandQuantisers {
  public:
-  SubbandQuantisers(WaveletKernel kernel, const WaveletGeometry& geometry);
+  SubbandQuantisers(WaveletKernel kernel, int frac_bits, const WaveletGeometry& geometry);
   // Band id of a coefficient from its per-axis band codes.
   static int BandId(const std::array<uint8_t, kAxes>& codes) {
     return ((codes[0] * kBandCodes + codes[1]) * kBandCodes + codes[2]) * kBandCodes + codes[3];

@@ -56,7 +56,7 @@ struct WaveletGeometry {
 };
 
 // Forward and inverse transforms, in place on one plane of the block. Callers
-// level-shift (and for the 9/7 scale by 2^TransformFracBits) around them.
+// level-shift (and for the 9/7 scale by 2^f, subband_weights.h) around them.
 void ForwardTransform4D(WaveletKernel kernel, const WaveletGeometry& geometry,
                         const ParallelRunner& runner, int32_t* data);
 // `finish(begin, end)`, when given, is called (possibly from the runner's

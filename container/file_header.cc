@@ -31,6 +31,8 @@ const char* CodingToolName(uint32_t tool_bit) {
       return "motion-zstd";
     case kToolPredictiveTexture:
       return "predictive-texture";
+    case kToolTexturePrecision:
+      return "texture-precision";
     default:
       return "unknown";
   }
@@ -58,7 +60,10 @@ const LevelLimits* FindLevel(uint8_t level) {
   return nullptr;
 }
 
-uint16_t RequiredFormatVersion(uint32_t tools) { return (tools & kToolPredictiveTexture) ? 2 : 1; }
+uint16_t RequiredFormatVersion(uint32_t tools) {
+  if (tools & kToolTexturePrecision) return 3;
+  return (tools & kToolPredictiveTexture) ? 2 : 1;
+}
 
 uint32_t ProfileTools(Profile profile) { return profile == Profile::kMain ? kAllKnownTools : 0; }
 
@@ -109,6 +114,12 @@ Status ValidateFileHeader(const FileHeader& h) {
   }
   if ((h.tools & kToolPredictiveTexture) && !(h.tools & kToolMasks)) {
     return Corrupt(at + "predictive texture without masks (its supports are the masks)");
+  }
+  if ((h.tools & kToolTexturePrecision) &&
+      (!(h.tools & kToolCdf97) || (h.tools & kToolPredictiveTexture))) {
+    return Corrupt(at +
+                   "texture-precision declared without 9/7 SPIHT texture (it sets the "
+                   "9/7's sample precision in 'texr')");
   }
   if (h.frame_rate_num == 0 || h.frame_rate_den == 0) {
     return Corrupt(at + "frame rate " + std::to_string(h.frame_rate_num) + "/" +

@@ -7,13 +7,23 @@
 #include "container/crc32c.h"
 
 namespace fvv {
-namespace {}  // namespace
+
+namespace {
+
+// 'texr' version 0 (before format version 3) has no precision field: the 9/7
+// had 2 fractional bits.
+uint8_t TextureFracBitsV0(WaveletKernel kernel) {
+  return kernel == WaveletKernel::kCdf97 ? kFracBits97Legacy : 0;
+}
+
+}  // namespace
 
 uint32_t TextureTools(WaveletKernel kernel, EntropyCoder coder, ColourSpace colour,
-                      ChromaFormat chroma) {
+                      ChromaFormat chroma, int frac_bits) {
   uint32_t tools = kernel == WaveletKernel::kHaar       ? kToolHaar
                    : kernel == WaveletKernel::kLeGall53 ? kToolLeGall53
                                                         : kToolCdf97;
+  if (frac_bits != TextureFracBitsV0(kernel)) tools |= kToolTexturePrecision;
   tools |= coder == EntropyCoder::kArith ? kToolSpihtArith : kToolSpihtBinary;
   if (chroma == ChromaFormat::k420) tools |= kToolChroma420;
   if (colour == ColourSpace::kRct) tools |= kToolReversibleColour;
@@ -74,8 +84,11 @@ std::vector<uint8_t> WriteFragmentBox(const FragmentData& f) {
     w.U8(static_cast<uint8_t>(p.coder));
     w.U8(static_cast<uint8_t>(p.colour));
     w.U8(static_cast<uint8_t>(p.chroma));
+    // Version 1 (format version 3, tool texture-precision) when version 0 cannot say it.
+    const uint8_t version = p.frac_bits == TextureFracBitsV0(p.kernel) ? 0 : 1;
+    if (version == 1) w.U8(p.frac_bits);
     for (const ChannelStream& s : f.texture.channels) WriteChannelStream(s, &w);
-    AppendBox(box::kTexture, 0, kBoxFlagEssential, w.bytes(), &payload);
+    AppendBox(box::kTexture, version, kBoxFlagEssential, w.bytes(), &payload);
   }
   if (!f.masks.empty()) {
     ByteWriter w;
@@ -135,18 +148,26 @@ Status ReadFragmentHeader(const BoxHeader& b, const uint8_t* payload, const File
 Status ReadTexture(const BoxHeader& b, const uint8_t* payload, const FileHeader& h,
                    const FragmentInfo& info, EncodedBlock* texture) {
   const std::string at = BoxContext(b);
-  if (b.version != 0) return Unsupported(at + "version " + std::to_string(b.version));
+  if (b.version > 1) return Unsupported(at + "version " + std::to_string(b.version));
+  // Version 1 carries the precision field; the header's tool bit says which
+  // version every 'texr' of the stream has.
+  const bool declared = (h.tools & kToolTexturePrecision) != 0;
+  if ((b.version == 1) != declared) {
+    return Corrupt(at + "version " + std::to_string(b.version) + " in a stream that " +
+                   (declared ? "declares" : "does not declare") + " texture-precision");
+  }
   ByteReader r(payload, b.payload_size());
   BlockParams& p = texture->params;
   p.kernel = static_cast<WaveletKernel>(r.U8());
   p.coder = static_cast<EntropyCoder>(r.U8());
   p.colour = static_cast<ColourSpace>(r.U8());
   p.chroma = static_cast<ChromaFormat>(r.U8());
+  p.frac_bits = b.version == 1 ? r.U8() : TextureFracBitsV0(p.kernel);
   p.shape = info.TextureShape(h);
   if (r.overrun()) return Corrupt(at + "too short");
   Status s = ValidateParams(p);
   if (!s.ok()) return Status(s.code(), at + s.message());
-  if ((TextureTools(p.kernel, p.coder, p.colour, p.chroma) & ~h.tools) != 0) {
+  if ((TextureTools(p.kernel, p.coder, p.colour, p.chroma, p.frac_bits) & ~h.tools) != 0) {
     return Corrupt(at + "uses coding tools the file header does not declare");
   }
   static const char* const kNames[3] = {"Y", "U", "V"};

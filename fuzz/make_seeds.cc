@@ -50,6 +50,7 @@ int Run(const std::string& dir) {
   };
   const Variant variants[] = {
       {"default", [](SampleStreamOptions*) {}},
+      {"precision_97", [](SampleStreamOptions* o) { o->frac_bits_97 = kFracBits97; }},
       {"haar_binary",
        [](SampleStreamOptions* o) {
          o->kernel = WaveletKernel::kHaar;

@@ -18,6 +18,19 @@ grep -q "complete" <<<"$out" || fail "decode report: $out"
 out=$("$fvv" block decode "$dir/b.fvb" -o "$dir/dec2" --bytes 100 2>&1) || fail "truncated decode: $out"
 grep -q "truncated" <<<"$out" || fail "truncated decode report: $out"
 
+# The 9/7's precision: 5 (default) writes block file version 2, 2 writes version 1
+# (what older decoders read); both decode, and 7 is refused by name.
+version_of() { od -An -tu1 -j4 -N1 "$1" | tr -d ' '; }
+[ "$(version_of "$dir/b.fvb")" = 2 ] || fail "default precision wrote version $(version_of "$dir/b.fvb")"
+"$fvv" block encode "$dir"/in/view_*.png --cameras 3 --precision 2 -o "$dir/p2.fvb" --bpp 1 >/dev/null 2>&1 ||
+  fail "precision 2 encode"
+[ "$(version_of "$dir/p2.fvb")" = 1 ] || fail "precision 2 wrote version $(version_of "$dir/p2.fvb")"
+out=$("$fvv" block decode "$dir/p2.fvb" -o "$dir/p2dec" 2>&1) || fail "precision 2 decode: $out"
+out=$("$fvv" block encode "$dir"/in/view_*.png --cameras 3 --precision 7 -o "$dir/p7.fvb" 2>&1) &&
+  fail "precision 7 accepted"
+grep -q -- "--precision" <<<"$out" || fail "precision 7 message: $out"
+[ ! -e "$dir/p7.fvb" ] || fail "refused precision left a file"
+
 # Lossless really is.
 "$fvv" block encode "$dir"/in/view_*.png --cameras 3 --lossless -o "$dir/l.fvb" >/dev/null 2>&1 || fail "lossless encode"
 "$fvv" block decode "$dir/l.fvb" -o "$dir/ldec" >/dev/null || fail "lossless decode"

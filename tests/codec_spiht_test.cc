@@ -138,9 +138,10 @@ INSTANTIATE_TEST_SUITE_P(
                       LosslessCase{WaveletKernel::kLeGall53, EntropyCoder::kArith}));
 
 EncodedBlock EncodeSmooth(const Shape4D& shape, WaveletKernel kernel, EntropyCoder coder,
-                          double bpp) {
+                          double bpp, int frac_bits_97 = kFracBits97) {
   EncodeSettings s;
   s.kernel = kernel;
+  s.frac_bits_97 = frac_bits_97;
   s.coder = coder;
   s.rate_value = bpp;
   auto enc = EncodeBlock(SmoothBlock(shape, ColourSpace::kYCbCr601, 9), nullptr, s);
@@ -237,20 +238,35 @@ TEST(Decoder, TimeBudgetStopsEarlyAndSaysSo) {
   EXPECT_LT(report.bytes_read, enc.total_bytes());
 }
 
-TEST(Decoder, OutputIsBitExact) {
-  // A fixed input coded with fixed settings: the stream and its decoding are pinned.
-  // A change here is a format change (see container/SPEC.md rules).
-  const EncodedBlock enc =
-      EncodeSmooth(Shape4D{{3, 2, 19, 23}}, WaveletKernel::kCdf97, EntropyCoder::kArith, 1.0);
+// A fixed input coded with fixed settings: the stream and its decoding are pinned.
+// A change here is a format change (see container/SPEC.md rules).
+struct PinnedDecode {
+  int frac_bits_97;
+  uint64_t stream_hash, output_hash;
+};
+
+class DecoderPinned : public ::testing::TestWithParam<PinnedDecode> {};
+
+TEST_P(DecoderPinned, OutputIsBitExact) {
+  const EncodedBlock enc = EncodeSmooth(Shape4D{{3, 2, 19, 23}}, WaveletKernel::kCdf97,
+                                        EntropyCoder::kArith, 1.0, GetParam().frac_bits_97);
+  ASSERT_EQ(enc.params.frac_bits, GetParam().frac_bits_97);
   uint64_t stream_hash = 1469598103934665603ull;
   for (const ChannelStream& s : enc.channels)
     stream_hash = testing::Fnv1a(s.data.data(), s.data.size(), stream_hash);
   auto dec = DecodeBlock(enc, DecodeBudget{}, SerialRunner);
   ASSERT_TRUE(dec.ok());
-  EXPECT_EQ(stream_hash, 0x287e15cac8b5f9ebull) << std::hex << stream_hash;
-  EXPECT_EQ(testing::HashBlock(*dec), 0xc935b295c6cd14e6ull)
+  EXPECT_EQ(stream_hash, GetParam().stream_hash) << std::hex << stream_hash;
+  EXPECT_EQ(testing::HashBlock(*dec), GetParam().output_hash)
       << std::hex << testing::HashBlock(*dec);
 }
+
+// f = 2: format versions 1 and 2 (and texr version 0 of version 3); f = 5: the
+// default since format version 3.
+INSTANTIATE_TEST_SUITE_P(
+    Precision, DecoderPinned,
+    ::testing::Values(PinnedDecode{kFracBits97Legacy, 0x287e15cac8b5f9ebull, 0xc935b295c6cd14e6ull},
+                      PinnedDecode{kFracBits97, 0x037d962b1e93695full, 0xb763be1644f0c3a9ull}));
 
 }  // namespace
 }  // namespace fvv

@@ -365,7 +365,7 @@ TEST(SubbandWeights, PinnedTableMatchesSynthesisNorms) {
 
 TEST(SubbandWeights, ReversibleKernelsUsePowerOfTwoShifts) {
   const WaveletGeometry g(Shape4D{{4, 4, 32, 32}});
-  const SubbandQuantisers q(WaveletKernel::kLeGall53, g);
+  const SubbandQuantisers q(WaveletKernel::kLeGall53, 0, g);
   for (int32_t c : {-1000, -1, 0, 1, 7, 12345}) {
     for (int band : {0, 1, 50, 400, kBandIds - 1}) {
       const uint32_t mul = q[band].mul_q16;

@@ -12,6 +12,7 @@ namespace {
 
 std::vector<uint8_t> TinyStream(bool fast_start) {
   SampleStreamOptions o = TinySampleOptions();
+  o.frac_bits_97 = kFracBits97;  // 'texr' version 1, as the encoder writes by default
   o.vertex_visibility = true;
   o.key_interval = 2;
   o.fast_start = fast_start;

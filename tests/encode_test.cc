@@ -437,11 +437,28 @@ TEST_F(EncodeTest, CApiEncodesAndReportsAndRefusesMisuse) {
   ASSERT_EQ(fvv_decoder_get_info(dec.get(), &info), FVV_OK);
   EXPECT_EQ(info.frame_count, 3u);
   EXPECT_EQ(info.camera_count, 6u);
-  EXPECT_EQ(info.format_version, 2u);  // mask mode 2 by default
+  EXPECT_EQ(info.format_version, 3u);  // 9/7 precision 5 and mask mode 2 by default
 
-  // FVV_MASKS_CODED_V1: mask mode 1 keeps the stream at format version 1, with
-  // larger masks; an unknown mask mode is refused.
+  // precision_97 = 2: the 9/7 as format versions 1 and 2 have it (format
+  // version 2 for the masks), at a lower PSNR for the same bytes.
   s.progress = nullptr;
+  s.precision_97 = 2;
+  fvv::EncoderPtr v2 = fvv::MakeEncoder(&s);
+  ASSERT_TRUE(v2);
+  const std::string out_v2 = dir_ + "/c_api_v2.fvv";
+  fvv_encode_report report_v2;
+  ASSERT_EQ(
+      fvv_encoder_encode_capture(v2.get(), (dir_ + "/cap").c_str(), out_v2.c_str(), &report_v2),
+      FVV_OK)
+      << fvv_encoder_error(v2.get());
+  EXPECT_LT(report_v2.psnr_rgb, report.psnr_rgb);
+  fvv::DecoderPtr dec_v2 = fvv::MakeDecoder();
+  ASSERT_EQ(fvv_decoder_open_file(dec_v2.get(), out_v2.c_str()), FVV_OK);
+  ASSERT_EQ(fvv_decoder_get_info(dec_v2.get(), &info), FVV_OK);
+  EXPECT_EQ(info.format_version, 2u);
+
+  // FVV_MASKS_CODED_V1 as well: mask mode 1 keeps the stream at format version
+  // 1, with larger masks; an unknown mask mode is refused.
   s.mask_mode = FVV_MASKS_CODED_V1;
   fvv::EncoderPtr v1 = fvv::MakeEncoder(&s);
   ASSERT_TRUE(v1);
@@ -451,8 +468,8 @@ TEST_F(EncodeTest, CApiEncodesAndReportsAndRefusesMisuse) {
       fvv_encoder_encode_capture(v1.get(), (dir_ + "/cap").c_str(), out_v1.c_str(), &report_v1),
       FVV_OK)
       << fvv_encoder_error(v1.get());
-  EXPECT_EQ(report_v1.texture_bytes, report.texture_bytes);
-  EXPECT_GT(report_v1.mask_bytes, report.mask_bytes);
+  EXPECT_EQ(report_v1.texture_bytes, report_v2.texture_bytes);
+  EXPECT_GT(report_v1.mask_bytes, report_v2.mask_bytes);
   fvv::DecoderPtr dec_v1 = fvv::MakeDecoder();
   ASSERT_EQ(fvv_decoder_open_file(dec_v1.get(), out_v1.c_str()), FVV_OK);
   ASSERT_EQ(fvv_decoder_get_info(dec_v1.get(), &info), FVV_OK);
@@ -460,6 +477,12 @@ TEST_F(EncodeTest, CApiEncodesAndReportsAndRefusesMisuse) {
   s.mask_mode = 3;
   EXPECT_EQ(fvv_encoder_create(&s, &none), FVV_INVALID_ARGUMENT);
   EXPECT_NE(std::string(fvv_encoder_settings_error()).find("mask_mode"), std::string::npos);
+  s.mask_mode = FVV_MASKS_CODED;
+  for (uint32_t precision : {1u, 7u}) {
+    s.precision_97 = precision;
+    EXPECT_EQ(fvv_encoder_create(&s, &none), FVV_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(fvv_encoder_settings_error()).find("precision_97"), std::string::npos);
+  }
 }
 
 }  // namespace

@@ -331,6 +331,23 @@ std::vector<CaseSpec> ValidCases() {
   o.bpp = 1.0;
   add("masks_mixing_predictive", "mask mode 2 with the predictive texture (its supports)", o,
       {120});
+
+  // Format version 3: the 9/7's sample precision in 'texr' version 1 (9.1, 9.6).
+  o = Base(8, 4, 64, 64, 4, 2);
+  o.frac_bits_97 = kFracBits97;
+  add("precision_97_f5",
+      "9/7 with 5 fractional bits of sample precision (texr version 1), arithmetic SPIHT, "
+      "masks; 2x2 GOP grid",
+      o, {1, 64, 700});
+  o = Base(5, 3, 37, 23, 4, 2);
+  o.frac_bits_97 = kMaxFracBits97;
+  o.coder = EntropyCoder::kBinary;
+  o.chroma = ChromaFormat::k420;
+  o.mask_coding = MaskCoding::kMixing;
+  add("precision_97_f6_binary_420",
+      "9/7 at the largest precision (6 fractional bits), binary SPIHT, 4:2:0 on an odd atlas, "
+      "mask mode 2",
+      o, {30, 200});
   return v;
 }
 
@@ -596,6 +613,53 @@ std::vector<CaseSpec> InvalidCases() {
                  "recomputed)",
                  StatusCode::kCorrupt, {"9.8", "10"}))
       ->edit = patch_first_fragment(box::kPredictiveTexture, 1 + 4 * 21, 31);
+
+  // Format version 3: texture precision ('texr' version 1: kernel, coder,
+  // colour, chroma, frac_bits, then the channel streams).
+  const auto precise = [](CaseSpec* c) {
+    c->options.frac_bits_97 = kFracBits97;
+    return c;
+  };
+  const auto set_tools = [header](std::vector<EditBox>* boxes, uint32_t clear, uint32_t set) {
+    std::vector<uint8_t>& h = header(boxes);
+    const uint32_t tools = h[fvvh::kTools] | h[fvvh::kTools + 1] << 8 | h[fvvh::kTools + 2] << 16 |
+                           uint32_t{h[fvvh::kTools + 3]} << 24;
+    StoreLe(&h, fvvh::kTools, (tools & ~clear) | set, 4);
+  };
+  precise(add("precision_in_version_2",
+              "the texture-precision tool (bit 12) in a format version 2 header",
+              StatusCode::kCorrupt, {"3.1", "4", "10"}))
+      ->edit = [header](std::vector<EditBox>* boxes) {
+    StoreLe(&header(boxes), fvvh::kFormatVersion, 2, 2);
+    return Status::Ok();
+  };
+  precise(add("texr_v1_without_tool",
+              "'texr' version 1 in a format version 3 stream whose header does not declare "
+              "texture-precision",
+              StatusCode::kCorrupt, {"3.1", "9.1", "10"}))
+      ->edit = [set_tools](std::vector<EditBox>* boxes) {
+    set_tools(boxes, kToolTexturePrecision, 0);
+    return Status::Ok();
+  };
+  add("texr_v0_with_tool",
+      "'texr' version 0 (no precision field) in a stream that declares texture-precision",
+      StatusCode::kCorrupt, {"3.1", "9.1", "10"})
+      ->edit = [set_tools, header](std::vector<EditBox>* boxes) {
+    set_tools(boxes, 0, kToolTexturePrecision);
+    StoreLe(&header(boxes), fvvh::kFormatVersion, 3, 2);
+    return Status::Ok();
+  };
+  precise(add("precision_out_of_range",
+              "a 9/7 texture declaring 7 fractional bits (allowed 2..6; checksum recomputed)",
+              StatusCode::kCorrupt, {"9.1", "10"}))
+      ->edit = patch_first_fragment(box::kTexture, 4, 7);
+  precise(add("precision_without_97",
+              "a header declaring texture-precision with the 5/3 kernel instead of the 9/7",
+              StatusCode::kCorrupt, {"3.1", "10"}))
+      ->edit = [set_tools](std::vector<EditBox>* boxes) {
+    set_tools(boxes, kToolCdf97, kToolLeGall53);
+    return Status::Ok();
+  };
   return v;
 }
 

@@ -121,6 +121,7 @@ int RunEncode(const EncodeArgs& a) {
 
   EncodeSettings settings;
   settings.kernel = a.codec.Kernel();
+  settings.frac_bits_97 = a.codec.precision_97;
   settings.coder = a.codec.Coder();
   settings.fill.iterations = a.fill_iterations;
   if (a.lossless) {

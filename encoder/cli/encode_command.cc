@@ -54,6 +54,7 @@ int RunEncode(const EncodeArgs& a) {
   s.gop_frames = a.gop_frames;
   s.gop_cameras = a.gop_cameras;
   s.kernel = a.codec.Kernel();
+  s.frac_bits_97 = a.codec.precision_97;
   s.coder = a.codec.Coder();
   s.chroma = a.codec.Chroma();
   s.fill.iterations = a.fill_iterations;

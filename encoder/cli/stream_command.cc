@@ -230,6 +230,7 @@ struct SampleArgs {
 
 int RunSample(SampleArgs a) {
   a.o.kernel = a.codec.Kernel();
+  a.o.frac_bits_97 = a.codec.precision_97;
   a.o.coder = a.codec.Coder();
   a.o.chroma = a.codec.Chroma();
   a.o.predictive = a.texture_codec == "predictive";

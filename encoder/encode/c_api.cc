@@ -25,6 +25,9 @@ fvv::Status ToSettings(const fvv_encoder_settings& c, fvv::EncoderSettings* s) {
   if (c.texture_codec > FVV_TEXTURE_PREDICTIVE)
     return InvalidArgument("texture_codec is not an fvv_texture_codec");
   if (c.kernel > FVV_KERNEL_HAAR) return InvalidArgument("kernel is not an fvv_kernel");
+  if (c.precision_97 < uint32_t(fvv::kMinFracBits97) ||
+      c.precision_97 > uint32_t(fvv::kMaxFracBits97))
+    return InvalidArgument("precision_97 is not 2..6");
   if (c.coder > FVV_CODER_BINARY) return InvalidArgument("coder is not an fvv_entropy_coder");
   if (c.chroma > FVV_CHROMA_420) return InvalidArgument("chroma is not an fvv_chroma");
   if (c.mask_mode > FVV_MASKS_CODED_V1) return InvalidArgument("mask_mode is not an fvv_mask_mode");
@@ -42,6 +45,7 @@ fvv::Status ToSettings(const fvv_encoder_settings& c, fvv::EncoderSettings* s) {
   static const fvv::WaveletKernel kKernels[] = {
       fvv::WaveletKernel::kCdf97, fvv::WaveletKernel::kLeGall53, fvv::WaveletKernel::kHaar};
   s->kernel = kKernels[c.kernel];
+  s->frac_bits_97 = int(c.precision_97);
   s->coder = c.coder == FVV_CODER_BINARY ? fvv::EntropyCoder::kBinary : fvv::EntropyCoder::kArith;
   s->chroma = c.chroma == FVV_CHROMA_420 ? fvv::ChromaFormat::k420 : fvv::ChromaFormat::k444;
   s->masks = c.mask_mode != FVV_MASKS_NONE;
@@ -85,6 +89,7 @@ void fvv_encoder_default_settings(fvv_encoder_settings* settings) {
   settings->gop_frames = 8;
   settings->gop_cameras = 1;
   settings->kernel = FVV_KERNEL_CDF97;
+  settings->precision_97 = fvv::kFracBits97;
   settings->coder = FVV_CODER_ARITH;
   settings->chroma = FVV_CHROMA_444;
   settings->mask_mode = FVV_MASKS_CODED;

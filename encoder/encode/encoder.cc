@@ -209,11 +209,12 @@ class Session {
     h->gop_frames = s_.gop_frames;
     h->gop_cameras = s_.gop_cameras;
     if (s_.texture_codec == TextureCodec::kPredictive) {
-      h->tools = (TextureTools(s_.kernel, s_.coder, ColourSpace::kYCbCr601, s_.chroma) &
+      h->tools = (TextureTools(s_.kernel, s_.coder, ColourSpace::kYCbCr601, s_.chroma, 0) &
                   (kToolHaar | kToolLeGall53 | kToolCdf97)) |
                  kToolPredictiveTexture;
     } else {
-      h->tools = TextureTools(s_.kernel, s_.coder, ColourSpace::kYCbCr601, s_.chroma);
+      h->tools = TextureTools(s_.kernel, s_.coder, ColourSpace::kYCbCr601, s_.chroma,
+                              KernelFracBits(s_.kernel, s_.frac_bits_97));
     }
     if (s_.masks) h->tools |= kToolMasks;
     if (s_.key_interval > 1) h->tools |= kToolMotionInterpolation;
@@ -312,6 +313,7 @@ class Session {
       }
       EncodeSettings es;
       es.kernel = s_.kernel;
+      es.frac_bits_97 = s_.frac_bits_97;
       es.coder = s_.coder;
       es.rate_mode = s_.rate_mode;
       es.rate_value = s_.rate_value;
@@ -512,6 +514,11 @@ Status CheckSettings(const EncoderSettings& s) {
     return InvalidArgument("atlas size " + std::to_string(s.atlas_size) + " is not in 16..4096");
   }
   if (s.gop_frames < 1) return InvalidArgument("GOP frames must be >= 1");
+  if (s.frac_bits_97 < kMinFracBits97 || s.frac_bits_97 > kMaxFracBits97) {
+    return InvalidArgument("9/7 sample precision " + std::to_string(s.frac_bits_97) +
+                           " is not in " + std::to_string(kMinFracBits97) + ".." +
+                           std::to_string(kMaxFracBits97) + " fractional bits");
+  }
   if (s.texture_codec == TextureCodec::kPredictive) {
     if (!s.masks) {
       return InvalidArgument("the predictive texture codec needs masks (they are its supports)");

@@ -21,6 +21,9 @@ struct SampleStreamOptions {
   uint16_t atlas_width = 64, atlas_height = 64;
   uint16_t gop_frames = 8, gop_cameras = 8;
   WaveletKernel kernel = WaveletKernel::kCdf97;
+  // 2 by default, as format versions 1 and 2 had it: the released cases are
+  // remade from these options byte for byte. Other values write format version 3.
+  int frac_bits_97 = kFracBits97Legacy;
   EntropyCoder coder = EntropyCoder::kArith;
   ChromaFormat chroma = ChromaFormat::k444;
   bool lossless = false;  // 5/3 or Haar + RCT at full rate

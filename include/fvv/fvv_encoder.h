@@ -78,6 +78,9 @@ typedef struct {
   void (*progress)(void* user, const char* line);
   void* progress_user;
   uint32_t texture_codec; /* an fvv_texture_codec (default FVV_TEXTURE_SPIHT) */
+  /* Fractional bits of the 9/7 transform's samples, 2..6 (default 5: format version 3).
+     2 keeps a 9/7 SPIHT stream readable by format version 1 and 2 decoders. */
+  uint32_t precision_97;
 } fvv_encoder_settings;
 
 typedef struct {
