@@ -41,9 +41,7 @@ Status ValidateParams(const BlockParams& p) {
     return LimitExceeded("block of " + p.shape.ToString() + " has more than 2^30 samples");
   if (static_cast<int>(p.kernel) > 2)
     return Corrupt("unknown wavelet kernel " + std::to_string(static_cast<int>(p.kernel)));
-  if (p.kernel == WaveletKernel::kCdf97
-          ? p.frac_bits < kMinFracBits97 || p.frac_bits > kMaxFracBits97
-          : p.frac_bits != 0)
+  if (p.kernel == WaveletKernel::kCdf97 ? !ValidFracBits97(p.frac_bits) : p.frac_bits != 0)
     return Corrupt("sample precision of " + std::to_string(p.frac_bits) +
                    " fractional bits for the " + KernelName(p.kernel) + " kernel (allowed: " +
                    (p.kernel == WaveletKernel::kCdf97

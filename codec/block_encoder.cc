@@ -138,14 +138,12 @@ double WeightedMse(const Block& a, const Block& b, const UsedMask* mask,
 StatusOr<EncodedBlock> EncodeBlock(const Block& block, const UsedMask* mask,
                                    const EncodeSettings& settings, EncodeReport* report) {
   EncodedBlock out;
-  out.params = {
-      block.shape(),  settings.kernel,
-      settings.coder, block.colour,
-      block.chroma,   static_cast<uint8_t>(KernelFracBits(settings.kernel, settings.frac_bits_97))};
-  if (settings.kernel == WaveletKernel::kCdf97 &&
-      (settings.frac_bits_97 < kMinFracBits97 || settings.frac_bits_97 > kMaxFracBits97))
+  if (settings.kernel == WaveletKernel::kCdf97 && !ValidFracBits97(settings.frac_bits_97))
     return InvalidArgument("9/7 sample precision must be " + std::to_string(kMinFracBits97) + ".." +
                            std::to_string(kMaxFracBits97) + " fractional bits");
+  out.params = {block.shape(), settings.kernel, settings.coder, block.colour, block.chroma};
+  out.params.frac_bits =
+      static_cast<uint8_t>(KernelFracBits(settings.kernel, settings.frac_bits_97));
   FVV_RETURN_IF_ERROR(ValidateParams(out.params));
   if (block.channels[1].shape != ChromaShape(block.shape(), block.chroma) ||
       block.channels[2].shape != block.channels[1].shape)

@@ -7,12 +7,6 @@ namespace fvv {
 namespace {
 constexpr char kMagic[4] = {'f', 'v', 'v', 'b'};
 constexpr uint32_t kMaxPoints = 2 * kMaxBitplanes;
-
-// Block files of version 1 (and texture boxes of version 0) predate the
-// precision field: the 9/7 had 2 fractional bits then.
-uint8_t LegacyFracBits(WaveletKernel kernel) {
-  return kernel == WaveletKernel::kCdf97 ? kFracBits97Legacy : 0;
-}
 }  // namespace
 
 uint8_t BlockFileVersionFor(const BlockParams& p) {
@@ -33,7 +27,7 @@ Status ReadBlockParams(ByteReader* r, uint8_t version, BlockParams* p) {
   p->coder = static_cast<EntropyCoder>(r->U8());
   p->colour = static_cast<ColourSpace>(r->U8());
   p->chroma = static_cast<ChromaFormat>(r->U8());
-  p->frac_bits = version >= 2 ? r->U8() : LegacyFracBits(p->kernel);
+  p->frac_bits = version >= 2 ? r->U8() : static_cast<uint8_t>(LegacyFracBits(p->kernel));
   for (int a = 0; a < kAxes; ++a) p->shape.n[a] = r->U32();
   if (r->overrun()) return Truncated("block parameters end early");
   return ValidateParams(*p);

@@ -51,6 +51,12 @@ int DefaultFracBits(WaveletKernel kernel);
 inline int KernelFracBits(WaveletKernel kernel, int frac_bits_97) {
   return kernel == WaveletKernel::kCdf97 ? frac_bits_97 : 0;
 }
+// f of payloads that predate the precision field ('texr' version 0, block file
+// version 1).
+inline int LegacyFracBits(WaveletKernel kernel) {
+  return KernelFracBits(kernel, kFracBits97Legacy);
+}
+inline bool ValidFracBits97(int f) { return f >= kMinFracBits97 && f <= kMaxFracBits97; }
 
 struct BandQuantiser {
   uint32_t mul_q16 = 1u << 16;  // v = round(c * mul / 2^16)

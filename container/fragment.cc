@@ -8,22 +8,12 @@
 
 namespace fvv {
 
-namespace {
-
-// 'texr' version 0 (before format version 3) has no precision field: the 9/7
-// had 2 fractional bits.
-uint8_t TextureFracBitsV0(WaveletKernel kernel) {
-  return kernel == WaveletKernel::kCdf97 ? kFracBits97Legacy : 0;
-}
-
-}  // namespace
-
 uint32_t TextureTools(WaveletKernel kernel, EntropyCoder coder, ColourSpace colour,
                       ChromaFormat chroma, int frac_bits) {
   uint32_t tools = kernel == WaveletKernel::kHaar       ? kToolHaar
                    : kernel == WaveletKernel::kLeGall53 ? kToolLeGall53
                                                         : kToolCdf97;
-  if (frac_bits != TextureFracBitsV0(kernel)) tools |= kToolTexturePrecision;
+  if (frac_bits != LegacyFracBits(kernel)) tools |= kToolTexturePrecision;
   tools |= coder == EntropyCoder::kArith ? kToolSpihtArith : kToolSpihtBinary;
   if (chroma == ChromaFormat::k420) tools |= kToolChroma420;
   if (colour == ColourSpace::kRct) tools |= kToolReversibleColour;
@@ -85,7 +75,7 @@ std::vector<uint8_t> WriteFragmentBox(const FragmentData& f) {
     w.U8(static_cast<uint8_t>(p.colour));
     w.U8(static_cast<uint8_t>(p.chroma));
     // Version 1 (format version 3, tool texture-precision) when version 0 cannot say it.
-    const uint8_t version = p.frac_bits == TextureFracBitsV0(p.kernel) ? 0 : 1;
+    const uint8_t version = p.frac_bits == LegacyFracBits(p.kernel) ? 0 : 1;
     if (version == 1) w.U8(p.frac_bits);
     for (const ChannelStream& s : f.texture.channels) WriteChannelStream(s, &w);
     AppendBox(box::kTexture, version, kBoxFlagEssential, w.bytes(), &payload);
@@ -162,7 +152,7 @@ Status ReadTexture(const BoxHeader& b, const uint8_t* payload, const FileHeader&
   p.coder = static_cast<EntropyCoder>(r.U8());
   p.colour = static_cast<ColourSpace>(r.U8());
   p.chroma = static_cast<ChromaFormat>(r.U8());
-  p.frac_bits = b.version == 1 ? r.U8() : TextureFracBitsV0(p.kernel);
+  p.frac_bits = b.version == 1 ? r.U8() : static_cast<uint8_t>(LegacyFracBits(p.kernel));
   p.shape = info.TextureShape(h);
   if (r.overrun()) return Corrupt(at + "too short");
   Status s = ValidateParams(p);

@@ -369,6 +369,13 @@ std::vector<CaseSpec> InvalidCases() {
   const auto header = [](std::vector<EditBox>* boxes) -> std::vector<uint8_t>& {
     return (*boxes)[FindBox(*boxes, box::kFileHeader)].payload;
   };
+  // Clears, then sets, bits of the header's coding tools.
+  const auto set_tools = [header](std::vector<EditBox>* boxes, uint32_t clear, uint32_t set) {
+    std::vector<uint8_t>& h = header(boxes);
+    const uint32_t tools = h[fvvh::kTools] | h[fvvh::kTools + 1] << 8 | h[fvvh::kTools + 2] << 16 |
+                           uint32_t{h[fvvh::kTools + 3]} << 24;
+    StoreLe(&h, fvvh::kTools, (tools & ~clear) | set, 4);
+  };
   const auto fragment = [](std::vector<EditBox>* boxes, int n) -> EditBox& {
     return (*boxes)[FindBox(*boxes, box::kFragment, n)];
   };
@@ -491,11 +498,8 @@ std::vector<CaseSpec> InvalidCases() {
     return Status::Ok();
   };
   add("unknown_tool_bit", "coding tool bit 20 set", StatusCode::kUnsupported, {"3.1", "10"})->edit =
-      [header](std::vector<EditBox>* boxes) {
-        std::vector<uint8_t>& h = header(boxes);
-        const uint32_t tools = h[fvvh::kTools] | h[fvvh::kTools + 1] << 8 |
-                               h[fvvh::kTools + 2] << 16 | uint32_t{h[fvvh::kTools + 3]} << 24;
-        StoreLe(&h, fvvh::kTools, tools | (1u << 20), 4);
+      [set_tools](std::vector<EditBox>* boxes) {
+        set_tools(boxes, 0, 1u << 20);
         return Status::Ok();
       };
   add("index_entry_mismatch", "an index entry's frame count differs from its fragment's header",
@@ -585,12 +589,9 @@ std::vector<CaseSpec> InvalidCases() {
   predictive(add("ptex_without_tool",
                  "a 'ptex' texture in a stream whose header declares SPIHT instead of bit 11",
                  StatusCode::kCorrupt, {"3.1", "3.5", "9.8", "10"}))
-      ->edit = [header](std::vector<EditBox>* boxes) {
-    std::vector<uint8_t>& h = header(boxes);
-    const uint32_t tools = h[fvvh::kTools] | h[fvvh::kTools + 1] << 8 | h[fvvh::kTools + 2] << 16 |
-                           uint32_t{h[fvvh::kTools + 3]} << 24;
-    StoreLe(&h, fvvh::kTools, (tools & ~kToolPredictiveTexture) | kToolSpihtArith, 4);
-    StoreLe(&h, fvvh::kFormatVersion, 1, 2);
+      ->edit = [header, set_tools](std::vector<EditBox>* boxes) {
+    set_tools(boxes, kToolPredictiveTexture, kToolSpihtArith);
+    StoreLe(&header(boxes), fvvh::kFormatVersion, 1, 2);
     return Status::Ok();
   };
   // The first fragment of the tiny stream is 2 frames x 2 cameras: 3 (1 + 2 + 4)
@@ -619,12 +620,6 @@ std::vector<CaseSpec> InvalidCases() {
   const auto precise = [](CaseSpec* c) {
     c->options.frac_bits_97 = kFracBits97;
     return c;
-  };
-  const auto set_tools = [header](std::vector<EditBox>* boxes, uint32_t clear, uint32_t set) {
-    std::vector<uint8_t>& h = header(boxes);
-    const uint32_t tools = h[fvvh::kTools] | h[fvvh::kTools + 1] << 8 | h[fvvh::kTools + 2] << 16 |
-                           uint32_t{h[fvvh::kTools + 3]} << 24;
-    StoreLe(&h, fvvh::kTools, (tools & ~clear) | set, 4);
   };
   precise(add("precision_in_version_2",
               "the texture-precision tool (bit 12) in a format version 2 header",

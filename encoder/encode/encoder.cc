@@ -514,7 +514,7 @@ Status CheckSettings(const EncoderSettings& s) {
     return InvalidArgument("atlas size " + std::to_string(s.atlas_size) + " is not in 16..4096");
   }
   if (s.gop_frames < 1) return InvalidArgument("GOP frames must be >= 1");
-  if (s.frac_bits_97 < kMinFracBits97 || s.frac_bits_97 > kMaxFracBits97) {
+  if (!ValidFracBits97(s.frac_bits_97)) {
     return InvalidArgument("9/7 sample precision " + std::to_string(s.frac_bits_97) +
                            " is not in " + std::to_string(kMinFracBits97) + ".." +
                            std::to_string(kMaxFracBits97) + " fractional bits");
