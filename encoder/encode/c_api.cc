@@ -25,7 +25,7 @@ fvv::Status ToSettings(const fvv_encoder_settings& c, fvv::EncoderSettings* s) {
   if (c.texture_codec > FVV_TEXTURE_PREDICTIVE)
     return InvalidArgument("texture_codec is not an fvv_texture_codec");
   if (c.kernel > FVV_KERNEL_HAAR) return InvalidArgument("kernel is not an fvv_kernel");
-  if (c.precision_97 > 64 || !fvv::ValidFracBits97(int(c.precision_97)))
+  if (c.precision_97 > uint32_t(fvv::kMaxFracBits97) || !fvv::ValidFracBits97(int(c.precision_97)))
     return InvalidArgument("precision_97 is not 2..6");
   if (c.coder > FVV_CODER_BINARY) return InvalidArgument("coder is not an fvv_entropy_coder");
   if (c.chroma > FVV_CHROMA_420) return InvalidArgument("chroma is not an fvv_chroma");
