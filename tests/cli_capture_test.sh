@@ -48,6 +48,12 @@ grep -q "tracked frames 0..2" <<<"$out" && grep -q "joint error against" <<<"$ou
 grep -Eq "^ +cm:( +[0-9]+\.[0-9]){3}$" <<<"$out" && grep -q "per frame: best frame [0-2] " <<<"$out" ||
   fail "per-frame errors: $out"
 grep -q '"dof_names"' "$dir/poses.json" && [ "$(grep -c '"iou"' "$dir/poses.json")" = 3 ] || fail "poses.json"
+# --smooth 0 reports each frame's own fit (the default smooths over time);
+# a sigma out of range is refused before any work.
+out=$("$fvv" track "$dir/cap" -o "$dir/raw.json" --smooth 0 -q 2>&1) || fail "track --smooth 0: $out"
+cmp -s "$dir/raw.json" "$dir/poses.json" && fail "--smooth 0 gave the smoothed poses"
+out=$("$fvv" track "$dir/cap" -o "$dir/wild.json" --smooth 17 -q 2>&1) && fail "--smooth 17 accepted"
+grep -q "smooth" <<<"$out" && [ ! -e "$dir/wild.json" ] || fail "--smooth 17 message: $out"
 
 # Bad inputs.
 out=$("$fvv" capture check "$dir/nowhere" 2>&1) && fail "missing capture accepted"

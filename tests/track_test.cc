@@ -6,12 +6,15 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdlib>
 
 #include "encoder/body/kinematics.h"
 #include "encoder/capture/joint_truth.h"
+#include "encoder/capture/pose_smoothing.h"
 #include "encoder/capture/powell.h"
 #include "encoder/capture/silhouette.h"
+#include "encoder/capture/track_capture.h"
 #include "encoder/capture/tracker.h"
 #include "encoder/synth/synth.h"
 
@@ -104,6 +107,57 @@ TEST_F(TrackTest, RecoversKnownMotionWithinBounds) {
   std::printf("  joint error: mean %.2f cm, max %.2f cm\n", 100 * e->mean, 100 * e->max);
   EXPECT_LT(e->mean, 0.03);
   EXPECT_LT(e->max, 0.10);
+}
+
+// The whole front end with smoothing: every frame reaches the callback once, in
+// order, after the frames its smoothed pose reads, with the pose the result
+// records; the smoothed poses are each the Gaussian mean of the fits' own.
+TEST_F(TrackTest, SmoothedFramesReachTheCallbackInOrderWithTheirPoses) {
+  ASSERT_TRUE(status_.ok()) << status_.ToString();
+  TrackCaptureOptions raw_options;
+  raw_options.smoothing.sigma_frames = 0;
+  StatusOr<TrackCaptureResult> raw = TrackCapture(options_.output_dir, raw_options);
+  ASSERT_TRUE(raw.ok()) << raw.status().ToString();
+  TrackCaptureOptions o;
+  o.smoothing.sigma_frames = 1;
+  ASSERT_EQ(o.smoothing.Radius(), 3);
+  std::vector<uint32_t> order;
+  std::vector<std::vector<double>> seen;
+  o.on_frame = [&](uint32_t f, const FrameFit& fit, const Tracker&,
+                   const std::vector<Image>& images, const std::vector<Image>& sils) {
+    EXPECT_EQ(images.size(), 6u);
+    EXPECT_EQ(sils.size(), 6u);
+    order.push_back(f);
+    seen.push_back(fit.dofs);
+    return Status::Ok();
+  };
+  StatusOr<TrackCaptureResult> smoothed = TrackCapture(options_.output_dir, o);
+  ASSERT_TRUE(smoothed.ok()) << smoothed.status().ToString();
+  ASSERT_EQ(order, (std::vector<uint32_t>{0, 1, 2, 3}));
+  const std::vector<std::vector<double>> raw_poses = raw->Poses();
+  std::vector<bool> angular;
+  for (const DofRef& d : raw->model.skeleton.Dofs()) angular.push_back(d.kind < 3);
+  double moved = 0;
+  for (size_t i = 0; i < seen.size(); ++i) {
+    EXPECT_EQ(seen[i], smoothed->fits[i].dofs) << "frame " << i;
+    const std::vector<double> want =
+        SmoothPose(raw_poses, std::vector<bool>(raw_poses.size(), true), angular, i, o.smoothing);
+    ASSERT_EQ(want.size(), seen[i].size());
+    for (size_t d = 0; d < want.size(); ++d) {
+      EXPECT_NEAR(seen[i][d], want[d], 1e-12) << "frame " << i << " dof " << d;
+      moved += std::abs(seen[i][d] - raw_poses[i][d]);
+    }
+    EXPECT_EQ(smoothed->fits[i].iou, raw->fits[i].iou);  // the fit's own figures
+  }
+  EXPECT_GT(moved, 0);
+  // An error from the callback stops tracking and is returned.
+  o.on_frame = [](uint32_t f, const FrameFit&, const Tracker&, const std::vector<Image>&,
+                  const std::vector<Image>&) {
+    return f == 1 ? InvalidArgument("stop at 1") : Status::Ok();
+  };
+  StatusOr<TrackCaptureResult> stopped = TrackCapture(options_.output_dir, o);
+  ASSERT_FALSE(stopped.ok());
+  EXPECT_EQ(stopped.status().message(), "stop at 1");
 }
 
 TEST_F(TrackTest, EmptyOrMissingSilhouettesAreFlaggedNotWild) {
@@ -207,6 +261,55 @@ TEST(Tracker, ActorWithOtherProportionsGetsItsOwn) {
   EXPECT_LT(error[1], 0.5 * error[0]);
   // The large head is seen as one: wider than the generic body's, scaled.
   EXPECT_GT(shape[1].girth[kSegHead], 1.3);
+}
+
+// Smoothing keeps what it must keep (constants, straight lines away from the
+// ends, angles across +-pi) and removes jitter, ignoring flagged fits.
+TEST(PoseSmoothing, KeepsMotionAndRemovesJitter) {
+  const double kPi = 3.14159265358979323846;
+  const PoseSmoothing off{0}, on{1.5};
+  EXPECT_EQ(off.Radius(), 0);
+  EXPECT_EQ(on.Radius(), 4);
+  const std::vector<bool> angular{true, false};
+  // Off: the pose itself, bit for bit.
+  const std::vector<std::vector<double>> few{{0.1, 2}, {0.3, -1}, {0.2, 5}};
+  EXPECT_EQ(SmoothPose(few, {}, angular, 1, off), few[1]);
+  // A constant stays constant, ends included; a straight line stays straight
+  // where the window is whole.
+  std::vector<std::vector<double>> line, jitter;
+  const double e = 0.05;
+  for (int i = 0; i < 20; ++i) {
+    line.push_back({0.5, 0.1 * i});
+    jitter.push_back({0.02 * i + (i % 2 ? e : -e), 1.0});
+  }
+  for (size_t i = 0; i < line.size(); ++i) {
+    const std::vector<double> p = SmoothPose(line, {}, angular, i, on);
+    EXPECT_NEAR(p[0], 0.5, 1e-12);
+    if (i >= 4 && i + 4 < line.size()) {
+      EXPECT_NEAR(p[1], 0.1 * double(i), 1e-9) << i;
+    }
+  }
+  // Alternating jitter of +-e around a ramp: most of it goes.
+  for (size_t i = 4; i + 4 < jitter.size(); ++i) {
+    const std::vector<double> p = SmoothPose(jitter, {}, angular, i, on);
+    EXPECT_LT(std::abs(p[0] - 0.02 * double(i)), e / 10) << i;
+    EXPECT_NEAR(p[1], 1.0, 1e-12);
+  }
+  // An angle crossing +-pi stays near +-pi (a plain mean would give about 0).
+  const std::vector<std::vector<double>> wrap{
+      {kPi - 0.02, 0}, {-kPi + 0.02, 0}, {kPi - 0.01, 0}, {-kPi + 0.01, 0}};
+  for (size_t i = 0; i < wrap.size(); ++i) {
+    const double a = SmoothPose(wrap, {}, angular, i, on)[0];
+    EXPECT_LT(std::abs(std::remainder(a - kPi, 2 * kPi)), 0.03) << i << ": " << a;
+  }
+  // A flagged fit does not pull its neighbours, but keeps its own value in.
+  std::vector<std::vector<double>> outlier(9, {0.0, 0.0});
+  outlier[4] = {1.0, 10.0};
+  std::vector<bool> trusted(9, true);
+  trusted[4] = false;
+  EXPECT_EQ(SmoothPose(outlier, trusted, angular, 3, on), (std::vector<double>{0, 0}));
+  EXPECT_GT(SmoothPose(outlier, trusted, angular, 4, on)[1], 0.0);
+  EXPECT_GT(SmoothPose(outlier, {}, angular, 3, on)[1], 0.5);  // trusted, it would
 }
 
 TEST(Tracker, RejectsBrokenCalibration) {

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <deque>
 #include <nlohmann/json.hpp>
 
 #include "codec/thread_pool.h"
@@ -68,6 +69,25 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
 
   const auto start = Clock::now();
   const bool want_images = o.on_frame || !o.overlays.empty();
+  // Frames tracked but not yet reported: their images wait for the frames
+  // after them that their smoothed pose reads.
+  struct Waiting {
+    std::vector<Image> images, silhouettes;
+  };
+  std::deque<Waiting> waiting;
+  std::vector<std::vector<double>> raw;  // the fits' own poses
+  std::vector<bool> trusted, angular;
+  auto report = [&](size_t i) -> Status {
+    r.fits[i].dofs = SmoothPose(raw, trusted, angular, i, o.smoothing);
+    Waiting w = std::move(waiting.front());
+    waiting.pop_front();
+    if (!o.on_frame) return Status::Ok();
+    const auto t3 = Clock::now();
+    FVV_RETURN_IF_ERROR(
+        o.on_frame(r.first + uint32_t(i), r.fits[i], **tracker, w.images, w.silhouettes));
+    r.callback_seconds += std::chrono::duration<double>(Clock::now() - t3).count();
+    return Status::Ok();
+  };
   for (uint32_t f = r.first; f <= r.last; ++f) {
     const auto t0 = Clock::now();
     std::vector<Image> sils, images;
@@ -122,13 +142,19 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
                     elapsed / done * (total - done));
       o.progress(line);
     }
-    if (o.on_frame) {
-      const auto t3 = Clock::now();
-      FVV_RETURN_IF_ERROR(o.on_frame(f, *fit, **tracker, images, sils));
-      r.callback_seconds += std::chrono::duration<double>(Clock::now() - t3).count();
+    if (angular.empty()) {
+      for (const DofRef& d : (*tracker)->Model().skeleton.Dofs()) angular.push_back(d.kind < 3);
     }
+    raw.push_back(fit->dofs);
+    trusted.push_back(!fit->poor);
     r.fits.push_back(std::move(*fit));
+    waiting.push_back({std::move(images), std::move(sils)});
+    const size_t reported = r.fits.size() - waiting.size();
+    if (r.fits.size() > reported + size_t(o.smoothing.Radius())) {
+      FVV_RETURN_IF_ERROR(report(reported));
+    }
   }
+  while (!waiting.empty()) FVV_RETURN_IF_ERROR(report(r.fits.size() - waiting.size()));
   r.mean_iou /= r.fits.size();
   r.shape = (*tracker)->shape();
   r.model = (*tracker)->Model();

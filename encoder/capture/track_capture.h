@@ -12,6 +12,7 @@
 
 #include "codec/status.h"
 #include "encoder/capture/capture.h"
+#include "encoder/capture/pose_smoothing.h"
 #include "encoder/capture/tracker.h"
 
 namespace fvv {
@@ -21,10 +22,15 @@ struct TrackCaptureOptions {
   uint32_t last = UINT32_MAX;  // clamped to the last frame
   bool extract = false;        // background subtraction even when silhouettes are given
   TrackerOptions tracker;
+  // Poses are smoothed over time before they are reported (on_frame and the
+  // result), each frame once Radius() later frames are tracked. The fit
+  // figures (IoU, XOR, flags) stay those of the frame's own fit.
+  PoseSmoothing smoothing{1.0};
   std::string save_silhouettes;  // directory for the silhouettes used (PNG), or empty
   std::string overlays;          // directory for fit overlays (PNG), or empty
   std::function<void(const std::string&)> progress;  // one line per frame
-  // Called after each frame's fit with that frame's images and silhouettes (the
+  // Called after each frame's fit (smoothed: later by the smoothing's radius)
+  // with that frame's images and silhouettes (the
   // encoder resamples textures here, so frames are read once). An error stops
   // tracking and is returned. The tracker gives the body shape and model.
   std::function<Status(uint32_t frame, const FrameFit& fit, const Tracker& tracker,

@@ -5,6 +5,7 @@
 
 #include "encoder/cli/codec_options.h"
 #include "encoder/cli/frame_range.h"
+#include "encoder/cli/smooth_option.h"
 #include "encoder/encode/encoder.h"
 
 namespace fvv {
@@ -23,6 +24,7 @@ struct EncodeArgs {
   bool no_masks = false, extract = false, fixed_shape = false, quiet = false, refine_shape = false,
        no_fallback = false;
   int margin = 2;
+  double smooth = TrackCaptureOptions{}.smoothing.sigma_frames;
   int fill_iterations = FillOptions{}.iterations;
   std::vector<std::string> meta;
 };
@@ -41,6 +43,7 @@ int RunEncode(const EncodeArgs& a) {
   if (!range.ok()) return Fail(range);
   s.extract_silhouettes = a.extract;
   s.tracker.adapt_shape = !a.fixed_shape;
+  s.pose_smoothing.sigma_frames = a.smooth;
   s.refine_shape = a.refine_shape;
   s.fallback_texture = !a.no_fallback;
   s.static_texture = a.static_texture;
@@ -153,6 +156,7 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
   e->add_flag("--extract", a->extract,
               "Background subtraction even when the capture lists silhouettes");
   e->add_flag("--fixed-shape", a->fixed_shape, "Tracking keeps the generic body's proportions");
+  AddSmoothOption(e, &a->smooth);
   e->add_flag("--no-fallback-texture", a->no_fallback,
               "Leave texels no camera of a frame sees to the codec's fill, instead of the "
               "actor's seamless static texture");

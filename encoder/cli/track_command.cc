@@ -7,6 +7,7 @@
 #include "encoder/capture/joint_truth.h"
 #include "encoder/capture/track_capture.h"
 #include "encoder/cli/frame_range.h"
+#include "encoder/cli/smooth_option.h"
 #include "tools/imageio/image_io.h"
 
 namespace fvv {
@@ -18,6 +19,7 @@ struct TrackArgs {
   bool extract = false;
   bool no_shape = false;
   bool quiet = false;
+  double smooth = TrackCaptureOptions{}.smoothing.sigma_frames;
 };
 
 int Fail(const Status& s) {
@@ -31,6 +33,7 @@ int RunTrack(const TrackArgs& a) {
   if (!range.ok()) return Fail(range);
   o.extract = a.extract;
   o.tracker.adapt_shape = !a.no_shape;
+  o.smoothing.sigma_frames = a.smooth;
   o.save_silhouettes = a.save_silhouettes;
   o.overlays = a.overlays;
   for (const std::string& dir : {a.save_silhouettes, a.overlays}) {
@@ -106,6 +109,7 @@ void AddTrackCommand(CLI::App* app, int* exit_code) {
   t->add_flag("--extract", a->extract,
               "Background subtraction even when the capture lists silhouettes");
   t->add_flag("--fixed-shape", a->no_shape, "Keep the generic body's proportions");
+  AddSmoothOption(t, &a->smooth);
   t->add_option("--save-silhouettes", a->save_silhouettes,
                 "Write the silhouettes used (PNG) here (created if missing)");
   t->add_option("--overlays", a->overlays,

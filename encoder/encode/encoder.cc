@@ -655,6 +655,7 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
     to.last = last;
     to.extract = s.extract_silhouettes;
     to.tracker = s.tracker;
+    to.smoothing = s.pose_smoothing;
     // Resampling and coding a frame run on a thread of their own, beside the
     // tracking of the next frames (at most one GOP and a frame queued), in
     // frame order, so the output is what a sequential run writes.

@@ -24,6 +24,7 @@
 #include "container/index_box.h"
 #include "container/motion_track.h"
 #include "encoder/capture/shape_refinement.h"
+#include "encoder/capture/track_capture.h"
 #include "encoder/capture/tracker.h"
 #include "encoder/encode/resample.h"
 
@@ -38,6 +39,9 @@ struct EncoderSettings {
   uint32_t first_frame = 0, last_frame = UINT32_MAX;  // clamped to the capture
   bool extract_silhouettes = false;  // background subtraction even if silhouettes are given
   TrackerOptions tracker;
+  // Tracked poses only (given poses are used as they are): smoothing over time
+  // before resampling (encoder/capture/pose_smoothing.h).
+  PoseSmoothing pose_smoothing = TrackCaptureOptions{}.smoothing;
   ResampleOptions resample;
   // Refine the body model's shape to the actor on the first encoded frame
   // (silhouettes, stereo; issue 10) before resampling: the stream's model is
