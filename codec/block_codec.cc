@@ -48,7 +48,7 @@ Status ValidateParams(const BlockParams& p) {
                         ? std::to_string(kMinFracBits97) + ".." + std::to_string(kMaxFracBits97)
                         : std::string("0")) +
                    ")");
-  if (static_cast<int>(p.coder) > 1)
+  if (static_cast<int>(p.coder) >= kEntropyCoders)
     return Corrupt("unknown entropy coder " + std::to_string(static_cast<int>(p.coder)));
   if (static_cast<int>(p.colour) > 1)
     return Corrupt("unknown colour space " + std::to_string(static_cast<int>(p.colour)));

@@ -65,7 +65,8 @@ struct EncodeSettings {
   // The 9/7's sample precision f (ignored by the reversible kernels). 2 writes
   // what format versions 1 and 2 read; see subband_weights.h.
   int frac_bits_97 = kFracBits97;
-  EntropyCoder coder = EntropyCoder::kArith;
+  // kArith2 needs a format version 4 decoder; kArith is what older ones read.
+  EntropyCoder coder = EntropyCoder::kArith2;
   RateMode rate_mode = RateMode::kBitsPerSample;
   double rate_value = 0.25;
   // Relative weight of each channel's squared error in rate allocation and in the

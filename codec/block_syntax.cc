@@ -10,6 +10,7 @@ constexpr uint32_t kMaxPoints = 2 * kMaxBitplanes;
 }  // namespace
 
 uint8_t BlockFileVersionFor(const BlockParams& p) {
+  if (p.coder == EntropyCoder::kArith2) return 3;
   return p.frac_bits == LegacyFracBits(p.kernel) ? 1 : 2;
 }
 
@@ -30,6 +31,9 @@ Status ReadBlockParams(ByteReader* r, uint8_t version, BlockParams* p) {
   p->frac_bits = version >= 2 ? r->U8() : static_cast<uint8_t>(LegacyFracBits(p->kernel));
   for (int a = 0; a < kAxes; ++a) p->shape.n[a] = r->U32();
   if (r->overrun()) return Truncated("block parameters end early");
+  if (version < 3 && p->coder == EntropyCoder::kArith2)
+    return Corrupt("entropy coder 2 (arith2) in a version " + std::to_string(version) +
+                   " block file (it needs version 3)");
   return ValidateParams(*p);
 }
 

@@ -23,7 +23,7 @@ namespace fvv {
 
 // Version 2 adds the 9/7's sample precision; writers use version 1 for blocks
 // that version 1 can describe.
-constexpr uint8_t kBlockFileVersion = 2;
+constexpr uint8_t kBlockFileVersion = 3;
 
 // The block file version that can hold these parameters.
 uint8_t BlockFileVersionFor(const BlockParams& p);

@@ -6,7 +6,9 @@
 
 namespace fvv {
 
-const char* CoderName(EntropyCoder c) { return c == EntropyCoder::kArith ? "arith" : "binary"; }
+const char* CoderName(EntropyCoder c) {
+  return c == EntropyCoder::kArith2 ? "arith2" : c == EntropyCoder::kArith ? "arith" : "binary";
+}
 
 SpihtTree::SpihtTree(const WaveletGeometry& geometry) : g_(geometry) {
   for (int a = 0; a < kAxes; ++a)

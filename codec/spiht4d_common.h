@@ -33,9 +33,15 @@ namespace fvv {
 
 enum class EntropyCoder : uint8_t {
   kBinary = 0,  // decisions written as raw bits (as the original system)
-  kArith = 1,   // context-adaptive binary range coding
+  kArith = 1,   // context-adaptive binary range coding (format versions 1 to 3)
+  // Format version 4: the same range coder with the neighbourhood contexts of
+  // ctx2 below (significance of the coefficients at t - 1 and t + 1, of a set's
+  // root and its neighbours, and of a refined coefficient's neighbours).
+  kArith2 = 2,
 };
+constexpr int kEntropyCoders = 3;
 const char* CoderName(EntropyCoder c);
+inline bool RangeCoded(EntropyCoder c) { return c != EntropyCoder::kBinary; }
 
 constexpr int kMaxChildren = 81;  // 3 per axis in the odd-size corner case
 constexpr int kMaxBitplanes = 30;
@@ -120,7 +126,8 @@ class SpihtTree {
 // channel of each fragment. A few recent trees of moderate size are kept.
 std::shared_ptr<const SpihtTree> SharedSpihtTree(const WaveletGeometry& geometry);
 
-// Context indices of the adaptive model.
+// Context indices of the adaptive model: ctx for coder 1 (arith), ctx2 for
+// coder 2 (arith2).
 namespace ctx {
 constexpr int kLevelClasses = 5;
 constexpr int kNeighbourBins = 3;
@@ -135,16 +142,43 @@ constexpr int kRefine = kSign + kLevelClasses * kSignStates;  // [first?]
 constexpr int kCount = kRefine + 2;
 }  // namespace ctx
 
+// Coder 2. On the demo capture's atlas textures most of its gain is in the set
+// and refinement contexts; the temporal neighbours add a third of it (the
+// textures change little from frame to frame, so a coefficient whose
+// neighbour in time is significant is likely significant too).
+namespace ctx2 {
+constexpr int kLevelClasses = ctx::kLevelClasses;
+constexpr int kSpatialBins = 3;   // significant of x - 1, x + 1, y - 1, y + 1, clipped to 2
+constexpr int kTemporalBins = 3;  // significant of t - 1, t + 1
+constexpr int kNeighbourBins = kSpatialBins * kTemporalBins;
+constexpr int kSiblingBins = ctx::kSiblingBins;
+constexpr int kSigLip = 0;  // [class][spatial][temporal]
+constexpr int kSigChild =
+    kSigLip + kLevelClasses * kNeighbourBins;  // [sib][class][spatial][temporal]
+constexpr int kSetBins = 2 * kSpatialBins;     // root significant? x spatial
+constexpr int kSetA =
+    kSigChild + kSiblingBins * kLevelClasses * kNeighbourBins;     // [class][root][spatial]
+constexpr int kSetB = kSetA + kLevelClasses * kSetBins;            // [class][root][spatial]
+constexpr int kSign = kSetB + kLevelClasses * kSetBins;            // [class][left][up], as ctx
+constexpr int kRefine = kSign + kLevelClasses * ctx::kSignStates;  // [first?][spatial]
+constexpr int kCount = kRefine + 2 * kSpatialBins;
+}  // namespace ctx2
+constexpr int kMaxContexts = ctx2::kCount > ctx::kCount ? ctx2::kCount : ctx::kCount;
+
 // The traversal. Side provides (each returns false to stop the traversal now):
 //   bool SigCoeff(uint32_t idx, int n, int ctx, bool* sig);
 //   bool Sign(uint32_t idx, int n, int ctx, bool* negative);
 //   bool SigSet(uint32_t idx, int n, bool type_b, int ctx, bool* sig);
 //   bool Refine(uint32_t idx, int n, int ctx);
 //   void PassEnd(int n, int pass);
-template <class Side>
+// kNeighbourhood selects the contexts: false ctx (coders 0 and 1), true ctx2 (coder 2).
+template <bool kNeighbourhood, class Side>
 void SpihtTraverse(const SpihtTree& tree, int planes, Side* side) {
   const Shape4D& shape = tree.geometry().shape;
   const uint32_t w = shape.width();
+  // Neighbours in time: one frame apart in the block's layout.
+  const size_t frame = size_t(shape.n[1]) * shape.n[2] * shape.n[3];
+  const size_t count = shape.count();
   // 0: not (yet) significant; 1: significant, positive; 2: significant, negative.
   // Kept per thread: a fresh multi-megabyte array per channel costs page faults.
   // It is all zero between traversals (each clears the entries it set, below),
@@ -160,12 +194,19 @@ void SpihtTraverse(const SpihtTree& tree, int planes, Side* side) {
     if (tree.HasDown(idx)) k += significant[idx + w] != 0;
     return k < 2 ? k : 2;
   };
+  auto temporal = [&](uint32_t idx) {
+    int k = 0;
+    if (idx >= frame) k += significant[idx - frame] != 0;
+    if (idx + frame < count) k += significant[idx + frame] != 0;
+    return k;
+  };
   // Signs of the left and upper neighbours: signs of neighbouring wavelet
   // coefficients are correlated along edges.
   auto sign_ctx = [&](uint32_t idx) {
     const int left = tree.HasLeft(idx) ? significant[idx - 1] : 0;
     const int up = tree.HasUp(idx) ? significant[idx - w] : 0;
-    return ctx::kSign + tree.LevelClass(idx) * ctx::kSignStates + left * 3 + up;
+    return (kNeighbourhood ? ctx2::kSign : ctx::kSign) + tree.LevelClass(idx) * ctx::kSignStates +
+           left * 3 + up;
   };
   std::vector<uint32_t> lsp;
   // On every way out: the LSP holds every coefficient marked significant.
@@ -185,9 +226,30 @@ void SpihtTraverse(const SpihtTree& tree, int planes, Side* side) {
     significant[idx] = negative ? 2 : 1;
     return true;
   };
+  // base: the context group's first index (for a child, of its sibling bin).
   auto coeff_ctx = [&](int base, uint32_t idx) {
+    if (kNeighbourhood) {
+      return base + tree.LevelClass(idx) * ctx2::kNeighbourBins +
+             neighbours(idx) * ctx2::kTemporalBins + temporal(idx);
+    }
     return base + tree.LevelClass(idx) * ctx::kNeighbourBins + neighbours(idx);
   };
+  auto set_ctx = [&](uint32_t idx, bool type_b) {
+    const int cls = tree.LevelClass(idx);
+    if (kNeighbourhood) {
+      return (type_b ? ctx2::kSetB : ctx2::kSetA) + cls * ctx2::kSetBins +
+             (significant[idx] != 0) * ctx2::kSpatialBins + neighbours(idx);
+    }
+    return (type_b ? ctx::kSetB : ctx::kSetA) + cls;
+  };
+  auto refine_ctx = [&](uint32_t idx, bool first) {
+    if (kNeighbourhood) return ctx2::kRefine + first * ctx2::kSpatialBins + neighbours(idx);
+    return ctx::kRefine + (first ? 1 : 0);
+  };
+  const int sig_lip = kNeighbourhood ? ctx2::kSigLip : ctx::kSigLip;
+  const int sig_child = kNeighbourhood ? ctx2::kSigChild : ctx::kSigChild;
+  const int sibling_stride = kNeighbourhood ? ctx2::kLevelClasses * ctx2::kNeighbourBins
+                                            : ctx::kLevelClasses * ctx::kNeighbourBins;
 
   std::vector<uint32_t> lip = tree.roots();
   std::vector<uint32_t> lis;
@@ -204,7 +266,7 @@ void SpihtTraverse(const SpihtTree& tree, int planes, Side* side) {
     for (size_t i = 0; i < lip.size(); ++i) {
       const uint32_t idx = lip[i];
       bool sig;
-      if (!side->SigCoeff(idx, n, coeff_ctx(ctx::kSigLip, idx), &sig)) return;
+      if (!side->SigCoeff(idx, n, coeff_ctx(sig_lip, idx), &sig)) return;
       if (sig) {
         if (!code_sign(idx, n)) return;
       } else {
@@ -219,9 +281,8 @@ void SpihtTraverse(const SpihtTree& tree, int planes, Side* side) {
       const uint32_t entry = lis[i];
       const uint32_t idx = entry & ~kTypeB;
       const bool type_b = (entry & kTypeB) != 0;
-      const int cls = tree.LevelClass(idx);
       bool sig;
-      if (!side->SigSet(idx, n, type_b, (type_b ? ctx::kSetB : ctx::kSetA) + cls, &sig)) return;
+      if (!side->SigSet(idx, n, type_b, set_ctx(idx, type_b), &sig)) return;
       if (!sig) {
         lis[kept++] = entry;
         continue;
@@ -233,7 +294,7 @@ void SpihtTraverse(const SpihtTree& tree, int planes, Side* side) {
           const uint32_t c = children[k];
           bool csig;
           const int sib = siblings < ctx::kSiblingBins ? siblings : ctx::kSiblingBins - 1;
-          const int base = ctx::kSigChild + sib * ctx::kLevelClasses * ctx::kNeighbourBins;
+          const int base = sig_child + sib * sibling_stride;
           if (!side->SigCoeff(c, n, coeff_ctx(base, c), &csig)) return;
           siblings += csig;
           if (csig) {
@@ -251,7 +312,7 @@ void SpihtTraverse(const SpihtTree& tree, int planes, Side* side) {
     side->PassEnd(n, 0);
     // Refinement pass over coefficients significant before this bitplane.
     for (size_t i = 0; i < lsp_before_pass; ++i)
-      if (!side->Refine(lsp[i], n, ctx::kRefine + (i >= lsp_first_refine ? 1 : 0))) return;
+      if (!side->Refine(lsp[i], n, refine_ctx(lsp[i], i >= lsp_first_refine))) return;
     lsp_first_refine = lsp_before_pass;
     side->PassEnd(n, 1);
   }

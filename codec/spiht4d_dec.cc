@@ -18,7 +18,7 @@ class DecoderSide {
         deadline_(std::chrono::steady_clock::time_point::max()),
         mag_(*magnitudes),
         state_(StateBuffer(tree.size())),
-        probs_(ctx::kCount, kProbInit) {
+        probs_(kMaxContexts, kProbInit) {
     // The clock starts after the buffers above exist: the budget is for decisions.
     if (limits.max_ms > 0) {
       deadline_ = std::chrono::steady_clock::now() +
@@ -70,7 +70,7 @@ class DecoderSide {
   }
 
   uint64_t bytes_used() const {
-    return coder_ == EntropyCoder::kArith ? range_.bytes_consumed() : bits_.bytes_consumed();
+    return RangeCoded(coder_) ? range_.bytes_consumed() : bits_.bytes_consumed();
   }
   int planes_completed() const { return planes_completed_; }
   bool hit_deadline() const { return hit_deadline_; }
@@ -83,7 +83,7 @@ class DecoderSide {
       hit_deadline_ = true;
     }
     if (hit_deadline_) return Stop();
-    if (coder_ == EntropyCoder::kArith) {
+    if (RangeCoded(coder_)) {
       if (!range_.ok()) return Stop();
       *bit = range_.Decode(&probs_[ctx]);
     } else {
@@ -127,7 +127,11 @@ SpihtDecodeResult SpihtDecode(const SpihtTree& tree, const SubbandQuantisers& qu
   coefficients->assign(tree.size(), 0);
   const size_t budget = size < limits.max_bytes ? size : static_cast<size_t>(limits.max_bytes);
   DecoderSide side(tree, data, budget, coder, limits, coefficients);
-  SpihtTraverse(tree, planes, &side);
+  if (coder == EntropyCoder::kArith2) {
+    SpihtTraverse<true>(tree, planes, &side);
+  } else {
+    SpihtTraverse<false>(tree, planes, &side);
+  }
   side.Reconstruct(tree, quantisers);
   SpihtDecodeResult result;
   result.bytes_used = side.bytes_used();

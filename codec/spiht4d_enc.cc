@@ -28,7 +28,7 @@ class EncoderSide {
         mag_(coefficients.size()),
         descendant_bits_(coefficients.size(), 0),
         grandchild_bits_(coefficients.size(), 0),
-        probs_(ctx::kCount, kProbInit) {
+        probs_(kMaxContexts, kProbInit) {
     for (size_t i = 0; i < coefficients.size(); ++i) {
       mag_[i] = static_cast<uint32_t>(std::abs(coefficients[i]));
       const double v = mag_[i];
@@ -81,7 +81,7 @@ class EncoderSide {
 
   SpihtEncoded Finish(int planes) {
     out_.planes = static_cast<uint8_t>(planes);
-    out_.data = coder_ == EntropyCoder::kArith ? range_.Finish() : bits_.Finish();
+    out_.data = RangeCoded(coder_) ? range_.Finish() : bits_.Finish();
     if (out_.data.size() > max_bytes_) {
       // Cut at the budget; a pass that ended beyond it is no longer a truncation point.
       out_.data.resize(max_bytes_);
@@ -105,10 +105,10 @@ class EncoderSide {
  private:
   double Factor(uint32_t idx) const { return quantisers_[tree_.BandId(idx)].distortion; }
   uint64_t BytesNeeded() const {
-    return coder_ == EntropyCoder::kArith ? range_.BytesNeeded() : (bits_.bit_count() + 7) / 8;
+    return RangeCoded(coder_) ? range_.BytesNeeded() : (bits_.bit_count() + 7) / 8;
   }
   bool Put(int ctx, uint32_t bit) {
-    if (coder_ == EntropyCoder::kArith) {
+    if (RangeCoded(coder_)) {
       range_.Encode(bit, &probs_[ctx]);
     } else {
       bits_.PutBit(bit);
@@ -169,7 +169,11 @@ SpihtEncoded SpihtEncode(const SpihtTree& tree, const SubbandQuantisers& quantis
   EncoderSide side(tree, quantisers, coefficients, coder, max_bytes);
   const int planes = std::min(side.planes(), kMaxBitplanes);
   side.MarkStart();
-  SpihtTraverse(tree, planes, &side);
+  if (coder == EntropyCoder::kArith2) {
+    SpihtTraverse<true>(tree, planes, &side);
+  } else {
+    SpihtTraverse<false>(tree, planes, &side);
+  }
   return side.Finish(planes);
 }
 

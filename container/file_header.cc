@@ -31,6 +31,8 @@ const char* CodingToolName(uint32_t tool_bit) {
       return "motion-zstd";
     case kToolPredictiveTexture:
       return "predictive-texture";
+    case kToolSpihtArith2:
+      return "spiht-arith2";
     case kToolTexturePrecision:
       return "texture-precision";
     default:
@@ -61,6 +63,7 @@ const LevelLimits* FindLevel(uint8_t level) {
 }
 
 uint16_t RequiredFormatVersion(uint32_t tools) {
+  if (tools & kToolSpihtArith2) return 4;
   if (tools & kToolTexturePrecision) return 3;
   return (tools & kToolPredictiveTexture) ? 2 : 1;
 }

@@ -51,6 +51,11 @@ int Run(const std::string& dir) {
   const Variant variants[] = {
       {"default", [](SampleStreamOptions*) {}},
       {"precision_97", [](SampleStreamOptions* o) { o->frac_bits_97 = kFracBits97; }},
+      {"arith2",
+       [](SampleStreamOptions* o) {
+         o->frac_bits_97 = kFracBits97;
+         o->coder = EntropyCoder::kArith2;
+       }},
       {"haar_binary",
        [](SampleStreamOptions* o) {
          o->kernel = WaveletKernel::kHaar;

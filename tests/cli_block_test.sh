@@ -18,11 +18,16 @@ grep -q "complete" <<<"$out" || fail "decode report: $out"
 out=$("$fvv" block decode "$dir/b.fvb" -o "$dir/dec2" --bytes 100 2>&1) || fail "truncated decode: $out"
 grep -q "truncated" <<<"$out" || fail "truncated decode report: $out"
 
-# The 9/7's precision: 5 (default) writes block file version 2, 2 writes version 1
-# (what older decoders read); both decode, and 7 is refused by name.
+# The defaults (coder arith2, 9/7 precision 5) write block file version 3;
+# --coder arith writes version 2 and --precision 2 with it version 1 (what
+# older decoders read); all decode, and 7 is refused by name.
 version_of() { od -An -tu1 -j4 -N1 "$1" | tr -d ' '; }
-[ "$(version_of "$dir/b.fvb")" = 2 ] || fail "default precision wrote version $(version_of "$dir/b.fvb")"
-"$fvv" block encode "$dir"/in/view_*.png --cameras 3 --precision 2 -o "$dir/p2.fvb" --bpp 1 >/dev/null 2>&1 ||
+[ "$(version_of "$dir/b.fvb")" = 3 ] || fail "defaults wrote version $(version_of "$dir/b.fvb")"
+"$fvv" block encode "$dir"/in/view_*.png --cameras 3 --coder arith -o "$dir/a1.fvb" --bpp 1 >/dev/null 2>&1 ||
+  fail "coder arith encode"
+[ "$(version_of "$dir/a1.fvb")" = 2 ] || fail "coder arith wrote version $(version_of "$dir/a1.fvb")"
+out=$("$fvv" block decode "$dir/a1.fvb" -o "$dir/a1dec" 2>&1) || fail "coder arith decode: $out"
+"$fvv" block encode "$dir"/in/view_*.png --cameras 3 --coder arith --precision 2 -o "$dir/p2.fvb" --bpp 1 >/dev/null 2>&1 ||
   fail "precision 2 encode"
 [ "$(version_of "$dir/p2.fvb")" = 1 ] || fail "precision 2 wrote version $(version_of "$dir/p2.fvb")"
 out=$("$fvv" block decode "$dir/p2.fvb" -o "$dir/p2dec" 2>&1) || fail "precision 2 decode: $out"

@@ -254,10 +254,33 @@ TEST(BlockFile, HeaderErrorsAreNamed) {
   EXPECT_EQ(ReadBlockFile(bad.data(), bad.size()).status().code(), StatusCode::kCorrupt);
 }
 
+// Coder 2 needs block file version 3; versions 1 and 2 name coders 0 and 1
+// only, and coder 3 does not exist.
+TEST(BlockFile, Arith2IsVersion3) {
+  const std::vector<uint8_t> file = SmallBlockFile(EntropyCoder::kArith2);
+  ASSERT_EQ(file[4], 3);
+  EXPECT_EQ(file[6], 2);  // coder, after magic, version and kernel
+  auto parsed = ReadBlockFile(file.data(), file.size());
+  ASSERT_TRUE(parsed.ok()) << parsed.status().ToString();
+  EXPECT_EQ(parsed->params.coder, EntropyCoder::kArith2);
+  EXPECT_EQ(WriteBlockFile(*parsed), file);
+  std::vector<uint8_t> bad = file;
+  bad[4] = 2;
+  auto old = ReadBlockFile(bad.data(), bad.size());
+  EXPECT_EQ(old.status().code(), StatusCode::kCorrupt);
+  EXPECT_NE(old.status().message().find("version 3"), std::string::npos) << old.status().message();
+  bad = file;
+  bad[6] = 3;
+  auto unknown = ReadBlockFile(bad.data(), bad.size());
+  EXPECT_EQ(unknown.status().code(), StatusCode::kCorrupt);
+  EXPECT_NE(unknown.status().message().find("entropy coder 3"), std::string::npos);
+  EXPECT_EQ(SmallBlockFile(EntropyCoder::kArith)[4], 2);  // precision 5, coder 1
+}
+
 // Every prefix and every single-byte change: a defined outcome, never a crash
 // (run under ASan+UBSan in CI).
 TEST(BlockFile, EveryPrefixAndByteFlipEndsInErrorOrValidDecode) {
-  for (EntropyCoder coder : {EntropyCoder::kBinary, EntropyCoder::kArith}) {
+  for (EntropyCoder coder : {EntropyCoder::kBinary, EntropyCoder::kArith, EntropyCoder::kArith2}) {
     const std::vector<uint8_t> file = SmallBlockFile(coder);
     for (size_t n = 0; n < file.size(); ++n) {
       auto parsed = ReadBlockFile(file.data(), n);

@@ -437,11 +437,32 @@ TEST_F(EncodeTest, CApiEncodesAndReportsAndRefusesMisuse) {
   ASSERT_EQ(fvv_decoder_get_info(dec.get(), &info), FVV_OK);
   EXPECT_EQ(info.frame_count, 3u);
   EXPECT_EQ(info.camera_count, 6u);
-  EXPECT_EQ(info.format_version, 3u);  // 9/7 precision 5 and mask mode 2 by default
+  EXPECT_EQ(info.format_version, 4u);  // SPIHT coder arith2 by default
+
+  // FVV_CODER_ARITH: the contexts of format versions 1..3 (version 3 for the
+  // 9/7 precision 5), at the same bytes and a lower PSNR; an unknown coder is refused.
+  s.progress = nullptr;
+  s.coder = FVV_CODER_ARITH;
+  fvv::EncoderPtr v3 = fvv::MakeEncoder(&s);
+  ASSERT_TRUE(v3);
+  const std::string out_v3 = dir_ + "/c_api_v3.fvv";
+  fvv_encode_report report_v3;
+  ASSERT_EQ(
+      fvv_encoder_encode_capture(v3.get(), (dir_ + "/cap").c_str(), out_v3.c_str(), &report_v3),
+      FVV_OK)
+      << fvv_encoder_error(v3.get());
+  EXPECT_LT(report_v3.psnr_rgb, report.psnr_rgb);
+  fvv::DecoderPtr dec_v3 = fvv::MakeDecoder();
+  ASSERT_EQ(fvv_decoder_open_file(dec_v3.get(), out_v3.c_str()), FVV_OK);
+  ASSERT_EQ(fvv_decoder_get_info(dec_v3.get(), &info), FVV_OK);
+  EXPECT_EQ(info.format_version, 3u);
+  s.coder = 3;
+  EXPECT_EQ(fvv_encoder_create(&s, &none), FVV_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(fvv_encoder_settings_error()).find("coder"), std::string::npos);
+  s.coder = FVV_CODER_ARITH;
 
   // precision_97 = 2: the 9/7 as format versions 1 and 2 have it (format
   // version 2 for the masks), at a lower PSNR for the same bytes.
-  s.progress = nullptr;
   s.precision_97 = 2;
   fvv::EncoderPtr v2 = fvv::MakeEncoder(&s);
   ASSERT_TRUE(v2);

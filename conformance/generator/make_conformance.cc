@@ -94,7 +94,7 @@ std::vector<std::string> Sections(const StreamInfo& info, const CaseSpec& spec) 
     s.erase(std::find(s.begin(), s.end(), "9.1"), s.end());
     s.insert(s.end(), {"4", "9.4", "9.6", "9.7", "9.8"});
   } else {
-    if (t & kToolSpihtArith) s.push_back("9.4");
+    if (t & (kToolSpihtArith | kToolSpihtArith2)) s.push_back("9.4");
     s.insert(s.end(), {"9.5", "9.6", "9.7"});
   }
   if (t & kToolMasks) s.push_back("7");
@@ -347,6 +347,24 @@ std::vector<CaseSpec> ValidCases() {
   add("precision_97_f6_binary_420",
       "9/7 at the largest precision (6 fractional bits), binary SPIHT, 4:2:0 on an odd atlas, "
       "mask mode 2",
+      o, {30, 200});
+
+  // Format version 4: SPIHT coder 2, the neighbourhood contexts (9.5).
+  o = Base(8, 4, 64, 64, 4, 2);
+  o.frac_bits_97 = kFracBits97;
+  o.coder = EntropyCoder::kArith2;
+  add("arith2_97",
+      "SPIHT coder 2 (neighbourhood contexts, temporal neighbours in 4-frame GOPs), 9/7 with 5 "
+      "fractional bits, masks; 2x2 GOP grid",
+      o, {1, 64, 700});
+  o = Base(6, 3, 37, 23, 6, 3);
+  o.kernel = WaveletKernel::kLeGall53;
+  o.coder = EntropyCoder::kArith2;
+  o.chroma = ChromaFormat::k420;
+  o.mask_coding = MaskCoding::kMixing;
+  add("arith2_53_420_multicamera",
+      "SPIHT coder 2 with the 5/3 kernel, 4:2:0 on an odd atlas, 6-frame x 3-camera GOPs, mask "
+      "mode 2",
       o, {30, 200});
   return v;
 }
@@ -655,6 +673,26 @@ std::vector<CaseSpec> InvalidCases() {
     set_tools(boxes, kToolCdf97, kToolLeGall53);
     return Status::Ok();
   };
+
+  // Format version 4: SPIHT coder 2.
+  const auto arith2 = [](CaseSpec* c) {
+    c->options.coder = EntropyCoder::kArith2;
+    return c;
+  };
+  arith2(add("arith2_in_version_3", "the spiht-arith2 tool (bit 13) in a format version 3 header",
+             StatusCode::kCorrupt, {"3.1", "4", "10"}))
+      ->edit = [header](std::vector<EditBox>* boxes) {
+    StoreLe(&header(boxes), fvvh::kFormatVersion, 3, 2);
+    return Status::Ok();
+  };
+  add("arith2_without_tool",
+      "a 'texr' naming coder 2 in a stream whose header declares spiht-arith, not spiht-arith2 "
+      "(checksum recomputed)",
+      StatusCode::kCorrupt, {"3.1", "9.1", "10"})
+      ->edit = patch_first_fragment(box::kTexture, 1, 2);
+  add("coder_unknown", "a 'texr' naming entropy coder 3 (checksum recomputed)",
+      StatusCode::kCorrupt, {"9.1", "10"})
+      ->edit = patch_first_fragment(box::kTexture, 1, 3);
   return v;
 }
 

@@ -27,7 +27,7 @@ fvv::Status ToSettings(const fvv_encoder_settings& c, fvv::EncoderSettings* s) {
   if (c.kernel > FVV_KERNEL_HAAR) return InvalidArgument("kernel is not an fvv_kernel");
   if (c.precision_97 > uint32_t(fvv::kMaxFracBits97) || !fvv::ValidFracBits97(int(c.precision_97)))
     return InvalidArgument("precision_97 is not 2..6");
-  if (c.coder > FVV_CODER_BINARY) return InvalidArgument("coder is not an fvv_entropy_coder");
+  if (c.coder > FVV_CODER_ARITH2) return InvalidArgument("coder is not an fvv_entropy_coder");
   if (c.chroma > FVV_CHROMA_420) return InvalidArgument("chroma is not an fvv_chroma");
   if (c.mask_mode > FVV_MASKS_CODED_V1) return InvalidArgument("mask_mode is not an fvv_mask_mode");
   if (c.rate_mode > FVV_RATE_BYTES_PER_GOP)
@@ -45,7 +45,9 @@ fvv::Status ToSettings(const fvv_encoder_settings& c, fvv::EncoderSettings* s) {
       fvv::WaveletKernel::kCdf97, fvv::WaveletKernel::kLeGall53, fvv::WaveletKernel::kHaar};
   s->kernel = kKernels[c.kernel];
   s->frac_bits_97 = int(c.precision_97);
-  s->coder = c.coder == FVV_CODER_BINARY ? fvv::EntropyCoder::kBinary : fvv::EntropyCoder::kArith;
+  s->coder = c.coder == FVV_CODER_BINARY   ? fvv::EntropyCoder::kBinary
+             : c.coder == FVV_CODER_ARITH2 ? fvv::EntropyCoder::kArith2
+                                           : fvv::EntropyCoder::kArith;
   s->chroma = c.chroma == FVV_CHROMA_420 ? fvv::ChromaFormat::k420 : fvv::ChromaFormat::k444;
   s->masks = c.mask_mode != FVV_MASKS_NONE;
   s->mask_coding =
@@ -89,7 +91,7 @@ void fvv_encoder_default_settings(fvv_encoder_settings* settings) {
   settings->gop_cameras = 1;
   settings->kernel = FVV_KERNEL_CDF97;
   settings->precision_97 = fvv::kFracBits97;
-  settings->coder = FVV_CODER_ARITH;
+  settings->coder = FVV_CODER_ARITH2;
   settings->chroma = FVV_CHROMA_444;
   settings->mask_mode = FVV_MASKS_CODED;
   settings->texture_codec = FVV_TEXTURE_SPIHT;
