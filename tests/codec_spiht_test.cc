@@ -150,24 +150,14 @@ INSTANTIATE_TEST_SUITE_P(
 Block MovingTextureBlock(const Shape4D& shape, uint32_t seed) {
   std::mt19937 rng(seed);
   std::uniform_int_distribution<int32_t> noise(-1, 1);
-  Block b;
-  b.colour = ColourSpace::kYCbCr601;
-  for (int c = 0; c < 3; ++c) {
-    b.channels[c] = Plane4D(shape);
-    size_t i = 0;
-    for (uint32_t t = 0; t < shape.n[0]; ++t)
-      for (uint32_t cam = 0; cam < shape.n[1]; ++cam)
-        for (uint32_t y = 0; y < shape.n[2]; ++y)
-          for (uint32_t x = 0; x < shape.n[3]; ++x, ++i) {
-            const double u = x + 0.4 * t + 3.0 * cam, w = y + 0.25 * t;
-            const bool check = (int(u / 29) + int(w / 23)) % 2 != 0;
-            const double v = 128 + (check ? 12 : -12) / (c + 1.0) + 20 * std::sin(0.05 * u + c) +
-                             15 * std::cos(0.04 * w - 0.03 * u);
-            b.channels[c].samples[i] =
-                std::clamp<int32_t>(static_cast<int32_t>(v) + noise(rng), 0, 255);
-          }
-  }
-  return b;
+  return testing::FunctionBlock(
+      shape, ColourSpace::kYCbCr601, [&](int c, uint32_t t, uint32_t cam, uint32_t y, uint32_t x) {
+        const double u = x + 0.4 * t + 3.0 * cam, w = y + 0.25 * t;
+        const bool check = (int(u / 29) + int(w / 23)) % 2 != 0;
+        const double v = 128 + (check ? 12 : -12) / (c + 1.0) + 20 * std::sin(0.05 * u + c) +
+                         15 * std::cos(0.04 * w - 0.03 * u);
+        return std::clamp<int32_t>(static_cast<int32_t>(v) + noise(rng), 0, 255);
+      });
 }
 
 // Coder 2 (format version 4) against coder 1: the same decisions in the same
