@@ -318,6 +318,16 @@ void SpihtTraverse(const SpihtTree& tree, int planes, Side* side) {
   }
 }
 
+// The traversal with the contexts of `coder` (chosen once, outside the hot path).
+template <class Side>
+void SpihtTraverse(EntropyCoder coder, const SpihtTree& tree, int planes, Side* side) {
+  if (coder == EntropyCoder::kArith2) {
+    SpihtTraverse<true>(tree, planes, side);
+  } else {
+    SpihtTraverse<false>(tree, planes, side);
+  }
+}
+
 }  // namespace fvv
 
 #endif  // FVV_CODEC_SPIHT4D_COMMON_H_

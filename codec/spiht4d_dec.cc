@@ -127,11 +127,7 @@ SpihtDecodeResult SpihtDecode(const SpihtTree& tree, const SubbandQuantisers& qu
   coefficients->assign(tree.size(), 0);
   const size_t budget = size < limits.max_bytes ? size : static_cast<size_t>(limits.max_bytes);
   DecoderSide side(tree, data, budget, coder, limits, coefficients);
-  if (coder == EntropyCoder::kArith2) {
-    SpihtTraverse<true>(tree, planes, &side);
-  } else {
-    SpihtTraverse<false>(tree, planes, &side);
-  }
+  SpihtTraverse(coder, tree, planes, &side);
   side.Reconstruct(tree, quantisers);
   SpihtDecodeResult result;
   result.bytes_used = side.bytes_used();

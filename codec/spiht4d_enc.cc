@@ -169,11 +169,7 @@ SpihtEncoded SpihtEncode(const SpihtTree& tree, const SubbandQuantisers& quantis
   EncoderSide side(tree, quantisers, coefficients, coder, max_bytes);
   const int planes = std::min(side.planes(), kMaxBitplanes);
   side.MarkStart();
-  if (coder == EntropyCoder::kArith2) {
-    SpihtTraverse<true>(tree, planes, &side);
-  } else {
-    SpihtTraverse<false>(tree, planes, &side);
-  }
+  SpihtTraverse(coder, tree, planes, &side);
   return side.Finish(planes);
 }
 
