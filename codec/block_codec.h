@@ -65,8 +65,9 @@ struct EncodeSettings {
   // The 9/7's sample precision f (ignored by the reversible kernels). 2 writes
   // what format versions 1 and 2 read; see subband_weights.h.
   int frac_bits_97 = kFracBits97;
-  // kArith2 needs a format version 4 decoder; kArith is what older ones read.
-  EntropyCoder coder = EntropyCoder::kArith2;
+  // kArith3 needs a format version 5 decoder, kArith2 version 4; kArith is
+  // what older ones read.
+  EntropyCoder coder = EntropyCoder::kArith3;
   RateMode rate_mode = RateMode::kBitsPerSample;
   double rate_value = 0.25;
   // Relative weight of each channel's squared error in rate allocation and in the

@@ -10,6 +10,7 @@ constexpr uint32_t kMaxPoints = 2 * kMaxBitplanes;
 }  // namespace
 
 uint8_t BlockFileVersionFor(const BlockParams& p) {
+  if (p.coder == EntropyCoder::kArith3) return 4;
   if (p.coder == EntropyCoder::kArith2) return 3;
   return p.frac_bits == LegacyFracBits(p.kernel) ? 1 : 2;
 }
@@ -31,9 +32,12 @@ Status ReadBlockParams(ByteReader* r, uint8_t version, BlockParams* p) {
   p->frac_bits = version >= 2 ? r->U8() : static_cast<uint8_t>(LegacyFracBits(p->kernel));
   for (int a = 0; a < kAxes; ++a) p->shape.n[a] = r->U32();
   if (r->overrun()) return Truncated("block parameters end early");
-  if (version < 3 && p->coder == EntropyCoder::kArith2)
-    return Corrupt("entropy coder 2 (arith2) in a version " + std::to_string(version) +
-                   " block file (it needs version 3)");
+  // Each coder's first block file version: coder 2 in 3, coder 3 in 4.
+  const int coder = static_cast<int>(p->coder);
+  if (coder >= 2 && coder < kEntropyCoders && version < coder + 1)
+    return Corrupt("entropy coder " + std::to_string(coder) + " (" + CoderName(p->coder) +
+                   ") in a version " + std::to_string(version) + " block file (it needs version " +
+                   std::to_string(coder + 1) + ")");
   return ValidateParams(*p);
 }
 

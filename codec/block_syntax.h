@@ -23,7 +23,8 @@ namespace fvv {
 
 // Version 2 adds the 9/7's sample precision; writers use version 1 for blocks
 // that version 1 can describe.
-constexpr uint8_t kBlockFileVersion = 3;
+// Version 3 admits coder 2 (arith2), version 4 coder 3 (arith3).
+constexpr uint8_t kBlockFileVersion = 4;
 
 // The block file version that can hold these parameters.
 uint8_t BlockFileVersionFor(const BlockParams& p);

@@ -7,7 +7,16 @@
 namespace fvv {
 
 const char* CoderName(EntropyCoder c) {
-  return c == EntropyCoder::kArith2 ? "arith2" : c == EntropyCoder::kArith ? "arith" : "binary";
+  switch (c) {
+    case EntropyCoder::kArith3:
+      return "arith3";
+    case EntropyCoder::kArith2:
+      return "arith2";
+    case EntropyCoder::kArith:
+      return "arith";
+    default:
+      return "binary";
+  }
 }
 
 SpihtTree::SpihtTree(const WaveletGeometry& geometry) : g_(geometry) {

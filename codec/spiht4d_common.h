@@ -21,6 +21,7 @@
 #ifndef FVV_CODEC_SPIHT4D_COMMON_H_
 #define FVV_CODEC_SPIHT4D_COMMON_H_
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -38,8 +39,13 @@ enum class EntropyCoder : uint8_t {
   // ctx2 below (significance of the coefficients at t - 1 and t + 1, of a set's
   // root and its neighbours, and of a refined coefficient's neighbours).
   kArith2 = 2,
+  // Format version 5: ctx3 below (a set's significance also on its root's
+  // magnitude and on the sets of its neighbours in space and time, a sign on
+  // the signs of four spatial and two temporal neighbours) with probabilities
+  // that adapt fast while a context is young (mixing::Update).
+  kArith3 = 3,
 };
-constexpr int kEntropyCoders = 3;
+constexpr int kEntropyCoders = 4;
 const char* CoderName(EntropyCoder c);
 inline bool RangeCoded(EntropyCoder c) { return c != EntropyCoder::kBinary; }
 
@@ -163,7 +169,38 @@ constexpr int kSign = kSetB + kLevelClasses * kSetBins;            // [class][le
 constexpr int kRefine = kSign + kLevelClasses * ctx::kSignStates;  // [first?][spatial]
 constexpr int kCount = kRefine + 2 * kSpatialBins;
 }  // namespace ctx2
-constexpr int kMaxContexts = ctx2::kCount > ctx::kCount ? ctx2::kCount : ctx::kCount;
+
+// Coder 3: ctx2's coefficient significance and refinement contexts, new set and
+// sign contexts. A set's significance is the least predictable decision of
+// coder 2 (0.87 bits per decision on the Kodak images at 0.25 bpp) and a
+// quarter of the bits; what predicts it is how large its root is and whether
+// the sets next to it, in space and time, were significant.
+namespace ctx3 {
+constexpr int kLevelClasses = ctx::kLevelClasses;
+constexpr int kSigLip = ctx2::kSigLip;      // as ctx2
+constexpr int kSigChild = ctx2::kSigChild;  // as ctx2
+// A type A set: its root insignificant, significant since plane n or n + 1, or
+// earlier; significant D sets at x - 1, x + 1, y - 1, y + 1 (clipped to 2); a
+// significant D set at t - 1 or t + 1.
+constexpr int kRootBins = 3;
+constexpr int kSetSpatialBins = 3;
+constexpr int kSetTemporalBins = 2;
+constexpr int kSetA = ctx2::kSetA;  // [class][root][set spatial][set temporal]
+// A type B set: its significant children (clipped to 2); a neighbour's D set significant.
+constexpr int kChildBins = 3;
+constexpr int kSetB = kSetA + kLevelClasses * kRootBins * kSetSpatialBins * kSetTemporalBins;
+// A sign: the sums of the signs of the horizontal, vertical and temporal
+// neighbour pairs, each zero, positive or negative.
+constexpr int kSignBins = 3;
+constexpr int kSign = kSetB + kLevelClasses * kChildBins * 2;  // [class][child][neighbour set]
+constexpr int kRefine =
+    kSign + kLevelClasses * kSignBins * kSignBins * kSignBins;  // [class][h][v][t]
+constexpr int kCount = kRefine + 2 * ctx2::kSpatialBins;        // refine as ctx2
+}  // namespace ctx3
+constexpr int kMaxContexts = std::max({ctx::kCount, ctx2::kCount, ctx3::kCount});
+
+// Which context set a coder uses (the traversal's template argument).
+enum class ContextSet { kLevel = 1, kNeighbourhood = 2, kSets = 3 };
 
 // The traversal. Side provides (each returns false to stop the traversal now):
 //   bool SigCoeff(uint32_t idx, int n, int ctx, bool* sig);
@@ -171,90 +208,146 @@ constexpr int kMaxContexts = ctx2::kCount > ctx::kCount ? ctx2::kCount : ctx::kC
 //   bool SigSet(uint32_t idx, int n, bool type_b, int ctx, bool* sig);
 //   bool Refine(uint32_t idx, int n, int ctx);
 //   void PassEnd(int n, int pass);
-// kNeighbourhood selects the contexts: false ctx (coders 0 and 1), true ctx2 (coder 2).
-template <bool kNeighbourhood, class Side>
+// kSet selects the contexts: kLevel ctx (coders 0 and 1), kNeighbourhood ctx2
+// (coder 2), kSets ctx3 (coder 3).
+template <ContextSet kSet, class Side>
 void SpihtTraverse(const SpihtTree& tree, int planes, Side* side) {
+  constexpr bool kCtx1 = kSet == ContextSet::kLevel;
+  constexpr bool kCtx3 = kSet == ContextSet::kSets;
   const Shape4D& shape = tree.geometry().shape;
   const uint32_t w = shape.width();
   // Neighbours in time: one frame apart in the block's layout.
   const size_t frame = size_t(shape.n[1]) * shape.n[2] * shape.n[3];
   const size_t count = shape.count();
-  // 0: not (yet) significant; 1: significant, positive; 2: significant, negative.
+  // Per coefficient: bits 0-1 0 = not (yet) significant, 1 = significant and
+  // positive, 2 = significant and negative; for ctx3 also bits 2-6 the plane
+  // in which it became significant and bit 7 "its set D is significant".
   // Kept per thread: a fresh multi-megabyte array per channel costs page faults.
   // It is all zero between traversals (each clears the entries it set, below),
   // so none has to clear the whole array first.
-  thread_local std::vector<uint8_t> significant;
-  if (significant.size() < tree.size()) significant.resize(tree.size());
+  constexpr uint8_t kSignBits = 3, kSetSignificant = 0x80;
+  constexpr int kPlaneShift = 2;
+  thread_local std::vector<uint8_t> state;
+  if (state.size() < tree.size()) state.resize(tree.size());
+  auto significant = [&](size_t idx) { return (state[idx] & kSignBits) != 0; };
   // Significant spatial neighbours (x +- 1, y +- 1), clipped to 2: the context.
   auto neighbours = [&](uint32_t idx) {
     int k = 0;
-    if (tree.HasLeft(idx)) k += significant[idx - 1] != 0;
-    if (tree.HasRight(idx)) k += significant[idx + 1] != 0;
-    if (tree.HasUp(idx)) k += significant[idx - w] != 0;
-    if (tree.HasDown(idx)) k += significant[idx + w] != 0;
+    if (tree.HasLeft(idx)) k += significant(idx - 1);
+    if (tree.HasRight(idx)) k += significant(idx + 1);
+    if (tree.HasUp(idx)) k += significant(idx - w);
+    if (tree.HasDown(idx)) k += significant(idx + w);
     return k < 2 ? k : 2;
   };
   auto temporal = [&](uint32_t idx) {
     int k = 0;
-    if (idx >= frame) k += significant[idx - frame] != 0;
-    if (idx + frame < count) k += significant[idx + frame] != 0;
+    if (idx >= frame) k += significant(idx - frame);
+    if (idx + frame < count) k += significant(idx + frame);
     return k;
   };
-  // Signs of the left and upper neighbours: signs of neighbouring wavelet
-  // coefficients are correlated along edges.
+  // Signs of neighbours: signs of neighbouring wavelet coefficients are
+  // correlated along edges (and, in atlas textures, in time). ctx and ctx2 look
+  // at the left and upper neighbour; ctx3 at the sums of the signs of the
+  // horizontal, vertical and temporal pairs.
+  auto sign_of = [&](size_t idx) {
+    const int s = state[idx] & kSignBits;
+    return s == 0 ? 0 : s == 1 ? 1 : -1;
+  };
+  auto sign_bin = [](int sum) { return sum > 0 ? 1 : sum < 0 ? 2 : 0; };
   auto sign_ctx = [&](uint32_t idx) {
-    const int left = tree.HasLeft(idx) ? significant[idx - 1] : 0;
-    const int up = tree.HasUp(idx) ? significant[idx - w] : 0;
-    return (kNeighbourhood ? ctx2::kSign : ctx::kSign) + tree.LevelClass(idx) * ctx::kSignStates +
-           left * 3 + up;
+    const int cls = tree.LevelClass(idx);
+    if (kCtx3) {
+      int h = 0, v = 0, t = 0;
+      if (tree.HasLeft(idx)) h += sign_of(idx - 1);
+      if (tree.HasRight(idx)) h += sign_of(idx + 1);
+      if (tree.HasUp(idx)) v += sign_of(idx - w);
+      if (tree.HasDown(idx)) v += sign_of(idx + w);
+      if (idx >= frame) t += sign_of(idx - frame);
+      if (idx + frame < count) t += sign_of(idx + frame);
+      return ctx3::kSign +
+             ((cls * ctx3::kSignBins + sign_bin(h)) * ctx3::kSignBins + sign_bin(v)) *
+                 ctx3::kSignBins +
+             sign_bin(t);
+    }
+    const int left = tree.HasLeft(idx) ? state[idx - 1] & kSignBits : 0;
+    const int up = tree.HasUp(idx) ? state[idx - w] & kSignBits : 0;
+    return (kCtx1 ? ctx::kSign : ctx2::kSign) + cls * ctx::kSignStates + left * 3 + up;
   };
   std::vector<uint32_t> lsp;
-  // On every way out: the LSP holds every coefficient marked significant.
-  struct ClearSignificant {
+  std::vector<uint32_t> sets_marked;  // ctx3: coefficients whose D set was found significant
+  // On every way out: the LSP and sets_marked hold every coefficient with state.
+  struct ClearState {
     std::vector<uint8_t>& flags;
     const std::vector<uint32_t>& marked;
-    ~ClearSignificant() {
+    const std::vector<uint32_t>& marked_sets;
+    ~ClearState() {
       for (uint32_t idx : marked) flags[idx] = 0;
+      for (uint32_t idx : marked_sets) flags[idx] = 0;
     }
-  } clear_on_exit{significant, lsp};
+  } clear_on_exit{state, lsp, sets_marked};
   // A newly significant coefficient's sign; it joins the LSP (before it is
   // marked, so that the clearing above always covers the marks).
   auto code_sign = [&](uint32_t idx, int n) {
     bool negative;
     if (!side->Sign(idx, n, sign_ctx(idx), &negative)) return false;
     lsp.push_back(idx);
-    significant[idx] = negative ? 2 : 1;
+    state[idx] = static_cast<uint8_t>((state[idx] & kSetSignificant) | (n << kPlaneShift) |
+                                      (negative ? 2 : 1));
     return true;
   };
   // base: the context group's first index (for a child, of its sibling bin).
   auto coeff_ctx = [&](int base, uint32_t idx) {
-    if (kNeighbourhood) {
-      return base + tree.LevelClass(idx) * ctx2::kNeighbourBins +
-             neighbours(idx) * ctx2::kTemporalBins + temporal(idx);
-    }
-    return base + tree.LevelClass(idx) * ctx::kNeighbourBins + neighbours(idx);
+    if (kCtx1) return base + tree.LevelClass(idx) * ctx::kNeighbourBins + neighbours(idx);
+    return base + tree.LevelClass(idx) * ctx2::kNeighbourBins +
+           neighbours(idx) * ctx2::kTemporalBins + temporal(idx);
   };
-  auto set_ctx = [&](uint32_t idx, bool type_b) {
+  // ctx3: significant D sets among the spatial neighbours (clipped to 2) and in time.
+  auto set_significant = [&](size_t idx) { return (state[idx] & kSetSignificant) != 0; };
+  auto neighbour_sets = [&](uint32_t idx) {
+    int k = 0;
+    if (tree.HasLeft(idx)) k += set_significant(idx - 1);
+    if (tree.HasRight(idx)) k += set_significant(idx + 1);
+    if (tree.HasUp(idx)) k += set_significant(idx - w);
+    if (tree.HasDown(idx)) k += set_significant(idx + w);
+    return k < 2 ? k : 2;
+  };
+  auto temporal_sets = [&](uint32_t idx) {
+    return (idx >= frame && set_significant(idx - frame)) ||
+           (idx + frame < count && set_significant(idx + frame));
+  };
+  uint32_t children[kMaxChildren];
+  auto set_ctx = [&](uint32_t idx, bool type_b, int n) {
     const int cls = tree.LevelClass(idx);
-    if (kNeighbourhood) {
+    if (kCtx1) return (type_b ? ctx::kSetB : ctx::kSetA) + cls;
+    if (!kCtx3) {
       return (type_b ? ctx2::kSetB : ctx2::kSetA) + cls * ctx2::kSetBins +
-             (significant[idx] != 0) * ctx2::kSpatialBins + neighbours(idx);
+             significant(idx) * ctx2::kSpatialBins + neighbours(idx);
     }
-    return (type_b ? ctx::kSetB : ctx::kSetA) + cls;
+    if (type_b) {
+      const int nc = tree.Children(idx, children);
+      int k = 0;
+      for (int i = 0; i < nc && k < 2; ++i) k += significant(children[i]);
+      return ctx3::kSetB + (cls * ctx3::kChildBins + k) * 2 + (neighbour_sets(idx) != 0);
+    }
+    // The root's magnitude: 0 insignificant, 1 below 2^(n + 2), 2 at least 2^(n + 2).
+    const int root = !significant(idx) ? 0 : (state[idx] >> kPlaneShift & 0x1F) >= n + 2 ? 2 : 1;
+    return ctx3::kSetA +
+           ((cls * ctx3::kRootBins + root) * ctx3::kSetSpatialBins + neighbour_sets(idx)) *
+               ctx3::kSetTemporalBins +
+           temporal_sets(idx);
   };
   auto refine_ctx = [&](uint32_t idx, bool first) {
-    if (kNeighbourhood) return ctx2::kRefine + first * ctx2::kSpatialBins + neighbours(idx);
-    return ctx::kRefine + (first ? 1 : 0);
+    if (kCtx1) return ctx::kRefine + (first ? 1 : 0);
+    return (kCtx3 ? ctx3::kRefine : ctx2::kRefine) + first * ctx2::kSpatialBins + neighbours(idx);
   };
-  const int sig_lip = kNeighbourhood ? ctx2::kSigLip : ctx::kSigLip;
-  const int sig_child = kNeighbourhood ? ctx2::kSigChild : ctx::kSigChild;
-  const int sibling_stride = kNeighbourhood ? ctx2::kLevelClasses * ctx2::kNeighbourBins
-                                            : ctx::kLevelClasses * ctx::kNeighbourBins;
+  const int sig_lip = kCtx1 ? ctx::kSigLip : ctx2::kSigLip;
+  const int sig_child = kCtx1 ? ctx::kSigChild : ctx2::kSigChild;
+  const int sibling_stride =
+      kCtx1 ? ctx::kLevelClasses * ctx::kNeighbourBins : ctx2::kLevelClasses * ctx2::kNeighbourBins;
 
   std::vector<uint32_t> lip = tree.roots();
   std::vector<uint32_t> lis;
   constexpr uint32_t kTypeB = 0x80000000u;
-  uint32_t children[kMaxChildren];
   for (uint32_t r : tree.roots())
     if (tree.Children(r, children) > 0) lis.push_back(r);
 
@@ -282,13 +375,17 @@ void SpihtTraverse(const SpihtTree& tree, int planes, Side* side) {
       const uint32_t idx = entry & ~kTypeB;
       const bool type_b = (entry & kTypeB) != 0;
       bool sig;
-      if (!side->SigSet(idx, n, type_b, set_ctx(idx, type_b), &sig)) return;
+      if (!side->SigSet(idx, n, type_b, set_ctx(idx, type_b, n), &sig)) return;
       if (!sig) {
         lis[kept++] = entry;
         continue;
       }
       const int nc = tree.Children(idx, children);
       if (!type_b) {
+        if (kCtx3) {
+          sets_marked.push_back(idx);  // before marking: the clearing covers it
+          state[idx] |= kSetSignificant;
+        }
         int siblings = 0;
         for (int k = 0; k < nc; ++k) {
           const uint32_t c = children[k];
@@ -321,10 +418,15 @@ void SpihtTraverse(const SpihtTree& tree, int planes, Side* side) {
 // The traversal with the contexts of `coder` (chosen once, outside the hot path).
 template <class Side>
 void SpihtTraverse(EntropyCoder coder, const SpihtTree& tree, int planes, Side* side) {
-  if (coder == EntropyCoder::kArith2) {
-    SpihtTraverse<true>(tree, planes, side);
-  } else {
-    SpihtTraverse<false>(tree, planes, side);
+  switch (coder) {
+    case EntropyCoder::kArith3:
+      SpihtTraverse<ContextSet::kSets>(tree, planes, side);
+      break;
+    case EntropyCoder::kArith2:
+      SpihtTraverse<ContextSet::kNeighbourhood>(tree, planes, side);
+      break;
+    default:
+      SpihtTraverse<ContextSet::kLevel>(tree, planes, side);
   }
 }
 

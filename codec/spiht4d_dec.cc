@@ -1,4 +1,5 @@
 #include "codec/bit_io.h"
+#include "codec/logistic_mixing.h"
 #include "codec/range_coder.h"
 #include "codec/spiht4d.h"
 
@@ -18,7 +19,8 @@ class DecoderSide {
         deadline_(std::chrono::steady_clock::time_point::max()),
         mag_(*magnitudes),
         state_(StateBuffer(tree.size())),
-        probs_(kMaxContexts, kProbInit) {
+        probs_(kMaxContexts, kProbInit),
+        counted_probs_(coder == EntropyCoder::kArith3 ? kMaxContexts : 0) {
     // The clock starts after the buffers above exist: the budget is for decisions.
     if (limits.max_ms > 0) {
       deadline_ = std::chrono::steady_clock::now() +
@@ -85,7 +87,13 @@ class DecoderSide {
     if (hit_deadline_) return Stop();
     if (RangeCoded(coder_)) {
       if (!range_.ok()) return Stop();
-      *bit = range_.Decode(&probs_[ctx]);
+      if (!counted_probs_.empty()) {
+        mixing::CountedProb& m = counted_probs_[ctx];
+        *bit = range_.DecodeWithProbability(m.p0);
+        mixing::Update(*bit, &m);
+      } else {
+        *bit = range_.Decode(&probs_[ctx]);
+      }
     } else {
       if (!bits_.CanRead(1)) return Stop();
       *bit = bits_.GetBit();
@@ -112,7 +120,9 @@ class DecoderSide {
   std::vector<int32_t>& mag_;
   uint8_t* state_;  // bit 7: negative; bits 0-4: lowest bitplane known
   std::vector<uint32_t> significant_;
-  std::vector<uint16_t> probs_;
+  std::vector<uint16_t> probs_;  // coders 1 and 2: adapt by 1/32
+  // Coder 3: adapt by 1/2, 1/4, .. 1/32 over a context's first decisions.
+  std::vector<mixing::CountedProb> counted_probs_;
   uint64_t decisions_ = 0;
   int planes_completed_ = 0;
   bool hit_deadline_ = false;

@@ -2,6 +2,7 @@
 #include <cstdlib>
 
 #include "codec/bit_io.h"
+#include "codec/logistic_mixing.h"
 #include "codec/range_coder.h"
 #include "codec/spiht4d.h"
 
@@ -28,7 +29,8 @@ class EncoderSide {
         mag_(coefficients.size()),
         descendant_bits_(coefficients.size(), 0),
         grandchild_bits_(coefficients.size(), 0),
-        probs_(kMaxContexts, kProbInit) {
+        probs_(kMaxContexts, kProbInit),
+        counted_probs_(coder == EntropyCoder::kArith3 ? kMaxContexts : 0) {
     for (size_t i = 0; i < coefficients.size(); ++i) {
       mag_[i] = static_cast<uint32_t>(std::abs(coefficients[i]));
       const double v = mag_[i];
@@ -108,7 +110,11 @@ class EncoderSide {
     return RangeCoded(coder_) ? range_.BytesNeeded() : (bits_.bit_count() + 7) / 8;
   }
   bool Put(int ctx, uint32_t bit) {
-    if (RangeCoded(coder_)) {
+    if (!counted_probs_.empty()) {
+      mixing::CountedProb& m = counted_probs_[ctx];
+      range_.EncodeWithProbability(bit, m.p0);
+      mixing::Update(bit, &m);
+    } else if (RangeCoded(coder_)) {
       range_.Encode(bit, &probs_[ctx]);
     } else {
       bits_.PutBit(bit);
@@ -154,7 +160,9 @@ class EncoderSide {
   std::vector<uint8_t> negative_;
   std::vector<uint8_t> descendant_bits_;
   std::vector<uint8_t> grandchild_bits_;
-  std::vector<uint16_t> probs_;
+  std::vector<uint16_t> probs_;  // coders 1 and 2: adapt by 1/32
+  // Coder 3: adapt by 1/2, 1/4, .. 1/32 over a context's first decisions.
+  std::vector<mixing::CountedProb> counted_probs_;
   BitWriter bits_;
   RangeEncoder range_;
   double distortion_ = 0;

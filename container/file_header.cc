@@ -33,6 +33,8 @@ const char* CodingToolName(uint32_t tool_bit) {
       return "predictive-texture";
     case kToolSpihtArith2:
       return "spiht-arith2";
+    case kToolSpihtArith3:
+      return "spiht-arith3";
     case kToolTexturePrecision:
       return "texture-precision";
     default:
@@ -63,6 +65,7 @@ const LevelLimits* FindLevel(uint8_t level) {
 }
 
 uint16_t RequiredFormatVersion(uint32_t tools) {
+  if (tools & kToolSpihtArith3) return 5;
   if (tools & kToolSpihtArith2) return 4;
   if (tools & kToolTexturePrecision) return 3;
   return (tools & kToolPredictiveTexture) ? 2 : 1;

@@ -14,9 +14,10 @@ uint32_t TextureTools(WaveletKernel kernel, EntropyCoder coder, ColourSpace colo
                    : kernel == WaveletKernel::kLeGall53 ? kToolLeGall53
                                                         : kToolCdf97;
   if (frac_bits != LegacyFracBits(kernel)) tools |= kToolTexturePrecision;
-  tools |= coder == EntropyCoder::kArith2  ? kToolSpihtArith2
-           : coder == EntropyCoder::kArith ? kToolSpihtArith
-                                           : kToolSpihtBinary;
+  tools |= coder == EntropyCoder::kArith3   ? kToolSpihtArith3
+           : coder == EntropyCoder::kArith2 ? kToolSpihtArith2
+           : coder == EntropyCoder::kArith  ? kToolSpihtArith
+                                            : kToolSpihtBinary;
   if (chroma == ChromaFormat::k420) tools |= kToolChroma420;
   if (colour == ColourSpace::kRct) tools |= kToolReversibleColour;
   return tools;

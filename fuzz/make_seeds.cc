@@ -56,6 +56,11 @@ int Run(const std::string& dir) {
          o->frac_bits_97 = kFracBits97;
          o->coder = EntropyCoder::kArith2;
        }},
+      {"arith3",
+       [](SampleStreamOptions* o) {
+         o->frac_bits_97 = kFracBits97;
+         o->coder = EntropyCoder::kArith3;
+       }},
       {"haar_binary",
        [](SampleStreamOptions* o) {
          o->kernel = WaveletKernel::kHaar;

@@ -18,11 +18,15 @@ grep -q "complete" <<<"$out" || fail "decode report: $out"
 out=$("$fvv" block decode "$dir/b.fvb" -o "$dir/dec2" --bytes 100 2>&1) || fail "truncated decode: $out"
 grep -q "truncated" <<<"$out" || fail "truncated decode report: $out"
 
-# The defaults (coder arith2, 9/7 precision 5) write block file version 3;
-# --coder arith writes version 2 and --precision 2 with it version 1 (what
-# older decoders read); all decode, and 7 is refused by name.
+# The defaults (coder arith3, 9/7 precision 5) write block file version 4;
+# --coder arith2 writes version 3, --coder arith version 2 and --precision 2
+# with it version 1 (what older decoders read); all decode, and 7 is refused by name.
 version_of() { od -An -tu1 -j4 -N1 "$1" | tr -d ' '; }
-[ "$(version_of "$dir/b.fvb")" = 3 ] || fail "defaults wrote version $(version_of "$dir/b.fvb")"
+[ "$(version_of "$dir/b.fvb")" = 4 ] || fail "defaults wrote version $(version_of "$dir/b.fvb")"
+"$fvv" block encode "$dir"/in/view_*.png --cameras 3 --coder arith2 -o "$dir/a2.fvb" --bpp 1 >/dev/null 2>&1 ||
+  fail "coder arith2 encode"
+[ "$(version_of "$dir/a2.fvb")" = 3 ] || fail "coder arith2 wrote version $(version_of "$dir/a2.fvb")"
+out=$("$fvv" block decode "$dir/a2.fvb" -o "$dir/a2dec" 2>&1) || fail "coder arith2 decode: $out"
 "$fvv" block encode "$dir"/in/view_*.png --cameras 3 --coder arith -o "$dir/a1.fvb" --bpp 1 >/dev/null 2>&1 ||
   fail "coder arith encode"
 [ "$(version_of "$dir/a1.fvb")" = 2 ] || fail "coder arith wrote version $(version_of "$dir/a1.fvb")"

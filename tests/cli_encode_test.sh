@@ -61,11 +61,16 @@ tex_a=$(grep -o '"texture": [0-9]*' "$dir/summary.json" | head -1 | grep -o '[0-
 tex_b=$(grep "textures  " <<<"$out" | awk '{print $2}')
 [ "$tex_a" = "$tex_b" ] || fail "texture bytes differ: $tex_a vs $tex_b"
 
-# Format versions: the defaults write version 4 (SPIHT coder arith2, 9/7
-# precision 5, mask mode 2); --coder arith writes version 3; --coder arith
-# --precision 2 --mask-coder context what version 1 decoders read.
-"$fvv" info "$dir/b.fvv" | grep -q "format version 4" || fail "default format version: $("$fvv" info "$dir/b.fvv" | head -1)"
-"$fvv" info "$dir/b.fvv" | grep -q "spiht-arith2" || fail "default tools: $("$fvv" info "$dir/b.fvv" | grep tools)"
+# Format versions: the defaults write version 5 (SPIHT coder arith3, 9/7
+# precision 5, mask mode 2); --coder arith2 writes version 4, --coder arith
+# version 3; --coder arith --precision 2 --mask-coder context what version 1
+# decoders read.
+"$fvv" info "$dir/b.fvv" | grep -q "format version 5" || fail "default format version: $("$fvv" info "$dir/b.fvv" | head -1)"
+"$fvv" info "$dir/b.fvv" | grep -q "spiht-arith3" || fail "default tools: $("$fvv" info "$dir/b.fvv" | grep tools)"
+out=$("$fvv" encode "$dir/cap" -o "$dir/v4.fvv" --atlas 128 --gop-frames 2 --textures "$dir/tex" \
+  --coder arith2 -q 2>&1) || fail "encode --coder arith2: $out"
+"$fvv" info "$dir/v4.fvv" | grep -q "format version 4" || fail "coder arith2 format version: $("$fvv" info "$dir/v4.fvv" | head -1)"
+"$fvv" info "$dir/v4.fvv" | grep -q "spiht-arith2" || fail "coder arith2 tools: $("$fvv" info "$dir/v4.fvv" | grep tools)"
 out=$("$fvv" encode "$dir/cap" -o "$dir/v3.fvv" --atlas 128 --gop-frames 2 --textures "$dir/tex" \
   --coder arith -q 2>&1) || fail "encode --coder arith: $out"
 "$fvv" info "$dir/v3.fvv" | grep -q "format version 3" || fail "coder arith format version: $("$fvv" info "$dir/v3.fvv" | head -1)"

@@ -254,33 +254,39 @@ TEST(BlockFile, HeaderErrorsAreNamed) {
   EXPECT_EQ(ReadBlockFile(bad.data(), bad.size()).status().code(), StatusCode::kCorrupt);
 }
 
-// Coder 2 needs block file version 3; versions 1 and 2 name coders 0 and 1
-// only, and coder 3 does not exist.
-TEST(BlockFile, Arith2IsVersion3) {
-  const std::vector<uint8_t> file = SmallBlockFile(EntropyCoder::kArith2);
-  ASSERT_EQ(file[4], 3);
-  EXPECT_EQ(file[6], 2);  // coder, after magic, version and kernel
-  auto parsed = ReadBlockFile(file.data(), file.size());
-  ASSERT_TRUE(parsed.ok()) << parsed.status().ToString();
-  EXPECT_EQ(parsed->params.coder, EntropyCoder::kArith2);
-  EXPECT_EQ(WriteBlockFile(*parsed), file);
-  std::vector<uint8_t> bad = file;
-  bad[4] = 2;
-  auto old = ReadBlockFile(bad.data(), bad.size());
-  EXPECT_EQ(old.status().code(), StatusCode::kCorrupt);
-  EXPECT_NE(old.status().message().find("version 3"), std::string::npos) << old.status().message();
-  bad = file;
-  bad[6] = 3;
-  auto unknown = ReadBlockFile(bad.data(), bad.size());
-  EXPECT_EQ(unknown.status().code(), StatusCode::kCorrupt);
-  EXPECT_NE(unknown.status().message().find("entropy coder 3"), std::string::npos);
+// Coder 2 needs block file version 3 and coder 3 version 4; versions 1 and 2
+// name coders 0 and 1 only, and coder 4 does not exist.
+TEST(BlockFile, EachCoderHasItsFirstVersion) {
+  for (const auto& [coder, version] :
+       {std::pair{EntropyCoder::kArith2, 3}, std::pair{EntropyCoder::kArith3, 4}}) {
+    const std::vector<uint8_t> file = SmallBlockFile(coder);
+    ASSERT_EQ(file[4], version);
+    EXPECT_EQ(file[6], static_cast<uint8_t>(coder));  // after magic, version and kernel
+    auto parsed = ReadBlockFile(file.data(), file.size());
+    ASSERT_TRUE(parsed.ok()) << parsed.status().ToString();
+    EXPECT_EQ(parsed->params.coder, coder);
+    EXPECT_EQ(WriteBlockFile(*parsed), file);
+    std::vector<uint8_t> bad = file;
+    bad[4] = static_cast<uint8_t>(version - 1);
+    auto old = ReadBlockFile(bad.data(), bad.size());
+    EXPECT_EQ(old.status().code(), StatusCode::kCorrupt);
+    EXPECT_NE(old.status().message().find("needs version " + std::to_string(version)),
+              std::string::npos)
+        << old.status().message();
+    bad = file;
+    bad[6] = 4;
+    auto unknown = ReadBlockFile(bad.data(), bad.size());
+    EXPECT_EQ(unknown.status().code(), StatusCode::kCorrupt);
+    EXPECT_NE(unknown.status().message().find("entropy coder 4"), std::string::npos);
+  }
   EXPECT_EQ(SmallBlockFile(EntropyCoder::kArith)[4], 2);  // precision 5, coder 1
 }
 
 // Every prefix and every single-byte change: a defined outcome, never a crash
 // (run under ASan+UBSan in CI).
 TEST(BlockFile, EveryPrefixAndByteFlipEndsInErrorOrValidDecode) {
-  for (EntropyCoder coder : {EntropyCoder::kBinary, EntropyCoder::kArith, EntropyCoder::kArith2}) {
+  for (EntropyCoder coder : {EntropyCoder::kBinary, EntropyCoder::kArith, EntropyCoder::kArith2,
+                             EntropyCoder::kArith3}) {
     const std::vector<uint8_t> file = SmallBlockFile(coder);
     for (size_t n = 0; n < file.size(); ++n) {
       auto parsed = ReadBlockFile(file.data(), n);

@@ -437,10 +437,11 @@ TEST_F(EncodeTest, CApiEncodesAndReportsAndRefusesMisuse) {
   ASSERT_EQ(fvv_decoder_get_info(dec.get(), &info), FVV_OK);
   EXPECT_EQ(info.frame_count, 3u);
   EXPECT_EQ(info.camera_count, 6u);
-  EXPECT_EQ(info.format_version, 4u);  // SPIHT coder arith2 by default
+  EXPECT_EQ(info.format_version, 5u);  // SPIHT coder arith3 by default
 
-  // FVV_CODER_ARITH: the contexts of format versions 1..3 (version 3 for the
-  // 9/7 precision 5), at the same bytes and a lower PSNR; an unknown coder is refused.
+  // FVV_CODER_ARITH2: the contexts of format version 4; FVV_CODER_ARITH: those
+  // of versions 1..3 (version 3 for the 9/7 precision 5); each at the same bytes
+  // and a lower PSNR. An unknown coder is refused.
   s.progress = nullptr;
   // Encodes the capture with `s` to c_api_<name>.fvv; returns the format
   // version the decoder reads from it (0 when encoding or opening failed).
@@ -459,11 +460,15 @@ TEST_F(EncodeTest, CApiEncodesAndReportsAndRefusesMisuse) {
       return 0;
     return i.format_version;
   };
+  s.coder = FVV_CODER_ARITH2;
+  fvv_encode_report report_v4;
+  EXPECT_EQ(encode_version("v4", &report_v4), 4u);
+  EXPECT_LT(report_v4.psnr_rgb, report.psnr_rgb);
   s.coder = FVV_CODER_ARITH;
   fvv_encode_report report_v3;
   EXPECT_EQ(encode_version("v3", &report_v3), 3u);
-  EXPECT_LT(report_v3.psnr_rgb, report.psnr_rgb);
-  s.coder = 3;
+  EXPECT_LT(report_v3.psnr_rgb, report_v4.psnr_rgb);
+  s.coder = 4;
   EXPECT_EQ(fvv_encoder_create(&s, &none), FVV_INVALID_ARGUMENT);
   EXPECT_NE(std::string(fvv_encoder_settings_error()).find("coder"), std::string::npos);
   s.coder = FVV_CODER_ARITH;

@@ -94,7 +94,8 @@ std::vector<std::string> Sections(const StreamInfo& info, const CaseSpec& spec) 
     s.erase(std::find(s.begin(), s.end(), "9.1"), s.end());
     s.insert(s.end(), {"4", "9.4", "9.6", "9.7", "9.8"});
   } else {
-    if (t & (kToolSpihtArith | kToolSpihtArith2)) s.push_back("9.4");
+    if (t & (kToolSpihtArith | kToolSpihtArith2 | kToolSpihtArith3)) s.push_back("9.4");
+    if (t & kToolSpihtArith3) s.push_back("7.2");  // its count-adaptive probabilities
     s.insert(s.end(), {"9.5", "9.6", "9.7"});
   }
   if (t & kToolMasks) s.push_back("7");
@@ -364,6 +365,24 @@ std::vector<CaseSpec> ValidCases() {
   o.mask_coding = MaskCoding::kMixing;
   add("arith2_53_420_multicamera",
       "SPIHT coder 2 with the 5/3 kernel, 4:2:0 on an odd atlas, 6-frame x 3-camera GOPs, mask "
+      "mode 2",
+      o, {30, 200});
+
+  // Format version 5: SPIHT coder 3, the set and sign contexts (9.5).
+  o = Base(8, 4, 64, 64, 4, 2);
+  o.frac_bits_97 = kFracBits97;
+  o.coder = EntropyCoder::kArith3;
+  add("arith3_97",
+      "SPIHT coder 3 (set and sign contexts, neighbours in time in 4-frame GOPs, count-adaptive "
+      "probabilities), 9/7 with 5 fractional bits, masks; 2x2 GOP grid",
+      o, {1, 64, 700});
+  o = Base(6, 3, 37, 23, 6, 3);
+  o.kernel = WaveletKernel::kLeGall53;
+  o.coder = EntropyCoder::kArith3;
+  o.chroma = ChromaFormat::k420;
+  o.mask_coding = MaskCoding::kMixing;
+  add("arith3_53_420_multicamera",
+      "SPIHT coder 3 with the 5/3 kernel, 4:2:0 on an odd atlas, 6-frame x 3-camera GOPs, mask "
       "mode 2",
       o, {30, 200});
   return v;
@@ -693,6 +712,27 @@ std::vector<CaseSpec> InvalidCases() {
   add("coder_unknown", "a 'texr' naming entropy coder 3 (checksum recomputed)",
       StatusCode::kCorrupt, {"9.1", "10"})
       ->edit = patch_first_fragment(box::kTexture, 1, 3);
+
+  // Format version 5: SPIHT coder 3.
+  const auto arith3 = [](CaseSpec* c) {
+    c->options.coder = EntropyCoder::kArith3;
+    return c;
+  };
+  arith3(add("arith3_in_version_4", "the spiht-arith3 tool (bit 14) in a format version 4 header",
+             StatusCode::kCorrupt, {"3.1", "4", "10"}))
+      ->edit = [header](std::vector<EditBox>* boxes) {
+    StoreLe(&header(boxes), fvvh::kFormatVersion, 4, 2);
+    return Status::Ok();
+  };
+  arith2(add("arith3_without_tool",
+             "a 'texr' naming coder 3 in a stream whose header declares spiht-arith2, not "
+             "spiht-arith3 (checksum recomputed)",
+             StatusCode::kCorrupt, {"3.1", "9.1", "10"}))
+      ->edit = patch_first_fragment(box::kTexture, 1, 3);
+  arith3(add("coder_unknown_in_version_5",
+             "a 'texr' of a format version 5 stream naming entropy coder 4 (checksum recomputed)",
+             StatusCode::kCorrupt, {"9.1", "10"}))
+      ->edit = patch_first_fragment(box::kTexture, 1, 4);
   return v;
 }
 

@@ -12,7 +12,7 @@
 namespace fvv {
 
 struct CodecOptionArgs {
-  std::string kernel = "97", coder = "arith2", chroma = "444";
+  std::string kernel = "97", coder = "arith3", chroma = "444";
   int precision_97 = kFracBits97;
 
   WaveletKernel Kernel() const {
@@ -21,9 +21,10 @@ struct CodecOptionArgs {
                             : WaveletKernel::kCdf97;
   }
   EntropyCoder Coder() const {
-    return coder == "binary"  ? EntropyCoder::kBinary
-           : coder == "arith" ? EntropyCoder::kArith
-                              : EntropyCoder::kArith2;
+    return coder == "binary"   ? EntropyCoder::kBinary
+           : coder == "arith"  ? EntropyCoder::kArith
+           : coder == "arith2" ? EntropyCoder::kArith2
+                               : EntropyCoder::kArith3;
   }
   ChromaFormat Chroma() const { return chroma == "420" ? ChromaFormat::k420 : ChromaFormat::k444; }
 };
@@ -39,10 +40,11 @@ inline void AddCodecOptions(CLI::App* app, CodecOptionArgs* a) {
       ->check(CLI::Range(kMinFracBits97, kMaxFracBits97))
       ->capture_default_str();
   app->add_option("--coder", a->coder,
-                  "SPIHT decision coding: arith2 (range coding with neighbourhood contexts; "
-                  "needs a format version 4 decoder), arith (the contexts older decoders read, "
-                  "about 0.1-0.2 dB lower on atlas textures), binary (raw decisions)")
-      ->check(CLI::IsMember({"binary", "arith", "arith2"}))
+                  "SPIHT decision coding: arith3 (range coding with set and sign contexts; "
+                  "needs a format version 5 decoder), arith2 (what version 4 decoders read, "
+                  "about 0.1 dB lower), arith (what older decoders read, about 0.2-0.3 dB "
+                  "lower on atlas textures), binary (raw decisions)")
+      ->check(CLI::IsMember({"binary", "arith", "arith2", "arith3"}))
       ->capture_default_str();
   app->add_option("--chroma", a->chroma, "Chroma resolution")
       ->check(CLI::IsMember({"444", "420"}))

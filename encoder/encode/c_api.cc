@@ -27,7 +27,7 @@ fvv::Status ToSettings(const fvv_encoder_settings& c, fvv::EncoderSettings* s) {
   if (c.kernel > FVV_KERNEL_HAAR) return InvalidArgument("kernel is not an fvv_kernel");
   if (c.precision_97 > uint32_t(fvv::kMaxFracBits97) || !fvv::ValidFracBits97(int(c.precision_97)))
     return InvalidArgument("precision_97 is not 2..6");
-  if (c.coder > FVV_CODER_ARITH2) return InvalidArgument("coder is not an fvv_entropy_coder");
+  if (c.coder > FVV_CODER_ARITH3) return InvalidArgument("coder is not an fvv_entropy_coder");
   if (c.chroma > FVV_CHROMA_420) return InvalidArgument("chroma is not an fvv_chroma");
   if (c.mask_mode > FVV_MASKS_CODED_V1) return InvalidArgument("mask_mode is not an fvv_mask_mode");
   if (c.rate_mode > FVV_RATE_BYTES_PER_GOP)
@@ -47,6 +47,7 @@ fvv::Status ToSettings(const fvv_encoder_settings& c, fvv::EncoderSettings* s) {
   s->frac_bits_97 = int(c.precision_97);
   s->coder = c.coder == FVV_CODER_BINARY   ? fvv::EntropyCoder::kBinary
              : c.coder == FVV_CODER_ARITH2 ? fvv::EntropyCoder::kArith2
+             : c.coder == FVV_CODER_ARITH3 ? fvv::EntropyCoder::kArith3
                                            : fvv::EntropyCoder::kArith;
   s->chroma = c.chroma == FVV_CHROMA_420 ? fvv::ChromaFormat::k420 : fvv::ChromaFormat::k444;
   s->masks = c.mask_mode != FVV_MASKS_NONE;
@@ -91,7 +92,7 @@ void fvv_encoder_default_settings(fvv_encoder_settings* settings) {
   settings->gop_cameras = 1;
   settings->kernel = FVV_KERNEL_CDF97;
   settings->precision_97 = fvv::kFracBits97;
-  settings->coder = FVV_CODER_ARITH2;
+  settings->coder = FVV_CODER_ARITH3;
   settings->chroma = FVV_CHROMA_444;
   settings->mask_mode = FVV_MASKS_CODED;
   settings->texture_codec = FVV_TEXTURE_SPIHT;

@@ -76,7 +76,8 @@ struct EncoderSettings {
   // version 3 (1.6 dB better at 20:1 on the demo capture than 2); 2 keeps a 9/7
   // SPIHT stream readable by version 1 and 2 decoders.
   int frac_bits_97 = kFracBits97;
-  EntropyCoder coder = EntropyCoder::kArith2;  // kArith: what format version 1..3 decoders read
+  // kArith2: what format version 4 decoders read; kArith: versions 1..3.
+  EntropyCoder coder = EntropyCoder::kArith3;
   ChromaFormat chroma = ChromaFormat::k444;
   // Texels no camera saw: the codec's pyramid fill refined by sparse-fill
   // projections (codec/fill.h). On the demo capture the default's 8 make

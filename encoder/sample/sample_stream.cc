@@ -223,8 +223,8 @@ StatusOr<SampleStream> MakeSampleStream(const SampleStreamOptions& o,
   if (o.predictive) {
     if (!o.masks) return InvalidArgument("sample: the predictive texture needs masks");
     if (o.chroma != ChromaFormat::k444) return InvalidArgument("sample: predictive is 4:4:4");
-    h.tools = (h.tools & ~(kToolSpihtArith | kToolSpihtArith2 | kToolSpihtBinary |
-                           kToolReversibleColour | kToolTexturePrecision)) |
+    h.tools = (h.tools & ~(kToolSpihtArith | kToolSpihtArith2 | kToolSpihtArith3 |
+                           kToolSpihtBinary | kToolReversibleColour | kToolTexturePrecision)) |
               kToolPredictiveTexture;
   }
   h.format_version = RequiredFormatVersion(h.tools, o.mask_coding);

@@ -44,11 +44,17 @@ typedef enum {
 } fvv_rate_mode;
 
 typedef enum { FVV_KERNEL_CDF97 = 0, FVV_KERNEL_LEGALL53 = 1, FVV_KERNEL_HAAR = 2 } fvv_kernel;
-/* SPIHT decision coding. FVV_CODER_ARITH2 (the default): range coding with the neighbourhood
-   contexts of format version 4. FVV_CODER_ARITH: the contexts of format versions 1..3, for older
-   decoders (about 0.1 to 0.2 dB lower at equal bytes on atlas textures). FVV_CODER_BINARY: raw
+/* SPIHT decision coding. FVV_CODER_ARITH3 (the default): range coding with the set and sign
+   contexts of format version 5. FVV_CODER_ARITH2: the neighbourhood contexts of format version 4
+   (about 0.1 dB lower at equal bytes on atlas textures). FVV_CODER_ARITH: the contexts of format
+   versions 1..3, for older decoders (about 0.2 to 0.3 dB lower). FVV_CODER_BINARY: raw
    decisions. */
-typedef enum { FVV_CODER_ARITH = 0, FVV_CODER_BINARY = 1, FVV_CODER_ARITH2 = 2 } fvv_entropy_coder;
+typedef enum {
+  FVV_CODER_ARITH = 0,
+  FVV_CODER_BINARY = 1,
+  FVV_CODER_ARITH2 = 2,
+  FVV_CODER_ARITH3 = 3
+} fvv_entropy_coder;
 typedef enum { FVV_CHROMA_444 = 0, FVV_CHROMA_420 = 1 } fvv_chroma;
 /* FVV_MASKS_CODED: mask mode 2 (two context models mixed per texel; format version 2).
    FVV_MASKS_CODED_V1: mask mode 1, about 12 % larger, keeps a SPIHT stream at format version 1
