@@ -20,8 +20,14 @@
 // Quality: RGB PSNR over the texels the cameras saw. Bytes: texture payloads
 // only (fvv's masks, which every codec's player would need, are listed apart).
 //
+// Random access: fvv's GOPs are 8 frames (`--gop-frames`), x264 and x265 keep
+// ffmpeg's keyframe interval (250: one I-frame per camera in a short
+// sequence) unless `--keyint` sets one; equal intervals compare codecs at the
+// same random access.
+//
 // Usage: rd_bench TEXTURES_DIR CAPTURE_DIR WORK_DIR [--ratios 20,50,120,280] [--frames N]
 //                 [--bisk-kernel 53|97] [--fill-iterations N] [--peer-fill both|fvv|parent]
+//                 [--gop-frames N] [--keyint N]
 #include <unistd.h>
 
 #include <chrono>
@@ -158,10 +164,11 @@ struct Result {
 };
 
 Result RunFvv(const Sequence& seq, const std::string& capture, const std::string& textures,
-              const std::string& work, double ratio, const FillOptions& fill,
+              const std::string& work, double ratio, const FillOptions& fill, uint16_t gop_frames,
               uint64_t* mask_bytes) {
   Result r;
   EncoderSettings s;
+  s.gop_frames = gop_frames;
   s.textures = textures;
   s.first_frame = seq.first;
   s.last_frame = seq.first + seq.frames - 1;
@@ -281,7 +288,7 @@ Result RunOpenJpeg(const Sequence& seq, const std::string& work, uint64_t target
 }
 
 Result RunVideo(const Sequence& seq, const std::string& work, uint64_t target, const char* codec,
-                double fps) {
+                double fps, int keyint) {
   Result r;
   const size_t cams = seq.cameras.size();
   const double seconds = seq.frames / fps;
@@ -297,21 +304,24 @@ Result RunVideo(const Sequence& seq, const std::string& work, uint64_t target, c
       if (!WritePpm(dir + name, seq.filled[f * cams + c])) return r;
     }
     const std::string mp4 = work + "/video.mkv";
+    const std::string gop = keyint > 0 ? " -g " + std::to_string(keyint) : "";
     char cmd[1024];
     auto t0 = Clock::now();
     for (int pass = 1; pass <= 2; ++pass) {
       if (std::string(codec) == "libx264") {
         std::snprintf(cmd, sizeof(cmd),
                       "cd '%s' && ffmpeg -v error -y -framerate %.3f -i video_in/%%06d.ppm -c:v "
-                      "libx264 -preset medium -pix_fmt yuv444p -b:v %.1fk -pass %d -passlogfile "
+                      "libx264 -preset medium -pix_fmt yuv444p -b:v %.1fk%s -pass %d -passlogfile "
                       "pass %s",
-                      work.c_str(), fps, kbps, pass, pass == 1 ? "-f null /dev/null" : "video.mkv");
+                      work.c_str(), fps, kbps, gop.c_str(), pass,
+                      pass == 1 ? "-f null /dev/null" : "video.mkv");
       } else {
         std::snprintf(cmd, sizeof(cmd),
                       "cd '%s' && ffmpeg -v error -y -framerate %.3f -i video_in/%%06d.ppm -c:v "
-                      "libx265 -preset medium -pix_fmt yuv444p -b:v %.1fk -x265-params "
+                      "libx265 -preset medium -pix_fmt yuv444p -b:v %.1fk%s -x265-params "
                       "log-level=error:pass=%d:stats=pass.log %s",
-                      work.c_str(), fps, kbps, pass, pass == 1 ? "-f null /dev/null" : "video.mkv");
+                      work.c_str(), fps, kbps, gop.c_str(), pass,
+                      pass == 1 ? "-f null /dev/null" : "video.mkv");
       }
       if (!Run(cmd)) return r;
     }
@@ -346,7 +356,8 @@ int Main(int argc, char** argv) {
     std::fprintf(stderr,
                  "usage: rd_bench TEXTURES_DIR CAPTURE_DIR WORK_DIR [--bisk-kernel 53|97] "
                  "[--ratios 20,50,120,280] "
-                 "[--frames N] [--fill-iterations N] [--peer-fill both|fvv|parent]\n");
+                 "[--frames N] [--fill-iterations N] [--peer-fill both|fvv|parent] "
+                 "[--gop-frames N] [--keyint N]\n");
     return 2;
   }
   const std::string textures = argv[1], capture = argv[2], work = argv[3];
@@ -355,6 +366,8 @@ int Main(int argc, char** argv) {
   uint32_t max_frames = UINT32_MAX;
   FillOptions fill;
   std::string peer_fill = "both";
+  uint16_t gop_frames = EncoderSettings{}.gop_frames;
+  int keyint = 0;  // ffmpeg's default
   for (int i = 4; i + 1 < argc; i += 2) {
     const std::string opt = argv[i];
     if (opt == "--bisk-kernel") {
@@ -370,6 +383,13 @@ int Main(int argc, char** argv) {
       max_frames = uint32_t(std::atoi(argv[i + 1]));
     } else if (opt == "--fill-iterations") {
       fill.iterations = std::atoi(argv[i + 1]);
+    } else if (opt == "--gop-frames") {
+      const int n = std::atoi(argv[i + 1]);
+      if (n < 1 || n > 64) return Fail("--gop-frames 1..64");
+      gop_frames = uint16_t(n);
+    } else if (opt == "--keyint") {
+      keyint = std::atoi(argv[i + 1]);
+      if (keyint < 1) return Fail("--keyint: a positive number of frames");
     } else if (opt == "--peer-fill") {
       peer_fill = argv[i + 1];
       if (peer_fill != "fvv" && peer_fill != "parent" && peer_fill != "both")
@@ -413,13 +433,16 @@ int Main(int argc, char** argv) {
       100.0 * seq.visible / (double(seq.size) * seq.size * seq.textures.size()), raw / 1e6);
   std::printf(
       "RGB PSNR over visible texels; bytes = texture payload; encode/decode = seconds per "
-      "frame (all cameras); fvv 2 threads, OpenJPEG 1 thread, x264/x265 ffmpeg defaults\n\n");
+      "frame (all cameras); fvv 2 threads, OpenJPEG 1 thread, x264/x265 ffmpeg defaults\n");
+  std::printf("Random access: fvv GOPs of %u frames; x264/x265 keyframe interval %s\n\n",
+              unsigned{gop_frames},
+              keyint > 0 ? (std::to_string(keyint) + " frames").c_str() : "ffmpeg's default (250)");
   std::printf("%7s | %-22s %10s %8s %8s %8s | %s\n", "target", "codec", "bytes", "ratio", "PSNR",
               "enc s/f", "dec s/f");
   int wins_j2k = 0, wins_x264 = 0;
   for (double ratio : ratios) {
     uint64_t mask_bytes = 0, unused = 0;
-    const Result f = RunFvv(seq, capture, textures, work, ratio, fill, &mask_bytes);
+    const Result f = RunFvv(seq, capture, textures, work, ratio, fill, gop_frames, &mask_bytes);
     if (!f.ok) return Fail("fvv failed");
     auto row = [&](const std::string& name, const Result& r) {
       if (!r.ok) {
@@ -441,10 +464,11 @@ int Main(int argc, char** argv) {
       seq.filled = pf.filled;
       const std::string tag = " (" + pf.name + " fill)";
       const Result jp = RunOpenJpeg(seq, work, f.bytes);
-      const Result h4 = RunVideo(seq, work, f.bytes, "libx264", fps);
-      const Result h5 = RunVideo(seq, work, f.bytes, "libx265", fps);
+      const Result h4 = RunVideo(seq, work, f.bytes, "libx264", fps, keyint);
+      const Result h5 = RunVideo(seq, work, f.bytes, "libx265", fps, keyint);
       auto at_bytes = [&](const Result& peer) {
-        return peer.ok ? RunFvv(seq, capture, textures, work, raw / peer.bytes, fill, &unused)
+        return peer.ok ? RunFvv(seq, capture, textures, work, raw / peer.bytes, fill, gop_frames,
+                                &unused)
                        : Result{};
       };
       const Result fj = at_bytes(jp), f4 = at_bytes(h4);
