@@ -230,15 +230,17 @@ void SpihtTraverse(const SpihtTree& tree, int planes, Side* side) {
   thread_local std::vector<uint8_t> state;
   if (state.size() < tree.size()) state.resize(tree.size());
   auto significant = [&](size_t idx) { return (state[idx] & kSignBits) != 0; };
-  // Significant spatial neighbours (x +- 1, y +- 1), clipped to 2: the context.
-  auto neighbours = [&](uint32_t idx) {
+  // Spatial neighbours (x +- 1, y +- 1) with any of `flags` set, clipped to 2.
+  auto count_neighbours = [&](uint32_t idx, uint8_t flags) {
     int k = 0;
-    if (tree.HasLeft(idx)) k += significant(idx - 1);
-    if (tree.HasRight(idx)) k += significant(idx + 1);
-    if (tree.HasUp(idx)) k += significant(idx - w);
-    if (tree.HasDown(idx)) k += significant(idx + w);
+    if (tree.HasLeft(idx)) k += (state[idx - 1] & flags) != 0;
+    if (tree.HasRight(idx)) k += (state[idx + 1] & flags) != 0;
+    if (tree.HasUp(idx)) k += (state[idx - w] & flags) != 0;
+    if (tree.HasDown(idx)) k += (state[idx + w] & flags) != 0;
     return k < 2 ? k : 2;
   };
+  // Significant spatial neighbours: the context.
+  auto neighbours = [&](uint32_t idx) { return count_neighbours(idx, kSignBits); };
   auto temporal = [&](uint32_t idx) {
     int k = 0;
     if (idx >= frame) k += significant(idx - frame);
@@ -303,14 +305,7 @@ void SpihtTraverse(const SpihtTree& tree, int planes, Side* side) {
   };
   // ctx3: significant D sets among the spatial neighbours (clipped to 2) and in time.
   auto set_significant = [&](size_t idx) { return (state[idx] & kSetSignificant) != 0; };
-  auto neighbour_sets = [&](uint32_t idx) {
-    int k = 0;
-    if (tree.HasLeft(idx)) k += set_significant(idx - 1);
-    if (tree.HasRight(idx)) k += set_significant(idx + 1);
-    if (tree.HasUp(idx)) k += set_significant(idx - w);
-    if (tree.HasDown(idx)) k += set_significant(idx + w);
-    return k < 2 ? k : 2;
-  };
+  auto neighbour_sets = [&](uint32_t idx) { return count_neighbours(idx, kSetSignificant); };
   auto temporal_sets = [&](uint32_t idx) {
     return (idx >= frame && set_significant(idx - frame)) ||
            (idx + frame < count && set_significant(idx + frame));

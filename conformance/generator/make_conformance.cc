@@ -350,41 +350,32 @@ std::vector<CaseSpec> ValidCases() {
       "mask mode 2",
       o, {30, 200});
 
-  // Format version 4: SPIHT coder 2, the neighbourhood contexts (9.5).
-  o = Base(8, 4, 64, 64, 4, 2);
-  o.frac_bits_97 = kFracBits97;
-  o.coder = EntropyCoder::kArith2;
-  add("arith2_97",
-      "SPIHT coder 2 (neighbourhood contexts, temporal neighbours in 4-frame GOPs), 9/7 with 5 "
-      "fractional bits, masks; 2x2 GOP grid",
-      o, {1, 64, 700});
-  o = Base(6, 3, 37, 23, 6, 3);
-  o.kernel = WaveletKernel::kLeGall53;
-  o.coder = EntropyCoder::kArith2;
-  o.chroma = ChromaFormat::k420;
-  o.mask_coding = MaskCoding::kMixing;
-  add("arith2_53_420_multicamera",
-      "SPIHT coder 2 with the 5/3 kernel, 4:2:0 on an odd atlas, 6-frame x 3-camera GOPs, mask "
-      "mode 2",
-      o, {30, 200});
-
-  // Format version 5: SPIHT coder 3, the set and sign contexts (9.5).
-  o = Base(8, 4, 64, 64, 4, 2);
-  o.frac_bits_97 = kFracBits97;
-  o.coder = EntropyCoder::kArith3;
-  add("arith3_97",
-      "SPIHT coder 3 (set and sign contexts, neighbours in time in 4-frame GOPs, count-adaptive "
-      "probabilities), 9/7 with 5 fractional bits, masks; 2x2 GOP grid",
-      o, {1, 64, 700});
-  o = Base(6, 3, 37, 23, 6, 3);
-  o.kernel = WaveletKernel::kLeGall53;
-  o.coder = EntropyCoder::kArith3;
-  o.chroma = ChromaFormat::k420;
-  o.mask_coding = MaskCoding::kMixing;
-  add("arith3_53_420_multicamera",
-      "SPIHT coder 3 with the 5/3 kernel, 4:2:0 on an odd atlas, 6-frame x 3-camera GOPs, mask "
-      "mode 2",
-      o, {30, 200});
+  // Format versions 4 and 5: SPIHT coders 2 (neighbourhood contexts) and 3
+  // (set and sign contexts), 9.5: the 9/7 at precision 5 in 4-frame GOPs, and
+  // the 5/3 with 4:2:0 on an odd atlas in multi-camera GOPs.
+  const auto coder_cases = [&](EntropyCoder coder, const char* the_97, const char* the_53) {
+    const std::string name = std::string("arith") + std::to_string(static_cast<int>(coder));
+    SampleStreamOptions c = Base(8, 4, 64, 64, 4, 2);
+    c.frac_bits_97 = kFracBits97;
+    c.coder = coder;
+    add(name + "_97", the_97, c, {1, 64, 700});
+    c = Base(6, 3, 37, 23, 6, 3);
+    c.kernel = WaveletKernel::kLeGall53;
+    c.coder = coder;
+    c.chroma = ChromaFormat::k420;
+    c.mask_coding = MaskCoding::kMixing;
+    add(name + "_53_420_multicamera", the_53, c, {30, 200});
+  };
+  coder_cases(EntropyCoder::kArith2,
+              "SPIHT coder 2 (neighbourhood contexts, temporal neighbours in 4-frame GOPs), 9/7 "
+              "with 5 fractional bits, masks; 2x2 GOP grid",
+              "SPIHT coder 2 with the 5/3 kernel, 4:2:0 on an odd atlas, 6-frame x 3-camera GOPs, "
+              "mask mode 2");
+  coder_cases(EntropyCoder::kArith3,
+              "SPIHT coder 3 (set and sign contexts, neighbours in time in 4-frame GOPs, "
+              "count-adaptive probabilities), 9/7 with 5 fractional bits, masks; 2x2 GOP grid",
+              "SPIHT coder 3 with the 5/3 kernel, 4:2:0 on an odd atlas, 6-frame x 3-camera GOPs, "
+              "mask mode 2");
   return v;
 }
 
