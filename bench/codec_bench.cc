@@ -78,8 +78,10 @@ struct Row {
 int Kodak(const std::string& dir, int images, bool only_97_arith) {
   const double rates[] = {0.125, 0.25, 0.5, 1.0};
   const char* kernels[] = {"haar", "53", "97"};
-  const char* coders[] = {"binary", "arith", "arith2", "arith3"};
-  constexpr int kCoders = 4, kDefaultCoder = 3;  // arith3: what fvv encode writes
+  // Own-band weights (format version 6) for all; "a3axis" is arith3 with the
+  // per-axis weights of format version 5, for the comparison.
+  const char* coders[] = {"binary", "arith", "arith2", "arith3", "a3axis"};
+  constexpr int kCoders = 5, kDefaultCoder = 3;  // arith3: what fvv encode writes
   Row rows[3][kCoders][4], opj[4];
   ThreadPool pool(1);  // single-threaded on both sides: OpenJPEG's CLI codes on one thread
   const std::string tmp = "/tmp/fvv_bench_" + std::to_string(getpid());
@@ -103,7 +105,8 @@ int Kodak(const std::string& dir, int images, bool only_97_arith) {
           if (only_97_arith && !(k == 2 && c > 0)) continue;
           EncodeSettings s;
           s.kernel = static_cast<WaveletKernel>(k);
-          s.coder = static_cast<EntropyCoder>(c);
+          s.coder = static_cast<EntropyCoder>(c < 4 ? c : 3);
+          if (c == 4) s.weights = BandWeights::kAxisBands;
           s.rate_value = rates[r];
           s.runner = pool.runner();
           auto t0 = Clock::now();

@@ -36,6 +36,9 @@ struct BlockParams {
   // 5/3; for the 9/7, kMinFracBits97..kMaxFracBits97 (2 in streams before
   // format version 3).
   uint8_t frac_bits = kFracBits97;
+  // How coefficients are weighted (SPEC.md 9.3): kAxisBands in streams before
+  // format version 6 (and block files before version 5); encoders set it.
+  BandWeights weights = BandWeights::kAxisBands;
 };
 
 struct ChannelStream {
@@ -68,6 +71,8 @@ struct EncodeSettings {
   // kArith3 needs a format version 5 decoder, kArith2 version 4; kArith is
   // what older ones read.
   EntropyCoder coder = EntropyCoder::kArith3;
+  // kOwnBand needs a format version 6 decoder; kAxisBands is what older ones read.
+  BandWeights weights = BandWeights::kOwnBand;
   RateMode rate_mode = RateMode::kBitsPerSample;
   double rate_value = 0.25;
   // Relative weight of each channel's squared error in rate allocation and in the

@@ -57,7 +57,8 @@ Status BlockDecode::Start(const EncodedBlock& encoded, const DecodeBudget& budge
 void BlockDecode::Spiht(int c) {
   const WaveletGeometry g(shapes_[c]);
   const std::shared_ptr<const SpihtTree> tree = SharedSpihtTree(g);
-  const SubbandQuantisers q(encoded_->params.kernel, encoded_->params.frac_bits, g);
+  const SubbandQuantisers q(encoded_->params.kernel, encoded_->params.frac_bits,
+                            encoded_->params.weights, g);
   const ChannelStream& s = encoded_->channels[c];
   // The time budget is for decoding decisions: it starts once the channel's
   // set-up is done (which no budget could shorten).

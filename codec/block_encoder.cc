@@ -144,6 +144,7 @@ StatusOr<EncodedBlock> EncodeBlock(const Block& block, const UsedMask* mask,
   out.params = {block.shape(), settings.kernel, settings.coder, block.colour, block.chroma};
   out.params.frac_bits =
       static_cast<uint8_t>(KernelFracBits(settings.kernel, settings.frac_bits_97));
+  out.params.weights = settings.weights;
   FVV_RETURN_IF_ERROR(ValidateParams(out.params));
   if (block.channels[1].shape != ChromaShape(block.shape(), block.chroma) ||
       block.channels[2].shape != block.channels[1].shape)
@@ -198,7 +199,7 @@ StatusOr<EncodedBlock> EncodeBlock(const Block& block, const UsedMask* mask,
     for (int32_t& s : plane.samples) s = (s - range.offset) * (1 << frac);
     const WaveletGeometry g(plane.shape);
     ForwardTransform4D(settings.kernel, g, settings.runner, plane.samples.data());
-    const SubbandQuantisers q(settings.kernel, frac, g);
+    const SubbandQuantisers q(settings.kernel, frac, settings.weights, g);
     ForEachBand(g, [&](size_t i, int band) {
       plane.samples[i] = QuantiseCoefficient(plane.samples[i], q[band].mul_q16);
     });
@@ -212,7 +213,7 @@ StatusOr<EncodedBlock> EncodeBlock(const Block& block, const UsedMask* mask,
     settings.runner(3, [&](uint32_t c) {
       const WaveletGeometry g(block.channels[c].shape);
       const std::shared_ptr<const SpihtTree> tree = SharedSpihtTree(g);
-      const SubbandQuantisers q(settings.kernel, frac, g);
+      const SubbandQuantisers q(settings.kernel, frac, settings.weights, g);
       SpihtEncoded enc = SpihtEncode(*tree, q, coeffs[c], settings.coder, cap);
       out.channels[c].planes = enc.planes;
       out.channels[c].data = std::move(enc.data);

@@ -10,6 +10,7 @@ constexpr uint32_t kMaxPoints = 2 * kMaxBitplanes;
 }  // namespace
 
 uint8_t BlockFileVersionFor(const BlockParams& p) {
+  if (p.weights == BandWeights::kOwnBand) return 5;
   if (p.coder == EntropyCoder::kArith3) return 4;
   if (p.coder == EntropyCoder::kArith2) return 3;
   return p.frac_bits == LegacyFracBits(p.kernel) ? 1 : 2;
@@ -30,6 +31,7 @@ Status ReadBlockParams(ByteReader* r, uint8_t version, BlockParams* p) {
   p->colour = static_cast<ColourSpace>(r->U8());
   p->chroma = static_cast<ChromaFormat>(r->U8());
   p->frac_bits = version >= 2 ? r->U8() : static_cast<uint8_t>(LegacyFracBits(p->kernel));
+  p->weights = version >= 5 ? BandWeights::kOwnBand : BandWeights::kAxisBands;
   for (int a = 0; a < kAxes; ++a) p->shape.n[a] = r->U32();
   if (r->overrun()) return Truncated("block parameters end early");
   // Each coder's first block file version: coder 2 in 3, coder 3 in 4.

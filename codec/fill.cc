@@ -117,17 +117,20 @@ void SparseFill(WaveletKernel kernel, const UsedMask& mask, const SampleRange& r
   // The fill's own working precision (its output is whole samples).
   const int frac = DefaultFracBits(kernel);
   const double scale = 1 << frac;
-  // Per axis position: the reciprocal of its 1D synthesis norm. A coefficient's
-  // norm is the product over its four axes (the transform is separable).
-  std::array<std::vector<double>, kAxes> inv_norm;
-  for (int a = 0; a < kAxes; ++a) {
-    const AxisGeometry& ax = g.axis[a];
-    inv_norm[a].resize(n[a]);
-    for (uint32_t i = 0; i < n[a]; ++i) {
-      const uint32_t q16 =
-          ax.band[i] == 0 ? AxisLowNormQ16(kernel, ax.levels) : AxisHighNormQ16(kernel, ax.band[i]);
-      inv_norm[a][i] = 65536.0 / q16;
-    }
+  // Per band: the reciprocal of its synthesis norm, the product over the four
+  // axes of the norm each contributes at the band's level (the transform is
+  // separable; subband_weights.h).
+  std::vector<double> inv_norm(kBandIds, 0.0);
+  for (int id = 0; id < kBandIds; ++id) {
+    std::array<uint8_t, kAxes> codes;
+    int rest = id;
+    for (int a = kAxes - 1; a >= 0; --a, rest /= kBandCodes)
+      codes[a] = static_cast<uint8_t>(rest % kBandCodes);
+    double norm = 1;
+    for (int a = 0; a < kAxes; ++a)
+      norm *= AxisNormQ16(kernel, BandWeights::kOwnBand, g.axis[a], codes[a], BandLevel(codes)) /
+              65536.0;
+    inv_norm[id] = 1 / norm;
   }
   const uint32_t slices = n[0] * n[1];
   const size_t slice = size_t{n[2]} * n[3];
@@ -147,13 +150,16 @@ void SparseFill(WaveletKernel kernel, const UsedMask& mask, const SampleRange& r
     ForwardTransform4D(kernel, g, runner, w.data());
     runner(slices, [&](uint32_t s) {
       // |c| * norm / 2^frac < threshold, as an integer bound per texel of a row.
-      const double slice_limit = threshold * scale * inv_norm[0][s / n[1]] * inv_norm[1][s % n[1]];
+      std::array<uint8_t, kAxes> codes{g.axis[0].band[s / n[1]], g.axis[1].band[s % n[1]], 0, 0};
       std::vector<int32_t> limit(n[3]);
       int32_t* row = w.data() + s * slice;
       for (uint32_t y = 0; y < n[2]; ++y, row += n[3]) {
-        const double row_limit = slice_limit * inv_norm[2][y];
-        for (uint32_t x = 0; x < n[3]; ++x)
-          limit[x] = static_cast<int32_t>(std::min(std::ceil(row_limit * inv_norm[3][x]), 2e9));
+        codes[2] = g.axis[2].band[y];
+        for (uint32_t x = 0; x < n[3]; ++x) {
+          codes[3] = g.axis[3].band[x];
+          const double bound = threshold * scale * inv_norm[SubbandQuantisers::BandId(codes)];
+          limit[x] = static_cast<int32_t>(std::min(std::ceil(bound), 2e9));
+        }
         for (uint32_t x = 0; x < n[3]; ++x) row[x] = std::abs(row[x]) < limit[x] ? 0 : row[x];
       }
     });

@@ -1,5 +1,6 @@
 #include "codec/subband_weights.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace fvv {
@@ -45,7 +46,17 @@ double ComputeAxisNorm(WaveletKernel kernel, bool high, int level) {
   return std::sqrt(energy);
 }
 
-SubbandQuantisers::SubbandQuantisers(WaveletKernel kernel, int frac, const WaveletGeometry& g)
+uint32_t AxisNormQ16(WaveletKernel kernel, BandWeights weights, const AxisGeometry& axis, int code,
+                     int level) {
+  if (weights == BandWeights::kOwnBand && level <= kMaxLevelsPerAxis) {
+    return code == level ? AxisHighNormQ16(kernel, level)
+                         : AxisLowNormQ16(kernel, std::min(level, axis.levels));
+  }
+  return code == 0 ? AxisLowNormQ16(kernel, axis.levels) : AxisHighNormQ16(kernel, code);
+}
+
+SubbandQuantisers::SubbandQuantisers(WaveletKernel kernel, int frac, BandWeights weights,
+                                     const WaveletGeometry& g)
     : bands_(kBandIds) {
   // Reversible kernels: weights relative to the finest all-detail band, as powers of two.
   uint64_t ref = 1u << 16;
@@ -62,9 +73,9 @@ SubbandQuantisers::SubbandQuantisers(WaveletKernel kernel, int frac, const Wavel
     }
     if (!valid) continue;
     uint64_t w = 1u << 16;  // Q16 product of the axis norms
+    const int level = BandLevel(codes);
     for (int a = 0; a < kAxes; ++a) {
-      const uint32_t axis_norm = codes[a] == 0 ? AxisLowNormQ16(kernel, g.axis[a].levels)
-                                               : AxisHighNormQ16(kernel, codes[a]);
+      const uint32_t axis_norm = AxisNormQ16(kernel, weights, g.axis[a], codes[a], level);
       w = (w * axis_norm + 32768) >> 16;
     }
     BandQuantiser& q = bands_[id];

@@ -35,6 +35,8 @@ const char* CodingToolName(uint32_t tool_bit) {
       return "spiht-arith2";
     case kToolSpihtArith3:
       return "spiht-arith3";
+    case kToolOwnBandWeights:
+      return "own-band-weights";
     case kToolTexturePrecision:
       return "texture-precision";
     default:
@@ -65,6 +67,7 @@ const LevelLimits* FindLevel(uint8_t level) {
 }
 
 uint16_t RequiredFormatVersion(uint32_t tools) {
+  if (tools & kToolOwnBandWeights) return 6;
   if (tools & kToolSpihtArith3) return 5;
   if (tools & kToolSpihtArith2) return 4;
   if (tools & kToolTexturePrecision) return 3;
@@ -120,6 +123,11 @@ Status ValidateFileHeader(const FileHeader& h) {
   }
   if ((h.tools & kToolPredictiveTexture) && !(h.tools & kToolMasks)) {
     return Corrupt(at + "predictive texture without masks (its supports are the masks)");
+  }
+  if ((h.tools & kToolOwnBandWeights) && (h.tools & kToolPredictiveTexture)) {
+    return Corrupt(at +
+                   "own-band-weights declared with predictive texture (it sets the weights "
+                   "of 'texr')");
   }
   if ((h.tools & kToolTexturePrecision) &&
       (!(h.tools & kToolCdf97) || (h.tools & kToolPredictiveTexture))) {

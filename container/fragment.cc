@@ -9,11 +9,12 @@
 namespace fvv {
 
 uint32_t TextureTools(WaveletKernel kernel, EntropyCoder coder, ColourSpace colour,
-                      ChromaFormat chroma, int frac_bits) {
+                      ChromaFormat chroma, int frac_bits, BandWeights weights) {
   uint32_t tools = kernel == WaveletKernel::kHaar       ? kToolHaar
                    : kernel == WaveletKernel::kLeGall53 ? kToolLeGall53
                                                         : kToolCdf97;
   if (frac_bits != LegacyFracBits(kernel)) tools |= kToolTexturePrecision;
+  if (weights == BandWeights::kOwnBand) tools |= kToolOwnBandWeights;
   tools |= coder == EntropyCoder::kArith3   ? kToolSpihtArith3
            : coder == EntropyCoder::kArith2 ? kToolSpihtArith2
            : coder == EntropyCoder::kArith  ? kToolSpihtArith
@@ -77,9 +78,13 @@ std::vector<uint8_t> WriteFragmentBox(const FragmentData& f) {
     w.U8(static_cast<uint8_t>(p.coder));
     w.U8(static_cast<uint8_t>(p.colour));
     w.U8(static_cast<uint8_t>(p.chroma));
-    // Version 1 (format version 3, tool texture-precision) when version 0 cannot say it.
-    const uint8_t version = p.frac_bits == LegacyFracBits(p.kernel) ? 0 : 1;
-    if (version == 1) w.U8(p.frac_bits);
+    // Version 2 (format version 6, tool own-band-weights) for own-band weights;
+    // else version 1 (format version 3, tool texture-precision) when version 0
+    // cannot say the precision.
+    const uint8_t version = p.weights == BandWeights::kOwnBand        ? 2
+                            : p.frac_bits == LegacyFracBits(p.kernel) ? 0
+                                                                      : 1;
+    if (version >= 1) w.U8(p.frac_bits);
     for (const ChannelStream& s : f.texture.channels) WriteChannelStream(s, &w);
     AppendBox(box::kTexture, version, kBoxFlagEssential, w.bytes(), &payload);
   }
@@ -141,13 +146,18 @@ Status ReadFragmentHeader(const BoxHeader& b, const uint8_t* payload, const File
 Status ReadTexture(const BoxHeader& b, const uint8_t* payload, const FileHeader& h,
                    const FragmentInfo& info, EncodedBlock* texture) {
   const std::string at = BoxContext(b);
-  if (b.version > 1) return Unsupported(at + "version " + std::to_string(b.version));
-  // Version 1 carries the precision field; the header's tool bit says which
-  // version every 'texr' of the stream has.
-  const bool declared = (h.tools & kToolTexturePrecision) != 0;
-  if ((b.version == 1) != declared) {
+  if (b.version > 2) return Unsupported(at + "version " + std::to_string(b.version));
+  // Versions 1 and 2 carry the precision field, version 2 also weights by own
+  // bands; the header's tool bits say which version every 'texr' of the stream
+  // has: 2 with own-band-weights, else 1 with texture-precision, else 0.
+  const bool own_band = (h.tools & kToolOwnBandWeights) != 0;
+  const uint8_t expected = own_band ? 2 : (h.tools & kToolTexturePrecision) ? 1 : 0;
+  if (b.version != expected) {
     return Corrupt(at + "version " + std::to_string(b.version) + " in a stream that " +
-                   (declared ? "declares" : "does not declare") + " texture-precision");
+                   (own_band ? "declares own-band-weights (version 2)"
+                    : expected == 1
+                        ? "declares texture-precision but not own-band-weights (version 1)"
+                        : "declares neither texture-precision nor own-band-weights (version 0)"));
   }
   ByteReader r(payload, b.payload_size());
   BlockParams& p = texture->params;
@@ -155,12 +165,14 @@ Status ReadTexture(const BoxHeader& b, const uint8_t* payload, const FileHeader&
   p.coder = static_cast<EntropyCoder>(r.U8());
   p.colour = static_cast<ColourSpace>(r.U8());
   p.chroma = static_cast<ChromaFormat>(r.U8());
-  p.frac_bits = b.version == 1 ? r.U8() : static_cast<uint8_t>(LegacyFracBits(p.kernel));
+  p.frac_bits = b.version >= 1 ? r.U8() : static_cast<uint8_t>(LegacyFracBits(p.kernel));
+  p.weights = b.version == 2 ? BandWeights::kOwnBand : BandWeights::kAxisBands;
   p.shape = info.TextureShape(h);
   if (r.overrun()) return Corrupt(at + "too short");
   Status s = ValidateParams(p);
   if (!s.ok()) return Status(s.code(), at + s.message());
-  if ((TextureTools(p.kernel, p.coder, p.colour, p.chroma, p.frac_bits) & ~h.tools) != 0) {
+  if ((TextureTools(p.kernel, p.coder, p.colour, p.chroma, p.frac_bits, p.weights) & ~h.tools) !=
+      0) {
     return Corrupt(at + "uses coding tools the file header does not declare");
   }
   static const char* const kNames[3] = {"Y", "U", "V"};

@@ -61,6 +61,12 @@ int Run(const std::string& dir) {
          o->frac_bits_97 = kFracBits97;
          o->coder = EntropyCoder::kArith3;
        }},
+      {"own_band_weights",
+       [](SampleStreamOptions* o) {
+         o->frac_bits_97 = kFracBits97;
+         o->coder = EntropyCoder::kArith3;
+         o->weights = BandWeights::kOwnBand;
+       }},
       {"haar_binary",
        [](SampleStreamOptions* o) {
          o->kernel = WaveletKernel::kHaar;

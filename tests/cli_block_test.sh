@@ -18,23 +18,31 @@ grep -q "complete" <<<"$out" || fail "decode report: $out"
 out=$("$fvv" block decode "$dir/b.fvb" -o "$dir/dec2" --bytes 100 2>&1) || fail "truncated decode: $out"
 grep -q "truncated" <<<"$out" || fail "truncated decode report: $out"
 
-# The defaults (coder arith3, 9/7 precision 5) write block file version 4;
-# --coder arith2 writes version 3, --coder arith version 2 and --precision 2
-# with it version 1 (what older decoders read); all decode, and 7 is refused by name.
+# The defaults (own-band weights, coder arith3, 9/7 precision 5) write block
+# file version 5; --weights axis writes version 4, with --coder arith2 version 3,
+# --coder arith version 2 and --precision 2 with it version 1 (what older
+# decoders read); all decode, and 7 is refused by name.
 version_of() { od -An -tu1 -j4 -N1 "$1" | tr -d ' '; }
-[ "$(version_of "$dir/b.fvb")" = 4 ] || fail "defaults wrote version $(version_of "$dir/b.fvb")"
-"$fvv" block encode "$dir"/in/view_*.png --cameras 3 --coder arith2 -o "$dir/a2.fvb" --bpp 1 >/dev/null 2>&1 ||
+[ "$(version_of "$dir/b.fvb")" = 5 ] || fail "defaults wrote version $(version_of "$dir/b.fvb")"
+"$fvv" block encode "$dir"/in/view_*.png --cameras 3 --weights axis -o "$dir/a3.fvb" --bpp 1 >/dev/null 2>&1 ||
+  fail "weights axis encode"
+[ "$(version_of "$dir/a3.fvb")" = 4 ] || fail "weights axis wrote version $(version_of "$dir/a3.fvb")"
+out=$("$fvv" block decode "$dir/a3.fvb" -o "$dir/a3dec" 2>&1) || fail "weights axis decode: $out"
+"$fvv" block encode "$dir"/in/view_*.png --cameras 3 --weights axis --coder arith2 -o "$dir/a2.fvb" --bpp 1 >/dev/null 2>&1 ||
   fail "coder arith2 encode"
 [ "$(version_of "$dir/a2.fvb")" = 3 ] || fail "coder arith2 wrote version $(version_of "$dir/a2.fvb")"
 out=$("$fvv" block decode "$dir/a2.fvb" -o "$dir/a2dec" 2>&1) || fail "coder arith2 decode: $out"
-"$fvv" block encode "$dir"/in/view_*.png --cameras 3 --coder arith -o "$dir/a1.fvb" --bpp 1 >/dev/null 2>&1 ||
+"$fvv" block encode "$dir"/in/view_*.png --cameras 3 --weights axis --coder arith -o "$dir/a1.fvb" --bpp 1 >/dev/null 2>&1 ||
   fail "coder arith encode"
 [ "$(version_of "$dir/a1.fvb")" = 2 ] || fail "coder arith wrote version $(version_of "$dir/a1.fvb")"
 out=$("$fvv" block decode "$dir/a1.fvb" -o "$dir/a1dec" 2>&1) || fail "coder arith decode: $out"
-"$fvv" block encode "$dir"/in/view_*.png --cameras 3 --coder arith --precision 2 -o "$dir/p2.fvb" --bpp 1 >/dev/null 2>&1 ||
+"$fvv" block encode "$dir"/in/view_*.png --cameras 3 --weights axis --coder arith --precision 2 -o "$dir/p2.fvb" --bpp 1 >/dev/null 2>&1 ||
   fail "precision 2 encode"
 [ "$(version_of "$dir/p2.fvb")" = 1 ] || fail "precision 2 wrote version $(version_of "$dir/p2.fvb")"
 out=$("$fvv" block decode "$dir/p2.fvb" -o "$dir/p2dec" 2>&1) || fail "precision 2 decode: $out"
+out=$("$fvv" block encode "$dir"/in/view_*.png --cameras 3 --weights level -o "$dir/wl.fvb" 2>&1) &&
+  fail "weights level accepted"
+grep -q -- "--weights" <<<"$out" || fail "weights level message: $out"
 out=$("$fvv" block encode "$dir"/in/view_*.png --cameras 3 --precision 7 -o "$dir/p7.fvb" 2>&1) &&
   fail "precision 7 accepted"
 grep -q -- "--precision" <<<"$out" || fail "precision 7 message: $out"

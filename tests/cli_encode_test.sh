@@ -61,21 +61,26 @@ tex_a=$(grep -o '"texture": [0-9]*' "$dir/summary.json" | head -1 | grep -o '[0-
 tex_b=$(grep "textures  " <<<"$out" | awk '{print $2}')
 [ "$tex_a" = "$tex_b" ] || fail "texture bytes differ: $tex_a vs $tex_b"
 
-# Format versions: the defaults write version 5 (SPIHT coder arith3, 9/7
-# precision 5, mask mode 2); --coder arith2 writes version 4, --coder arith
-# version 3; --coder arith --precision 2 --mask-coder context what version 1
-# decoders read.
-"$fvv" info "$dir/b.fvv" | grep -q "format version 5" || fail "default format version: $("$fvv" info "$dir/b.fvv" | head -1)"
+# Format versions: the defaults write version 6 (own-band weights, SPIHT coder
+# arith3, 9/7 precision 5, mask mode 2); --weights axis writes version 5, with
+# --coder arith2 version 4, --coder arith version 3; --coder arith --precision
+# 2 --mask-coder context what version 1 decoders read.
+"$fvv" info "$dir/b.fvv" | grep -q "format version 6" || fail "default format version: $("$fvv" info "$dir/b.fvv" | head -1)"
 "$fvv" info "$dir/b.fvv" | grep -q "spiht-arith3" || fail "default tools: $("$fvv" info "$dir/b.fvv" | grep tools)"
+"$fvv" info "$dir/b.fvv" | grep -q "own-band-weights" || fail "default tools: $("$fvv" info "$dir/b.fvv" | grep tools)"
+out=$("$fvv" encode "$dir/cap" -o "$dir/v5.fvv" --atlas 128 --gop-frames 2 --textures "$dir/tex" \
+  --weights axis -q 2>&1) || fail "encode --weights axis: $out"
+"$fvv" info "$dir/v5.fvv" | grep -q "format version 5" || fail "weights axis format version: $("$fvv" info "$dir/v5.fvv" | head -1)"
+"$fvv" info "$dir/v5.fvv" | grep -q "own-band-weights" && fail "weights axis tools: $("$fvv" info "$dir/v5.fvv" | grep tools)"
 out=$("$fvv" encode "$dir/cap" -o "$dir/v4.fvv" --atlas 128 --gop-frames 2 --textures "$dir/tex" \
-  --coder arith2 -q 2>&1) || fail "encode --coder arith2: $out"
+  --weights axis --coder arith2 -q 2>&1) || fail "encode --coder arith2: $out"
 "$fvv" info "$dir/v4.fvv" | grep -q "format version 4" || fail "coder arith2 format version: $("$fvv" info "$dir/v4.fvv" | head -1)"
 "$fvv" info "$dir/v4.fvv" | grep -q "spiht-arith2" || fail "coder arith2 tools: $("$fvv" info "$dir/v4.fvv" | grep tools)"
 out=$("$fvv" encode "$dir/cap" -o "$dir/v3.fvv" --atlas 128 --gop-frames 2 --textures "$dir/tex" \
-  --coder arith -q 2>&1) || fail "encode --coder arith: $out"
+  --weights axis --coder arith -q 2>&1) || fail "encode --coder arith: $out"
 "$fvv" info "$dir/v3.fvv" | grep -q "format version 3" || fail "coder arith format version: $("$fvv" info "$dir/v3.fvv" | head -1)"
 out=$("$fvv" encode "$dir/cap" -o "$dir/v1.fvv" --atlas 128 --gop-frames 2 --textures "$dir/tex" \
-  --coder arith --precision 2 --mask-coder context -q 2>&1) || fail "encode --precision 2: $out"
+  --weights axis --coder arith --precision 2 --mask-coder context -q 2>&1) || fail "encode --precision 2: $out"
 "$fvv" info "$dir/v1.fvv" | grep -q "format version 1" || fail "precision 2 format version: $("$fvv" info "$dir/v1.fvv" | head -1)"
 "$fvv" decode "$dir/v1.fvv" -o "$dir/v1dec" >/dev/null 2>&1 || fail "decode of the version 1 stream"
 

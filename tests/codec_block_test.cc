@@ -218,9 +218,12 @@ TEST(Precision, FullScaleContentSurvivesTheLargestPrecision) {
   }
 }
 
-std::vector<uint8_t> SmallBlockFile(EntropyCoder coder) {
+// Per-axis weights unless asked: the block file versions of each coder.
+std::vector<uint8_t> SmallBlockFile(EntropyCoder coder,
+                                    BandWeights weights = BandWeights::kAxisBands) {
   EncodeSettings s;
   s.coder = coder;
+  s.weights = weights;
   s.rate_value = 2.0;
   auto enc =
       EncodeBlock(SmoothBlock(Shape4D{{2, 2, 12, 10}}, ColourSpace::kYCbCr601, 4), nullptr, s);
@@ -282,12 +285,39 @@ TEST(BlockFile, EachCoderHasItsFirstVersion) {
   EXPECT_EQ(SmallBlockFile(EntropyCoder::kArith)[4], 2);  // precision 5, coder 1
 }
 
+// Version 5 weights by own bands, with any coder; the same bytes read as
+// version 4 decode validly but differently (the weights are not in the
+// payload: the version says them).
+TEST(BlockFile, Version5HasOwnBandWeights) {
+  for (EntropyCoder coder : {EntropyCoder::kArith, EntropyCoder::kArith3}) {
+    const std::vector<uint8_t> file = SmallBlockFile(coder, BandWeights::kOwnBand);
+    ASSERT_EQ(file[4], 5);
+    auto parsed = ReadBlockFile(file.data(), file.size());
+    ASSERT_TRUE(parsed.ok()) << parsed.status().ToString();
+    EXPECT_EQ(parsed->params.weights, BandWeights::kOwnBand);
+    EXPECT_EQ(WriteBlockFile(*parsed), file);
+    std::vector<uint8_t> v4 = file;
+    v4[4] = 4;
+    auto as_v4 = ReadBlockFile(v4.data(), v4.size());
+    ASSERT_TRUE(as_v4.ok()) << as_v4.status().ToString();
+    EXPECT_EQ(as_v4->params.weights, BandWeights::kAxisBands);
+    auto own = DecodeBlock(*parsed, DecodeBudget{}, SerialRunner);
+    auto axis = DecodeBlock(*as_v4, DecodeBudget{}, SerialRunner);
+    ASSERT_TRUE(own.ok() && axis.ok());
+    EXPECT_NE(HashBlock(*own), HashBlock(*axis));
+  }
+  std::vector<uint8_t> v6 = SmallBlockFile(EntropyCoder::kArith3, BandWeights::kOwnBand);
+  v6[4] = 6;
+  EXPECT_EQ(ReadBlockFile(v6.data(), v6.size()).status().code(), StatusCode::kUnsupported);
+}
+
 // Every prefix and every single-byte change: a defined outcome, never a crash
 // (run under ASan+UBSan in CI).
 TEST(BlockFile, EveryPrefixAndByteFlipEndsInErrorOrValidDecode) {
   for (EntropyCoder coder : {EntropyCoder::kBinary, EntropyCoder::kArith, EntropyCoder::kArith2,
                              EntropyCoder::kArith3}) {
-    const std::vector<uint8_t> file = SmallBlockFile(coder);
+    const std::vector<uint8_t> file = SmallBlockFile(
+        coder, coder == EntropyCoder::kArith3 ? BandWeights::kOwnBand : BandWeights::kAxisBands);
     for (size_t n = 0; n < file.size(); ++n) {
       auto parsed = ReadBlockFile(file.data(), n);
       ASSERT_FALSE(parsed.ok()) << "prefix " << n << " parsed";

@@ -363,9 +363,59 @@ TEST(SubbandWeights, PinnedTableMatchesSynthesisNorms) {
   }
 }
 
+// The weight is meant to be the L2 norm of the coefficient's synthesis function,
+// so that a unit of error costs the same everywhere. Measured by synthesising an
+// impulse, at interior positions (whose synthesis does not reach the block's
+// edges) of every kind of band: each axis's band code at, above and below the
+// coefficient's level, and 0. Own-band weights match within rounding; the
+// per-axis weights of format versions 1 to 5 are off by up to 2x where an axis
+// was not split at the coefficient's level.
+TEST(SubbandWeights, OwnBandWeightIsTheSynthesisNorm) {
+  struct Case {
+    Shape4D shape;
+    std::array<uint32_t, kAxes> p;
+  };
+  const Case cases[] = {
+      // 256 x 256: lo = 256, 128, 64, 32, 16, 8, 4.
+      {Shape4D{{1, 1, 256, 256}}, {0, 0, 5, 200}},    // y code 6, x code 1: level 1
+      {Shape4D{{1, 1, 256, 256}}, {0, 0, 20, 200}},   // y code 4, x code 1
+      {Shape4D{{1, 1, 256, 256}}, {0, 0, 100, 200}},  // y code 2, x code 1
+      {Shape4D{{1, 1, 256, 256}}, {0, 0, 200, 60}},   // y code 1, x code 3
+      {Shape4D{{1, 1, 256, 256}}, {0, 0, 60, 100}},   // y code 3, x code 2: level 2
+      {Shape4D{{1, 1, 256, 256}}, {0, 0, 40, 40}},    // level 3, both axes split
+      // 64 frames x 64 x 64: lo = 64, 32, 16, 8, 4, 2, 1.
+      {Shape4D{{64, 1, 64, 64}}, {10, 0, 45, 20}},  // t code 3, y code 1, x code 2
+      {Shape4D{{64, 1, 64, 64}}, {40, 0, 12, 20}},  // t code 1, y code 3, x code 2
+      // 16 frames x 32 cameras x 32 x 32.
+      {Shape4D{{16, 32, 32, 32}}, {5, 20, 10, 5}},  // t code 2, c code 1, y code 2, x code 3
+  };
+  double worst_axis_error = 0;
+  for (const Case& k : cases) {
+    const WaveletGeometry g(k.shape);
+    const SubbandQuantisers own(WaveletKernel::kCdf97, 0, BandWeights::kOwnBand, g);
+    const SubbandQuantisers axis(WaveletKernel::kCdf97, 0, BandWeights::kAxisBands, g);
+    std::vector<int32_t> v(k.shape.count(), 0);
+    constexpr int32_t kAmplitude = 1 << 16;
+    v[k.shape.Index(k.p[0], k.p[1], k.p[2], k.p[3])] = kAmplitude;
+    InverseTransform4D(WaveletKernel::kCdf97, g, SerialRunner, v.data());
+    double energy = 0;
+    for (int32_t s : v) energy += double(s) * s;
+    const double norm = std::sqrt(energy) / kAmplitude;
+    std::array<uint8_t, kAxes> codes;
+    for (int a = 0; a < kAxes; ++a) codes[a] = g.axis[a].band[k.p[a]];
+    const int band = SubbandQuantisers::BandId(codes);
+    EXPECT_NEAR(own[band].mul_q16 / 65536.0, norm, 0.002 * norm)
+        << k.shape.ToString() << " at " << k.p[0] << "," << k.p[1] << "," << k.p[2] << ","
+        << k.p[3];
+    worst_axis_error =
+        std::max(worst_axis_error, std::abs(axis[band].mul_q16 / 65536.0 / norm - 1));
+  }
+  EXPECT_GT(worst_axis_error, 0.3);  // what format version 6 corrects
+}
+
 TEST(SubbandWeights, ReversibleKernelsUsePowerOfTwoShifts) {
   const WaveletGeometry g(Shape4D{{4, 4, 32, 32}});
-  const SubbandQuantisers q(WaveletKernel::kLeGall53, 0, g);
+  const SubbandQuantisers q(WaveletKernel::kLeGall53, 0, BandWeights::kOwnBand, g);
   for (int32_t c : {-1000, -1, 0, 1, 7, 12345}) {
     for (int band : {0, 1, 50, 400, kBandIds - 1}) {
       const uint32_t mul = q[band].mul_q16;

@@ -437,11 +437,12 @@ TEST_F(EncodeTest, CApiEncodesAndReportsAndRefusesMisuse) {
   ASSERT_EQ(fvv_decoder_get_info(dec.get(), &info), FVV_OK);
   EXPECT_EQ(info.frame_count, 3u);
   EXPECT_EQ(info.camera_count, 6u);
-  EXPECT_EQ(info.format_version, 5u);  // SPIHT coder arith3 by default
+  EXPECT_EQ(info.format_version, 6u);  // own-band weights and coder arith3 by default
 
-  // FVV_CODER_ARITH2: the contexts of format version 4; FVV_CODER_ARITH: those
-  // of versions 1..3 (version 3 for the 9/7 precision 5); each at the same bytes
-  // and a lower PSNR. An unknown coder is refused.
+  // FVV_WEIGHTS_AXIS_BANDS: the weights of format versions 1..5 (version 5 with
+  // arith3); FVV_CODER_ARITH2: the contexts of format version 4; FVV_CODER_ARITH:
+  // those of versions 1..3 (version 3 for the 9/7 precision 5); each at the same
+  // bytes and a lower PSNR. An unknown coder or weighting is refused.
   s.progress = nullptr;
   // Encodes the capture with `s` to c_api_<name>.fvv; returns the format
   // version the decoder reads from it (0 when encoding or opening failed).
@@ -460,10 +461,18 @@ TEST_F(EncodeTest, CApiEncodesAndReportsAndRefusesMisuse) {
       return 0;
     return i.format_version;
   };
+  s.weights = FVV_WEIGHTS_AXIS_BANDS;
+  fvv_encode_report report_v5;
+  EXPECT_EQ(encode_version("v5", &report_v5), 5u);
+  EXPECT_LT(report_v5.psnr_rgb, report.psnr_rgb);
+  s.weights = 2;
+  EXPECT_EQ(fvv_encoder_create(&s, &none), FVV_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(fvv_encoder_settings_error()).find("weights"), std::string::npos);
+  s.weights = FVV_WEIGHTS_AXIS_BANDS;
   s.coder = FVV_CODER_ARITH2;
   fvv_encode_report report_v4;
   EXPECT_EQ(encode_version("v4", &report_v4), 4u);
-  EXPECT_LT(report_v4.psnr_rgb, report.psnr_rgb);
+  EXPECT_LT(report_v4.psnr_rgb, report_v5.psnr_rgb);
   s.coder = FVV_CODER_ARITH;
   fvv_encode_report report_v3;
   EXPECT_EQ(encode_version("v3", &report_v3), 3u);

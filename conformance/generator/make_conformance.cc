@@ -376,6 +376,33 @@ std::vector<CaseSpec> ValidCases() {
               "count-adaptive probabilities), 9/7 with 5 fractional bits, masks; 2x2 GOP grid",
               "SPIHT coder 3 with the 5/3 kernel, 4:2:0 on an odd atlas, 6-frame x 3-camera GOPs, "
               "mask mode 2");
+
+  // Format version 6: own-band weights ('texr' version 2, 9.3): the 9/7 with
+  // coder 3 as the encoder's defaults have it, the 5/3 (power-of-two weights)
+  // with coder 1 in multi-camera GOPs, and the 9/7 at its legacy precision.
+  o = Base(8, 4, 64, 64, 4, 2);
+  o.frac_bits_97 = kFracBits97;
+  o.coder = EntropyCoder::kArith3;
+  o.weights = BandWeights::kOwnBand;
+  add("own_band_weights_97",
+      "own-band weights (texr version 2), SPIHT coder 3, 9/7 with 5 fractional bits, masks; "
+      "2x2 GOP grid",
+      o, {1, 64, 700});
+  o = Base(6, 3, 37, 23, 6, 3);
+  o.kernel = WaveletKernel::kLeGall53;
+  o.weights = BandWeights::kOwnBand;
+  o.chroma = ChromaFormat::k420;
+  add("own_band_weights_53_420_multicamera",
+      "own-band weights with the 5/3 kernel (power-of-two weights), SPIHT coder 1, 4:2:0 on an "
+      "odd atlas, 6-frame x 3-camera GOPs",
+      o, {30, 200});
+  o = Base(5, 2, 40, 24, 5, 2);
+  o.weights = BandWeights::kOwnBand;
+  o.coder = EntropyCoder::kBinary;
+  add("own_band_weights_97_f2_binary",
+      "own-band weights with the 9/7 at 2 fractional bits (texr version 2 without the "
+      "texture-precision tool), binary SPIHT, 5-frame x 2-camera GOPs",
+      o, {40, 300});
   return v;
 }
 
@@ -724,6 +751,45 @@ std::vector<CaseSpec> InvalidCases() {
              "a 'texr' of a format version 5 stream naming entropy coder 4 (checksum recomputed)",
              StatusCode::kCorrupt, {"9.1", "10"}))
       ->edit = patch_first_fragment(box::kTexture, 1, 4);
+
+  // Format version 6: own-band weights ('texr' version 2).
+  const auto own_band = [](CaseSpec* c) {
+    c->options.frac_bits_97 = kFracBits97;
+    c->options.coder = EntropyCoder::kArith3;
+    c->options.weights = BandWeights::kOwnBand;
+    return c;
+  };
+  own_band(add("own_band_weights_in_version_5",
+               "the own-band-weights tool (bit 15) in a format version 5 header",
+               StatusCode::kCorrupt, {"3.1", "4", "10"}))
+      ->edit = [header](std::vector<EditBox>* boxes) {
+    StoreLe(&header(boxes), fvvh::kFormatVersion, 5, 2);
+    return Status::Ok();
+  };
+  own_band(add("texr_v2_without_tool",
+               "'texr' version 2 in a stream whose header declares texture-precision but not "
+               "own-band-weights",
+               StatusCode::kCorrupt, {"3.1", "9.1", "10"}))
+      ->edit = [set_tools](std::vector<EditBox>* boxes) {
+    set_tools(boxes, kToolOwnBandWeights, 0);
+    return Status::Ok();
+  };
+  precise(add("texr_v1_with_own_band_tool",
+              "'texr' version 1 (per-axis weights) in a format version 6 stream that declares "
+              "own-band-weights",
+              StatusCode::kCorrupt, {"3.1", "9.1", "10"}))
+      ->edit = [set_tools, header](std::vector<EditBox>* boxes) {
+    set_tools(boxes, 0, kToolOwnBandWeights);
+    StoreLe(&header(boxes), fvvh::kFormatVersion, 6, 2);
+    return Status::Ok();
+  };
+  own_band(add("texr_version_3", "a 'texr' of box version 3 (checksum recomputed)",
+               StatusCode::kUnsupported, {"9.1", "10"}))
+      ->edit = [fragment](std::vector<EditBox>* boxes) {
+    return EditFragment(&fragment(boxes, 0), [&](std::vector<EditBox>* subs) {
+      (*subs)[FindBox(*subs, box::kTexture)].version = 3;
+    });
+  };
   return v;
 }
 

@@ -123,6 +123,7 @@ int RunEncode(const EncodeArgs& a) {
   settings.kernel = a.codec.Kernel();
   settings.frac_bits_97 = a.codec.precision_97;
   settings.coder = a.codec.Coder();
+  settings.weights = a.codec.Weights();
   settings.fill.iterations = a.fill_iterations;
   if (a.lossless) {
     settings.rate_mode = RateMode::kLossless;

@@ -59,6 +59,7 @@ int RunEncode(const EncodeArgs& a) {
   s.kernel = a.codec.Kernel();
   s.frac_bits_97 = a.codec.precision_97;
   s.coder = a.codec.Coder();
+  s.weights = a.codec.Weights();
   s.chroma = a.codec.Chroma();
   s.fill.iterations = a.fill_iterations;
   if (a.texture_codec == "predictive") {

@@ -232,6 +232,7 @@ int RunSample(SampleArgs a) {
   a.o.kernel = a.codec.Kernel();
   a.o.frac_bits_97 = a.codec.precision_97;
   a.o.coder = a.codec.Coder();
+  a.o.weights = a.codec.Weights();
   a.o.chroma = a.codec.Chroma();
   a.o.predictive = a.texture_codec == "predictive";
   a.o.mask_coding = MaskCoderFromName(a.mask_coder);

@@ -28,6 +28,8 @@ fvv::Status ToSettings(const fvv_encoder_settings& c, fvv::EncoderSettings* s) {
   if (c.precision_97 > uint32_t(fvv::kMaxFracBits97) || !fvv::ValidFracBits97(int(c.precision_97)))
     return InvalidArgument("precision_97 is not 2..6");
   if (c.coder > FVV_CODER_ARITH3) return InvalidArgument("coder is not an fvv_entropy_coder");
+  if (c.weights > FVV_WEIGHTS_AXIS_BANDS)
+    return InvalidArgument("weights is not an fvv_band_weights");
   if (c.chroma > FVV_CHROMA_420) return InvalidArgument("chroma is not an fvv_chroma");
   if (c.mask_mode > FVV_MASKS_CODED_V1) return InvalidArgument("mask_mode is not an fvv_mask_mode");
   if (c.rate_mode > FVV_RATE_BYTES_PER_GOP)
@@ -49,6 +51,8 @@ fvv::Status ToSettings(const fvv_encoder_settings& c, fvv::EncoderSettings* s) {
              : c.coder == FVV_CODER_ARITH2 ? fvv::EntropyCoder::kArith2
              : c.coder == FVV_CODER_ARITH3 ? fvv::EntropyCoder::kArith3
                                            : fvv::EntropyCoder::kArith;
+  s->weights = c.weights == FVV_WEIGHTS_AXIS_BANDS ? fvv::BandWeights::kAxisBands
+                                                   : fvv::BandWeights::kOwnBand;
   s->chroma = c.chroma == FVV_CHROMA_420 ? fvv::ChromaFormat::k420 : fvv::ChromaFormat::k444;
   s->masks = c.mask_mode != FVV_MASKS_NONE;
   s->mask_coding =

@@ -209,12 +209,13 @@ class Session {
     h->gop_frames = s_.gop_frames;
     h->gop_cameras = s_.gop_cameras;
     if (s_.texture_codec == TextureCodec::kPredictive) {
-      h->tools = (TextureTools(s_.kernel, s_.coder, ColourSpace::kYCbCr601, s_.chroma, 0) &
+      h->tools = (TextureTools(s_.kernel, s_.coder, ColourSpace::kYCbCr601, s_.chroma, 0,
+                               BandWeights::kAxisBands) &
                   (kToolHaar | kToolLeGall53 | kToolCdf97)) |
                  kToolPredictiveTexture;
     } else {
       h->tools = TextureTools(s_.kernel, s_.coder, ColourSpace::kYCbCr601, s_.chroma,
-                              KernelFracBits(s_.kernel, s_.frac_bits_97));
+                              KernelFracBits(s_.kernel, s_.frac_bits_97), s_.weights);
     }
     if (s_.masks) h->tools |= kToolMasks;
     if (s_.key_interval > 1) h->tools |= kToolMotionInterpolation;
@@ -315,6 +316,7 @@ class Session {
       es.kernel = s_.kernel;
       es.frac_bits_97 = s_.frac_bits_97;
       es.coder = s_.coder;
+      es.weights = s_.weights;
       es.rate_mode = s_.rate_mode;
       es.rate_value = s_.rate_value;
       es.fill = s_.fill;

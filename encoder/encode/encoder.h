@@ -78,6 +78,9 @@ struct EncoderSettings {
   int frac_bits_97 = kFracBits97;
   // kArith2: what format version 4 decoders read; kArith: versions 1..3.
   EntropyCoder coder = EntropyCoder::kArith3;
+  // kOwnBand (format version 6) weights coefficients by their own band's norm;
+  // kAxisBands is what format versions 1 to 5 decoders read.
+  BandWeights weights = BandWeights::kOwnBand;
   ChromaFormat chroma = ChromaFormat::k444;
   // Texels no camera saw: the codec's pyramid fill refined by sparse-fill
   // projections (codec/fill.h). On the demo capture the default's 8 make

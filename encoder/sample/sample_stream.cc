@@ -215,7 +215,7 @@ StatusOr<SampleStream> MakeSampleStream(const SampleStreamOptions& o,
   h.gop_frames = o.gop_frames;
   h.gop_cameras = o.gop_cameras;
   h.tools = TextureTools(o.kernel, o.coder, o.lossless ? ColourSpace::kRct : ColourSpace::kYCbCr601,
-                         o.chroma, KernelFracBits(o.kernel, o.frac_bits_97));
+                         o.chroma, KernelFracBits(o.kernel, o.frac_bits_97), o.weights);
   if (o.masks) h.tools |= kToolMasks;
   if (o.vertex_visibility) h.tools |= kToolVertexVisibility;
   if (o.key_interval > 1) h.tools |= kToolMotionInterpolation;
@@ -223,9 +223,10 @@ StatusOr<SampleStream> MakeSampleStream(const SampleStreamOptions& o,
   if (o.predictive) {
     if (!o.masks) return InvalidArgument("sample: the predictive texture needs masks");
     if (o.chroma != ChromaFormat::k444) return InvalidArgument("sample: predictive is 4:4:4");
-    h.tools = (h.tools & ~(kToolSpihtArith | kToolSpihtArith2 | kToolSpihtArith3 |
-                           kToolSpihtBinary | kToolReversibleColour | kToolTexturePrecision)) |
-              kToolPredictiveTexture;
+    h.tools =
+        (h.tools & ~(kToolSpihtArith | kToolSpihtArith2 | kToolSpihtArith3 | kToolSpihtBinary |
+                     kToolReversibleColour | kToolTexturePrecision | kToolOwnBandWeights)) |
+        kToolPredictiveTexture;
   }
   h.format_version = RequiredFormatVersion(h.tools, o.mask_coding);
   info.cameras = MakeRingCameras(o.cameras, 640, 480);
@@ -292,6 +293,7 @@ StatusOr<SampleStream> MakeSampleStream(const SampleStreamOptions& o,
     settings.kernel = o.kernel;
     settings.frac_bits_97 = o.frac_bits_97;
     settings.coder = o.coder;
+    settings.weights = o.weights;
     settings.rate_mode = o.lossless ? RateMode::kLossless : RateMode::kBitsPerSample;
     settings.rate_value = o.bpp;
     // The original pyramid fill: sample streams are what the conformance

@@ -25,6 +25,9 @@ struct SampleStreamOptions {
   // remade from these options byte for byte. Other values write format version 3.
   int frac_bits_97 = kFracBits97Legacy;
   EntropyCoder coder = EntropyCoder::kArith;
+  // kAxisBands by default, as the released cases have it; kOwnBand writes
+  // format version 6.
+  BandWeights weights = BandWeights::kAxisBands;
   ChromaFormat chroma = ChromaFormat::k444;
   bool lossless = false;  // 5/3 or Haar + RCT at full rate
   // The predictive scheme with shape-adaptive BISK ('ptex', format version 2;
