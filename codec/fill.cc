@@ -154,11 +154,15 @@ void SparseFill(WaveletKernel kernel, const UsedMask& mask, const SampleRange& r
       std::vector<int32_t> limit(n[3]);
       int32_t* row = w.data() + s * slice;
       for (uint32_t y = 0; y < n[2]; ++y, row += n[3]) {
-        codes[2] = g.axis[2].band[y];
-        for (uint32_t x = 0; x < n[3]; ++x) {
-          codes[3] = g.axis[3].band[x];
-          const double bound = threshold * scale * inv_norm[SubbandQuantisers::BandId(codes)];
-          limit[x] = static_cast<int32_t>(std::min(std::ceil(bound), 2e9));
+        // A row's bounds depend on its band codes only, which change at band
+        // edges: the rows of one band share them.
+        if (y == 0 || g.axis[2].band[y] != codes[2]) {
+          codes[2] = g.axis[2].band[y];
+          for (uint32_t x = 0; x < n[3]; ++x) {
+            codes[3] = g.axis[3].band[x];
+            const double bound = threshold * scale * inv_norm[SubbandQuantisers::BandId(codes)];
+            limit[x] = static_cast<int32_t>(std::min(std::ceil(bound), 2e9));
+          }
         }
         for (uint32_t x = 0; x < n[3]; ++x) row[x] = std::abs(row[x]) < limit[x] ? 0 : row[x];
       }

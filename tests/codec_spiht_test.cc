@@ -190,13 +190,13 @@ CodedPsnr PsnrAtRate(const Block& block, EntropyCoder coder, double bpp, Entropy
   if (misread.ok()) {
     EXPECT_NE(misread->channels[0].samples, dec->channels[0].samples);
   }
-  double mse = 0, weights = 0;
+  double mse = 0, weight_sum = 0;
   for (int c = 0; c < 3; ++c) {
     mse += s.channel_weights[c] * ChannelMse(block.channels[c], dec->channels[c], nullptr);
-    weights += s.channel_weights[c];
+    weight_sum += s.channel_weights[c];
   }
   return {PsnrFromMse(ChannelMse(block.channels[0], dec->channels[0], nullptr)),
-          PsnrFromMse(mse / weights)};
+          PsnrFromMse(mse / weight_sum)};
 }
 
 // Coder 2 (format version 4) against coder 1, and coder 3 (version 5) against

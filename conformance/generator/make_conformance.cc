@@ -434,6 +434,15 @@ std::vector<CaseSpec> InvalidCases() {
   const auto fragment = [](std::vector<EditBox>* boxes, int n) -> EditBox& {
     return (*boxes)[FindBox(*boxes, box::kFragment, n)];
   };
+  // An edit of the header: clears, then sets, tool bits, and sets the format
+  // version unless `version` is 0.
+  const auto retool = [header, set_tools](uint32_t clear, uint32_t set, uint16_t version) {
+    return [header, set_tools, clear, set, version](std::vector<EditBox>* boxes) {
+      set_tools(boxes, clear, set);
+      if (version != 0) StoreLe(&header(boxes), fvvh::kFormatVersion, version, 2);
+      return Status::Ok();
+    };
+  };
   // Sets one byte of a sub-box of the first fragment and recomputes its
   // checksum, so that only the decoding process can object.
   const auto patch_first_fragment = [fragment](FourCC type, size_t offset, uint8_t value) {
@@ -543,20 +552,14 @@ std::vector<CaseSpec> InvalidCases() {
     });
   };
   add("newer_format_version", "format_version 999", StatusCode::kUnsupported, {"3.1", "4", "10"})
-      ->edit = [header](std::vector<EditBox>* boxes) {
-    StoreLe(&header(boxes), fvvh::kFormatVersion, 999, 2);
-    return Status::Ok();
-  };
+      ->edit = retool(0, 0, 999);
   add("newer_box_version", "the cams box at version 1", StatusCode::kUnsupported, {"2", "4", "10"})
       ->edit = [](std::vector<EditBox>* boxes) {
     (*boxes)[FindBox(*boxes, box::kCameras)].version = 1;
     return Status::Ok();
   };
   add("unknown_tool_bit", "coding tool bit 20 set", StatusCode::kUnsupported, {"3.1", "10"})->edit =
-      [set_tools](std::vector<EditBox>* boxes) {
-        set_tools(boxes, 0, 1u << 20);
-        return Status::Ok();
-      };
+      retool(0, 1u << 20, 0);
   add("index_entry_mismatch", "an index entry's frame count differs from its fragment's header",
       StatusCode::kCorrupt, {"3.6", "10"})
       ->edit = [](std::vector<EditBox>* boxes) {
@@ -637,18 +640,11 @@ std::vector<CaseSpec> InvalidCases() {
   predictive(add("predictive_in_version_1",
                  "the predictive-texture tool (bit 11) in a format version 1 header",
                  StatusCode::kCorrupt, {"3.1", "4", "10"}))
-      ->edit = [header](std::vector<EditBox>* boxes) {
-    StoreLe(&header(boxes), fvvh::kFormatVersion, 1, 2);
-    return Status::Ok();
-  };
+      ->edit = retool(0, 0, 1);
   predictive(add("ptex_without_tool",
                  "a 'ptex' texture in a stream whose header declares SPIHT instead of bit 11",
                  StatusCode::kCorrupt, {"3.1", "3.5", "9.8", "10"}))
-      ->edit = [header, set_tools](std::vector<EditBox>* boxes) {
-    set_tools(boxes, kToolPredictiveTexture, kToolSpihtArith);
-    StoreLe(&header(boxes), fvvh::kFormatVersion, 1, 2);
-    return Status::Ok();
-  };
+      ->edit = retool(kToolPredictiveTexture, kToolSpihtArith, 1);
   // The first fragment of the tiny stream is 2 frames x 2 cameras: 3 (1 + 2 + 4)
   // = 21 stream sizes after the kernel byte; T00 Y's first byte follows them.
   predictive(add("ptex_sizes_mismatch",
@@ -679,26 +675,16 @@ std::vector<CaseSpec> InvalidCases() {
   precise(add("precision_in_version_2",
               "the texture-precision tool (bit 12) in a format version 2 header",
               StatusCode::kCorrupt, {"3.1", "4", "10"}))
-      ->edit = [header](std::vector<EditBox>* boxes) {
-    StoreLe(&header(boxes), fvvh::kFormatVersion, 2, 2);
-    return Status::Ok();
-  };
+      ->edit = retool(0, 0, 2);
   precise(add("texr_v1_without_tool",
               "'texr' version 1 in a format version 3 stream whose header does not declare "
               "texture-precision",
               StatusCode::kCorrupt, {"3.1", "9.1", "10"}))
-      ->edit = [set_tools](std::vector<EditBox>* boxes) {
-    set_tools(boxes, kToolTexturePrecision, 0);
-    return Status::Ok();
-  };
+      ->edit = retool(kToolTexturePrecision, 0, 0);
   add("texr_v0_with_tool",
       "'texr' version 0 (no precision field) in a stream that declares texture-precision",
       StatusCode::kCorrupt, {"3.1", "9.1", "10"})
-      ->edit = [set_tools, header](std::vector<EditBox>* boxes) {
-    set_tools(boxes, 0, kToolTexturePrecision);
-    StoreLe(&header(boxes), fvvh::kFormatVersion, 3, 2);
-    return Status::Ok();
-  };
+      ->edit = retool(0, kToolTexturePrecision, 3);
   precise(add("precision_out_of_range",
               "a 9/7 texture declaring 7 fractional bits (allowed 2..6; checksum recomputed)",
               StatusCode::kCorrupt, {"9.1", "10"}))
@@ -706,10 +692,7 @@ std::vector<CaseSpec> InvalidCases() {
   precise(add("precision_without_97",
               "a header declaring texture-precision with the 5/3 kernel instead of the 9/7",
               StatusCode::kCorrupt, {"3.1", "10"}))
-      ->edit = [set_tools](std::vector<EditBox>* boxes) {
-    set_tools(boxes, kToolCdf97, kToolLeGall53);
-    return Status::Ok();
-  };
+      ->edit = retool(kToolCdf97, kToolLeGall53, 0);
 
   // Format version 4: SPIHT coder 2.
   const auto arith2 = [](CaseSpec* c) {
@@ -718,10 +701,7 @@ std::vector<CaseSpec> InvalidCases() {
   };
   arith2(add("arith2_in_version_3", "the spiht-arith2 tool (bit 13) in a format version 3 header",
              StatusCode::kCorrupt, {"3.1", "4", "10"}))
-      ->edit = [header](std::vector<EditBox>* boxes) {
-    StoreLe(&header(boxes), fvvh::kFormatVersion, 3, 2);
-    return Status::Ok();
-  };
+      ->edit = retool(0, 0, 3);
   add("arith2_without_tool",
       "a 'texr' naming coder 2 in a stream whose header declares spiht-arith, not spiht-arith2 "
       "(checksum recomputed)",
@@ -738,10 +718,7 @@ std::vector<CaseSpec> InvalidCases() {
   };
   arith3(add("arith3_in_version_4", "the spiht-arith3 tool (bit 14) in a format version 4 header",
              StatusCode::kCorrupt, {"3.1", "4", "10"}))
-      ->edit = [header](std::vector<EditBox>* boxes) {
-    StoreLe(&header(boxes), fvvh::kFormatVersion, 4, 2);
-    return Status::Ok();
-  };
+      ->edit = retool(0, 0, 4);
   arith2(add("arith3_without_tool",
              "a 'texr' naming coder 3 in a stream whose header declares spiht-arith2, not "
              "spiht-arith3 (checksum recomputed)",
@@ -762,27 +739,17 @@ std::vector<CaseSpec> InvalidCases() {
   own_band(add("own_band_weights_in_version_5",
                "the own-band-weights tool (bit 15) in a format version 5 header",
                StatusCode::kCorrupt, {"3.1", "4", "10"}))
-      ->edit = [header](std::vector<EditBox>* boxes) {
-    StoreLe(&header(boxes), fvvh::kFormatVersion, 5, 2);
-    return Status::Ok();
-  };
+      ->edit = retool(0, 0, 5);
   own_band(add("texr_v2_without_tool",
                "'texr' version 2 in a stream whose header declares texture-precision but not "
                "own-band-weights",
                StatusCode::kCorrupt, {"3.1", "9.1", "10"}))
-      ->edit = [set_tools](std::vector<EditBox>* boxes) {
-    set_tools(boxes, kToolOwnBandWeights, 0);
-    return Status::Ok();
-  };
+      ->edit = retool(kToolOwnBandWeights, 0, 0);
   precise(add("texr_v1_with_own_band_tool",
               "'texr' version 1 (per-axis weights) in a format version 6 stream that declares "
               "own-band-weights",
               StatusCode::kCorrupt, {"3.1", "9.1", "10"}))
-      ->edit = [set_tools, header](std::vector<EditBox>* boxes) {
-    set_tools(boxes, 0, kToolOwnBandWeights);
-    StoreLe(&header(boxes), fvvh::kFormatVersion, 6, 2);
-    return Status::Ok();
-  };
+      ->edit = retool(0, kToolOwnBandWeights, 6);
   own_band(add("texr_version_3", "a 'texr' of box version 3 (checksum recomputed)",
                StatusCode::kUnsupported, {"9.1", "10"}))
       ->edit = [fragment](std::vector<EditBox>* boxes) {
