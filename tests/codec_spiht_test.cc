@@ -222,6 +222,13 @@ TEST(Arith2, BetterAtEqualBytesOnBlocksCorrelatedInTime) {
   }
 }
 
+// The two blocks the coding comparisons below run on: an 8-frame moving
+// texture and one larger still frame of it.
+std::pair<Block, Block> MovingAndStillBlocks() {
+  return {MovingTextureBlock(Shape4D{{8, 1, 256, 256}}, 5),
+          MovingTextureBlock(Shape4D{{1, 1, 384, 384}}, 7)};
+}
+
 // Coder 3 gains in space as well as in time: on the moving texture and on one
 // still frame of it. Weighted PSNR (a budget split differently across the
 // channels can leave Y alone equal). Measured: moving +0.22, +0.26 and +0.17 dB
@@ -229,8 +236,7 @@ TEST(Arith2, BetterAtEqualBytesOnBlocksCorrelatedInTime) {
 // 0.3 bpp.
 TEST(Arith3, BetterAtEqualBytesThanArith2) {
   ThreadPool pool(2);
-  const Block moving = MovingTextureBlock(Shape4D{{8, 1, 256, 256}}, 5);
-  const Block still = MovingTextureBlock(Shape4D{{1, 1, 384, 384}}, 7);
+  const auto [moving, still] = MovingAndStillBlocks();
   for (const auto& [block, bpp] :
        {std::pair{&moving, 0.05}, std::pair{&moving, 0.1}, std::pair{&moving, 0.2},
         std::pair{&still, 0.1}, std::pair{&still, 0.2}, std::pair{&still, 0.3}}) {
@@ -249,8 +255,7 @@ TEST(Arith3, BetterAtEqualBytesThanArith2) {
 // still +0.36, +0.17 and +0.63 dB at 0.1, 0.3 and 1 bpp.
 TEST(OwnBandWeights, BetterAtEqualBytesThanAxisBands) {
   ThreadPool pool(2);
-  const Block moving = MovingTextureBlock(Shape4D{{8, 1, 256, 256}}, 5);
-  const Block still = MovingTextureBlock(Shape4D{{1, 1, 384, 384}}, 7);
+  const auto [moving, still] = MovingAndStillBlocks();
   for (const auto& [block, bpp] :
        {std::pair{&moving, 0.05}, std::pair{&moving, 0.1}, std::pair{&moving, 0.4},
         std::pair{&still, 0.1}, std::pair{&still, 0.3}, std::pair{&still, 1.0}}) {
