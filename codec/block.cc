@@ -16,9 +16,9 @@ Shape4D ChromaShape(const Shape4D& luma, ChromaFormat format) {
   return s;
 }
 
-SampleRange ChannelRange(ColourSpace colour, int channel) {
-  if (colour == ColourSpace::kRct && channel > 0) return {-255, 255, 0};
-  return {0, 255, 128};
+SampleRange ChannelRange(ColourSpace colour, int channel, int sample_frac) {
+  if (colour == ColourSpace::kRct && channel > 0) return {-255, 255, 0, 0};
+  return {0, 255 << sample_frac, 128 << sample_frac, sample_frac};
 }
 
 }  // namespace fvv

@@ -56,10 +56,22 @@ enum class ChromaFormat : uint8_t {
   k420 = 1,  // U and V halved in height and width
 };
 
+// Fractional bits of a block's samples (SPEC.md 9.6): with p of them a sample
+// counts 2^-p steps of the 8-bit scale, so Y, U and V keep what the BT.601
+// conversion computes below a whole step instead of rounding it away twice (on
+// the way in and on the way out); at high rates that rounding was most of the
+// error. Lossless coding (RCT) and the reversible kernels use whole samples.
+constexpr int kMaxSampleFrac = 4;
+// What encoders use with the 9/7 (3 keeps nearly all of the gain of 4).
+constexpr int kDefaultSampleFrac = 3;
+
 struct Block {
   ColourSpace colour = ColourSpace::kYCbCr601;
   ChromaFormat chroma = ChromaFormat::k444;
   std::array<Plane4D, 3> channels;  // Y, U, V
+  // Fractional bits p of every sample: 0 (whole samples) in format versions
+  // before 7. Y is in 0..255 * 2^p, and so are U and V in YCbCr.
+  uint8_t sample_frac = 0;
 
   const Shape4D& shape() const { return channels[0].shape; }
 };
@@ -73,8 +85,9 @@ using UsedMask = std::vector<uint8_t>;
 // Nominal sample range of a channel, used for level shift and output clamping.
 struct SampleRange {
   int32_t min, max, offset;  // offset is subtracted before the transform (level shift)
+  int frac = 0;              // fractional bits of the samples (all three fields are scaled)
 };
-SampleRange ChannelRange(ColourSpace colour, int channel);
+SampleRange ChannelRange(ColourSpace colour, int channel, int sample_frac = 0);
 
 }  // namespace fvv
 

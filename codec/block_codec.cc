@@ -13,7 +13,7 @@ constexpr uint64_t kMaxSamples = uint64_t{1} << 30;  // indices keep a spare bit
 
 }  // namespace
 
-double ChannelMse(const Plane4D& a, const Plane4D& b, const UsedMask* mask) {
+double ChannelMse(const Plane4D& a, const Plane4D& b, const UsedMask* mask, int sample_frac) {
   double sum = 0;
   size_t count = 0;
   for (size_t i = 0; i < a.samples.size(); ++i) {
@@ -22,7 +22,8 @@ double ChannelMse(const Plane4D& a, const Plane4D& b, const UsedMask* mask) {
     sum += d * d;
     ++count;
   }
-  return count ? sum / static_cast<double>(count) : 0.0;
+  return count ? sum / static_cast<double>(count) / static_cast<double>(1 << (2 * sample_frac))
+               : 0.0;
 }
 
 double PsnrFromMse(double mse) {
@@ -54,6 +55,14 @@ Status ValidateParams(const BlockParams& p) {
     return Corrupt("unknown colour space " + std::to_string(static_cast<int>(p.colour)));
   if (static_cast<int>(p.chroma) > 1)
     return Corrupt("unknown chroma format " + std::to_string(static_cast<int>(p.chroma)));
+  if (p.sample_frac > std::min<int>(kMaxSampleFrac, p.frac_bits))
+    return Corrupt("decoded samples with " + std::to_string(p.sample_frac) +
+                   " fractional bits from a transform with " + std::to_string(p.frac_bits) +
+                   " (allowed: 0.." + std::to_string(std::min<int>(kMaxSampleFrac, p.frac_bits)) +
+                   ")");
+  if (p.sample_frac > 0 && p.colour == ColourSpace::kRct)
+    return Corrupt("RCT (lossless) samples with " + std::to_string(p.sample_frac) +
+                   " fractional bits (RCT takes whole samples)");
   return Status::Ok();
 }
 

@@ -39,6 +39,10 @@ struct BlockParams {
   // How coefficients are weighted (SPEC.md 9.3): kAxisBands in streams before
   // format version 6 (and block files before version 5); encoders set it.
   BandWeights weights = BandWeights::kAxisBands;
+  // Fractional bits p of the decoded samples (SPEC.md 9.6): at most frac_bits
+  // and kMaxSampleFrac, 0 with RCT; 0 in streams before format version 7 (and
+  // block files before version 6). Encoders take it from the block.
+  uint8_t sample_frac = 0;
 };
 
 struct ChannelStream {
@@ -154,8 +158,9 @@ class BlockDecode {
 // Validates parameters against the codec's limits (sizes, enum values, planes).
 Status ValidateParams(const BlockParams& params);
 
-// Squared-error statistics over used texels (mask may be null).
-double ChannelMse(const Plane4D& a, const Plane4D& b, const UsedMask* mask);
+// Squared-error statistics over used texels (mask may be null), in units of
+// the 8-bit scale: samples with sample_frac fractional bits count 2^-sample_frac.
+double ChannelMse(const Plane4D& a, const Plane4D& b, const UsedMask* mask, int sample_frac = 0);
 double PsnrFromMse(double mse);  // 8-bit peak; 99 dB cap for identical data
 
 }  // namespace fvv

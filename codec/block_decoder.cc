@@ -69,9 +69,10 @@ void BlockDecode::Spiht(int c) {
 
 void BlockDecode::Reconstruct(int c, const ParallelRunner& runner) {
   const BlockParams& p = encoded_->params;
-  const int frac = p.frac_bits;
+  // Output with sample_frac fractional bits: the transform's frac_bits less those.
+  const int frac = p.frac_bits - p.sample_frac;
   const WaveletGeometry g(shapes_[c]);
-  const SampleRange range = ChannelRange(p.colour, c);
+  const SampleRange range = ChannelRange(p.colour, c, p.sample_frac);
   const int32_t round = frac ? 1 << (frac - 1) : 0;
   int32_t* data = coeffs_[c].data();
   // Output scaling of each part as soon as the transform is done with it
@@ -85,6 +86,7 @@ Block BlockDecode::Finish(DecodeReport* report) {
   Block block;
   block.colour = encoded_->params.colour;
   block.chroma = encoded_->params.chroma;
+  block.sample_frac = encoded_->params.sample_frac;
   for (int c = 0; c < 3; ++c) {
     block.channels[c].shape = shapes_[c];
     block.channels[c].samples = std::move(coeffs_[c]);

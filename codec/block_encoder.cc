@@ -127,7 +127,7 @@ double WeightedMse(const Block& a, const Block& b, const UsedMask* mask,
   }
   double sum = 0, wsum = 0;
   for (int c = 0; c < 3; ++c) {
-    sum += w[c] * ChannelMse(a.channels[c], b.channels[c], c == 0 ? mask : cmask);
+    sum += w[c] * ChannelMse(a.channels[c], b.channels[c], c == 0 ? mask : cmask, a.sample_frac);
     wsum += w[c];
   }
   return sum / wsum;
@@ -145,6 +145,17 @@ StatusOr<EncodedBlock> EncodeBlock(const Block& block, const UsedMask* mask,
   out.params.frac_bits =
       static_cast<uint8_t>(KernelFracBits(settings.kernel, settings.frac_bits_97));
   out.params.weights = settings.weights;
+  out.params.sample_frac = block.sample_frac;
+  if (block.sample_frac > std::min<int>(kMaxSampleFrac, out.params.frac_bits))
+    return InvalidArgument("a block with " + std::to_string(block.sample_frac) +
+                           " fractional bits per sample needs the 9/7 kernel with at least as "
+                           "many fractional bits in the transform (and at most " +
+                           std::to_string(kMaxSampleFrac) + ")");
+  if (block.sample_frac > 0 && block.colour == ColourSpace::kRct)
+    return InvalidArgument("RCT blocks take whole samples (sample_frac 0)");
+  if (block.sample_frac > 0 && settings.weights != BandWeights::kOwnBand)
+    return InvalidArgument(
+        "fractional samples need own-band weights (format version 7 extends version 6)");
   FVV_RETURN_IF_ERROR(ValidateParams(out.params));
   if (block.channels[1].shape != ChromaShape(block.shape(), block.chroma) ||
       block.channels[2].shape != block.channels[1].shape)
@@ -189,14 +200,15 @@ StatusOr<EncodedBlock> EncodeBlock(const Block& block, const UsedMask* mask,
   if (mask && block.chroma != ChromaFormat::k444)
     chroma_mask = DownsampleMask(*mask, block.shape(), block.channels[1].shape);
   for (int c = 0; c < 3; ++c) {
-    const SampleRange range = ChannelRange(block.colour, c);
+    const SampleRange range = ChannelRange(block.colour, c, block.sample_frac);
     Plane4D plane = block.channels[c];
     if (mask) {
       const UsedMask& m = c == 0 || chroma_mask.empty() ? *mask : chroma_mask;
       FillUnused(m, range.offset, &plane, settings.fill.pull);
       SparseFill(settings.kernel, m, range, settings.fill, settings.runner, &plane);
     }
-    for (int32_t& s : plane.samples) s = (s - range.offset) * (1 << frac);
+    // Samples with p fractional bits enter the transform with frac - p more.
+    for (int32_t& s : plane.samples) s = (s - range.offset) * (1 << (frac - block.sample_frac));
     const WaveletGeometry g(plane.shape);
     ForwardTransform4D(settings.kernel, g, settings.runner, plane.samples.data());
     const SubbandQuantisers q(settings.kernel, frac, settings.weights, g);

@@ -10,6 +10,7 @@ constexpr uint32_t kMaxPoints = 2 * kMaxBitplanes;
 }  // namespace
 
 uint8_t BlockFileVersionFor(const BlockParams& p) {
+  if (p.sample_frac > 0) return 6;
   if (p.weights == BandWeights::kOwnBand) return 5;
   if (p.coder == EntropyCoder::kArith3) return 4;
   if (p.coder == EntropyCoder::kArith2) return 3;
@@ -22,6 +23,7 @@ void WriteBlockParams(const BlockParams& p, uint8_t version, ByteWriter* w) {
   w->U8(static_cast<uint8_t>(p.colour));
   w->U8(static_cast<uint8_t>(p.chroma));
   if (version >= 2) w->U8(p.frac_bits);
+  if (version >= 6) w->U8(p.sample_frac);
   for (int a = 0; a < kAxes; ++a) w->U32(p.shape.n[a]);
 }
 
@@ -32,6 +34,7 @@ Status ReadBlockParams(ByteReader* r, uint8_t version, BlockParams* p) {
   p->chroma = static_cast<ChromaFormat>(r->U8());
   p->frac_bits = version >= 2 ? r->U8() : static_cast<uint8_t>(LegacyFracBits(p->kernel));
   p->weights = version >= 5 ? BandWeights::kOwnBand : BandWeights::kAxisBands;
+  p->sample_frac = version >= 6 ? r->U8() : 0;
   for (int a = 0; a < kAxes; ++a) p->shape.n[a] = r->U32();
   if (r->overrun()) return Truncated("block parameters end early");
   // Each coder's first block file version: coder 2 in 3, coder 3 in 4.

@@ -2,8 +2,9 @@
 // block file (`fvv block`, docs/block_file.md) and, later, the container's
 // texture fragments. In memory only; the caller does file I/O.
 //
-//   block_file()       magic "fvvb", version u8 (1..5), block_params(), channel_stream() x 3
+//   block_file()       magic "fvvb", version u8 (1..6), block_params(), channel_stream() x 3
 //   block_params()     kernel u8, coder u8, colour u8, chroma u8, [version 2: frac_bits u8],
+//                      [version 6: sample_frac u8],
 //                      frames u32, cameras u32, height u32, width u32
 //                      (version 1: frac_bits is 2 for the 9/7, 0 otherwise; the
 //                      version also sets the coders allowed and the band weights)
@@ -26,8 +27,9 @@ namespace fvv {
 // that version 1 can describe.
 // Version 3 admits coder 2 (arith2), version 4 coder 3 (arith3). Version 5
 // weights coefficients by their own band (BandWeights::kOwnBand); versions 1 to
-// 4 by the per-axis bands of their position.
-constexpr uint8_t kBlockFileVersion = 5;
+// 4 by the per-axis bands of their position. Version 6 says the decoded
+// samples' fractional bits (BlockParams::sample_frac).
+constexpr uint8_t kBlockFileVersion = 6;
 
 // The block file version that can hold these parameters.
 uint8_t BlockFileVersionFor(const BlockParams& p);

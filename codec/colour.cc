@@ -12,8 +12,10 @@ namespace {
 
 int32_t Clamp(int32_t v, int32_t lo, int32_t hi) { return std::min(std::max(v, lo), hi); }
 
-// Rounded (a * 2^-16) for signed a: floor(a / 65536 + 1/2).
-int32_t RoundQ16(int64_t a) { return static_cast<int32_t>((a + 32768) >> 16); }
+// Rounded (a * 2^-(16 - frac)) for signed a: floor(a / 2^(16 - frac) + 1/2).
+int32_t RoundQ16(int64_t a, int frac) {
+  return static_cast<int32_t>((a + (int64_t{1} << (15 - frac))) >> (16 - frac));
+}
 
 #ifdef FVV_COLOUR_AVX2
 // pshufb masks that put channel k of 16 texels at its places in output bytes
@@ -38,30 +40,32 @@ __attribute__((target("avx2"))) inline __m128i PackToBytes(__m256i lo, __m256i h
   return _mm256_castsi256_si128(_mm256_permute4x64_epi64(bytes, 0x08));
 }
 
+// In 32-bit lanes: with frac <= kMaxSampleFrac, Y 2^16 < 2^28 and every
+// product below is under 2^28 in magnitude, so no sum overflows.
 __attribute__((target("avx2"))) uint32_t YcbcrRowToRgb8Avx2(const int32_t* y, const int32_t* u,
                                                             const int32_t* v, uint32_t n,
-                                                            uint8_t* out) {
-  const __m256i k128 = _mm256_set1_epi32(128), half = _mm256_set1_epi32(32768);
+                                                            uint8_t* out, int frac) {
+  const __m256i k128 = _mm256_set1_epi32(128 << frac), half = _mm256_set1_epi32(1 << (15 + frac));
+  const __m128i shift = _mm_cvtsi32_si128(16 + frac);
   const __m256i kr = _mm256_set1_epi32(91881), kgb = _mm256_set1_epi32(-22554),
                 kgr = _mm256_set1_epi32(-46802), kb = _mm256_set1_epi32(116130);
   uint32_t i = 0;
   for (; i + 16 <= n; i += 16) {
     __m256i r[2], g[2], b[2];
     for (int h = 0; h < 2; ++h) {
-      const __m256i Y = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(y + i + 8 * h));
+      const __m256i Y = _mm256_add_epi32(
+          _mm256_slli_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(y + i + 8 * h)),
+                            16),
+          half);
       const __m256i cb = _mm256_sub_epi32(
           _mm256_loadu_si256(reinterpret_cast<const __m256i*>(u + i + 8 * h)), k128);
       const __m256i cr = _mm256_sub_epi32(
           _mm256_loadu_si256(reinterpret_cast<const __m256i*>(v + i + 8 * h)), k128);
-      r[h] = _mm256_add_epi32(
-          Y, _mm256_srai_epi32(_mm256_add_epi32(_mm256_mullo_epi32(kr, cr), half), 16));
-      g[h] = _mm256_add_epi32(
-          Y, _mm256_srai_epi32(_mm256_add_epi32(_mm256_add_epi32(_mm256_mullo_epi32(kgb, cb),
-                                                                 _mm256_mullo_epi32(kgr, cr)),
-                                                half),
-                               16));
-      b[h] = _mm256_add_epi32(
-          Y, _mm256_srai_epi32(_mm256_add_epi32(_mm256_mullo_epi32(kb, cb), half), 16));
+      r[h] = _mm256_sra_epi32(_mm256_add_epi32(Y, _mm256_mullo_epi32(kr, cr)), shift);
+      g[h] = _mm256_sra_epi32(_mm256_add_epi32(Y, _mm256_add_epi32(_mm256_mullo_epi32(kgb, cb),
+                                                                   _mm256_mullo_epi32(kgr, cr))),
+                              shift);
+      b[h] = _mm256_sra_epi32(_mm256_add_epi32(Y, _mm256_mullo_epi32(kb, cb)), shift);
     }
     const __m128i planes[3] = {PackToBytes(r[0], r[1]), PackToBytes(g[0], g[1]),
                                PackToBytes(b[0], b[1])};
@@ -81,38 +85,40 @@ __attribute__((target("avx2"))) uint32_t YcbcrRowToRgb8Avx2(const int32_t* y, co
 
 }  // namespace
 
-void YcbcrRowToRgb8(const int32_t* y, const int32_t* u, const int32_t* v, uint32_t n,
-                    uint8_t* rgb) {
+void YcbcrRowToRgb8(const int32_t* y, const int32_t* u, const int32_t* v, uint32_t n, uint8_t* rgb,
+                    int frac) {
   uint32_t i = 0;
 #ifdef FVV_COLOUR_AVX2
   static const bool avx2 = __builtin_cpu_supports("avx2");
-  if (avx2) i = YcbcrRowToRgb8Avx2(y, u, v, n, rgb);
+  if (avx2) i = YcbcrRowToRgb8Avx2(y, u, v, n, rgb, frac);
 #endif
   for (; i < n; ++i) {
-    const Rgb8 p = YuvToRgb(ColourSpace::kYCbCr601, y[i], u[i], v[i]);
+    const Rgb8 p = YuvToRgb(ColourSpace::kYCbCr601, y[i], u[i], v[i], frac);
     rgb[3 * i] = p.r;
     rgb[3 * i + 1] = p.g;
     rgb[3 * i + 2] = p.b;
   }
 }
 
-Yuv RgbToYuv(ColourSpace colour, int r, int g, int b) {
+Yuv RgbToYuv(ColourSpace colour, int r, int g, int b, int frac) {
   if (colour == ColourSpace::kRct) {
     // floor((R + 2G + B) / 4), B - G, R - G (ITU-T T.800 Annex G.2).
     return {(r + 2 * g + b) >> 2, b - g, r - g};
   }
   // BT.601 full range; coefficients round(c * 65536).
-  int32_t y = RoundQ16(19595LL * r + 38470LL * g + 7471LL * b);
-  int32_t u = RoundQ16(-11059LL * r - 21709LL * g + 32768LL * b) + 128;
-  int32_t v = RoundQ16(32768LL * r - 27439LL * g - 5329LL * b) + 128;
-  return {Clamp(y, 0, 255), Clamp(u, 0, 255), Clamp(v, 0, 255)};
+  const int32_t top = 255 << frac, mid = 128 << frac;
+  int32_t y = RoundQ16(19595LL * r + 38470LL * g + 7471LL * b, frac);
+  int32_t u = RoundQ16(-11059LL * r - 21709LL * g + 32768LL * b, frac) + mid;
+  int32_t v = RoundQ16(32768LL * r - 27439LL * g - 5329LL * b, frac) + mid;
+  return {Clamp(y, 0, top), Clamp(u, 0, top), Clamp(v, 0, top)};
 }
 
 Block BlockFromRgb(const uint8_t* rgb, const Shape4D& shape, ColourSpace colour,
-                   ChromaFormat chroma) {
+                   ChromaFormat chroma, int sample_frac) {
   Block block;
   block.colour = colour;
   block.chroma = chroma;
+  block.sample_frac = static_cast<uint8_t>(colour == ColourSpace::kRct ? 0 : sample_frac);
   block.channels[0] = Plane4D(shape);
   const Shape4D cshape = ChromaShape(shape, chroma);
   block.channels[1] = Plane4D(cshape);
@@ -124,7 +130,7 @@ Block BlockFromRgb(const uint8_t* rgb, const Shape4D& shape, ColourSpace colour,
     v_full.resize(n);
   }
   for (size_t i = 0; i < n; ++i) {
-    const Yuv p = RgbToYuv(colour, rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]);
+    const Yuv p = RgbToYuv(colour, rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2], block.sample_frac);
     block.channels[0].samples[i] = p.y;
     if (chroma == ChromaFormat::k444) {
       block.channels[1].samples[i] = p.u;
@@ -170,8 +176,9 @@ void BlockToRgb(const Block& block, uint8_t* rgb) {
       for (uint32_t x = 0; x < w; ++x) {
         const size_t i = (size_t{tc} * h + y) * w + x;
         const size_t ci = sub ? (size_t{tc} * cshape.height() + y / 2) * cshape.width() + x / 2 : i;
-        const Rgb8 p = YuvToRgb(block.colour, block.channels[0].samples[i],
-                                block.channels[1].samples[ci], block.channels[2].samples[ci]);
+        const Rgb8 p =
+            YuvToRgb(block.colour, block.channels[0].samples[i], block.channels[1].samples[ci],
+                     block.channels[2].samples[ci], block.sample_frac);
         rgb[3 * i] = p.r;
         rgb[3 * i + 1] = p.g;
         rgb[3 * i + 2] = p.b;

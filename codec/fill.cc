@@ -116,7 +116,9 @@ void SparseFill(WaveletKernel kernel, const UsedMask& mask, const SampleRange& r
   const auto& n = g.shape.n;
   // The fill's own working precision (its output is whole samples).
   const int frac = DefaultFracBits(kernel);
-  const double scale = 1 << frac;
+  // Thresholds are in steps of the 8-bit scale; samples with range.frac
+  // fractional bits have 2^range.frac of their units in one.
+  const double scale = static_cast<double>(1 << frac) * static_cast<double>(1 << range.frac);
   // Per band: the reciprocal of its synthesis norm, the product over the four
   // axes of the norm each contributes at the band's level (the transform is
   // separable; subband_weights.h).

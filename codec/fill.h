@@ -33,7 +33,7 @@ void FillUnused(const UsedMask& mask, int32_t fill_value, Plane4D* plane,
 struct FillOptions {
   FillPull pull = FillPull::kBilinear;
   int iterations = 3;  // 0: the pyramid fill is left as it is
-  double start = 32;   // first threshold, in sample units
+  double start = 32;   // first threshold, in steps of the 8-bit scale
   double end = 4;      // last threshold
 };
 
@@ -43,7 +43,7 @@ struct FillOptions {
 // image-domain magnitude (coefficient times its synthesis norm) is below a
 // threshold, transform back, put the used texels back and clamp to the
 // channel's range; the threshold falls geometrically from `start` to `end`
-// (sample units) over the iterations. Used texels never change.
+// (steps of the 8-bit scale) over the iterations. Used texels never change.
 void SparseFill(WaveletKernel kernel, const UsedMask& mask, const SampleRange& range,
                 const FillOptions& options, const ParallelRunner& runner, Plane4D* plane);
 

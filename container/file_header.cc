@@ -37,6 +37,8 @@ const char* CodingToolName(uint32_t tool_bit) {
       return "spiht-arith3";
     case kToolOwnBandWeights:
       return "own-band-weights";
+    case kToolSamplePrecision:
+      return "sample-precision";
     case kToolTexturePrecision:
       return "texture-precision";
     default:
@@ -67,6 +69,7 @@ const LevelLimits* FindLevel(uint8_t level) {
 }
 
 uint16_t RequiredFormatVersion(uint32_t tools) {
+  if (tools & kToolSamplePrecision) return 7;
   if (tools & kToolOwnBandWeights) return 6;
   if (tools & kToolSpihtArith3) return 5;
   if (tools & kToolSpihtArith2) return 4;
@@ -123,6 +126,11 @@ Status ValidateFileHeader(const FileHeader& h) {
   }
   if ((h.tools & kToolPredictiveTexture) && !(h.tools & kToolMasks)) {
     return Corrupt(at + "predictive texture without masks (its supports are the masks)");
+  }
+  if ((h.tools & kToolSamplePrecision) && !(h.tools & kToolOwnBandWeights)) {
+    return Corrupt(at +
+                   "sample-precision declared without own-band-weights ('texr' version 3 "
+                   "extends version 2)");
   }
   if ((h.tools & kToolOwnBandWeights) && (h.tools & kToolPredictiveTexture)) {
     return Corrupt(at +

@@ -15,7 +15,7 @@ namespace fvv {
 // Highest format version this library reads. Writers write the lowest version
 // that has every tool they use (RequiredFormatVersion), so streams without
 // the newer tools stay readable by older decoders.
-constexpr uint16_t kFormatVersion = 6;
+constexpr uint16_t kFormatVersion = 7;
 
 // Coding tools (FileHeader::tools bits). A stream declares every tool it uses;
 // a profile allows a subset.
@@ -36,8 +36,9 @@ enum CodingTool : uint32_t {
   kToolSpihtArith2 = 1u << 13,        // format version 4: SPIHT coder 2 (neighbourhood contexts)
   kToolSpihtArith3 = 1u << 14,        // format version 5: SPIHT coder 3 (set and sign contexts)
   kToolOwnBandWeights = 1u << 15,     // format version 6: 'texr' version 2, own-band weights
+  kToolSamplePrecision = 1u << 16,    // format version 7: 'texr' version 3, fractional samples
 };
-constexpr uint32_t kAllKnownTools = (1u << 16) - 1;
+constexpr uint32_t kAllKnownTools = (1u << 17) - 1;
 // The format version that introduced the newest of `tools`.
 uint16_t RequiredFormatVersion(uint32_t tools);
 const char* CodingToolName(uint32_t tool_bit);

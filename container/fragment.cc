@@ -9,12 +9,13 @@
 namespace fvv {
 
 uint32_t TextureTools(WaveletKernel kernel, EntropyCoder coder, ColourSpace colour,
-                      ChromaFormat chroma, int frac_bits, BandWeights weights) {
+                      ChromaFormat chroma, int frac_bits, BandWeights weights, int sample_frac) {
   uint32_t tools = kernel == WaveletKernel::kHaar       ? kToolHaar
                    : kernel == WaveletKernel::kLeGall53 ? kToolLeGall53
                                                         : kToolCdf97;
   if (frac_bits != LegacyFracBits(kernel)) tools |= kToolTexturePrecision;
   if (weights == BandWeights::kOwnBand) tools |= kToolOwnBandWeights;
+  if (sample_frac > 0) tools |= kToolSamplePrecision | kToolOwnBandWeights;
   tools |= coder == EntropyCoder::kArith3   ? kToolSpihtArith3
            : coder == EntropyCoder::kArith2 ? kToolSpihtArith2
            : coder == EntropyCoder::kArith  ? kToolSpihtArith
@@ -22,6 +23,12 @@ uint32_t TextureTools(WaveletKernel kernel, EntropyCoder coder, ColourSpace colo
   if (chroma == ChromaFormat::k420) tools |= kToolChroma420;
   if (colour == ColourSpace::kRct) tools |= kToolReversibleColour;
   return tools;
+}
+
+uint8_t TextureVersion(uint32_t tools) {
+  if (tools & kToolSamplePrecision) return 3;
+  if (tools & kToolOwnBandWeights) return 2;
+  return (tools & kToolTexturePrecision) ? 1 : 0;
 }
 
 uint16_t RequiredFormatVersion(uint32_t tools, MaskCoding mask_coding) {
@@ -78,13 +85,13 @@ std::vector<uint8_t> WriteFragmentBox(const FragmentData& f) {
     w.U8(static_cast<uint8_t>(p.coder));
     w.U8(static_cast<uint8_t>(p.colour));
     w.U8(static_cast<uint8_t>(p.chroma));
-    // Version 2 (format version 6, tool own-band-weights) for own-band weights;
-    // else version 1 (format version 3, tool texture-precision) when version 0
-    // cannot say the precision.
-    const uint8_t version = p.weights == BandWeights::kOwnBand        ? 2
-                            : p.frac_bits == LegacyFracBits(p.kernel) ? 0
-                                                                      : 1;
+    // The version its tools imply (SPEC.md 9.1): 3 with sample-precision, 2
+    // with own-band-weights, 1 with texture-precision, else 0. (Every texture
+    // of a stream is coded with the same tools, so this is the stream's.)
+    const uint8_t version = TextureVersion(
+        TextureTools(p.kernel, p.coder, p.colour, p.chroma, p.frac_bits, p.weights, p.sample_frac));
     if (version >= 1) w.U8(p.frac_bits);
+    if (version >= 3) w.U8(p.sample_frac);
     for (const ChannelStream& s : f.texture.channels) WriteChannelStream(s, &w);
     AppendBox(box::kTexture, version, kBoxFlagEssential, w.bytes(), &payload);
   }
@@ -146,18 +153,28 @@ Status ReadFragmentHeader(const BoxHeader& b, const uint8_t* payload, const File
 Status ReadTexture(const BoxHeader& b, const uint8_t* payload, const FileHeader& h,
                    const FragmentInfo& info, EncodedBlock* texture) {
   const std::string at = BoxContext(b);
-  if (b.version > 2) return Unsupported(at + "version " + std::to_string(b.version));
-  // Versions 1 and 2 carry the precision field, version 2 also weights by own
-  // bands; the header's tool bits say which version every 'texr' of the stream
-  // has: 2 with own-band-weights, else 1 with texture-precision, else 0.
-  const bool own_band = (h.tools & kToolOwnBandWeights) != 0;
-  const uint8_t expected = own_band ? 2 : (h.tools & kToolTexturePrecision) ? 1 : 0;
+  // A version the stream's format version does not have is unknown to it.
+  const uint8_t newest = h.format_version >= 7   ? 3
+                         : h.format_version >= 6 ? 2
+                         : h.format_version >= 3 ? 1
+                                                 : 0;
+  if (b.version > newest) {
+    return Unsupported(at + "version " + std::to_string(b.version) + " (format version " +
+                       std::to_string(h.format_version) + " has versions 0.." +
+                       std::to_string(newest) + ")");
+  }
+  // Versions 1 to 3 carry the precision field, versions 2 and 3 weight by own
+  // bands, version 3 also says the decoded samples' fractional bits; the
+  // header's tool bits say which version every 'texr' of the stream has.
+  const uint8_t expected = TextureVersion(h.tools);
   if (b.version != expected) {
+    static const char* const kWhy[4] = {
+        "declares none of texture-precision, own-band-weights and sample-precision (version 0)",
+        "declares texture-precision but not own-band-weights (version 1)",
+        "declares own-band-weights but not sample-precision (version 2)",
+        "declares sample-precision (version 3)"};
     return Corrupt(at + "version " + std::to_string(b.version) + " in a stream that " +
-                   (own_band ? "declares own-band-weights (version 2)"
-                    : expected == 1
-                        ? "declares texture-precision but not own-band-weights (version 1)"
-                        : "declares neither texture-precision nor own-band-weights (version 0)"));
+                   kWhy[expected]);
   }
   ByteReader r(payload, b.payload_size());
   BlockParams& p = texture->params;
@@ -166,13 +183,14 @@ Status ReadTexture(const BoxHeader& b, const uint8_t* payload, const FileHeader&
   p.colour = static_cast<ColourSpace>(r.U8());
   p.chroma = static_cast<ChromaFormat>(r.U8());
   p.frac_bits = b.version >= 1 ? r.U8() : static_cast<uint8_t>(LegacyFracBits(p.kernel));
-  p.weights = b.version == 2 ? BandWeights::kOwnBand : BandWeights::kAxisBands;
+  p.weights = b.version >= 2 ? BandWeights::kOwnBand : BandWeights::kAxisBands;
+  p.sample_frac = b.version >= 3 ? r.U8() : 0;
   p.shape = info.TextureShape(h);
   if (r.overrun()) return Corrupt(at + "too short");
   Status s = ValidateParams(p);
   if (!s.ok()) return Status(s.code(), at + s.message());
-  if ((TextureTools(p.kernel, p.coder, p.colour, p.chroma, p.frac_bits, p.weights) & ~h.tools) !=
-      0) {
+  if ((TextureTools(p.kernel, p.coder, p.colour, p.chroma, p.frac_bits, p.weights, p.sample_frac) &
+       ~h.tools) != 0) {
     return Corrupt(at + "uses coding tools the file header does not declare");
   }
   static const char* const kNames[3] = {"Y", "U", "V"};

@@ -49,9 +49,12 @@ struct FragmentData {
 // The coding tools (FileHeader::tools bits) a texture coded with these
 // parameters uses; the header must declare all of them. frac_bits is
 // BlockParams::frac_bits: a 9/7 precision other than 2 needs texture-precision;
-// own-band weights need own-band-weights.
+// own-band weights need own-band-weights; fractional output samples
+// (sample_frac > 0) need sample-precision, which extends own-band-weights.
 uint32_t TextureTools(WaveletKernel kernel, EntropyCoder coder, ColourSpace colour,
-                      ChromaFormat chroma, int frac_bits, BandWeights weights);
+                      ChromaFormat chroma, int frac_bits, BandWeights weights, int sample_frac = 0);
+// The 'texr' version of a stream with these tools (SPEC.md 9.1).
+uint8_t TextureVersion(uint32_t tools);
 
 // The format version a stream needs: that of its tools, and 2 for mask mode 2.
 uint16_t RequiredFormatVersion(uint32_t tools, MaskCoding mask_coding);

@@ -67,6 +67,13 @@ int Run(const std::string& dir) {
          o->coder = EntropyCoder::kArith3;
          o->weights = BandWeights::kOwnBand;
        }},
+      {"sample_precision",
+       [](SampleStreamOptions* o) {
+         o->frac_bits_97 = kFracBits97;
+         o->coder = EntropyCoder::kArith3;
+         o->weights = BandWeights::kOwnBand;
+         o->sample_frac = 3;
+       }},
       {"haar_binary",
        [](SampleStreamOptions* o) {
          o->kernel = WaveletKernel::kHaar;

@@ -18,12 +18,17 @@ grep -q "complete" <<<"$out" || fail "decode report: $out"
 out=$("$fvv" block decode "$dir/b.fvb" -o "$dir/dec2" --bytes 100 2>&1) || fail "truncated decode: $out"
 grep -q "truncated" <<<"$out" || fail "truncated decode report: $out"
 
-# The defaults (own-band weights, coder arith3, 9/7 precision 5) write block
-# file version 5; --weights axis writes version 4, with --coder arith2 version 3,
+# The defaults (3 fractional sample bits, own-band weights, coder arith3, 9/7
+# precision 5) write block file version 6; --sample-bits 0 writes version 5,
+# --weights axis version 4, with --coder arith2 version 3,
 # --coder arith version 2 and --precision 2 with it version 1 (what older
 # decoders read); all decode, and 7 is refused by name.
 version_of() { od -An -tu1 -j4 -N1 "$1" | tr -d ' '; }
-[ "$(version_of "$dir/b.fvb")" = 5 ] || fail "defaults wrote version $(version_of "$dir/b.fvb")"
+[ "$(version_of "$dir/b.fvb")" = 6 ] || fail "defaults wrote version $(version_of "$dir/b.fvb")"
+"$fvv" block encode "$dir"/in/view_*.png --cameras 3 --sample-bits 0 -o "$dir/s0.fvb" --bpp 1 >/dev/null 2>&1 ||
+  fail "sample-bits 0 encode"
+[ "$(version_of "$dir/s0.fvb")" = 5 ] || fail "sample-bits 0 wrote version $(version_of "$dir/s0.fvb")"
+out=$("$fvv" block decode "$dir/s0.fvb" -o "$dir/s0dec" 2>&1) || fail "sample-bits 0 decode: $out"
 "$fvv" block encode "$dir"/in/view_*.png --cameras 3 --weights axis -o "$dir/a3.fvb" --bpp 1 >/dev/null 2>&1 ||
   fail "weights axis encode"
 [ "$(version_of "$dir/a3.fvb")" = 4 ] || fail "weights axis wrote version $(version_of "$dir/a3.fvb")"

@@ -61,11 +61,20 @@ tex_a=$(grep -o '"texture": [0-9]*' "$dir/summary.json" | head -1 | grep -o '[0-
 tex_b=$(grep "textures  " <<<"$out" | awk '{print $2}')
 [ "$tex_a" = "$tex_b" ] || fail "texture bytes differ: $tex_a vs $tex_b"
 
-# Format versions: the defaults write version 6 (own-band weights, SPIHT coder
-# arith3, 9/7 precision 5, mask mode 2); --weights axis writes version 5, with
-# --coder arith2 version 4, --coder arith version 3; --coder arith --precision
-# 2 --mask-coder context what version 1 decoders read.
-"$fvv" info "$dir/b.fvv" | grep -q "format version 6" || fail "default format version: $("$fvv" info "$dir/b.fvv" | head -1)"
+# Format versions: the defaults write version 7 (3 fractional sample bits,
+# own-band weights, SPIHT coder arith3, 9/7 precision 5, mask mode 2);
+# --sample-bits 0 writes version 6, --weights axis version 5, with --coder
+# arith2 version 4, --coder arith version 3; --coder arith --precision 2
+# --mask-coder context what version 1 decoders read.
+"$fvv" info "$dir/b.fvv" | grep -q "format version 7" || fail "default format version: $("$fvv" info "$dir/b.fvv" | head -1)"
+"$fvv" info "$dir/b.fvv" | grep -q "sample-precision" || fail "default tools: $("$fvv" info "$dir/b.fvv" | grep tools)"
+out=$("$fvv" encode "$dir/cap" -o "$dir/v6.fvv" --atlas 128 --gop-frames 2 --textures "$dir/tex" \
+  --sample-bits 0 -q 2>&1) || fail "encode --sample-bits 0: $out"
+"$fvv" info "$dir/v6.fvv" | grep -q "format version 6" || fail "sample-bits 0 format version: $("$fvv" info "$dir/v6.fvv" | head -1)"
+"$fvv" info "$dir/v6.fvv" | grep -q "sample-precision" && fail "sample-bits 0 tools: $("$fvv" info "$dir/v6.fvv" | grep tools)"
+out=$("$fvv" encode "$dir/cap" -o "$dir/bad.fvv" --atlas 128 --textures "$dir/tex" --sample-bits 5 2>&1) &&
+  fail "--sample-bits 5 accepted"
+grep -q "sample-bits" <<<"$out" || fail "--sample-bits 5 message: $out"
 "$fvv" info "$dir/b.fvv" | grep -q "spiht-arith3" || fail "default tools: $("$fvv" info "$dir/b.fvv" | grep tools)"
 "$fvv" info "$dir/b.fvv" | grep -q "own-band-weights" || fail "default tools: $("$fvv" info "$dir/b.fvv" | grep tools)"
 out=$("$fvv" encode "$dir/cap" -o "$dir/v5.fvv" --atlas 128 --gop-frames 2 --textures "$dir/tex" \

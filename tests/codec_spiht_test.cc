@@ -270,14 +270,22 @@ TEST(OwnBandWeights, BetterAtEqualBytesThanAxisBands) {
 
 EncodedBlock EncodeSmooth(const Shape4D& shape, WaveletKernel kernel, EntropyCoder coder,
                           double bpp, int frac_bits_97 = kFracBits97,
-                          BandWeights weights = BandWeights::kOwnBand) {
+                          BandWeights weights = BandWeights::kOwnBand, int sample_frac = 0) {
   EncodeSettings s;
   s.kernel = kernel;
   s.weights = weights;
   s.frac_bits_97 = frac_bits_97;
   s.coder = coder;
   s.rate_value = bpp;
-  auto enc = EncodeBlock(SmoothBlock(shape, ColourSpace::kYCbCr601, 9), nullptr, s);
+  Block block = SmoothBlock(shape, ColourSpace::kYCbCr601, 9);
+  if (sample_frac > 0) {  // the same texture with fractional bits: x 2^p plus a pattern below 1
+    for (Plane4D& p : block.channels)
+      for (size_t i = 0; i < p.samples.size(); ++i)
+        p.samples[i] =
+            (p.samples[i] << sample_frac) + static_cast<int32_t>(i * 7 % (1 << sample_frac));
+    block.sample_frac = static_cast<uint8_t>(sample_frac);
+  }
+  auto enc = EncodeBlock(block, nullptr, s);
   EXPECT_TRUE(enc.ok());
   return std::move(enc).value();
 }
@@ -380,6 +388,7 @@ struct PinnedDecode {
   EntropyCoder coder;
   BandWeights weights;
   uint64_t stream_hash, output_hash;
+  int sample_frac = 0;  // format version 7 with 1..4
 };
 
 class DecoderPinned : public ::testing::TestWithParam<PinnedDecode> {};
@@ -387,9 +396,10 @@ class DecoderPinned : public ::testing::TestWithParam<PinnedDecode> {};
 TEST_P(DecoderPinned, OutputIsBitExact) {
   const EncodedBlock enc =
       EncodeSmooth(Shape4D{{3, 2, 19, 23}}, WaveletKernel::kCdf97, GetParam().coder, 1.0,
-                   GetParam().frac_bits_97, GetParam().weights);
+                   GetParam().frac_bits_97, GetParam().weights, GetParam().sample_frac);
   ASSERT_EQ(enc.params.frac_bits, GetParam().frac_bits_97);
   ASSERT_EQ(enc.params.weights, GetParam().weights);
+  ASSERT_EQ(enc.params.sample_frac, GetParam().sample_frac);
   uint64_t stream_hash = 1469598103934665603ull;
   for (const ChannelStream& s : enc.channels)
     stream_hash = testing::Fnv1a(s.data.data(), s.data.size(), stream_hash);
@@ -403,7 +413,8 @@ TEST_P(DecoderPinned, OutputIsBitExact) {
 // f = 2: format versions 1 and 2 (and texr version 0 of version 3); f = 5: the
 // default since format version 3; coder 2: the default of format version 4;
 // coder 3: the default of format version 5; own-band weights (with coder 3 and
-// coder 1): the default since format version 6.
+// coder 1): the default since format version 6; 3 fractional sample bits: the
+// default since format version 7.
 constexpr BandWeights kAxis = BandWeights::kAxisBands, kOwn = BandWeights::kOwnBand;
 INSTANTIATE_TEST_SUITE_P(
     PrecisionAndCoder, DecoderPinned,
@@ -418,7 +429,9 @@ INSTANTIATE_TEST_SUITE_P(
                       PinnedDecode{kFracBits97, EntropyCoder::kArith, kOwn, 0xf6654a815f27012full,
                                    0xcc775231cbac1526ull},
                       PinnedDecode{kFracBits97, EntropyCoder::kArith3, kOwn, 0x8b48ddf06e991203ull,
-                                   0x61f784c10149a7fcull}));
+                                   0x61f784c10149a7fcull},
+                      PinnedDecode{kFracBits97, EntropyCoder::kArith3, kOwn, 0xa68e2db331ebfc81ull,
+                                   0x5730cf6b7812a4bfull, 3}));
 
 }  // namespace
 }  // namespace fvv

@@ -437,7 +437,8 @@ TEST_F(EncodeTest, CApiEncodesAndReportsAndRefusesMisuse) {
   ASSERT_EQ(fvv_decoder_get_info(dec.get(), &info), FVV_OK);
   EXPECT_EQ(info.frame_count, 3u);
   EXPECT_EQ(info.camera_count, 6u);
-  EXPECT_EQ(info.format_version, 6u);  // own-band weights and coder arith3 by default
+  // Fractional samples, own-band weights and coder arith3 by default.
+  EXPECT_EQ(info.format_version, 7u);
 
   // FVV_WEIGHTS_AXIS_BANDS: the weights of format versions 1..5 (version 5 with
   // arith3); FVV_CODER_ARITH2: the contexts of format version 4; FVV_CODER_ARITH:
@@ -461,10 +462,20 @@ TEST_F(EncodeTest, CApiEncodesAndReportsAndRefusesMisuse) {
       return 0;
     return i.format_version;
   };
+  // sample_bits = 0: whole samples, what format version 6 decoders read, at
+  // the same bytes and a lower PSNR; above 4 is refused.
+  s.sample_bits = 0;
+  fvv_encode_report report_v6;
+  EXPECT_EQ(encode_version("v6", &report_v6), 6u);
+  EXPECT_LT(report_v6.psnr_rgb, report.psnr_rgb);
+  s.sample_bits = 5;
+  EXPECT_EQ(fvv_encoder_create(&s, &none), FVV_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(fvv_encoder_settings_error()).find("sample_bits"), std::string::npos);
+  s.sample_bits = 0;
   s.weights = FVV_WEIGHTS_AXIS_BANDS;
   fvv_encode_report report_v5;
   EXPECT_EQ(encode_version("v5", &report_v5), 5u);
-  EXPECT_LT(report_v5.psnr_rgb, report.psnr_rgb);
+  EXPECT_LT(report_v5.psnr_rgb, report_v6.psnr_rgb);
   s.weights = 2;
   EXPECT_EQ(fvv_encoder_create(&s, &none), FVV_INVALID_ARGUMENT);
   EXPECT_NE(std::string(fvv_encoder_settings_error()).find("weights"), std::string::npos);

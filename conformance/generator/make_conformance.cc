@@ -403,6 +403,38 @@ std::vector<CaseSpec> ValidCases() {
       "own-band weights with the 9/7 at 2 fractional bits (texr version 2 without the "
       "texture-precision tool), binary SPIHT, 5-frame x 2-camera GOPs",
       o, {40, 300});
+
+  // Format version 7: fractional output samples ('texr' version 3, 9.6, 9.7):
+  // the encoder's default (3 of the 9/7's 5 fractional bits), the most (4 of
+  // 6) with 4:2:0 on an odd atlas, and 1 of 2 with binary SPIHT.
+  o = Base(8, 4, 64, 64, 4, 2);
+  o.frac_bits_97 = kFracBits97;
+  o.coder = EntropyCoder::kArith3;
+  o.weights = BandWeights::kOwnBand;
+  o.sample_frac = 3;
+  add("sample_precision_97",
+      "decoded samples with 3 fractional bits (texr version 3), own-band weights, SPIHT coder 3, "
+      "9/7 with 5 fractional bits, masks; 2x2 GOP grid",
+      o, {1, 64, 700});
+  o = Base(6, 3, 37, 23, 6, 3);
+  o.frac_bits_97 = 6;
+  o.coder = EntropyCoder::kArith3;
+  o.weights = BandWeights::kOwnBand;
+  o.sample_frac = 4;
+  o.chroma = ChromaFormat::k420;
+  add("sample_precision_97_p4_f6_420",
+      "decoded samples with 4 fractional bits from a 9/7 with 6, 4:2:0 on an odd atlas, SPIHT "
+      "coder 3, 6-frame x 3-camera GOPs",
+      o, {30, 200});
+  o = Base(5, 2, 40, 24, 5, 2);
+  o.frac_bits_97 = kFracBits97Legacy;
+  o.weights = BandWeights::kOwnBand;
+  o.coder = EntropyCoder::kBinary;
+  o.sample_frac = 1;
+  add("sample_precision_97_p1_f2_binary",
+      "decoded samples with 1 fractional bit from a 9/7 with 2 (texr version 3 without the "
+      "texture-precision tool), binary SPIHT, 5-frame x 2-camera GOPs",
+      o, {40, 300});
   return v;
 }
 
@@ -755,6 +787,43 @@ std::vector<CaseSpec> InvalidCases() {
       ->edit = [fragment](std::vector<EditBox>* boxes) {
     return EditFragment(&fragment(boxes, 0), [&](std::vector<EditBox>* subs) {
       (*subs)[FindBox(*subs, box::kTexture)].version = 3;
+    });
+  };
+
+  // Format version 7: fractional samples ('texr' version 3).
+  const auto sample_precision = [own_band](CaseSpec* c) {
+    own_band(c)->options.sample_frac = 3;
+    return c;
+  };
+  sample_precision(add("sample_precision_in_version_6",
+                       "the sample-precision tool (bit 16) in a format version 6 header",
+                       StatusCode::kCorrupt, {"3.1", "4", "10"}))
+      ->edit = retool(0, 0, 6);
+  sample_precision(add("sample_precision_without_own_band",
+                       "a header declaring sample-precision but not own-band-weights",
+                       StatusCode::kCorrupt, {"3.1", "10"}))
+      ->edit = retool(kToolOwnBandWeights, 0, 0);
+  sample_precision(add("texr_v3_without_tool",
+                       "'texr' version 3 in a format version 7 stream whose header declares "
+                       "own-band-weights but not sample-precision",
+                       StatusCode::kCorrupt, {"3.1", "9.1", "10"}))
+      ->edit = retool(kToolSamplePrecision, 0, 0);
+  own_band(add("texr_v2_with_sample_tool",
+               "'texr' version 2 in a format version 7 stream that declares sample-precision",
+               StatusCode::kCorrupt, {"3.1", "9.1", "10"}))
+      ->edit = retool(0, kToolSamplePrecision, 7);
+  sample_precision(add("sample_frac_above_frac_bits",
+                       "a 9/7 texture with 5 fractional bits declaring decoded samples with 6 "
+                       "(allowed 0..min(4, 5); checksum recomputed)",
+                       StatusCode::kCorrupt, {"9.1", "10"}))
+      ->edit = patch_first_fragment(box::kTexture, 5, 6);
+  sample_precision(add("texr_version_4",
+                       "a 'texr' of box version 4 in a format version 7 stream (checksum "
+                       "recomputed)",
+                       StatusCode::kUnsupported, {"9.1", "10"}))
+      ->edit = [fragment](std::vector<EditBox>* boxes) {
+    return EditFragment(&fragment(boxes, 0), [&](std::vector<EditBox>* subs) {
+      (*subs)[FindBox(*subs, box::kTexture)].version = 4;
     });
   };
   return v;

@@ -2,6 +2,7 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -156,7 +157,12 @@ int RunEncode(const EncodeArgs& a) {
   const ChromaFormat chroma = a.codec.Chroma();
   if (a.lossless && chroma != ChromaFormat::k444)
     return Fail(InvalidArgument("--lossless needs --chroma 444"));
-  const Block block = BlockFromRgb(rgb.data(), shape, colour, chroma);
+  // Fractional samples go with the 9/7 and own-band weights (format version 7).
+  const int sample_frac =
+      settings.kernel == WaveletKernel::kCdf97 && settings.weights == BandWeights::kOwnBand
+          ? std::min(a.codec.sample_bits, a.codec.precision_97)
+          : 0;
+  const Block block = BlockFromRgb(rgb.data(), shape, colour, chroma, sample_frac);
   std::fprintf(stderr, "fvv block encode: %s, kernel %s, coder %s, loaded in %.2f s\n",
                shape.ToString().c_str(), KernelName(settings.kernel), CoderName(settings.coder),
                Seconds(t_load));
@@ -188,8 +194,8 @@ int RunEncode(const EncodeArgs& a) {
       "PSNR over %s texels: RGB %.2f dB, Y %.2f dB; encode %.2f s (%.1f Msamples/s), "
       "decode %.3f s (%.1f Msamples/s)\n",
       mask_ptr ? "used" : "all", RgbPsnr(rgb, out_rgb, mask_ptr),
-      PsnrFromMse(ChannelMse(block.channels[0], decoded->channels[0], mask_ptr)), enc_s,
-      samples / enc_s / 1e6, dec_s, samples / dec_s / 1e6);
+      PsnrFromMse(ChannelMse(block.channels[0], decoded->channels[0], mask_ptr, sample_frac)),
+      enc_s, samples / enc_s / 1e6, dec_s, samples / dec_s / 1e6);
   return 0;
 }
 

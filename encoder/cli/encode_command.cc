@@ -60,6 +60,7 @@ int RunEncode(const EncodeArgs& a) {
   s.frac_bits_97 = a.codec.precision_97;
   s.coder = a.codec.Coder();
   s.weights = a.codec.Weights();
+  s.sample_frac = a.codec.sample_bits;
   s.chroma = a.codec.Chroma();
   s.fill.iterations = a.fill_iterations;
   if (a.texture_codec == "predictive") {

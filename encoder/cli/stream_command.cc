@@ -233,6 +233,7 @@ int RunSample(SampleArgs a) {
   a.o.frac_bits_97 = a.codec.precision_97;
   a.o.coder = a.codec.Coder();
   a.o.weights = a.codec.Weights();
+  a.o.sample_frac = a.codec.sample_bits;
   a.o.chroma = a.codec.Chroma();
   a.o.predictive = a.texture_codec == "predictive";
   a.o.mask_coding = MaskCoderFromName(a.mask_coder);

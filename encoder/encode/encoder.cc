@@ -196,6 +196,15 @@ class Session {
   }
 
  private:
+  // The samples' fractional bits: the setting where the 9/7 SPIHT codec codes
+  // the textures with own-band weights (format version 7 extends 6), whole
+  // samples otherwise (codec/block.h).
+  int SampleFrac() const {
+    return s_.texture_codec == TextureCodec::kSpiht4d && s_.kernel == WaveletKernel::kCdf97 &&
+                   s_.weights == BandWeights::kOwnBand
+               ? std::clamp(s_.sample_frac, 0, std::min(kMaxSampleFrac, s_.frac_bits_97))
+               : 0;
+  }
   Status FillHeader(FileHeader* h) const {
     h->frame_rate_num = uint32_t(std::lround(cap_.frame_rate * 1000));
     h->frame_rate_den = 1000;
@@ -215,7 +224,7 @@ class Session {
                  kToolPredictiveTexture;
     } else {
       h->tools = TextureTools(s_.kernel, s_.coder, ColourSpace::kYCbCr601, s_.chroma,
-                              KernelFracBits(s_.kernel, s_.frac_bits_97), s_.weights);
+                              KernelFracBits(s_.kernel, s_.frac_bits_97), s_.weights, SampleFrac());
     }
     if (s_.masks) h->tools |= kToolMasks;
     if (s_.key_interval > 1) h->tools |= kToolMotionInterpolation;
@@ -306,7 +315,8 @@ class Session {
           std::copy_n(&span_mask_[src * texels], texels, &used[dst * texels]);
         }
       }
-      const Block block = BlockFromRgb(rgb.data(), shape, ColourSpace::kYCbCr601, s_.chroma);
+      const Block block =
+          BlockFromRgb(rgb.data(), shape, ColourSpace::kYCbCr601, s_.chroma, SampleFrac());
       if (s_.texture_codec == TextureCodec::kPredictive) {
         FVV_RETURN_IF_ERROR(CodePredictive(block, rgb, used, shape, &frag));
         fragments_.push_back(std::move(frag));
@@ -390,7 +400,7 @@ class Session {
       const UsedMask& m = c == 0 ? used : *cmask;
       uint64_t count = 0;
       for (uint8_t u : m) count += u != 0;
-      sse_[c] += ChannelMse(block.channels[c], decoded.channels[c], &m) * count;
+      sse_[c] += ChannelMse(block.channels[c], decoded.channels[c], &m, block.sample_frac) * count;
       samples_[c] += count;
     }
     std::vector<uint8_t> b(a.size());

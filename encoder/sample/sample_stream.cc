@@ -1,5 +1,6 @@
 #include "encoder/sample/sample_stream.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "codec/colour.h"
@@ -11,6 +12,15 @@
 
 namespace fvv {
 namespace {
+
+// The options' fractional sample bits where they apply (9/7 SPIHT, lossy,
+// own-band weights), else 0.
+int SampleFrac(const SampleStreamOptions& o) {
+  if (o.predictive || o.lossless || o.kernel != WaveletKernel::kCdf97 ||
+      o.weights != BandWeights::kOwnBand)
+    return 0;
+  return std::clamp(o.sample_frac, 0, std::min(kMaxSampleFrac, o.frac_bits_97));
+}
 
 struct BoneSpec {
   const char* name;
@@ -214,8 +224,9 @@ StatusOr<SampleStream> MakeSampleStream(const SampleStreamOptions& o,
   h.atlas_height = o.atlas_height;
   h.gop_frames = o.gop_frames;
   h.gop_cameras = o.gop_cameras;
-  h.tools = TextureTools(o.kernel, o.coder, o.lossless ? ColourSpace::kRct : ColourSpace::kYCbCr601,
-                         o.chroma, KernelFracBits(o.kernel, o.frac_bits_97), o.weights);
+  h.tools =
+      TextureTools(o.kernel, o.coder, o.lossless ? ColourSpace::kRct : ColourSpace::kYCbCr601,
+                   o.chroma, KernelFracBits(o.kernel, o.frac_bits_97), o.weights, SampleFrac(o));
   if (o.masks) h.tools |= kToolMasks;
   if (o.vertex_visibility) h.tools |= kToolVertexVisibility;
   if (o.key_interval > 1) h.tools |= kToolMotionInterpolation;
@@ -288,7 +299,7 @@ StatusOr<SampleStream> MakeSampleStream(const SampleStreamOptions& o,
       frag.predictive = true;
     }
     const ColourSpace colour = o.lossless ? ColourSpace::kRct : ColourSpace::kYCbCr601;
-    const Block block = BlockFromRgb(rgb.data(), shape, colour, o.chroma);
+    const Block block = BlockFromRgb(rgb.data(), shape, colour, o.chroma, SampleFrac(o));
     EncodeSettings settings;
     settings.kernel = o.kernel;
     settings.frac_bits_97 = o.frac_bits_97;

@@ -28,6 +28,10 @@ struct SampleStreamOptions {
   // kAxisBands by default, as the released cases have it; kOwnBand writes
   // format version 6.
   BandWeights weights = BandWeights::kAxisBands;
+  // Fractional bits of the coded samples: 0 by default, as the released cases
+  // have it; 1..4 write format version 7 (with the 9/7 and own-band weights; the
+  // other codecs code whole samples).
+  int sample_frac = 0;
   ChromaFormat chroma = ChromaFormat::k444;
   bool lossless = false;  // 5/3 or Haar + RCT at full rate
   // The predictive scheme with shape-adaptive BISK ('ptex', format version 2;

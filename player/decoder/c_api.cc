@@ -83,26 +83,30 @@ void ConvertView(const fvv::Block& block, uint32_t t, uint32_t c, fvv_pixel_form
   const int32_t* U = block.channels[1].samples.data() + chroma.Index(t, c, 0, 0);
   const int32_t* V = block.channels[2].samples.data() + chroma.Index(t, c, 0, 0);
   const uint32_t cw = chroma.width();
+  const int frac = block.sample_frac;
   if (format == FVV_FORMAT_RGB8 && !half && block.colour == fvv::ColourSpace::kYCbCr601) {
     for (uint32_t y = 0; y < h; ++y) {
       const size_t row = size_t{y} * w;
-      fvv::YcbcrRowToRgb8(Y + row, U + row, V + row, w, out + 3 * row);
+      fvv::YcbcrRowToRgb8(Y + row, U + row, V + row, w, out + 3 * row, frac);
     }
     return;
   }
+  // YUV444 bytes: samples with fractional bits rounded to whole ones.
+  const int32_t round = frac ? 1 << (frac - 1) : 0;
+  auto to_byte = [frac, round](int32_t s) { return static_cast<uint8_t>((s + round) >> frac); };
   for (uint32_t y = 0; y < h; ++y) {
     for (uint32_t x = 0; x < w; ++x) {
       const size_t i = size_t{y} * w + x;
       const size_t ci = half ? size_t{y >> 1} * cw + (x >> 1) : i;
       if (format == FVV_FORMAT_RGB8) {
-        const fvv::Rgb8 p = fvv::YuvToRgb(block.colour, Y[i], U[ci], V[ci]);
+        const fvv::Rgb8 p = fvv::YuvToRgb(block.colour, Y[i], U[ci], V[ci], frac);
         out[3 * i] = p.r;
         out[3 * i + 1] = p.g;
         out[3 * i + 2] = p.b;
       } else {
-        out[i] = static_cast<uint8_t>(Y[i]);
-        out[size_t{w} * h + i] = static_cast<uint8_t>(U[ci]);
-        out[2 * size_t{w} * h + i] = static_cast<uint8_t>(V[ci]);
+        out[i] = to_byte(Y[i]);
+        out[size_t{w} * h + i] = to_byte(U[ci]);
+        out[2 * size_t{w} * h + i] = to_byte(V[ci]);
       }
     }
   }
