@@ -78,10 +78,12 @@ struct Row {
 int Kodak(const std::string& dir, int images, bool only_97_arith) {
   const double rates[] = {0.125, 0.25, 0.5, 1.0};
   const char* kernels[] = {"haar", "53", "97"};
-  // Own-band weights (format version 6) for all; "a3axis" is arith3 with the
-  // per-axis weights of format version 5, for the comparison.
-  const char* coders[] = {"binary", "arith", "arith2", "arith3", "a3axis"};
-  constexpr int kCoders = 5, kDefaultCoder = 3;  // arith3: what fvv encode writes
+  // Own-band weights (format version 6) for all, and with the 9/7 samples with
+  // 3 fractional bits (format version 7) but for "a3whole", arith3 with whole
+  // samples (version 6), and "a3axis", that with the per-axis weights of
+  // format version 5: the comparisons.
+  const char* coders[] = {"binary", "arith", "arith2", "arith3", "a3whole", "a3axis"};
+  constexpr int kCoders = 6, kDefaultCoder = 3;  // arith3: what fvv encode writes
   Row rows[3][kCoders][4], opj[4];
   ThreadPool pool(1);  // single-threaded on both sides: OpenJPEG's CLI codes on one thread
   const std::string tmp = "/tmp/fvv_bench_" + std::to_string(getpid());
@@ -96,8 +98,10 @@ int Kodak(const std::string& dir, int images, bool only_97_arith) {
     }
     const Shape4D shape{{1, 1, img->height, img->width}};
     samples_total += shape.count();
-    const Block block =
+    const Block whole =
         BlockFromRgb(img->pixels.data(), shape, ColourSpace::kYCbCr601, ChromaFormat::k444);
+    const Block fractional = BlockFromRgb(img->pixels.data(), shape, ColourSpace::kYCbCr601,
+                                          ChromaFormat::k444, kDefaultSampleFrac);
     std::fprintf(stderr, "kodim%02d ", i);
     for (int k = 0; k < 3; ++k)
       for (int c = 0; c < kCoders; ++c)
@@ -106,7 +110,8 @@ int Kodak(const std::string& dir, int images, bool only_97_arith) {
           EncodeSettings s;
           s.kernel = static_cast<WaveletKernel>(k);
           s.coder = static_cast<EntropyCoder>(c < 4 ? c : 3);
-          if (c == 4) s.weights = BandWeights::kAxisBands;
+          if (c == 5) s.weights = BandWeights::kAxisBands;
+          const Block& block = k == 2 && c < 4 ? fractional : whole;
           s.rate_value = rates[r];
           s.runner = pool.runner();
           auto t0 = Clock::now();
@@ -213,7 +218,8 @@ int Gop4d(const std::string& dir) {
             rgb[(shape.Index(t, c, y, x)) * 3 + ch] = static_cast<uint8_t>(v + 0.5);
           }
         }
-  const Block block = BlockFromRgb(rgb.data(), shape, ColourSpace::kYCbCr601, ChromaFormat::k444);
+  const Block block = BlockFromRgb(rgb.data(), shape, ColourSpace::kYCbCr601, ChromaFormat::k444,
+                                   kDefaultSampleFrac);
   ThreadPool pool(2);
   std::printf(
       "4D GOP 8x8x512x512 from kodim23 (shifted/rescaled cameras, panning frames), 9/7 + arith, 2 "
