@@ -26,6 +26,11 @@ double ChannelMse(const Plane4D& a, const Plane4D& b, const UsedMask* mask, int 
                : 0.0;
 }
 
+int UsableSampleFrac(WaveletKernel kernel, int frac_bits_97, BandWeights weights, int requested) {
+  if (kernel != WaveletKernel::kCdf97 || weights != BandWeights::kOwnBand) return 0;
+  return std::clamp(requested, 0, std::min(kMaxSampleFrac, frac_bits_97));
+}
+
 double PsnrFromMse(double mse) {
   if (mse <= 1e-10) return 99.0;
   return std::min(99.0, 10.0 * std::log10(255.0 * 255.0 / mse));

@@ -155,6 +155,11 @@ class BlockDecode {
   std::array<std::vector<int32_t>, 3> coeffs_;
 };
 
+// The fractional sample bits (codec/block.h) an encoder can give its blocks
+// when `requested` are asked for: 0..min(kMaxSampleFrac, frac_bits_97) with the
+// 9/7 and own-band weights (format version 7 extends version 6), 0 otherwise.
+int UsableSampleFrac(WaveletKernel kernel, int frac_bits_97, BandWeights weights, int requested);
+
 // Validates parameters against the codec's limits (sizes, enum values, planes).
 Status ValidateParams(const BlockParams& params);
 

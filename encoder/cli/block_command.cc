@@ -157,11 +157,8 @@ int RunEncode(const EncodeArgs& a) {
   const ChromaFormat chroma = a.codec.Chroma();
   if (a.lossless && chroma != ChromaFormat::k444)
     return Fail(InvalidArgument("--lossless needs --chroma 444"));
-  // Fractional samples go with the 9/7 and own-band weights (format version 7).
-  const int sample_frac =
-      settings.kernel == WaveletKernel::kCdf97 && settings.weights == BandWeights::kOwnBand
-          ? std::min(a.codec.sample_bits, a.codec.precision_97)
-          : 0;
+  const int sample_frac = UsableSampleFrac(settings.kernel, settings.frac_bits_97, settings.weights,
+                                           a.codec.sample_bits);
   const Block block = BlockFromRgb(rgb.data(), shape, colour, chroma, sample_frac);
   std::fprintf(stderr, "fvv block encode: %s, kernel %s, coder %s, loaded in %.2f s\n",
                shape.ToString().c_str(), KernelName(settings.kernel), CoderName(settings.coder),

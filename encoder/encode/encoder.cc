@@ -196,13 +196,10 @@ class Session {
   }
 
  private:
-  // The samples' fractional bits: the setting where the 9/7 SPIHT codec codes
-  // the textures with own-band weights (format version 7 extends 6), whole
-  // samples otherwise (codec/block.h).
+  // The samples' fractional bits: whole samples for the predictive codec.
   int SampleFrac() const {
-    return s_.texture_codec == TextureCodec::kSpiht4d && s_.kernel == WaveletKernel::kCdf97 &&
-                   s_.weights == BandWeights::kOwnBand
-               ? std::clamp(s_.sample_frac, 0, std::min(kMaxSampleFrac, s_.frac_bits_97))
+    return s_.texture_codec == TextureCodec::kSpiht4d
+               ? UsableSampleFrac(s_.kernel, s_.frac_bits_97, s_.weights, s_.sample_frac)
                : 0;
   }
   Status FillHeader(FileHeader* h) const {

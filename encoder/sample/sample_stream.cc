@@ -13,13 +13,12 @@
 namespace fvv {
 namespace {
 
-// The options' fractional sample bits where they apply (9/7 SPIHT, lossy,
-// own-band weights), else 0.
+// The options' fractional sample bits: whole samples for the predictive codec
+// and for lossless coding.
 int SampleFrac(const SampleStreamOptions& o) {
-  if (o.predictive || o.lossless || o.kernel != WaveletKernel::kCdf97 ||
-      o.weights != BandWeights::kOwnBand)
-    return 0;
-  return std::clamp(o.sample_frac, 0, std::min(kMaxSampleFrac, o.frac_bits_97));
+  return o.predictive || o.lossless
+             ? 0
+             : UsableSampleFrac(o.kernel, o.frac_bits_97, o.weights, o.sample_frac);
 }
 
 struct BoneSpec {
