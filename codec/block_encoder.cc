@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <memory>
 
 #include "codec/block_codec.h"
@@ -117,6 +118,46 @@ EncodedBlock CutBlock(const EncodedBlock& full, const std::array<uint64_t, 3>& a
   return out;
 }
 
+// Encoder-side pruning: a coefficient that would turn significant only in the
+// lowest bitplane a cut stream reaches, with none of its 8 neighbours in the
+// plane (x +- 1, y +- 1) significant by then, costs SPIHT the set splits that
+// isolate it, a significance, a sign and refinements for one coefficient's
+// worth of error. Zeroing such coefficients and coding again moves those
+// bytes to coefficients that come in clusters (docs/encoder.md, "Pruning").
+// Roots are kept. Returns the weighted energy zeroed (the quantisers' distortion
+// factors times the squared magnitudes, as the SPIHT encoder counts error).
+double PruneIsolated(const SpihtTree& tree, const SubbandQuantisers& q, const ChannelStream& cut,
+                     std::vector<int32_t>* coeffs) {
+  int lowest = cut.planes - 1;  // the plane of the pass the cut falls in
+  if (!cut.points.empty()) {
+    const TruncationPoint& last = cut.points.back();
+    lowest = last.pass == 1 ? last.plane - 1 : last.plane;
+  }
+  if (lowest < 0) return 0;
+  const int32_t lo = int32_t{1} << lowest, hi = int32_t{1} << (lowest + 1);
+  std::vector<int32_t>& c = *coeffs;
+  const size_t w = tree.geometry().shape.width();
+  auto big = [&](size_t j) { return c[j] >= lo || c[j] <= -lo; };
+  std::vector<uint32_t> pruned;
+  double energy = 0;
+  ForEachBand(tree.geometry(), [&](size_t i, int band) {
+    const int32_t m = c[i] < 0 ? -c[i] : c[i];
+    if (m < lo || m >= hi || tree.LevelClass(static_cast<uint32_t>(i)) == 0) return;
+    const uint32_t idx = static_cast<uint32_t>(i);
+    const bool left = tree.HasLeft(idx), right = tree.HasRight(idx), up = tree.HasUp(idx),
+               down = tree.HasDown(idx);
+    if ((left && big(i - 1)) || (right && big(i + 1)) || (up && big(i - w)) ||
+        (down && big(i + w)) || (left && up && big(i - w - 1)) || (right && up && big(i - w + 1)) ||
+        (left && down && big(i + w - 1)) || (right && down && big(i + w + 1)))
+      return;
+    pruned.push_back(idx);
+    energy += q[band].distortion * double(m) * double(m);
+  });
+  // Zeroed after the scan, so that each test sees the coefficients as they were.
+  for (uint32_t i : pruned) c[i] = 0;
+  return energy;
+}
+
 double WeightedMse(const Block& a, const Block& b, const UsedMask* mask,
                    const std::array<double, 3>& w) {
   UsedMask chroma_mask;
@@ -219,9 +260,15 @@ StatusOr<EncodedBlock> EncodeBlock(const Block& block, const UsedMask* mask,
   }
   std::array<ChannelRd, 3> hulls;
   double wsum = 0;
+  for (int c = 0; c < 3; ++c) wsum += settings.channel_weights[c];
   // The PSNR mode's target as a mean squared error per used texel.
   const double target_mse = 255.0 * 255.0 / std::pow(10.0, settings.rate_value / 10.0);
-  for (;;) {
+  // Distortion per luma sample, as the allocation weighs it.
+  const double per_sample = 1.0 / static_cast<double>(samples);
+  // SPIHT-codes every channel's coefficients up to `cap` bytes and builds the
+  // weighted RD hulls the rate allocation across channels works on; true if a
+  // channel reached the cap.
+  auto code_channels = [&]() {
     settings.runner(3, [&](uint32_t c) {
       const WaveletGeometry g(block.channels[c].shape);
       const std::shared_ptr<const SpihtTree> tree = SharedSpihtTree(g);
@@ -233,16 +280,16 @@ StatusOr<EncodedBlock> EncodeBlock(const Block& block, const UsedMask* mask,
       rd_bytes[c] = std::move(enc.rd_bytes);
       rd_distortion[c] = std::move(enc.rd_distortion);
     });
-    // Rate allocation across channels on the weighted RD curves (distortion per luma sample).
-    const double per_sample = 1.0 / static_cast<double>(samples);
-    wsum = 0;
     bool capped = false;
     for (int c = 0; c < 3; ++c) {
       hulls[c] =
           ConvexHull(rd_bytes[c], rd_distortion[c], settings.channel_weights[c] * per_sample);
-      wsum += settings.channel_weights[c];
       capped = capped || out.channels[c].data.size() >= cap;
     }
+    return capped;
+  };
+  for (;;) {
+    const bool capped = code_channels();
     if (settings.rate_mode != RateMode::kPsnr || !capped || cap >= samples) break;
     // A PSNR target: code only as deep as it needs (SPIHT's cost grows with the
     // bytes it writes). The estimate's error spreads over all texels, the
@@ -260,7 +307,42 @@ StatusOr<EncodedBlock> EncodeBlock(const Block& block, const UsedMask* mask,
   double final_d = 0;
   if (settings.rate_mode == RateMode::kBitsPerSample ||
       settings.rate_mode == RateMode::kTotalBytes) {
-    out = CutBlock(out, Allocate(hulls, cap, 0.0, &final_d));
+    EncodedBlock cut = CutBlock(out, Allocate(hulls, cap, 0.0, &final_d));
+    if (settings.prune_isolated) {
+      // Kept only where a decode shows less error at the same bytes: where
+      // isolated coefficients are the content (noise, fine texture), zeroing
+      // them costs more than the bytes it frees buy. (The transform-domain
+      // estimate interpolates inside the last pass, too coarse to decide.)
+      auto decoded_mse = [&](const EncodedBlock& e, Block* decoded) {
+        auto dec = DecodeBlock(e, DecodeBudget{}, settings.runner);
+        if (!dec.ok()) return std::numeric_limits<double>::infinity();
+        *decoded = std::move(*dec);
+        return WeightedMse(block, *decoded, mask, settings.channel_weights);
+      };
+      // Zeroes the isolated coefficients of each channel the cut truncates.
+      double added = 0;  // the weighted error that adds per sample, outside the RD curves
+      for (int c = 0; c < 3; ++c) {
+        if (cut.channels[c].data.size() >= out.channels[c].data.size()) continue;  // not cut
+        const WaveletGeometry g(block.channels[c].shape);
+        const SubbandQuantisers q(settings.kernel, frac, settings.weights, g);
+        added += settings.channel_weights[c] * per_sample *
+                 PruneIsolated(*SharedSpihtTree(g), q, cut.channels[c], &coeffs[c]);
+      }
+      if (added > 0) {  // nothing zeroed: coding again would give the same streams
+        Block plain_decoded, pruned_decoded;
+        const double plain_mse = decoded_mse(cut, &plain_decoded);
+        code_channels();
+        double pruned_d = 0;
+        EncodedBlock pruned = CutBlock(out, Allocate(hulls, cap, 0.0, &pruned_d));
+        const bool keep = decoded_mse(pruned, &pruned_decoded) < plain_mse;
+        if (keep) cut = std::move(pruned), final_d = pruned_d + added;
+        if (report && report->decoded) {
+          *report->decoded = std::move(keep ? pruned_decoded : plain_decoded);
+          report->decoded_filled = true;
+        }
+      }
+    }
+    out = std::move(cut);
   } else if (settings.rate_mode == RateMode::kPsnr) {
     // The estimate gives a starting point; actual decodes over used texels settle it.
     Block trial_decoded, best_decoded;

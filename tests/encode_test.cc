@@ -471,6 +471,11 @@ TEST_F(EncodeTest, CApiEncodesAndReportsAndRefusesMisuse) {
   s.sample_bits = 5;
   EXPECT_EQ(fvv_encoder_create(&s, &none), FVV_INVALID_ARGUMENT);
   EXPECT_NE(std::string(fvv_encoder_settings_error()).find("sample_bits"), std::string::npos);
+  s.sample_bits = 3;
+  s.prune = 2;  // a flag: 0 or 1
+  EXPECT_EQ(fvv_encoder_create(&s, &none), FVV_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(fvv_encoder_settings_error()).find("prune"), std::string::npos);
+  s.prune = 1;
   s.sample_bits = 0;
   s.weights = FVV_WEIGHTS_AXIS_BANDS;
   fvv_encode_report report_v5;

@@ -103,7 +103,7 @@ struct EncodeArgs {
   CodecOptionArgs codec;
   double bpp = 0, psnr = 0;
   uint64_t bytes = 0;
-  bool lossless = false;
+  bool lossless = false, no_prune = false;
   unsigned threads = 0;
   int fill_iterations = FillOptions{}.iterations;
 };
@@ -126,6 +126,7 @@ int RunEncode(const EncodeArgs& a) {
   settings.coder = a.codec.Coder();
   settings.weights = a.codec.Weights();
   settings.fill.iterations = a.fill_iterations;
+  settings.prune_isolated = !a.no_prune;
   if (a.lossless) {
     settings.rate_mode = RateMode::kLossless;
     if (settings.kernel == WaveletKernel::kCdf97) settings.kernel = WaveletKernel::kLeGall53;
@@ -293,6 +294,7 @@ void AddBlockCommands(CLI::App* app, int* exit_code) {
   e->add_option("--mask", enc->masks, "Used-texel masks, one per image (non-zero = used)")
       ->check(CLI::ExistingFile);
   AddFillOption(e, &enc->fill_iterations);
+  AddPruneOption(e, &enc->no_prune);
   e->add_option("--threads", enc->threads, "Worker threads (0 = all cores)")->capture_default_str();
   e->callback([enc, exit_code] { *exit_code = RunEncode(*enc); });
 

@@ -22,7 +22,7 @@ struct EncodeArgs {
   uint32_t atlas = 512, threads = 2;
   uint16_t gop_frames = 8, gop_cameras = 1, key_interval = 1;
   bool no_masks = false, extract = false, fixed_shape = false, quiet = false, refine_shape = false,
-       no_fallback = false;
+       no_fallback = false, no_prune = false;
   int margin = 2;
   double smooth = TrackCaptureOptions{}.smoothing.sigma_frames;
   int fill_iterations = FillOptions{}.iterations;
@@ -63,6 +63,7 @@ int RunEncode(const EncodeArgs& a) {
   s.sample_frac = a.codec.sample_bits;
   s.chroma = a.codec.Chroma();
   s.fill.iterations = a.fill_iterations;
+  s.prune_isolated = !a.no_prune;
   if (a.texture_codec == "predictive") {
     // Its defaults: all cameras in one GOP (it predicts across them) and the
     // 5/3 kernel (1.5-2 dB better than 9/7 with BISK on the demo textures).
@@ -142,6 +143,7 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
   e->add_option("--gop-cameras", a->gop_cameras, "Cameras per GOP")->capture_default_str();
   AddCodecOptions(e, &a->codec);
   AddFillOption(e, &a->fill_iterations);
+  AddPruneOption(e, &a->no_prune);
   AddTextureCodecOption(e, &a->texture_codec);
   AddMaskCoderOption(e, &a->mask_coder);
   e->add_flag("--no-masks", a->no_masks,

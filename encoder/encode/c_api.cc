@@ -32,6 +32,7 @@ fvv::Status ToSettings(const fvv_encoder_settings& c, fvv::EncoderSettings* s) {
     return InvalidArgument("weights is not an fvv_band_weights");
   if (c.sample_bits > uint32_t(fvv::kMaxSampleFrac))
     return InvalidArgument("sample_bits is not 0.." + std::to_string(fvv::kMaxSampleFrac));
+  if (c.prune > 1) return InvalidArgument("prune is not 0 or 1");
   if (c.chroma > FVV_CHROMA_420) return InvalidArgument("chroma is not an fvv_chroma");
   if (c.mask_mode > FVV_MASKS_CODED_V1) return InvalidArgument("mask_mode is not an fvv_mask_mode");
   if (c.rate_mode > FVV_RATE_BYTES_PER_GOP)
@@ -56,6 +57,7 @@ fvv::Status ToSettings(const fvv_encoder_settings& c, fvv::EncoderSettings* s) {
   s->weights = c.weights == FVV_WEIGHTS_AXIS_BANDS ? fvv::BandWeights::kAxisBands
                                                    : fvv::BandWeights::kOwnBand;
   s->sample_frac = int(c.sample_bits);
+  s->prune_isolated = c.prune != 0;
   s->chroma = c.chroma == FVV_CHROMA_420 ? fvv::ChromaFormat::k420 : fvv::ChromaFormat::k444;
   s->masks = c.mask_mode != FVV_MASKS_NONE;
   s->mask_coding =
@@ -100,6 +102,7 @@ void fvv_encoder_default_settings(fvv_encoder_settings* settings) {
   settings->kernel = FVV_KERNEL_CDF97;
   settings->precision_97 = fvv::kFracBits97;
   settings->sample_bits = fvv::kDefaultSampleFrac;
+  settings->prune = 1;
   settings->coder = FVV_CODER_ARITH3;
   settings->chroma = FVV_CHROMA_444;
   settings->mask_mode = FVV_MASKS_CODED;

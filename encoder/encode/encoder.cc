@@ -327,6 +327,7 @@ class Session {
       es.rate_mode = s_.rate_mode;
       es.rate_value = s_.rate_value;
       es.fill = s_.fill;
+      es.prune_isolated = s_.prune_isolated;
       es.runner = pool_.runner();
       Block decoded;
       EncodeReport report;

@@ -309,6 +309,9 @@ StatusOr<SampleStream> MakeSampleStream(const SampleStreamOptions& o,
     // The original pyramid fill: sample streams are what the conformance
     // generator makes, and it must remake every released case byte for byte.
     settings.fill = {FillPull::kParent, 0};
+    // Sample streams are the conformance suite's: pinned byte for byte, so they
+    // keep the encoder as it was when each case was released.
+    settings.prune_isolated = false;
     settings.runner = runner;
     if (!o.predictive) {
       FVV_ASSIGN_OR_RETURN(frag.texture, EncodeBlock(block, o.masks ? &used : nullptr, settings));

@@ -100,6 +100,12 @@ typedef struct {
      better at 20:1 than 0). 0 writes what format version 6 decoders read. Used with the 9/7 SPIHT
      codec and own-band weights (at most precision_97); the others code whole samples. */
   uint32_t sample_bits;
+  /* 1 (default): with FVV_RATE_BPP or FVV_RATE_BYTES_PER_GOP, zero the coefficients that only
+     the last coded bitplane would make significant with no significant neighbour, code the GOP
+     again and keep that if it decodes better (about +0.1 dB at 120:1 on the demo capture; a
+     second SPIHT encode and two decodes per GOP). 0: off. Encoder-side only: any decoder reads
+     the result. */
+  uint32_t prune;
 } fvv_encoder_settings;
 
 typedef struct {
