@@ -15,6 +15,7 @@
 
 #include "codec/block_codec.h"
 #include "codec/colour.h"
+#include "codec/sample_pool.h"
 #include "codec/thread_pool.h"
 #include "tools/imageio/image_io.h"
 
@@ -224,8 +225,8 @@ int Gop4d(const std::string& dir) {
   std::printf(
       "4D GOP 8x8x512x512 from kodim23 (shifted/rescaled cameras, panning frames), 9/7 + arith, 2 "
       "threads\n");
-  std::printf("%6s %9s %9s %9s %10s %9s %10s\n", "bpp", "bytes", "RGB dB", "Y dB", "enc MS/s",
-              "dec ms", "dec MS/s");
+  std::printf("%6s %9s %9s %9s %10s %9s %10s %9s\n", "bpp", "bytes", "RGB dB", "Y dB", "enc MS/s",
+              "dec ms", "dec MS/s", "first ms");
   for (double bpp : {0.05, 0.1, 0.25, 0.5}) {
     EncodeSettings s;
     s.rate_value = bpp;
@@ -233,21 +234,39 @@ int Gop4d(const std::string& dir) {
     auto t0 = Clock::now();
     auto enc = EncodeBlock(block, nullptr, s);
     const double e = Secs(t0);
-    double best = 1e9;
+    // A player decodes GOP after GOP of one shape and hands each dropped GOP's
+    // sample buffers to the next (player/decoder: SamplePool), so the steady
+    // state decodes into recycled buffers. The first decode pays for fresh
+    // memory (page faults and kernel zeroing of 3 x 64 MiB), shown apart.
+    SamplePool samples;
+    samples.SetLimit(3);
+    DecodeBudget budget;
+    budget.sample_pool = &samples;
+    double first = 0, best = 1e9;
     Block dec;
-    for (int rep = 0; rep < 3; ++rep) {
+    for (int rep = 0; rep < 4; ++rep) {
+      for (Plane4D& plane : dec.channels) samples.Give(std::move(plane.samples));
       t0 = Clock::now();
-      dec = std::move(DecodeBlock(*enc, {}, pool.runner()).value());
-      best = std::min(best, Secs(t0));
+      dec = std::move(DecodeBlock(*enc, budget, pool.runner()).value());
+      const double secs = Secs(t0);
+      if (rep == 0) {
+        first = secs;
+      } else {
+        best = std::min(best, secs);
+      }
     }
     std::vector<uint8_t> out(rgb.size());
     BlockToRgb(dec, out.data());
-    std::printf("%6.2f %9llu %9.2f %9.2f %10.1f %9.0f %10.1f\n", bpp,
+    std::printf("%6.2f %9llu %9.2f %9.2f %10.1f %9.0f %10.1f %9.0f\n", bpp,
                 (unsigned long long)enc->total_bytes(), PsnrRgb(rgb, out), PsnrY(rgb, out),
-                shape.count() / e / 1e6, best * 1e3, shape.count() / best / 1e6);
+                shape.count() / e / 1e6, best * 1e3, shape.count() / best / 1e6, first * 1e3);
   }
   rusage ru;
   getrusage(RUSAGE_SELF, &ru);
+  std::printf(
+      "dec ms: best of 3 decodes into the buffers of the block decoded before (a player's steady "
+      "state); first ms: the first decode, into fresh memory. Real time: 8 frames at 25 fps "
+      "in under 320 ms\n");
   std::printf("peak memory (whole run, RSS): %.0f MiB\n", ru.ru_maxrss / 1024.0);
   return 0;
 }

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "codec/large_buffer.h"
+
 namespace fvv {
 
 constexpr int kAxes = 4;  // axis order everywhere: 0 = t, 1 = c, 2 = y, 3 = x
@@ -42,7 +44,9 @@ struct Plane4D {
   std::vector<int32_t> samples;
 
   Plane4D() = default;
-  explicit Plane4D(const Shape4D& s, int32_t fill = 0) : shape(s), samples(s.count(), fill) {}
+  explicit Plane4D(const Shape4D& s, int32_t fill = 0) : shape(s) {
+    AssignLarge(&samples, s.count(), fill);
+  }
 };
 
 // How the three channels relate to RGB.

@@ -1,4 +1,5 @@
 #include "codec/bit_io.h"
+#include "codec/large_buffer.h"
 #include "codec/logistic_mixing.h"
 #include "codec/range_coder.h"
 #include "codec/spiht4d.h"
@@ -134,7 +135,7 @@ class DecoderSide {
 SpihtDecodeResult SpihtDecode(const SpihtTree& tree, const SubbandQuantisers& quantisers,
                               const uint8_t* data, size_t size, int planes, EntropyCoder coder,
                               const SpihtDecodeLimits& limits, std::vector<int32_t>* coefficients) {
-  coefficients->assign(tree.size(), 0);
+  AssignLarge(coefficients, tree.size());
   const size_t budget = size < limits.max_bytes ? size : static_cast<size_t>(limits.max_bytes);
   DecoderSide side(tree, data, budget, coder, limits, coefficients);
   SpihtTraverse(coder, tree, planes, &side);

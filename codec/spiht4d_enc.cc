@@ -2,6 +2,7 @@
 #include <cstdlib>
 
 #include "codec/bit_io.h"
+#include "codec/large_buffer.h"
 #include "codec/logistic_mixing.h"
 #include "codec/range_coder.h"
 #include "codec/spiht4d.h"
@@ -26,17 +27,17 @@ class EncoderSide {
         quantisers_(quantisers),
         coder_(coder),
         max_bytes_(max_bytes),
-        mag_(coefficients.size()),
-        descendant_bits_(coefficients.size(), 0),
-        grandchild_bits_(coefficients.size(), 0),
         probs_(kMaxContexts, kProbInit),
         counted_probs_(coder == EntropyCoder::kArith3 ? kMaxContexts : 0) {
+    AssignLarge(&mag_, coefficients.size());
+    AssignLarge(&negative_, coefficients.size());
+    AssignLarge(&descendant_bits_, coefficients.size());
+    AssignLarge(&grandchild_bits_, coefficients.size());
     for (size_t i = 0; i < coefficients.size(); ++i) {
       mag_[i] = static_cast<uint32_t>(std::abs(coefficients[i]));
       const double v = mag_[i];
       if (v != 0) distortion_ += Factor(static_cast<uint32_t>(i)) * v * v;
     }
-    negative_.resize(coefficients.size());
     for (size_t i = 0; i < coefficients.size(); ++i) negative_[i] = coefficients[i] < 0;
     ComputeSetMagnitudes();
   }

@@ -2,12 +2,14 @@
 // syntax under corrupt, truncated and random input.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <random>
 #include <thread>
 
 #include "codec/block_codec.h"
 #include "codec/block_syntax.h"
+#include "codec/large_buffer.h"
 #include "codec/thread_pool.h"
 #include "tests/test_blocks.h"
 
@@ -454,6 +456,30 @@ TEST(Decoder, RecycledSampleBuffersGiveTheSameBlock) {
   EXPECT_EQ(pool.pooled(), 1u);
   EXPECT_TRUE(pool.Take().empty());
   EXPECT_EQ(pool.pooled(), 0u);
+}
+
+// AssignLarge fills exactly like assign on every path: a fresh buffer large
+// enough to be advised for huge pages (with a misaligned start), growth that
+// keeps nothing of a dirty buffer, and shrinking that reuses the allocation.
+TEST(LargeBuffer, AssignLargeFillsLikeAssign) {
+  std::vector<int32_t> v;
+  const size_t big = (size_t{9} << 20) / sizeof(int32_t) + 3;  // 9 MiB: four whole 2 MiB pages
+  AssignLarge(&v, big, int32_t{-7});
+  ASSERT_EQ(v.size(), big);
+  EXPECT_EQ(std::count(v.begin(), v.end(), -7), static_cast<ptrdiff_t>(big));
+  const int32_t* data = v.data();
+  AssignLarge(&v, size_t{1000});
+  ASSERT_EQ(v.size(), 1000u);
+  EXPECT_EQ(v.data(), data) << "a smaller size reuses the buffer";
+  EXPECT_EQ(std::count(v.begin(), v.end(), 0), 1000);
+  std::vector<uint8_t> bytes(17, 0xAB);
+  AssignLarge(&bytes, size_t{5} << 20);
+  EXPECT_EQ(std::count(bytes.begin(), bytes.end(), 0), static_cast<ptrdiff_t>(5 << 20));
+  // Advice on ranges without a whole huge page, or on nothing, is a no-op.
+  int32_t small[4] = {1, 2, 3, 4};
+  AdviseHugePages(small, sizeof(small));
+  AdviseHugePages(nullptr, size_t{8} << 20);
+  EXPECT_EQ(small[3], 4);
 }
 
 TEST(ThreadPool, RunsEveryTaskOnceIncludingNestedCalls) {
