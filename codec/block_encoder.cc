@@ -141,9 +141,9 @@ double PruneIsolated(const SpihtTree& tree, const SubbandQuantisers& q, const Ch
   std::vector<uint32_t> pruned;
   double energy = 0;
   ForEachBand(tree.geometry(), [&](size_t i, int band) {
-    const int32_t m = c[i] < 0 ? -c[i] : c[i];
-    if (m < lo || m >= hi || tree.LevelClass(static_cast<uint32_t>(i)) == 0) return;
     const uint32_t idx = static_cast<uint32_t>(i);
+    const int32_t m = c[i] < 0 ? -c[i] : c[i];
+    if (m < lo || m >= hi || tree.LevelClass(idx) == 0) return;
     const bool left = tree.HasLeft(idx), right = tree.HasRight(idx), up = tree.HasUp(idx),
                down = tree.HasDown(idx);
     if ((left && big(i - 1)) || (right && big(i + 1)) || (up && big(i - w)) ||

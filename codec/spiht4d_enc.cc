@@ -35,10 +35,10 @@ class EncoderSide {
     AssignLarge(&grandchild_bits_, coefficients.size());
     for (size_t i = 0; i < coefficients.size(); ++i) {
       mag_[i] = static_cast<uint32_t>(std::abs(coefficients[i]));
+      negative_[i] = coefficients[i] < 0;
       const double v = mag_[i];
       if (v != 0) distortion_ += Factor(static_cast<uint32_t>(i)) * v * v;
     }
-    for (size_t i = 0; i < coefficients.size(); ++i) negative_[i] = coefficients[i] < 0;
     ComputeSetMagnitudes();
   }
 
