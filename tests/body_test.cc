@@ -90,6 +90,19 @@ TEST(GenericBody, HumanProportionsAndShapeScales) {
   EXPECT_NEAR(wide / slim, 1.4, 0.02);
   heavy.girth[kSegAbdomen] = 3;
   EXPECT_FALSE(ValidateBodyShape(heavy).ok());
+  // The head's range is wider (cartoon characters), up to kMaxHeadScale only.
+  BodyShape cartoon;
+  cartoon.girth[kSegHead] = 2.8;
+  cartoon.length[kSegHead] = 2.2;
+  EXPECT_TRUE(ValidateBodyShape(cartoon).ok());
+  cartoon.girth[kSegHead] = kMaxHeadScale + 0.1;
+  const Status too_wide = ValidateBodyShape(cartoon);
+  EXPECT_FALSE(too_wide.ok());
+  EXPECT_NE(too_wide.message().find("head"), std::string::npos) << too_wide.message();
+  EXPECT_NE(too_wide.message().find("[0.5, 3]"), std::string::npos) << too_wide.message();
+  cartoon.girth[kSegHead] = 1;
+  cartoon.girth[kSegChest] = 2.2;  // other segments keep [0.5, 2]
+  EXPECT_FALSE(ValidateBodyShape(cartoon).ok());
 }
 
 // Ray-parity inside test against one segment's posed triangles.

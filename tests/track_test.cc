@@ -257,10 +257,13 @@ TEST(Tracker, ActorWithOtherProportionsGetsItsOwn) {
                 fit->iou, 100 * e->mean);
   }
   std::system(("rm -rf '" + s.output_dir + "'").c_str());
-  EXPECT_LT(error[1], 0.10);
+  EXPECT_LT(error[1], 0.08);
   EXPECT_LT(error[1], 0.5 * error[0]);
-  // The large head is seen as one: wider than the generic body's, scaled.
-  EXPECT_GT(shape[1].girth[kSegHead], 1.3);
+  // The large head is seen as one: over twice as wide as the generic body's,
+  // scaled (the head's range goes beyond other segments' 2).
+  std::printf("  own head: length %.2f, girth %.2f\n", shape[1].length[kSegHead],
+              shape[1].girth[kSegHead]);
+  EXPECT_GT(shape[1].girth[kSegHead], 2.2);
 }
 
 // Smoothing keeps what it must keep (constants, straight lines away from the

@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <vector>
 
@@ -507,11 +508,14 @@ Status ValidateBodyShape(const BodyShape& shape) {
         "body shape: stature scale must lie in [0.5, 1.4], got " + std::to_string(shape.stature));
   }
   for (int s = 0; s < kGenericSegmentCount; ++s) {
+    const double hi = s == kSegHead ? kMaxHeadScale : kMaxSegmentScale;
     for (double v : {shape.length[s], shape.girth[s]}) {
-      if (!std::isfinite(v) || v < 0.5 || v > 2.0) {
-        return Status(StatusCode::kInvalidArgument,
-                      std::string("body shape: scales of segment ") + GenericSegmentName(s) +
-                          " must lie in [0.5, 2], got " + std::to_string(v));
+      if (!std::isfinite(v) || v < 0.5 || v > hi) {
+        char range[64];
+        std::snprintf(range, sizeof range, " must lie in [0.5, %g], got ", hi);
+        return Status(StatusCode::kInvalidArgument, std::string("body shape: scales of segment ") +
+                                                        GenericSegmentName(s) + range +
+                                                        std::to_string(v));
       }
     }
   }

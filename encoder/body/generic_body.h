@@ -89,7 +89,14 @@ struct BodyShape {
   }
 };
 
-// Checks scales are finite and within [0.5, 2] (stature within [0.5, 1.4]).
+// Largest length or girth scale of a segment. The head's range is wider:
+// cartoon characters (CesiumMan) have heads twice and more as wide as a
+// person's at the same height.
+constexpr double kMaxSegmentScale = 2.0;
+constexpr double kMaxHeadScale = 3.0;
+
+// Checks scales are finite and within [0.5, kMaxSegmentScale] (the head's
+// within [0.5, kMaxHeadScale]; stature within [0.5, 1.4]).
 Status ValidateBodyShape(const BodyShape& shape);
 
 // The model in its rest pose: skeleton (names above, DOF limits on every DOF),

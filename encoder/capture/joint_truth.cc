@@ -83,16 +83,21 @@ StatusOr<JointErrors> CompareWithTruth(const std::string& truth, const Skeleton&
     return InvalidArgument("truth " + path + ": no joint corresponds to the body model's");
   JointErrors e;
   for (const auto& p : pairs) e.joints.push_back(generic.bones[p.first].name);
+  e.per_joint_mean.assign(pairs.size(), 0.0);
+  e.per_joint_offset.assign(pairs.size(), Eigen::Vector3d::Zero());
   double sum = 0;
   size_t count = 0;
   for (size_t i = 0; i < poses.size(); ++i) {
     const std::vector<Eigen::Vector3d> ours = JointPositions(generic, poses[i]);
     const nlohmann::json& theirs = frames[first_frame + i]["joints"];
     double frame_sum = 0;
-    for (const auto& [bone, name] : pairs) {
-      const auto& v = theirs[name];
+    for (size_t k = 0; k < pairs.size(); ++k) {
+      const auto& v = theirs[pairs[k].second];
       const Eigen::Vector3d t(v[0].get<double>(), v[1].get<double>(), v[2].get<double>());
-      const double d = (ours[bone] - t).norm();
+      const Eigen::Vector3d diff = ours[pairs[k].first] - t;
+      const double d = diff.norm();
+      e.per_joint_mean[k] += d / poses.size();
+      e.per_joint_offset[k] += diff / double(poses.size());
       frame_sum += d;
       e.max = std::max(e.max, d);
     }

@@ -5,6 +5,7 @@
 #ifndef FVV_ENCODER_CAPTURE_JOINT_TRUTH_H_
 #define FVV_ENCODER_CAPTURE_JOINT_TRUTH_H_
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
 
@@ -17,7 +18,13 @@ struct JointErrors {
   double mean = 0, max = 0;         // metres, over frames and matched joints
   std::vector<std::string> joints;  // generic joint names compared
   std::vector<double> per_frame;    // mean per frame
-  std::string Describe() const;     // "l_hip, l_knee, ..."
+  // Per compared joint, over the frames: mean distance, and the mean of
+  // (ours - truth), the part of the error that is a constant offset (where a
+  // joint sits inside the body, or a proportion fitted wrongly) rather than
+  // tracking error.
+  std::vector<double> per_joint_mean;
+  std::vector<Eigen::Vector3d> per_joint_offset;
+  std::string Describe() const;  // "l_hip, l_knee, ..."
 };
 
 // `truth`: a truth.json, or a directory holding truth.json or truth/truth.json.

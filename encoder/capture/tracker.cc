@@ -773,8 +773,8 @@ struct Tracker::Impl {
   };
   static const ShapeParamSpec& ShapeSpec(int param) {
     static const ShapeParamSpec k[kShapeParamCount] = {
-        {true, {kSegHead}, 0.08, 0.7, 2.0},
-        {false, {kSegHead}, 0.1, 0.7, 2.0},
+        {true, {kSegHead}, 0.08, 0.7, kMaxHeadScale},
+        {false, {kSegHead}, 0.1, 0.7, kMaxHeadScale},
         {true, {kSegPelvis, kSegAbdomen, kSegChest}, 0.05, 0.7, 1.4},
         {false, {kSegPelvis, kSegAbdomen, kSegChest}, 0.06, 0.6, 1.5},
         {true,

@@ -89,6 +89,14 @@ int RunTrack(const TrackArgs& a) {
         std::printf("%s%5.1f%s", i % 10 == 0 ? "    cm:" : "", 100 * f[i],
                     i % 10 == 9 || i + 1 == f.size() ? "\n" : "");
     }
+    // Per joint: a large mean offset is a bias (joint placement inside the
+    // body, a proportion), the rest moves from frame to frame.
+    std::printf("  per joint (mean error, mean offset x y z in cm):\n");
+    for (size_t k = 0; k < e->joints.size(); ++k) {
+      const Eigen::Vector3d& off = e->per_joint_offset[k];
+      std::printf("    %-11s %5.1f  (%+5.1f %+5.1f %+5.1f)\n", e->joints[k].c_str(),
+                  100 * e->per_joint_mean[k], 100 * off.x(), 100 * off.y(), 100 * off.z());
+    }
   }
   std::printf("  poses: %s\n", a.output.c_str());
   return 0;
