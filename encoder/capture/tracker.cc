@@ -126,6 +126,16 @@ struct Tracker::Impl {
   double smoothness_weight = 0;
   // The actor's height measured from the silhouettes at initialisation.
   double actor_height = 0;
+  // An actor fitted with proportions of its own has its arms' length fitted
+  // again over several frames once tracking has moved them (KeptFrame).
+  bool own_proportions = false;
+  struct KeptFrame {
+    std::vector<std::vector<View>> views;
+    std::vector<double> dofs;
+  };
+  std::vector<KeptFrame> kept;
+  int frames_tracked = 0;
+  bool arms_refitted = false;
 
   explicit Impl(const TrackerOptions& o) : options(o), pool(std::max(1u, o.threads)) {}
 
@@ -871,6 +881,50 @@ struct Tracker::Impl {
     f(x);  // leave the model built for the best shape
     *dofs = trial;
   }
+
+  // The arms' length over the kept frames. One frame's arms, hanging in front
+  // of the trunk in most views, barely show their length: CesiumMan's first
+  // frame fits them 0.93 times the generic body's where its swinging arms say
+  // 1.2. Alternates the length (poses held) with the arms' poses of each kept
+  // frame. Arms do not change the actor's height, so nothing else moves.
+  void RefitArmLength() {
+    const std::vector<double> saved_prediction = std::move(prediction);
+    prediction.clear();
+    const ShapeParamSpec& sp = ShapeSpec(kArmLength);
+    Eigen::VectorXd x(1), step(1), vlo(1), vhi(1);
+    x[0] = ShapeValue(kArmLength), step[0] = sp.step, vlo[0] = sp.lo, vhi[0] = sp.hi;
+    auto f = [&](const Eigen::VectorXd& v) {
+      SetShapeValue(kArmLength, v[0]);
+      BuildModel();
+      double total = 0;
+      for (KeptFrame& k : kept) {
+        std::swap(views, k.views);
+        SetCollisionWeight();
+        PrepareStage(stages[0], k.dofs, 1);
+        total += Evaluate(stages[0], k.dofs, 1);
+        std::swap(views, k.views);
+      }
+      return total;
+    };
+    PowellOptions po;
+    po.max_evaluations = 24;
+    po.max_iterations = 2;
+    // The length and the poses pull each other along (poses fitted to short
+    // arms hold them short): rounds until the length settles.
+    for (int round = 0; round < 6; ++round) {
+      const double before = x[0];
+      MinimisePowell(f, &x, step, vlo, vhi, po);
+      f(x);
+      if (round > 0 && std::abs(x[0] - before) < 0.01) break;
+      for (KeptFrame& k : kept) {
+        std::swap(views, k.views);
+        SetCollisionWeight();
+        for (size_t st : {size_t{1}, size_t{2}}) FitStage(stages[st], &k.dofs, 1, 0.35);
+        std::swap(views, k.views);
+      }
+    }
+    prediction = saved_prediction;
+  }
 };
 
 Tracker::Tracker(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -918,7 +972,10 @@ StatusOr<FrameFit> Tracker::Initialise(const std::vector<Image>& silhouettes) {
       BodyShape own;
       std::vector<double> p = m.InitialiseProportions(centre, &own);
       m.PrepareStage(m.stages[0], p, 1);
-      if (m.Evaluate(m.stages[0], p, 1) < scaled) best = p, shape = own;
+      if (m.Evaluate(m.stages[0], p, 1) < scaled) {
+        best = p, shape = own;
+        m.own_proportions = m.options.arm_refit_frames > 0;
+      }
     }
   }
   m.shape = shape;
@@ -959,6 +1016,24 @@ StatusOr<FrameFit> Tracker::Track(const std::vector<Image>& silhouettes) {
     }
   }
   m.prediction.clear();
+  ++m.frames_tracked;
+  // Poorly fitting frames are kept too: an actor built unlike the generic
+  // body fits poorly until its proportions are right.
+  if (m.own_proportions && !m.arms_refitted && usable >= 2 &&
+      m.frames_tracked % m.options.arm_refit_spacing == 0) {
+    m.kept.push_back({m.views, fit.dofs});
+    if (int(m.kept.size()) >= m.options.arm_refit_frames) {
+      m.RefitArmLength();
+      m.arms_refitted = true;
+      m.kept.clear();
+      m.SetCollisionWeight();  // the current frame's views are in place again
+      // This frame's pose with the new arms.
+      m.prediction = p;
+      m.FitAll(&fit.dofs, 0.35, Impl::Grid::kNone);
+      m.prediction.clear();
+      m.Measure(fit.dofs, &fit);
+    }
+  }
   fit.evaluations = m.evaluations;
   m.previous = m.last;
   m.last = fit.dofs;

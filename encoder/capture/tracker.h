@@ -39,6 +39,10 @@ struct TrackerOptions {
   bool refine = true;           // second pass at half resolution
   double retry_iou = 0.94;      // below this IoU, limbs are searched again from a wide grid
   double smoothness = 0.02;  // pull towards the prediction: share of the silhouette area per rad^2
+  // With proportions of its own, the actor's arm length is fitted again over
+  // this many tracked frames, every arm_refit_spacing-th (0: never).
+  int arm_refit_frames = 5;
+  int arm_refit_spacing = 3;
 };
 
 struct FrameFit {
