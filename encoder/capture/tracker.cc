@@ -1020,7 +1020,7 @@ StatusOr<FrameFit> Tracker::Track(const std::vector<Image>& silhouettes) {
   // Poorly fitting frames are kept too: an actor built unlike the generic
   // body fits poorly until its proportions are right.
   if (m.own_proportions && !m.arms_refitted && usable >= 2 &&
-      m.frames_tracked % m.options.arm_refit_spacing == 0) {
+      m.frames_tracked % std::max(1, m.options.arm_refit_spacing) == 0) {
     m.kept.push_back({m.views, fit.dofs});
     if (int(m.kept.size()) >= m.options.arm_refit_frames) {
       m.RefitArmLength();

@@ -40,7 +40,9 @@ struct TrackerOptions {
   double retry_iou = 0.94;      // below this IoU, limbs are searched again from a wide grid
   double smoothness = 0.02;  // pull towards the prediction: share of the silhouette area per rad^2
   // With proportions of its own, the actor's arm length is fitted again over
-  // this many tracked frames, every arm_refit_spacing-th (0: never).
+  // this many tracked frames, every arm_refit_spacing-th (0: never; a spacing
+  // under 1 counts as 1). The kept frames' silhouettes are held until then
+  // (about 6 MB a frame for 8 cameras at 640x480).
   int arm_refit_frames = 5;
   int arm_refit_spacing = 3;
 };
