@@ -255,20 +255,16 @@ class CesiumManTest : public ::testing::Test {
 TEST_F(CesiumManTest, ActorWithOtherProportionsGetsItsOwn) {
   Make(1);
   if (IsSkipped() || HasFatalFailure()) return;
-  const std::string& s_output_dir = dir_;
-  const std::vector<Camera>& cameras = cameras_;
-  const std::vector<Image>& sils = sils_[0];
   double error[2] = {0, 0};
   BodyShape shape[2];
   for (int own = 0; own < 2; ++own) {
     TrackerOptions o;
     o.proportions_iou = own ? 0.85 : 0.0;  // 0: never leave the generic proportions
-    StatusOr<std::unique_ptr<Tracker>> tracker = Tracker::Create(cameras, o);
+    StatusOr<std::unique_ptr<Tracker>> tracker = Tracker::Create(cameras_, o);
     ASSERT_TRUE(tracker.ok());
-    StatusOr<FrameFit> fit = (*tracker)->Initialise(sils);
+    StatusOr<FrameFit> fit = (*tracker)->Initialise(sils_[0]);
     ASSERT_TRUE(fit.ok()) << fit.status().ToString();
-    StatusOr<JointErrors> e =
-        CompareWithTruth(s_output_dir, (*tracker)->Model().skeleton, {fit->dofs}, 0);
+    StatusOr<JointErrors> e = CompareWithTruth(dir_, (*tracker)->Model().skeleton, {fit->dofs}, 0);
     ASSERT_TRUE(e.ok()) << e.status().ToString();
     EXPECT_EQ(e->joints.size(), 13u);
     error[own] = e->mean;

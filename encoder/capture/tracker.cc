@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numeric>
 
 #include "codec/thread_pool.h"
@@ -893,17 +894,23 @@ struct Tracker::Impl {
     const ShapeParamSpec& sp = ShapeSpec(kArmLength);
     Eigen::VectorXd x(1), step(1), vlo(1), vhi(1);
     x[0] = ShapeValue(kArmLength), step[0] = sp.step, vlo[0] = sp.lo, vhi[0] = sp.hi;
+    // Runs `fit` on every kept frame with that frame's silhouettes in place.
+    auto for_each_kept = [&](const std::function<void(KeptFrame&)>& fit) {
+      for (KeptFrame& k : kept) {
+        std::swap(views, k.views);
+        SetCollisionWeight();
+        fit(k);
+        std::swap(views, k.views);
+      }
+    };
     auto f = [&](const Eigen::VectorXd& v) {
       SetShapeValue(kArmLength, v[0]);
       BuildModel();
       double total = 0;
-      for (KeptFrame& k : kept) {
-        std::swap(views, k.views);
-        SetCollisionWeight();
+      for_each_kept([&](KeptFrame& k) {
         PrepareStage(stages[0], k.dofs, 1);
         total += Evaluate(stages[0], k.dofs, 1);
-        std::swap(views, k.views);
-      }
+      });
       return total;
     };
     PowellOptions po;
@@ -916,12 +923,9 @@ struct Tracker::Impl {
       MinimisePowell(f, &x, step, vlo, vhi, po);
       f(x);
       if (round > 0 && std::abs(x[0] - before) < 0.01) break;
-      for (KeptFrame& k : kept) {
-        std::swap(views, k.views);
-        SetCollisionWeight();
+      for_each_kept([&](KeptFrame& k) {
         for (size_t st : {size_t{1}, size_t{2}}) FitStage(stages[st], &k.dofs, 1, 0.35);
-        std::swap(views, k.views);
-      }
+      });
     }
     prediction = saved_prediction;
   }
