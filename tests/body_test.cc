@@ -103,6 +103,45 @@ TEST(GenericBody, HumanProportionsAndShapeScales) {
   cartoon.girth[kSegHead] = 1;
   cartoon.girth[kSegChest] = 2.2;  // other segments keep [0.5, 2]
   EXPECT_FALSE(ValidateBodyShape(cartoon).ok());
+  cartoon.girth[kSegChest] = 1;
+  for (double bad : {0.2, 1.1, std::nan("")}) {
+    cartoon.neck_ratio = bad;
+    const Status neck = ValidateBodyShape(cartoon);
+    EXPECT_FALSE(neck.ok()) << bad;
+    EXPECT_NE(neck.message().find("neck ratio"), std::string::npos) << neck.message();
+  }
+}
+
+// A large head on a thin neck: the neck ratio narrows the head segment's
+// lower part (the neck, at the head's girth times the ratio) and leaves the
+// skull's girth and the rest of the body as they were.
+TEST(BodyShape, NeckRatioNarrowsTheNeckOnly) {
+  BodyShape big_head;
+  big_head.girth[kSegHead] = 2.5;
+  BodyShape thin_neck = big_head;
+  thin_neck.neck_ratio = 0.4;
+  ASSERT_TRUE(ValidateBodyShape(thin_neck).ok());
+  const BodyModel a = MakeGenericBody(big_head), b = MakeGenericBody(thin_neck);
+  ASSERT_EQ(a.mesh.positions.size(), b.mesh.positions.size());
+  // Half-widths (across X, the head's width axis) below the neck joint + 3 cm
+  // (the neck) and 13 cm above it (the skull).
+  const Eigen::Vector3f neck = JointPositions(a.skeleton, {})[kNeck].cast<float>();
+  double neck_a = 0, neck_b = 0, skull_a = 0, skull_b = 0;
+  int others_moved = 0;
+  for (size_t v = 0; v < a.mesh.positions.size(); ++v) {
+    const auto& pa = a.mesh.positions[v];
+    const auto& pb = b.mesh.positions[v];
+    if (a.mesh.segments[v] != kSegHead) {
+      others_moved += pa != pb;
+      continue;
+    }
+    const double ra = std::abs(pa[0] - neck.x()), rb = std::abs(pb[0] - neck.x());
+    if (pa[1] < neck.y() + 0.03) neck_a = std::max(neck_a, ra), neck_b = std::max(neck_b, rb);
+    if (pa[1] > neck.y() + 0.13) skull_a = std::max(skull_a, ra), skull_b = std::max(skull_b, rb);
+  }
+  EXPECT_EQ(others_moved, 0);
+  EXPECT_NEAR(neck_b / neck_a, 0.4, 0.03);
+  EXPECT_NEAR(skull_b / skull_a, 1.0, 1e-6);
 }
 
 // Ray-parity inside test against one segment's posed triangles.

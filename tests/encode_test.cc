@@ -11,6 +11,7 @@
 
 #include "encoder/atlas/atlas.h"
 #include "encoder/body/generic_body.h"
+#include "encoder/capture/body_shape_json.h"
 #include "encoder/encode/encoder.h"
 #include "encoder/encode/pose_file.h"
 #include "encoder/encode/resample.h"
@@ -20,6 +21,77 @@
 
 namespace fvv {
 namespace {
+
+// The body shape a pose file carries comes back as written (the encoder
+// rebuilds the body the poses were fitted with), files from before the neck
+// ratio load with the neck following the head, and bad shapes are refused
+// with errors that name the field.
+TEST(PoseFile, BodyShapeRoundTripsAndBadShapesAreRefused) {
+  BodyShape shape;
+  shape.stature = 0.7;
+  shape.length[kSegHead] = 1.6;
+  shape.girth[kSegHead] = 2.9;
+  shape.girth[kSegLeftThigh] = 1.2;
+  shape.neck_ratio = 0.45;
+  auto file = [&](const nlohmann::json& body_shape) {
+    nlohmann::json j;
+    j["dof_names"] = GenericDofNames();
+    j["body_shape"] = body_shape;
+    j["frames"] = {{{"frame", 3}, {"dofs", std::vector<double>(kGenericDofCount, 0.0)}}};
+    return ParsePoseFile(j.dump(), "poses.json");
+  };
+  StatusOr<PoseSequence> back = file(BodyShapeToJson(shape));
+  ASSERT_TRUE(back.ok()) << back.status().ToString();
+  EXPECT_EQ(back->shape.stature, shape.stature);
+  EXPECT_EQ(back->shape.length, shape.length);
+  EXPECT_EQ(back->shape.girth, shape.girth);
+  EXPECT_EQ(back->shape.neck_ratio, shape.neck_ratio);
+  EXPECT_EQ(back->first_frame, 3u);
+
+  nlohmann::json old = BodyShapeToJson(shape);
+  old.erase("neck_ratio");
+  back = file(old);
+  ASSERT_TRUE(back.ok()) << back.status().ToString();
+  EXPECT_EQ(back->shape.neck_ratio, 1.0);
+
+  const std::vector<std::pair<std::string, nlohmann::json>> bad = {
+      {"neck ratio",
+       [&] {
+         nlohmann::json j = BodyShapeToJson(shape);
+         j["neck_ratio"] = 0.1;
+         return j;
+       }()},
+      {"neck_ratio",
+       [&] {
+         nlohmann::json j = BodyShapeToJson(shape);
+         j["neck_ratio"] = "thin";
+         return j;
+       }()},
+      {"length",
+       [&] {
+         nlohmann::json j = BodyShapeToJson(shape);
+         j["length"].erase(0);
+         return j;
+       }()},
+      {"stature",
+       [&] {
+         nlohmann::json j = BodyShapeToJson(shape);
+         j.erase("stature");
+         return j;
+       }()},
+      {"head",
+       [&] {
+         nlohmann::json j = BodyShapeToJson(shape);
+         j["girth"][kSegHead] = 3.5;
+         return j;
+       }()},
+      {"body_shape", nlohmann::json(7)}};
+  for (const auto& [name, j] : bad) {
+    const StatusOr<PoseSequence> r = file(j);
+    ASSERT_FALSE(r.ok()) << name;
+    EXPECT_NE(r.status().message().find(name), std::string::npos) << r.status().message();
+  }
+}
 
 TEST(TexelMap, CoversEveryTexelCentreInsideATriangleWithValidWeights) {
   const BodyModel body = MakeGenericBody(BodyShape(), MeshResolution{10, 12});

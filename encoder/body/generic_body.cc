@@ -345,7 +345,9 @@ std::map<int, double> SkinWeights(int segment, const Vector3d& p, const Geometry
     const double radial = (d - axis * axis.dot(d)).norm();
     double rw, rd;
     ProfileAt(Resolved(SegmentOfBone(c)).profile, 0, &rw, &rd);
-    const double r = std::max(rw, rd) * shape.stature * shape.girth[SegmentOfBone(c)];
+    const int cs = SegmentOfBone(c);
+    const double r = std::max(rw, rd) * shape.stature * shape.girth[cs] *
+                     (cs == kSegHead ? shape.neck_ratio : 1.0);
     take[c] = w[b] * across(c) * (1 - SmoothStep(1.0 * r, 2.5 * r, radial));
     total += take[c];
   }
@@ -441,6 +443,13 @@ void AddSegment(int segment, const Geometry& g, const BodyShape& shape, const Me
   for (size_t r = 0; r < rings.size(); ++r) {
     double rw, rd;
     ProfileAt(s.profile, rings[r].profile_s, &rw, &rd);
+    if (segment == kSegHead) {
+      // The neck (up to 0.3 along the head) narrows by neck_ratio; the skull
+      // keeps the head's girth.
+      const double k =
+          shape.neck_ratio + (1 - shape.neck_ratio) * SmoothStep(0.3, 0.45, rings[r].profile_s);
+      rw *= k, rd *= k;
+    }
     rw *= girth * rings[r].scale;
     rd *= girth * rings[r].scale;
     for (int c = 0; c < cols; ++c) {
@@ -518,6 +527,13 @@ Status ValidateBodyShape(const BodyShape& shape) {
                                                         std::to_string(v));
       }
     }
+  }
+  if (!std::isfinite(shape.neck_ratio) || shape.neck_ratio < kMinNeckRatio ||
+      shape.neck_ratio > 1) {
+    char message[96];
+    std::snprintf(message, sizeof message, "body shape: neck ratio must lie in [%g, 1], got %g",
+                  kMinNeckRatio, shape.neck_ratio);
+    return Status(StatusCode::kInvalidArgument, message);
   }
   return Status::Ok();
 }

@@ -83,6 +83,9 @@ struct BodyShape {
   double stature = 1.0;  // 1.0 = 1.75 m tall
   std::array<double, kGenericSegmentCount> length;
   std::array<double, kGenericSegmentCount> girth;
+  // The neck's girth as a fraction of the head's: a cartoon character's
+  // large head sits on a neck no wider than a person's.
+  double neck_ratio = 1.0;
   BodyShape() {
     length.fill(1.0);
     girth.fill(1.0);
@@ -94,9 +97,12 @@ struct BodyShape {
 // person's at the same height.
 constexpr double kMaxSegmentScale = 2.0;
 constexpr double kMaxHeadScale = 3.0;
+// The thinnest neck, as a fraction of the head's girth.
+constexpr double kMinNeckRatio = 0.3;
 
 // Checks scales are finite and within [0.5, kMaxSegmentScale] (the head's
-// within [0.5, kMaxHeadScale]; stature within [0.5, 1.4]).
+// within [0.5, kMaxHeadScale]; stature within [0.5, 1.4]; the neck ratio
+// within [kMinNeckRatio, 1]).
 Status ValidateBodyShape(const BodyShape& shape);
 
 // The model in its rest pose: skeleton (names above, DOF limits on every DOF),

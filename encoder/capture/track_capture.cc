@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "codec/thread_pool.h"
+#include "encoder/capture/body_shape_json.h"
 #include "encoder/capture/capture_frames.h"
 
 namespace fvv {
@@ -27,8 +28,7 @@ std::string TrackCaptureResult::ToJson() const {
     names.push_back(model.skeleton.bones[d.bone].name + "." + kKinds[d.kind]);
   }
   out["dof_names"] = names;
-  out["body_shape"] = {
-      {"stature", shape.stature}, {"length", shape.length}, {"girth", shape.girth}};
+  out["body_shape"] = BodyShapeToJson(shape);
   out["frame_rate"] = capture.frame_rate;
   nlohmann::json frames = nlohmann::json::array();
   for (size_t i = 0; i < fits.size(); ++i) {

@@ -765,7 +765,7 @@ struct Tracker::Impl {
   // The body proportions the tracker adapts beyond stature (which follows the
   // measured height). Each scales a group of segments symmetrically; lengths scale along a
   // segment's axis, girths across it (the chest's and pelvis's girth also set shoulder and hip
-  // width).
+  // width). kNeckRatio is BodyShape::neck_ratio: a large head on a thin neck.
   enum ShapeParam {
     kHeadLength,
     kHeadGirth,
@@ -775,6 +775,7 @@ struct Tracker::Impl {
     kArmGirth,
     kLegLength,
     kLegGirth,
+    kNeckRatio,
     kShapeParamCount
   };
   struct ShapeParamSpec {
@@ -805,22 +806,25 @@ struct Tracker::Impl {
           kSegRightFoot},
          0.08,
          0.55,
-         1.6}};
+         1.6},
+        {false, {}, 0.1, kMinNeckRatio, 1.0}};  // kNeckRatio: no segment of its own
     return k[param];
   }
   // The parameters an actor's build is fitted with before its limbs are
   // placed: what the torso stage sees with the limbs in their neutral pose.
-  static constexpr uint32_t kTrunkShape =
-      1u << kHeadLength | 1u << kHeadGirth | 1u << kTorsoLength | 1u << kTorsoGirth;
+  static constexpr uint32_t kTrunkShape = 1u << kHeadLength | 1u << kHeadGirth |
+                                          1u << kTorsoLength | 1u << kTorsoGirth | 1u << kNeckRatio;
   // Every proportion; the overall size follows the measured height.
   static constexpr uint32_t kWholeShape = (1u << kShapeParamCount) - 1;
 
   double ShapeValue(int param) const {
+    if (param == kNeckRatio) return shape.neck_ratio;
     const ShapeParamSpec& sp = ShapeSpec(param);
     return sp.length ? shape.length[sp.segments[0]] : shape.girth[sp.segments[0]];
   }
 
   void SetShapeValue(int param, double v) {
+    if (param == kNeckRatio) shape.neck_ratio = v;
     const ShapeParamSpec& sp = ShapeSpec(param);
     for (int s : sp.segments) (sp.length ? shape.length[s] : shape.girth[s]) = v;
   }
@@ -853,25 +857,37 @@ struct Tracker::Impl {
       step[i] = sp.step, vlo[i] = sp.lo, vhi[i] = sp.hi;
     }
     std::vector<double> trial = *dofs;
-    auto f = [&](const Eigen::VectorXd& v) {
-      for (int i = 0; i < n; ++i) SetShapeValue(which[i], v[i]);
-      BuildModel();
-      if (actor_height > 0) {
-        // The actor's measured height fixes the overall size: proportions
-        // trade against each other (a larger head, a shorter trunk).
-        const auto [bottom, top] = RestExtent();
-        shape.stature = std::clamp(shape.stature * actor_height / (top - bottom), 0.5, 1.4);
-        BuildModel();
-      }
-      // How high the ankles stand above the soles in the rest pose.
+    // The lower foot stands on the floor (y = 0): the root height follows
+    // the legs, and a long trunk cannot pass for long legs.
+    auto stand = [&] {
       const double ankle_above_sole =
           JointPositions(model.skeleton, {})[kLeftAnkle].y() - RestExtent().first;
-      // The lower foot stands on the floor (y = 0): the root height follows
-      // the legs, and a long trunk cannot pass for long legs.
       trial = *dofs;
       const std::vector<Vector3d> now = JointPositions(model.skeleton, trial);
       trial[Dof(kRoot, 4)] +=
           ankle_above_sole - std::min(now[kLeftAnkle].y(), now[kRightAnkle].y());
+    };
+    auto f = [&](const Eigen::VectorXd& v) {
+      for (int i = 0; i < n; ++i) SetShapeValue(which[i], v[i]);
+      BuildModel();
+      stand();
+      if (actor_height > 0) {
+        // The actor's measured height fixes the overall size: proportions
+        // trade against each other (a larger head, a shorter trunk). It is
+        // the posed model's height that must match: a walking actor stands
+        // lower than in the rest pose, and a model scaled to its rest height
+        // would leave the top of the head uncovered. Heights scale with
+        // stature (the feet stay on the floor), so one step matches them.
+        std::vector<uint32_t> all(model.mesh.positions.size());
+        std::iota(all.begin(), all.end(), 0u);
+        std::vector<Vector3f> posed;
+        SkinVertices(all, Skinning(trial), &posed);
+        double top = -1e30;
+        for (const Vector3f& p : posed) top = std::max(top, double(p.y()));
+        shape.stature = std::clamp(shape.stature * actor_height / top, 0.5, 1.4);
+        BuildModel();
+        stand();
+      }
       PrepareStage(stages[0], trial, level);
       return Evaluate(stages[0], trial, level);
     };

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "encoder/capture/body_shape_json.h"
 #include "encoder/capture/capture.h"
 #include "encoder/capture/feature_registration.h"
 #include "encoder/capture/features.h"
@@ -77,8 +78,7 @@ int RunRegister(const RegisterArgs& a) {
   out["capture"] = cap->directory;
   out["features"] = a.features;
   out["dof_names"] = GenericDofNames();
-  out["body_shape"] = {
-      {"stature", shape.stature}, {"length", shape.length}, {"girth", shape.girth}};
+  out["body_shape"] = BodyShapeToJson(shape);
   out["frame_rate"] = cap->frame_rate;
   out["frames"] = frames;
   const std::string text = out.dump(1) + "\n";

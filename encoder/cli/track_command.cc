@@ -61,10 +61,11 @@ int RunTrack(const TrackArgs& a) {
     const BodyShape& b = r->shape;
     std::printf(
         "  body shape: %.2f m tall (stature %.3f); length / girth: head %.2f / %.2f, trunk %.2f / "
-        "%.2f, arms %.2f / %.2f, legs %.2f / %.2f\n",
+        "%.2f, arms %.2f / %.2f, legs %.2f / %.2f, neck girth %.2f of the "
+        "head's\n",
         top - bottom, b.stature, b.length[kSegHead], b.girth[kSegHead], b.length[kSegChest],
         b.girth[kSegChest], b.length[kSegLeftUpperArm], b.girth[kSegLeftUpperArm],
-        b.length[kSegLeftThigh], b.girth[kSegLeftThigh]);
+        b.length[kSegLeftThigh], b.girth[kSegLeftThigh], b.neck_ratio);
   }
   std::printf("  silhouettes: %s, mean IoU %.3f\n",
               r->given_silhouettes ? "given" : "background subtraction", r->mean_iou);

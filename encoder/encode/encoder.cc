@@ -15,6 +15,7 @@
 #include "container/writer.h"
 #include "encoder/atlas/atlas.h"
 #include "encoder/body/kinematics.h"
+#include "encoder/capture/body_shape_json.h"
 #include "encoder/capture/capture_frames.h"
 #include "encoder/capture/features.h"
 #include "encoder/capture/track_capture.h"
@@ -484,8 +485,7 @@ class Session {
     j["texture_pattern"] = "<camera>/texture_%06d.png";
     j["mask_pattern"] = "<camera>/mask_%06d.png";
     j["dof_names"] = GenericDofNames();
-    j["body_shape"] = {
-        {"stature", shape_.stature}, {"length", shape_.length}, {"girth", shape_.girth}};
+    j["body_shape"] = BodyShapeToJson(shape_);
     nlohmann::json frames = nlohmann::json::array();
     for (size_t i = 0; i < raw_poses_.size(); ++i) {
       frames.push_back({{"frame", first_ + i}, {"dofs", raw_poses_[i]}});

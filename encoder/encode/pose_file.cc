@@ -5,6 +5,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "encoder/capture/body_shape_json.h"
 #include "tools/imageio/image_io.h"
 
 namespace fvv {
@@ -31,15 +32,9 @@ StatusOr<PoseSequence> ParsePoseFile(const std::string& text, const std::string&
   PoseSequence out;
   try {
     if (j.contains("body_shape")) {
-      const auto& s = j["body_shape"];
-      out.shape.stature = s.at("stature").get<double>();
-      const auto length = s.at("length").get<std::vector<double>>();
-      const auto girth = s.at("girth").get<std::vector<double>>();
-      if (length.size() != kGenericSegmentCount || girth.size() != kGenericSegmentCount) {
-        return Corrupt(what + ": body_shape needs 16 lengths and 16 girths");
-      }
-      std::copy(length.begin(), length.end(), out.shape.length.begin());
-      std::copy(girth.begin(), girth.end(), out.shape.girth.begin());
+      StatusOr<BodyShape> shape = BodyShapeFromJson(j["body_shape"], what);
+      if (!shape.ok()) return shape.status();
+      out.shape = *shape;
     } else if (j.contains("stature")) {
       out.shape.stature = j["stature"].get<double>();
     }
