@@ -45,6 +45,11 @@ struct TrackerOptions {
   // (about 6 MB a frame for 8 cameras at 640x480).
   int arm_refit_frames = 5;
   int arm_refit_spacing = 3;
+  // At initialisation and in the recovery pass, the legs' angles are tried
+  // exchanged, left for right (the other phase of a stride), and kept where
+  // the silhouettes fit better: a fit can reach each foot with the other leg,
+  // the legs crossed, and stay there.
+  bool exchange_legs = true;
 };
 
 struct FrameFit {
