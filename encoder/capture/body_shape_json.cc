@@ -1,6 +1,7 @@
 #include "encoder/capture/body_shape_json.h"
 
-#include <vector>
+#include <array>
+#include <string>
 
 namespace fvv {
 

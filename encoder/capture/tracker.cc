@@ -541,10 +541,16 @@ struct Tracker::Impl {
                  level ? Grid::kNone : Grid::kNarrow);
       }
     }
+    KeepIfFitsBetter(dofs, trial, 0.95);
+  }
+
+  // Replaces *dofs by `trial` where the whole body's XOR at half resolution
+  // is below `factor` times that of *dofs.
+  void KeepIfFitsBetter(std::vector<double>* dofs, const std::vector<double>& trial,
+                        double factor) {
     PrepareStage(stages[0], *dofs, 1);
     const double before = Evaluate(stages[0], *dofs, 1);
-    const double after = Evaluate(stages[0], trial, 1);
-    if (after < 0.95 * before) *dofs = trial;
+    if (Evaluate(stages[0], trial, 1) < factor * before) *dofs = trial;
   }
 
   // A limb can move further in one frame than the narrow search reaches: when
@@ -555,10 +561,7 @@ struct Tracker::Impl {
       std::vector<double> trial = *dofs;
       FitStage(stages[s], &trial, 0, 1.0, Grid::kWide);
       FitStage(stages[s], &trial, 1, 0.35, Grid::kNone);
-      PrepareStage(stages[0], *dofs, 1);
-      const double before = Evaluate(stages[0], *dofs, 1);
-      const double after = Evaluate(stages[0], trial, 1);
-      if (after < before) *dofs = trial;
+      KeepIfFitsBetter(dofs, trial, 1.0);
     }
     TryLegsExchanged(dofs);
     FitStage(stages[0], dofs, 1, 0.35, Grid::kNone);
