@@ -115,9 +115,22 @@ StatusOr<Block> DecodeBlock(const EncodedBlock& encoded, const DecodeBudget& bud
                             const ParallelRunner& runner, DecodeReport* report) {
   BlockDecode decode;
   FVV_RETURN_IF_ERROR(decode.Start(encoded, budget));
-  const ParallelRunner& channel_runner = budget.channel_runner ? budget.channel_runner : runner;
-  channel_runner(3, [&](uint32_t c) { decode.Spiht(static_cast<int>(c)); });
-  for (int c = 0; c < 3; ++c) decode.Reconstruct(c, runner);
+  if (budget.channel_runner) {
+    // A time budget's runner keeps the channels' SPIHT decodes equally far
+    // along: nothing else runs beside them until all three have stopped.
+    budget.channel_runner(3, [&](uint32_t c) { decode.Spiht(static_cast<int>(c)); });
+    for (int c = 0; c < 3; ++c) decode.Reconstruct(c, runner);
+  } else {
+    // Each channel's inverse transform starts as soon as its own SPIHT decode
+    // ends: luma's decode is the longest, and the chroma channels' transforms
+    // fill the time it leaves the other threads (on two threads 8x8x512x512 at
+    // 0.25 bpp decodes in 205 ms instead of 235). A pool's idle threads join
+    // each transform (ThreadPool runs nested sections in parallel).
+    runner(3, [&](uint32_t c) {
+      decode.Spiht(static_cast<int>(c));
+      decode.Reconstruct(static_cast<int>(c), runner);
+    });
+  }
   return decode.Finish(report);
 }
 

@@ -482,12 +482,50 @@ TEST(LargeBuffer, AssignLargeFillsLikeAssign) {
   EXPECT_EQ(small[3], 4);
 }
 
+// A nested section opened by a task that ends early gets the pool's idle
+// threads: the two nested tasks can only both finish if they run at the same
+// time (each waits for the other), which a pool running nested calls inline
+// never does.
+TEST(ThreadPool, IdleThreadsJoinANestedSection) {
+  ThreadPool pool(2);
+  std::atomic<int> arrived{0};
+  std::atomic<int> met{0};
+  pool.Run(2, [&](uint32_t i) {
+    if (i == 0) return;  // ends at once: its thread is free for the nested section
+    pool.Run(2, [&](uint32_t) {
+      arrived.fetch_add(1);
+      const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+      while (arrived.load() < 2 && std::chrono::steady_clock::now() < give_up)
+        std::this_thread::yield();
+      if (arrived.load() == 2) met.fetch_add(1);
+    });
+  });
+  EXPECT_EQ(met.load(), 2) << "the nested tasks never ran side by side";
+}
+
 TEST(ThreadPool, RunsEveryTaskOnceIncludingNestedCalls) {
   ThreadPool pool(3);
   std::vector<std::atomic<int>> hits(200);
   pool.Run(20,
            [&](uint32_t i) { pool.Run(10, [&](uint32_t j) { hits[i * 10 + j].fetch_add(1); }); });
   for (auto& h : hits) EXPECT_EQ(h.load(), 1);
+  // Many callers at once, each nesting two deep, over and over: tasks are
+  // taken without the pool's lock, so races show as lost or repeated tasks or
+  // a crash.
+  constexpr int kRounds = 1000;
+  std::vector<std::atomic<int>> deep(4 * 8 * 6);
+  std::vector<std::thread> callers;
+  for (uint32_t k = 0; k < 4; ++k)
+    callers.emplace_back([&, k] {
+      for (int round = 0; round < kRounds; ++round)
+        pool.Run(8, [&](uint32_t i) {
+          pool.Run(3, [&](uint32_t j) {
+            pool.Run(2, [&](uint32_t m) { deep[(k * 8 + i) * 6 + j * 2 + m].fetch_add(1); });
+          });
+        });
+    });
+  for (std::thread& t : callers) t.join();
+  for (auto& h : deep) EXPECT_EQ(h.load(), kRounds);
   ThreadPool decode_pool(2);
   const Block block = RandomBlock(Shape4D{{2, 3, 17, 21}}, ColourSpace::kRct, 8);
   EncodeSettings s;
@@ -498,6 +536,18 @@ TEST(ThreadPool, RunsEveryTaskOnceIncludingNestedCalls) {
   auto parallel = EncodeBlock(block, nullptr, s);
   EXPECT_EQ(WriteBlockFile(*serial), WriteBlockFile(*parallel))
       << "threads must not change the stream";
+  // Nor the decoded samples of a lossy 9/7 block, whose channels' inverse
+  // transforms run beside the other channels' SPIHT decodes.
+  const Block lossy_input = RandomBlock(Shape4D{{4, 2, 33, 40}}, ColourSpace::kYCbCr601, 9);
+  EncodeSettings lossy;
+  lossy.rate_value = 0.5;
+  auto coded = EncodeBlock(lossy_input, nullptr, lossy);
+  ASSERT_TRUE(coded.ok()) << coded.status().ToString();
+  auto one = DecodeBlock(*coded, DecodeBudget{}, SerialRunner);
+  auto two = DecodeBlock(*coded, DecodeBudget{}, decode_pool.runner());
+  ASSERT_TRUE(one.ok() && two.ok());
+  for (int c = 0; c < 3; ++c)
+    EXPECT_EQ(one->channels[c].samples, two->channels[c].samples) << "channel " << c;
 }
 
 }  // namespace
