@@ -83,8 +83,9 @@ int Kodak(const std::string& dir, int images, bool only_97_arith) {
   // 3 fractional bits (format version 7) but for "a3whole", arith3 with whole
   // samples (version 6), and "a3axis", that with the per-axis weights of
   // format version 5: the comparisons.
-  const char* coders[] = {"binary", "arith", "arith2", "arith3", "a3whole", "a3axis"};
-  constexpr int kCoders = 6, kDefaultCoder = 3;  // arith3: what fvv encode writes
+  const char* coders[] = {"binary", "arith", "arith2", "arith3", "a3whole", "a3axis", "arith4"};
+  constexpr int kCoders = 7, kDefaultCoder = 3;  // arith3: what fvv encode writes
+  constexpr int kQuadtreeCoder = 6;              // arith4: quadtrees per band
   Row rows[3][kCoders][4], opj[4];
   ThreadPool pool(1);  // single-threaded on both sides: OpenJPEG's CLI codes on one thread
   const std::string tmp = "/tmp/fvv_bench_" + std::to_string(getpid());
@@ -110,9 +111,10 @@ int Kodak(const std::string& dir, int images, bool only_97_arith) {
           if (only_97_arith && !(k == 2 && c > 0)) continue;
           EncodeSettings s;
           s.kernel = static_cast<WaveletKernel>(k);
-          s.coder = static_cast<EntropyCoder>(c < 4 ? c : 3);
+          s.coder = c == kQuadtreeCoder ? EntropyCoder::kArith4
+                                        : static_cast<EntropyCoder>(c < 4 ? c : 3);
           if (c == 5) s.weights = BandWeights::kAxisBands;
-          const Block& block = k == 2 && c < 4 ? fractional : whole;
+          const Block& block = k == 2 && (c < 4 || c == kQuadtreeCoder) ? fractional : whole;
           s.rate_value = rates[r];
           s.runner = pool.runner();
           auto t0 = Clock::now();
@@ -185,6 +187,12 @@ int Kodak(const std::string& dir, int images, bool only_97_arith) {
         "  -> fvv 97 arith3 minus openjpeg: %+.2f dB RGB, %+.2f dB Y; decode speed ratio %.2fx\n",
         (f.psnr_rgb - o.psnr_rgb) / f.n, (f.psnr_y - o.psnr_y) / f.n,
         (o.dec_ms / o.n) / (f.dec_ms / f.n));
+    const Row& q = rows[2][kQuadtreeCoder][r];
+    if (q.n > 0)
+      std::printf(
+          "  -> fvv 97 arith4 minus openjpeg: %+.2f dB RGB, %+.2f dB Y; decode speed ratio %.2fx\n",
+          (q.psnr_rgb - o.psnr_rgb) / q.n, (q.psnr_y - o.psnr_y) / q.n,
+          (o.dec_ms / o.n) / (q.dec_ms / q.n));
   }
   return 0;
 }

@@ -10,6 +10,7 @@ constexpr uint32_t kMaxPoints = 2 * kMaxBitplanes;
 }  // namespace
 
 uint8_t BlockFileVersionFor(const BlockParams& p) {
+  if (p.coder == EntropyCoder::kArith4) return 7;
   if (p.sample_frac > 0) return 6;
   if (p.weights == BandWeights::kOwnBand) return 5;
   if (p.coder == EntropyCoder::kArith3) return 4;
@@ -37,12 +38,13 @@ Status ReadBlockParams(ByteReader* r, uint8_t version, BlockParams* p) {
   p->sample_frac = version >= 6 ? r->U8() : 0;
   for (int a = 0; a < kAxes; ++a) p->shape.n[a] = r->U32();
   if (r->overrun()) return Truncated("block parameters end early");
-  // Each coder's first block file version: coder 2 in 3, coder 3 in 4.
+  // Each coder's first block file version: coder 2 in 3, coder 3 in 4, coder 4 in 7.
   const int coder = static_cast<int>(p->coder);
-  if (coder >= 2 && coder < kEntropyCoders && version < coder + 1)
+  const int first = coder == 4 ? 7 : coder + 1;
+  if (coder >= 2 && coder < kEntropyCoders && version < first)
     return Corrupt("entropy coder " + std::to_string(coder) + " (" + CoderName(p->coder) +
                    ") in a version " + std::to_string(version) + " block file (it needs version " +
-                   std::to_string(coder + 1) + ")");
+                   std::to_string(first) + ")");
   return ValidateParams(*p);
 }
 

@@ -29,7 +29,7 @@ namespace fvv {
 // weights coefficients by their own band (BandWeights::kOwnBand); versions 1 to
 // 4 by the per-axis bands of their position. Version 6 says the decoded
 // samples' fractional bits (BlockParams::sample_frac).
-constexpr uint8_t kBlockFileVersion = 6;
+constexpr uint8_t kBlockFileVersion = 7;
 
 // The block file version that can hold these parameters.
 uint8_t BlockFileVersionFor(const BlockParams& p);

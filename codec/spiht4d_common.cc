@@ -8,6 +8,8 @@ namespace fvv {
 
 const char* CoderName(EntropyCoder c) {
   switch (c) {
+    case EntropyCoder::kArith4:
+      return "arith4";
     case EntropyCoder::kArith3:
       return "arith3";
     case EntropyCoder::kArith2:

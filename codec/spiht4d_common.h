@@ -27,6 +27,7 @@
 #include <memory>
 #include <vector>
 
+#include "codec/quadtree4d.h"
 #include "codec/subband_weights.h"
 #include "codec/wavelet.h"
 
@@ -44,10 +45,17 @@ enum class EntropyCoder : uint8_t {
   // the signs of four spatial and two temporal neighbours) with probabilities
   // that adapt fast while a context is young (mixing::Update).
   kArith3 = 3,
+  // Format version 8: not SPIHT's sets but a quadtree per subband
+  // (codec/quadtree4d.h), with coder 3's count-adaptive probabilities.
+  kArith4 = 4,
 };
-constexpr int kEntropyCoders = 4;
+constexpr int kEntropyCoders = 5;
 const char* CoderName(EntropyCoder c);
 inline bool RangeCoded(EntropyCoder c) { return c != EntropyCoder::kBinary; }
+// Probabilities that adapt fast while a context is young (mixing::Update).
+inline bool CountAdaptive(EntropyCoder c) {
+  return c == EntropyCoder::kArith3 || c == EntropyCoder::kArith4;
+}
 
 constexpr int kMaxChildren = 81;  // 3 per axis in the odd-size corner case
 constexpr int kMaxBitplanes = 30;
@@ -197,7 +205,7 @@ constexpr int kRefine =
     kSign + kLevelClasses * kSignBins * kSignBins * kSignBins;  // [class][h][v][t]
 constexpr int kCount = kRefine + 2 * ctx2::kSpatialBins;        // refine as ctx2
 }  // namespace ctx3
-constexpr int kMaxContexts = std::max({ctx::kCount, ctx2::kCount, ctx3::kCount});
+constexpr int kMaxContexts = std::max({ctx::kCount, ctx2::kCount, ctx3::kCount, ctx4::kCount});
 
 // Which context set a coder uses (the traversal's template argument).
 enum class ContextSet { kLevel = 1, kNeighbourhood = 2, kSets = 3 };

@@ -1,6 +1,7 @@
 #include "codec/bit_io.h"
 #include "codec/large_buffer.h"
 #include "codec/logistic_mixing.h"
+#include "codec/quadtree4d.h"
 #include "codec/range_coder.h"
 #include "codec/spiht4d.h"
 
@@ -21,7 +22,7 @@ class DecoderSide {
         mag_(*magnitudes),
         state_(StateBuffer(tree.size())),
         probs_(kMaxContexts, kProbInit),
-        counted_probs_(coder == EntropyCoder::kArith3 ? kMaxContexts : 0) {
+        counted_probs_(CountAdaptive(coder) ? kMaxContexts : 0) {
     // The clock starts after the buffers above exist: the budget is for decisions.
     if (limits.max_ms > 0) {
       deadline_ = std::chrono::steady_clock::now() +
@@ -44,6 +45,7 @@ class DecoderSide {
     significant_.push_back(idx);
     return true;
   }
+  bool SigNode(uint32_t, int, int ctx, bool* sig) { return SigSet(0, 0, false, ctx, sig); }
   bool SigSet(uint32_t, int, bool, int ctx, bool* sig) {
     uint32_t bit;
     if (!Get(ctx, &bit)) return false;
@@ -122,7 +124,7 @@ class DecoderSide {
   uint8_t* state_;  // bit 7: negative; bits 0-4: lowest bitplane known
   std::vector<uint32_t> significant_;
   std::vector<uint16_t> probs_;  // coders 1 and 2: adapt by 1/32
-  // Coder 3: adapt by 1/2, 1/4, .. 1/32 over a context's first decisions.
+  // Coders 3 and 4: adapt by 1/2, 1/4, .. 1/32 over a context's first decisions.
   std::vector<mixing::CountedProb> counted_probs_;
   uint64_t decisions_ = 0;
   int planes_completed_ = 0;
@@ -138,7 +140,12 @@ SpihtDecodeResult SpihtDecode(const SpihtTree& tree, const SubbandQuantisers& qu
   AssignLarge(coefficients, tree.size());
   const size_t budget = size < limits.max_bytes ? size : static_cast<size_t>(limits.max_bytes);
   DecoderSide side(tree, data, budget, coder, limits, coefficients);
-  SpihtTraverse(coder, tree, planes, &side);
+  if (coder == EntropyCoder::kArith4) {
+    const QuadtreeLayout layout(tree.geometry());
+    QuadtreeTraversal<DecoderSide>(layout, &side).Run(planes);
+  } else {
+    SpihtTraverse(coder, tree, planes, &side);
+  }
   side.Reconstruct(tree, quantisers);
   SpihtDecodeResult result;
   result.bytes_used = side.bytes_used();

@@ -4,6 +4,7 @@
 #include "codec/bit_io.h"
 #include "codec/large_buffer.h"
 #include "codec/logistic_mixing.h"
+#include "codec/quadtree4d.h"
 #include "codec/range_coder.h"
 #include "codec/spiht4d.h"
 
@@ -28,18 +29,50 @@ class EncoderSide {
         coder_(coder),
         max_bytes_(max_bytes),
         probs_(kMaxContexts, kProbInit),
-        counted_probs_(coder == EntropyCoder::kArith3 ? kMaxContexts : 0) {
+        counted_probs_(CountAdaptive(coder) ? kMaxContexts : 0) {
     AssignLarge(&mag_, coefficients.size());
     AssignLarge(&negative_, coefficients.size());
-    AssignLarge(&descendant_bits_, coefficients.size());
-    AssignLarge(&grandchild_bits_, coefficients.size());
     for (size_t i = 0; i < coefficients.size(); ++i) {
       mag_[i] = static_cast<uint32_t>(std::abs(coefficients[i]));
       negative_[i] = coefficients[i] < 0;
       const double v = mag_[i];
       if (v != 0) distortion_ += Factor(static_cast<uint32_t>(i)) * v * v;
     }
+  }
+
+  // What the traversal asks: SPIHT's sets, or coder 4's quadtree nodes.
+  void PrepareSets() {
+    AssignLarge(&descendant_bits_, mag_.size());
+    AssignLarge(&grandchild_bits_, mag_.size());
     ComputeSetMagnitudes();
+  }
+  // Per node of `layout`, the bit length of the largest magnitude under it.
+  void PrepareNodes(const QuadtreeLayout& layout) {
+    node_bits_.assign(layout.nodes(), 0);
+    for (const QuadtreeBand& b : layout.bands()) {
+      std::array<uint32_t, kAxes> p;
+      uint32_t node = b.offset[0];
+      for (p[0] = 0; p[0] < b.n[0]; ++p[0])
+        for (p[1] = 0; p[1] < b.n[1]; ++p[1])
+          for (p[2] = 0; p[2] < b.n[2]; ++p[2])
+            for (p[3] = 0; p[3] < b.n[3]; ++p[3], ++node)
+              node_bits_[node] = BitLength(mag_[layout.Coefficient(b, p)]);
+      for (int k = 1; k <= b.top; ++k) {
+        const auto& d = b.dims[k - 1];
+        const auto& up = b.dims[k];
+        node = b.offset[k - 1];
+        for (p[0] = 0; p[0] < d[0]; ++p[0])
+          for (p[1] = 0; p[1] < d[1]; ++p[1])
+            for (p[2] = 0; p[2] < d[2]; ++p[2])
+              for (p[3] = 0; p[3] < d[3]; ++p[3], ++node) {
+                const uint32_t parent =
+                    b.offset[k] +
+                    (((p[0] >> 1) * up[1] + (p[1] >> 1)) * up[2] + (p[2] >> 1)) * up[3] +
+                    (p[3] >> 1);
+                node_bits_[parent] = std::max(node_bits_[parent], node_bits_[node]);
+              }
+      }
+    }
   }
 
   int planes() const {
@@ -62,6 +95,10 @@ class EncoderSide {
   }
   bool SigSet(uint32_t idx, int n, bool type_b, int ctx, bool* sig) {
     *sig = (type_b ? grandchild_bits_[idx] : descendant_bits_[idx]) > n;
+    return Put(ctx, *sig);
+  }
+  bool SigNode(uint32_t node, int n, int ctx, bool* sig) {
+    *sig = node_bits_[node] > n;
     return Put(ctx, *sig);
   }
   bool Refine(uint32_t idx, int n, int ctx) {
@@ -161,8 +198,9 @@ class EncoderSide {
   std::vector<uint8_t> negative_;
   std::vector<uint8_t> descendant_bits_;
   std::vector<uint8_t> grandchild_bits_;
-  std::vector<uint16_t> probs_;  // coders 1 and 2: adapt by 1/32
-  // Coder 3: adapt by 1/2, 1/4, .. 1/32 over a context's first decisions.
+  std::vector<uint8_t> node_bits_;  // coder 4
+  std::vector<uint16_t> probs_;     // coders 1 and 2: adapt by 1/32
+  // Coders 3 and 4: adapt by 1/2, 1/4, .. 1/32 over a context's first decisions.
   std::vector<mixing::CountedProb> counted_probs_;
   BitWriter bits_;
   RangeEncoder range_;
@@ -178,7 +216,14 @@ SpihtEncoded SpihtEncode(const SpihtTree& tree, const SubbandQuantisers& quantis
   EncoderSide side(tree, quantisers, coefficients, coder, max_bytes);
   const int planes = std::min(side.planes(), kMaxBitplanes);
   side.MarkStart();
-  SpihtTraverse(coder, tree, planes, &side);
+  if (coder == EntropyCoder::kArith4) {
+    const QuadtreeLayout layout(tree.geometry());
+    side.PrepareNodes(layout);
+    QuadtreeTraversal<EncoderSide>(layout, &side).Run(planes);
+  } else {
+    side.PrepareSets();
+    SpihtTraverse(coder, tree, planes, &side);
+  }
   return side.Finish(planes);
 }
 

@@ -35,6 +35,8 @@ const char* CodingToolName(uint32_t tool_bit) {
       return "spiht-arith2";
     case kToolSpihtArith3:
       return "spiht-arith3";
+    case kToolQuadtreeArith4:
+      return "quadtree-arith4";
     case kToolOwnBandWeights:
       return "own-band-weights";
     case kToolSamplePrecision:
@@ -69,6 +71,7 @@ const LevelLimits* FindLevel(uint8_t level) {
 }
 
 uint16_t RequiredFormatVersion(uint32_t tools) {
+  if (tools & kToolQuadtreeArith4) return 8;
   if (tools & kToolSamplePrecision) return 7;
   if (tools & kToolOwnBandWeights) return 6;
   if (tools & kToolSpihtArith3) return 5;

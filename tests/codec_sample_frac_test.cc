@@ -182,13 +182,41 @@ TEST(SampleFrac, BlockFileVersion6) {
   bad[7] = 1;  // RCT
   EXPECT_EQ(ReadBlockFile(bad.data(), bad.size()).status().code(), StatusCode::kCorrupt);
   bad = file;
-  bad[4] = 7;
+  bad[4] = kBlockFileVersion + 1;
   EXPECT_EQ(ReadBlockFile(bad.data(), bad.size()).status().code(), StatusCode::kUnsupported);
   // Whole samples still write version 5.
   auto whole = EncodeBlock(
       BlockFromRgb(rgb.data(), shape, ColourSpace::kYCbCr601, ChromaFormat::k444, 0), nullptr, s);
   ASSERT_TRUE(whole.ok());
   EXPECT_EQ(WriteBlockFile(*whole)[4], 5);
+}
+
+// Coder 4 (format version 8) writes block file version 7; a file that says
+// coder 4 in an older version is refused with the version it needs.
+TEST(SampleFrac, BlockFileVersion7CarriesCoder4) {
+  const Shape4D shape{{2, 2, 12, 10}};
+  const std::vector<uint8_t> rgb = TestRgb(shape, 4);
+  EncodeSettings s;
+  s.rate_value = 2.0;
+  s.coder = EntropyCoder::kArith4;
+  auto enc = EncodeBlock(
+      BlockFromRgb(rgb.data(), shape, ColourSpace::kYCbCr601, ChromaFormat::k444, 3), nullptr, s);
+  ASSERT_TRUE(enc.ok());
+  const std::vector<uint8_t> file = WriteBlockFile(*enc);
+  ASSERT_EQ(file[4], 7);
+  ASSERT_EQ(file[6], 4);  // coder
+  auto parsed = ReadBlockFile(file.data(), file.size());
+  ASSERT_TRUE(parsed.ok()) << parsed.status().ToString();
+  EXPECT_EQ(parsed->params.coder, EntropyCoder::kArith4);
+  EXPECT_EQ(WriteBlockFile(*parsed), file);
+  std::vector<uint8_t> bad = file;
+  bad[4] = 6;
+  const Status old = ReadBlockFile(bad.data(), bad.size()).status();
+  EXPECT_EQ(old.code(), StatusCode::kCorrupt);
+  EXPECT_NE(old.message().find("needs version 7"), std::string::npos) << old.ToString();
+  bad = file;
+  bad[6] = 5;  // no such coder
+  EXPECT_EQ(ReadBlockFile(bad.data(), bad.size()).status().code(), StatusCode::kCorrupt);
 }
 
 // The encoder refuses what no stream can say, with a message.

@@ -536,6 +536,12 @@ TEST_F(EncodeTest, CApiEncodesAndReportsAndRefusesMisuse) {
   };
   // sample_bits = 0: whole samples, what format version 6 decoders read, at
   // the same bytes and a lower PSNR; above 4 is refused.
+  // Coder 4: format version 8 (the same settings otherwise).
+  s.coder = FVV_CODER_ARITH4;
+  fvv_encode_report report_v8;
+  EXPECT_EQ(encode_version("v8", &report_v8), 8u);
+  EXPECT_GT(report_v8.psnr_rgb, 20.0);
+  s.coder = FVV_CODER_ARITH3;
   s.sample_bits = 0;
   fvv_encode_report report_v6;
   EXPECT_EQ(encode_version("v6", &report_v6), 6u);
@@ -565,7 +571,7 @@ TEST_F(EncodeTest, CApiEncodesAndReportsAndRefusesMisuse) {
   fvv_encode_report report_v3;
   EXPECT_EQ(encode_version("v3", &report_v3), 3u);
   EXPECT_LT(report_v3.psnr_rgb, report_v4.psnr_rgb);
-  s.coder = 4;
+  s.coder = 5;
   EXPECT_EQ(fvv_encoder_create(&s, &none), FVV_INVALID_ARGUMENT);
   EXPECT_NE(std::string(fvv_encoder_settings_error()).find("coder"), std::string::npos);
   s.coder = FVV_CODER_ARITH;

@@ -27,7 +27,7 @@ fvv::Status ToSettings(const fvv_encoder_settings& c, fvv::EncoderSettings* s) {
   if (c.kernel > FVV_KERNEL_HAAR) return InvalidArgument("kernel is not an fvv_kernel");
   if (c.precision_97 > uint32_t(fvv::kMaxFracBits97) || !fvv::ValidFracBits97(int(c.precision_97)))
     return InvalidArgument("precision_97 is not 2..6");
-  if (c.coder > FVV_CODER_ARITH3) return InvalidArgument("coder is not an fvv_entropy_coder");
+  if (c.coder > FVV_CODER_ARITH4) return InvalidArgument("coder is not an fvv_entropy_coder");
   if (c.weights > FVV_WEIGHTS_AXIS_BANDS)
     return InvalidArgument("weights is not an fvv_band_weights");
   if (c.sample_bits > uint32_t(fvv::kMaxSampleFrac))
@@ -53,6 +53,7 @@ fvv::Status ToSettings(const fvv_encoder_settings& c, fvv::EncoderSettings* s) {
   s->coder = c.coder == FVV_CODER_BINARY   ? fvv::EntropyCoder::kBinary
              : c.coder == FVV_CODER_ARITH2 ? fvv::EntropyCoder::kArith2
              : c.coder == FVV_CODER_ARITH3 ? fvv::EntropyCoder::kArith3
+             : c.coder == FVV_CODER_ARITH4 ? fvv::EntropyCoder::kArith4
                                            : fvv::EntropyCoder::kArith;
   s->weights = c.weights == FVV_WEIGHTS_AXIS_BANDS ? fvv::BandWeights::kAxisBands
                                                    : fvv::BandWeights::kOwnBand;

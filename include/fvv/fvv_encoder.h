@@ -48,12 +48,14 @@ typedef enum { FVV_KERNEL_CDF97 = 0, FVV_KERNEL_LEGALL53 = 1, FVV_KERNEL_HAAR = 
    contexts of format version 5. FVV_CODER_ARITH2: the neighbourhood contexts of format version 4
    (about 0.1 dB lower at equal bytes on atlas textures). FVV_CODER_ARITH: the contexts of format
    versions 1..3, for older decoders (about 0.2 to 0.3 dB lower). FVV_CODER_BINARY: raw
-   decisions. */
+   decisions. FVV_CODER_ARITH4: not SPIHT's sets but a quadtree per subband, format version 8;
+   better on still, textured images (+0.05 to +0.13 dB on Kodak). */
 typedef enum {
   FVV_CODER_ARITH = 0,
   FVV_CODER_BINARY = 1,
   FVV_CODER_ARITH2 = 2,
-  FVV_CODER_ARITH3 = 3
+  FVV_CODER_ARITH3 = 3,
+  FVV_CODER_ARITH4 = 4
 } fvv_entropy_coder;
 /* Subband weights (SPEC.md 9.3). FVV_WEIGHTS_OWN_BAND (the default): each coefficient weighted by
    the synthesis norm of its own band, format version 6. FVV_WEIGHTS_AXIS_BANDS: the weighting of
