@@ -1,4 +1,4 @@
-// Coder 4 (format version 8): significance coded per subband with a quadtree
+// Coder 4 (format version 8, SPEC.md 9.9): significance coded per subband with a quadtree
 // over each band (in 4D a tree that halves every axis longer than one node),
 // in the manner of EZBC (Hsiang and Woods, "Embedded image coding using
 // zeroblocks of subband/wavelet coefficients and context modeling", 2000).

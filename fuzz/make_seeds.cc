@@ -74,6 +74,13 @@ int Run(const std::string& dir) {
          o->weights = BandWeights::kOwnBand;
          o->sample_frac = 3;
        }},
+      {"arith4",
+       [](SampleStreamOptions* o) {
+         o->frac_bits_97 = kFracBits97;
+         o->coder = EntropyCoder::kArith4;
+         o->weights = BandWeights::kOwnBand;
+         o->sample_frac = 3;
+       }},
       {"haar_binary",
        [](SampleStreamOptions* o) {
          o->kernel = WaveletKernel::kHaar;

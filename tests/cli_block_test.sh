@@ -22,7 +22,8 @@ grep -q "truncated" <<<"$out" || fail "truncated decode report: $out"
 # precision 5) write block file version 6; --sample-bits 0 writes version 5,
 # --weights axis version 4, with --coder arith2 version 3,
 # --coder arith version 2 and --precision 2 with it version 1 (what older
-# decoders read); all decode, and 7 is refused by name.
+# decoders read); --coder arith4 writes version 7; all decode, and 7 is
+# refused by name.
 version_of() { od -An -tu1 -j4 -N1 "$1" | tr -d ' '; }
 [ "$(version_of "$dir/b.fvb")" = 6 ] || fail "defaults wrote version $(version_of "$dir/b.fvb")"
 "$fvv" block encode "$dir"/in/view_*.png --cameras 3 --sample-bits 0 -o "$dir/s0.fvb" --bpp 1 >/dev/null 2>&1 ||
@@ -45,6 +46,11 @@ out=$("$fvv" block decode "$dir/a1.fvb" -o "$dir/a1dec" 2>&1) || fail "coder ari
   fail "precision 2 encode"
 [ "$(version_of "$dir/p2.fvb")" = 1 ] || fail "precision 2 wrote version $(version_of "$dir/p2.fvb")"
 out=$("$fvv" block decode "$dir/p2.fvb" -o "$dir/p2dec" 2>&1) || fail "precision 2 decode: $out"
+"$fvv" block encode "$dir"/in/view_*.png --cameras 3 --coder arith4 -o "$dir/a4.fvb" --bpp 1 >/dev/null 2>&1 ||
+  fail "coder arith4 encode"
+[ "$(version_of "$dir/a4.fvb")" = 7 ] || fail "coder arith4 wrote version $(version_of "$dir/a4.fvb")"
+out=$("$fvv" block decode "$dir/a4.fvb" -o "$dir/a4dec" 2>&1) || fail "coder arith4 decode: $out"
+grep -q "RGB" <<<"$out" || ls "$dir"/a4dec/*.png >/dev/null || fail "coder arith4 wrote no images"
 out=$("$fvv" block encode "$dir"/in/view_*.png --cameras 3 --weights level -o "$dir/wl.fvb" 2>&1) &&
   fail "weights level accepted"
 grep -q -- "--weights" <<<"$out" || fail "weights level message: $out"

@@ -314,9 +314,9 @@ TEST(BlockFile, Version5HasOwnBandWeights) {
 // (run under ASan+UBSan in CI).
 TEST(BlockFile, EveryPrefixAndByteFlipEndsInErrorOrValidDecode) {
   for (EntropyCoder coder : {EntropyCoder::kBinary, EntropyCoder::kArith, EntropyCoder::kArith2,
-                             EntropyCoder::kArith3}) {
+                             EntropyCoder::kArith3, EntropyCoder::kArith4}) {
     const std::vector<uint8_t> file = SmallBlockFile(
-        coder, coder == EntropyCoder::kArith3 ? BandWeights::kOwnBand : BandWeights::kAxisBands);
+        coder, coder >= EntropyCoder::kArith3 ? BandWeights::kOwnBand : BandWeights::kAxisBands);
     for (size_t n = 0; n < file.size(); ++n) {
       auto parsed = ReadBlockFile(file.data(), n);
       ASSERT_FALSE(parsed.ok()) << "prefix " << n << " parsed";
@@ -367,7 +367,8 @@ TEST(Decoder, RandomStreamsWithValidHeadersDecodeToClampedSamples) {
       s.data.resize(3000);
       for (uint8_t& b : s.data) b = static_cast<uint8_t>(rng());
     }
-    for (EntropyCoder coder : {EntropyCoder::kBinary, EntropyCoder::kArith}) {
+    for (EntropyCoder coder :
+         {EntropyCoder::kBinary, EntropyCoder::kArith, EntropyCoder::kArith4}) {
       enc.params.coder = coder;
       auto dec = DecodeBlock(enc, DecodeBudget{}, SerialRunner);
       ASSERT_TRUE(dec.ok());

@@ -94,8 +94,11 @@ std::vector<std::string> Sections(const StreamInfo& info, const CaseSpec& spec) 
     s.erase(std::find(s.begin(), s.end(), "9.1"), s.end());
     s.insert(s.end(), {"4", "9.4", "9.6", "9.7", "9.8"});
   } else {
-    if (t & (kToolSpihtArith | kToolSpihtArith2 | kToolSpihtArith3)) s.push_back("9.4");
-    if (t & kToolSpihtArith3) s.push_back("7.2");  // its count-adaptive probabilities
+    if (t & (kToolSpihtArith | kToolSpihtArith2 | kToolSpihtArith3 | kToolQuadtreeArith4))
+      s.push_back("9.4");
+    // Their count-adaptive probabilities.
+    if (t & (kToolSpihtArith3 | kToolQuadtreeArith4)) s.push_back("7.2");
+    if (t & kToolQuadtreeArith4) s.push_back("9.9");
     s.insert(s.end(), {"9.5", "9.6", "9.7"});
   }
   if (t & kToolMasks) s.push_back("7");
@@ -376,6 +379,23 @@ std::vector<CaseSpec> ValidCases() {
               "count-adaptive probabilities), 9/7 with 5 fractional bits, masks; 2x2 GOP grid",
               "SPIHT coder 3 with the 5/3 kernel, 4:2:0 on an odd atlas, 6-frame x 3-camera GOPs, "
               "mask mode 2");
+  // Format version 8: coder 4 (quadtrees per subband, 9.9), in the same two
+  // settings and with the encoder's other defaults (own-band weights, 3
+  // fractional sample bits).
+  coder_cases(EntropyCoder::kArith4,
+              "coder 4 (quadtrees per subband, neighbours in time in 4-frame GOPs), 9/7 with 5 "
+              "fractional bits, masks; 2x2 GOP grid",
+              "coder 4 with the 5/3 kernel, 4:2:0 on an odd atlas (bands whose parents have "
+              "fewer tree levels), 6-frame x 3-camera GOPs, mask mode 2");
+  o = Base(8, 4, 64, 64, 4, 2);
+  o.frac_bits_97 = kFracBits97;
+  o.coder = EntropyCoder::kArith4;
+  o.weights = BandWeights::kOwnBand;
+  o.sample_frac = 3;
+  add("arith4_sample_precision_97",
+      "coder 4 with own-band weights and decoded samples with 3 fractional bits, 9/7 with 5 "
+      "fractional bits, masks; 2x2 GOP grid",
+      o, {1, 64, 700});
 
   // Format version 6: own-band weights ('texr' version 2, 9.3): the 9/7 with
   // coder 3 as the encoder's defaults have it, the 5/3 (power-of-two weights)
@@ -826,6 +846,25 @@ std::vector<CaseSpec> InvalidCases() {
       (*subs)[FindBox(*subs, box::kTexture)].version = 4;
     });
   };
+
+  // Format version 8: coder 4.
+  const auto arith4 = [](CaseSpec* c) {
+    c->options.coder = EntropyCoder::kArith4;
+    return c;
+  };
+  arith4(add("arith4_in_version_7",
+             "the quadtree-arith4 tool (bit 17) in a format version 7 header", StatusCode::kCorrupt,
+             {"3.1", "4", "10"}))
+      ->edit = retool(0, 0, 7);
+  arith3(add("arith4_without_tool",
+             "a 'texr' naming coder 4 in a stream whose header declares spiht-arith3, not "
+             "quadtree-arith4 (checksum recomputed)",
+             StatusCode::kCorrupt, {"3.1", "9.1", "10"}))
+      ->edit = patch_first_fragment(box::kTexture, 1, 4);
+  arith4(add("coder_unknown_in_version_8",
+             "a 'texr' of a format version 8 stream naming entropy coder 5 (checksum recomputed)",
+             StatusCode::kCorrupt, {"9.1", "10"}))
+      ->edit = patch_first_fragment(box::kTexture, 1, 5);
   return v;
 }
 
