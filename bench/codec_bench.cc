@@ -199,7 +199,7 @@ int Kodak(const std::string& dir, int images, bool only_97_arith) {
 
 // 8 frames x 8 cameras x 512 x 512: camera c sees the image shifted and scaled by
 // 1 + 0.015 c; frame t pans by 3 px per frame. Bilinear resampling.
-int Gop4d(const std::string& dir) {
+int Gop4d(const std::string& dir, EntropyCoder coder) {
   auto img = ReadImage(dir + "/kodak/kodim23.png");
   if (!img.ok()) {
     std::fprintf(stderr, "skip: %s\n", img.status().ToString().c_str());
@@ -231,13 +231,15 @@ int Gop4d(const std::string& dir) {
                                    kDefaultSampleFrac);
   ThreadPool pool(2);
   std::printf(
-      "4D GOP 8x8x512x512 from kodim23 (shifted/rescaled cameras, panning frames), 9/7 + arith, 2 "
-      "threads\n");
+      "4D GOP 8x8x512x512 from kodim23 (shifted/rescaled cameras, panning frames), 9/7 + %s, 2 "
+      "threads\n",
+      CoderName(coder));
   std::printf("%6s %9s %9s %9s %10s %9s %10s %9s\n", "bpp", "bytes", "RGB dB", "Y dB", "enc MS/s",
               "dec ms", "dec MS/s", "first ms");
   for (double bpp : {0.05, 0.1, 0.25, 0.5}) {
     EncodeSettings s;
     s.rate_value = bpp;
+    s.coder = coder;
     s.runner = pool.runner();
     auto t0 = Clock::now();
     auto enc = EncodeBlock(block, nullptr, s);
@@ -286,27 +288,36 @@ int main(int argc, char** argv) {
   if (argc < 3) {
     std::fprintf(
         stderr,
-        "usage: codec_bench kodak|gop4d DATA_DIR [--images N] [--only-97-arith]\n"
+        "usage: codec_bench kodak|gop4d DATA_DIR [--images N] [--only-97-arith] [--coder C]\n"
         "  --only-97-arith  kodak: code with the 9/7 kernel and the arithmetic coders only\n"
-        "                   (the pair compared with OpenJPEG)\n");
+        "                   (the pair compared with OpenJPEG)\n"
+        "  --coder C        gop4d: arith3 (the default, what fvv encode writes) or arith4\n");
     return 2;
   }
   const std::string mode = argv[1], dir = argv[2];
   int images = 24;
   bool only_97_arith = false;
+  fvv::EntropyCoder coder = fvv::EntropyCoder::kArith3;
   for (int i = 3; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--images" && i + 1 < argc) {
       images = std::max(1, std::min(24, std::atoi(argv[++i])));
     } else if (a == "--only-97-arith") {
       only_97_arith = true;
+    } else if (a == "--coder" && i + 1 < argc) {
+      const std::string c = argv[++i];
+      if (c != "arith3" && c != "arith4") {
+        std::fprintf(stderr, "--coder: arith3 or arith4, not %s\n", c.c_str());
+        return 2;
+      }
+      coder = c == "arith4" ? fvv::EntropyCoder::kArith4 : fvv::EntropyCoder::kArith3;
     } else {
       std::fprintf(stderr, "unknown option %s\n", a.c_str());
       return 2;
     }
   }
   if (mode == "kodak") return fvv::Kodak(dir, images, only_97_arith);
-  if (mode == "gop4d") return fvv::Gop4d(dir);
+  if (mode == "gop4d") return fvv::Gop4d(dir, coder);
   std::fprintf(stderr, "unknown mode %s\n", mode.c_str());
   return 2;
 }

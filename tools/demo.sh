@@ -33,6 +33,13 @@ $fvv info "$out/capture.fvv"
 echo "== decode it with the decoder library, in full and at 20000 bytes per GOP"
 $fvv decode "$out/capture.fvv" -o "$out/decoded" --frames 0:7
 $fvv decode "$out/capture.fvv" -o "$out/decoded_cut" --frames 0:7 --bytes 20000
+echo "== one atlas frame as a still image (fvv block encode) at 0.5 bpp: SPIHT coder 3, then coder 4 (quadtrees per subband)"
+for coder in arith3 arith4; do
+  line=$($fvv block encode "$out/textures/cam02/texture_000000.png" \
+    --mask "$out/textures/cam02/mask_000000.png" --coder $coder --bpp 0.5 \
+    -o "$out/still_$coder.fvb" 2>/dev/null | tail -1)
+  echo "  $coder: $line"
+done
 echo "== the second texture codec: 8 frames of the same textures, predictive (T00, R0, R with shape-adaptive BISK)"
 $fvv encode "$out/capture" -o "$out/capture_predictive.fvv" --textures "$out/textures" --frames 0:7 \
   --texture-codec predictive -q
@@ -65,4 +72,5 @@ echo "         $out/render_orbit/contact_sheet.png (12 novel views of frame 30),
 echo "         $out/render_projective (Renderer I: contact sheet, held-out camera 0's view of frames 30-33;"
 echo "         $out/render_heldout is Renderer II's, $out/capture/truth/heldout/held00 the truth),"
 echo "         $out/shape/capture (the bumpy actor's synthetic capture the shape table measured),"
-echo "         $out/capture_predictive.fvv and $out/render_predictive (the predictive texture codec)"
+echo "         $out/capture_predictive.fvv and $out/render_predictive (the predictive texture codec),"
+echo "         $out/still_arith3.fvb and $out/still_arith4.fvb (one atlas frame, coders 3 and 4)"

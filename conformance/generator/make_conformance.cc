@@ -353,6 +353,16 @@ std::vector<CaseSpec> ValidCases() {
       "mask mode 2",
       o, {30, 200});
 
+  // The encoder's defaults with `coder`, in 4-frame GOPs on a 2x2 grid: the
+  // 9/7 at precision 5, own-band weights, 3 fractional sample bits.
+  const auto encoder_defaults = [](EntropyCoder coder) {
+    SampleStreamOptions c = Base(8, 4, 64, 64, 4, 2);
+    c.frac_bits_97 = kFracBits97;
+    c.coder = coder;
+    c.weights = BandWeights::kOwnBand;
+    c.sample_frac = 3;
+    return c;
+  };
   // Format versions 4 and 5: SPIHT coders 2 (neighbourhood contexts) and 3
   // (set and sign contexts), 9.5: the 9/7 at precision 5 in 4-frame GOPs, and
   // the 5/3 with 4:2:0 on an odd atlas in multi-camera GOPs.
@@ -387,15 +397,10 @@ std::vector<CaseSpec> ValidCases() {
               "fractional bits, masks; 2x2 GOP grid",
               "coder 4 with the 5/3 kernel, 4:2:0 on an odd atlas (bands whose parents have "
               "fewer tree levels), 6-frame x 3-camera GOPs, mask mode 2");
-  o = Base(8, 4, 64, 64, 4, 2);
-  o.frac_bits_97 = kFracBits97;
-  o.coder = EntropyCoder::kArith4;
-  o.weights = BandWeights::kOwnBand;
-  o.sample_frac = 3;
   add("arith4_sample_precision_97",
       "coder 4 with own-band weights and decoded samples with 3 fractional bits, 9/7 with 5 "
       "fractional bits, masks; 2x2 GOP grid",
-      o, {1, 64, 700});
+      encoder_defaults(EntropyCoder::kArith4), {1, 64, 700});
 
   // Format version 6: own-band weights ('texr' version 2, 9.3): the 9/7 with
   // coder 3 as the encoder's defaults have it, the 5/3 (power-of-two weights)
@@ -427,15 +432,10 @@ std::vector<CaseSpec> ValidCases() {
   // Format version 7: fractional output samples ('texr' version 3, 9.6, 9.7):
   // the encoder's default (3 of the 9/7's 5 fractional bits), the most (4 of
   // 6) with 4:2:0 on an odd atlas, and 1 of 2 with binary SPIHT.
-  o = Base(8, 4, 64, 64, 4, 2);
-  o.frac_bits_97 = kFracBits97;
-  o.coder = EntropyCoder::kArith3;
-  o.weights = BandWeights::kOwnBand;
-  o.sample_frac = 3;
   add("sample_precision_97",
       "decoded samples with 3 fractional bits (texr version 3), own-band weights, SPIHT coder 3, "
       "9/7 with 5 fractional bits, masks; 2x2 GOP grid",
-      o, {1, 64, 700});
+      encoder_defaults(EntropyCoder::kArith3), {1, 64, 700});
   o = Base(6, 3, 37, 23, 6, 3);
   o.frac_bits_97 = 6;
   o.coder = EntropyCoder::kArith3;
@@ -763,23 +763,41 @@ std::vector<CaseSpec> InvalidCases() {
       StatusCode::kCorrupt, {"9.1", "10"})
       ->edit = patch_first_fragment(box::kTexture, 1, 3);
 
-  // Format version 5: SPIHT coder 3.
-  const auto arith3 = [](CaseSpec* c) {
-    c->options.coder = EntropyCoder::kArith3;
-    return c;
+  // A coder's three invalid cases: its tool bit in a header of the format
+  // version before its own, a 'texr' naming it in a stream whose header
+  // declares the coder before it instead, and a 'texr' naming the number after it.
+  const auto coder_invalid_cases = [&](EntropyCoder coder, EntropyCoder before,
+                                       const std::string& tool, const std::string& tool_before,
+                                       int bit, int version) {
+    const auto coded_with = [](EntropyCoder c) {
+      return [c](CaseSpec* spec) {
+        spec->options.coder = c;
+        return spec;
+      };
+    };
+    const int n = static_cast<int>(coder);
+    const std::string number = std::to_string(n), older = std::to_string(version - 1);
+    coded_with(coder)(add("arith" + number + "_in_version_" + older,
+                          "the " + tool + " tool (bit " + std::to_string(bit) +
+                              ") in a format version " + older + " header",
+                          StatusCode::kCorrupt, {"3.1", "4", "10"}))
+        ->edit = retool(0, 0, static_cast<uint16_t>(version - 1));
+    coded_with(before)(add("arith" + number + "_without_tool",
+                           "a 'texr' naming coder " + number +
+                               " in a stream whose header declares " + tool_before + ", not " +
+                               tool + " (checksum recomputed)",
+                           StatusCode::kCorrupt, {"3.1", "9.1", "10"}))
+        ->edit = patch_first_fragment(box::kTexture, 1, static_cast<uint8_t>(n));
+    coded_with(coder)(add("coder_unknown_in_version_" + std::to_string(version),
+                          "a 'texr' of a format version " + std::to_string(version) +
+                              " stream naming entropy coder " + std::to_string(n + 1) +
+                              " (checksum recomputed)",
+                          StatusCode::kCorrupt, {"9.1", "10"}))
+        ->edit = patch_first_fragment(box::kTexture, 1, static_cast<uint8_t>(n + 1));
   };
-  arith3(add("arith3_in_version_4", "the spiht-arith3 tool (bit 14) in a format version 4 header",
-             StatusCode::kCorrupt, {"3.1", "4", "10"}))
-      ->edit = retool(0, 0, 4);
-  arith2(add("arith3_without_tool",
-             "a 'texr' naming coder 3 in a stream whose header declares spiht-arith2, not "
-             "spiht-arith3 (checksum recomputed)",
-             StatusCode::kCorrupt, {"3.1", "9.1", "10"}))
-      ->edit = patch_first_fragment(box::kTexture, 1, 3);
-  arith3(add("coder_unknown_in_version_5",
-             "a 'texr' of a format version 5 stream naming entropy coder 4 (checksum recomputed)",
-             StatusCode::kCorrupt, {"9.1", "10"}))
-      ->edit = patch_first_fragment(box::kTexture, 1, 4);
+  // Format version 5: SPIHT coder 3.
+  coder_invalid_cases(EntropyCoder::kArith3, EntropyCoder::kArith2, "spiht-arith3", "spiht-arith2",
+                      14, 5);
 
   // Format version 6: own-band weights ('texr' version 2).
   const auto own_band = [](CaseSpec* c) {
@@ -848,23 +866,8 @@ std::vector<CaseSpec> InvalidCases() {
   };
 
   // Format version 8: coder 4.
-  const auto arith4 = [](CaseSpec* c) {
-    c->options.coder = EntropyCoder::kArith4;
-    return c;
-  };
-  arith4(add("arith4_in_version_7",
-             "the quadtree-arith4 tool (bit 17) in a format version 7 header", StatusCode::kCorrupt,
-             {"3.1", "4", "10"}))
-      ->edit = retool(0, 0, 7);
-  arith3(add("arith4_without_tool",
-             "a 'texr' naming coder 4 in a stream whose header declares spiht-arith3, not "
-             "quadtree-arith4 (checksum recomputed)",
-             StatusCode::kCorrupt, {"3.1", "9.1", "10"}))
-      ->edit = patch_first_fragment(box::kTexture, 1, 4);
-  arith4(add("coder_unknown_in_version_8",
-             "a 'texr' of a format version 8 stream naming entropy coder 5 (checksum recomputed)",
-             StatusCode::kCorrupt, {"9.1", "10"}))
-      ->edit = patch_first_fragment(box::kTexture, 1, 5);
+  coder_invalid_cases(EntropyCoder::kArith4, EntropyCoder::kArith3, "quadtree-arith4",
+                      "spiht-arith3", 17, 8);
   return v;
 }
 
