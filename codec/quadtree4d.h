@@ -69,6 +69,21 @@ struct QuadtreeBand {
   int top = 0;
   std::vector<std::array<uint32_t, kAxes>> dims;  // grid extents at levels 0..top
   std::vector<uint32_t> offset;                   // first node of each level in the node array
+
+  // The node array index of node p (raster order, x fastest) at level k, and back.
+  uint32_t Node(int k, const std::array<uint32_t, kAxes>& p) const {
+    const auto& d = dims[k];
+    return offset[k] + ((p[0] * d[1] + p[1]) * d[2] + p[2]) * d[3] + p[3];
+  }
+  void NodeCoords(int k, uint32_t node, std::array<uint32_t, kAxes>* p) const {
+    const auto& d = dims[k];
+    uint32_t q = node - offset[k];
+    for (int a = kAxes - 1; a > 0; --a) {
+      (*p)[a] = q % d[a];
+      q /= d[a];
+    }
+    (*p)[0] = q;
+  }
 };
 
 class QuadtreeLayout {
@@ -145,7 +160,7 @@ class QuadtreeTraversal {
           const Entry e = list[i];
           const QuadtreeBand& b = bands_[e.band];
           Coords p;
-          NodeCoords(b, k, e.node, &p);
+          b.NodeCoords(k, e.node, &p);
           bool sig;
           if (!side_->SigNode(e.node, n, SigContext(ctx4::kSigLin, b, k, p, e.node), &sig)) return;
           if (!sig) {
@@ -178,20 +193,6 @@ class QuadtreeTraversal {
     uint32_t band;
     uint8_t neighbours;  // which of x - 1, x + 1, y - 1, y + 1 lie in the band
   };
-
-  static void NodeCoords(const QuadtreeBand& b, int k, uint32_t node, Coords* p) {
-    const auto& d = b.dims[k];
-    uint32_t q = node - b.offset[k];
-    for (int a = kAxes - 1; a > 0; --a) {
-      (*p)[a] = q % d[a];
-      q /= d[a];
-    }
-    (*p)[0] = q;
-  }
-  static uint32_t NodeIndex(const QuadtreeBand& b, int k, const Coords& p) {
-    const auto& d = b.dims[k];
-    return b.offset[k] + ((p[0] * d[1] + p[1]) * d[2] + p[2]) * d[3] + p[3];
-  }
 
   // Neighbour counts at level k of band b around p.
   int SigContext(int base, const QuadtreeBand& b, int k, const Coords& p, uint32_t node,
@@ -229,7 +230,7 @@ class QuadtreeTraversal {
             b.parent_halved[a] ? (k > 0 ? p[a] : p[a] >> 1) : (k > 0 ? 2 * p[a] : p[a]);
         q[a] = std::min(c, pb.dims[pk][a] - 1);
       }
-      parent = state_[NodeIndex(pb, pk, q)] != 0;
+      parent = state_[pb.Node(pk, q)] != 0;
     }
     int c = (((k > 0) * ctx4::kClasses + b.cls) * ctx4::kNeighbourBins + nb) * ctx4::kParentBins +
             parent;
@@ -294,7 +295,7 @@ class QuadtreeTraversal {
         for (uint32_t i2 = 0; i2 < count[2]; ++i2)
           for (uint32_t i3 = 0; i3 < count[3]; ++i3, ++index) {
             c = {lo[0] + i0, lo[1] + i1, lo[2] + i2, lo[3] + i3};
-            const uint32_t child = NodeIndex(b, ck, c);
+            const uint32_t child = b.Node(ck, c);
             bool sig = true;  // the last child when none before it was significant
             if (index + 1 < total || siblings > 0) {
               const int ctx = SigContext(ctx4::kSigChild, b, ck, c, child, siblings);

@@ -50,26 +50,20 @@ class EncoderSide {
   void PrepareNodes(const QuadtreeLayout& layout) {
     node_bits_.assign(layout.nodes(), 0);
     for (const QuadtreeBand& b : layout.bands()) {
-      std::array<uint32_t, kAxes> p;
-      uint32_t node = b.offset[0];
-      for (p[0] = 0; p[0] < b.n[0]; ++p[0])
-        for (p[1] = 0; p[1] < b.n[1]; ++p[1])
-          for (p[2] = 0; p[2] < b.n[2]; ++p[2])
-            for (p[3] = 0; p[3] < b.n[3]; ++p[3], ++node)
-              node_bits_[node] = BitLength(mag_[layout.Coefficient(b, p)]);
-      for (int k = 1; k <= b.top; ++k) {
-        const auto& d = b.dims[k - 1];
-        const auto& up = b.dims[k];
-        node = b.offset[k - 1];
+      // Level 0 from the coefficients, then each level from the one below.
+      for (int k = 0; k <= b.top; ++k) {
+        const auto& d = b.dims[k];
+        std::array<uint32_t, kAxes> p, half;
         for (p[0] = 0; p[0] < d[0]; ++p[0])
           for (p[1] = 0; p[1] < d[1]; ++p[1])
             for (p[2] = 0; p[2] < d[2]; ++p[2])
-              for (p[3] = 0; p[3] < d[3]; ++p[3], ++node) {
-                const uint32_t parent =
-                    b.offset[k] +
-                    (((p[0] >> 1) * up[1] + (p[1] >> 1)) * up[2] + (p[2] >> 1)) * up[3] +
-                    (p[3] >> 1);
-                node_bits_[parent] = std::max(node_bits_[parent], node_bits_[node]);
+              for (p[3] = 0; p[3] < d[3]; ++p[3]) {
+                const uint32_t node = b.Node(k, p);
+                if (k == 0) node_bits_[node] = BitLength(mag_[layout.Coefficient(b, p)]);
+                if (k == b.top) continue;
+                for (int a = 0; a < kAxes; ++a) half[a] = p[a] >> 1;
+                uint8_t& parent = node_bits_[b.Node(k + 1, half)];
+                parent = std::max(parent, node_bits_[node]);
               }
       }
     }
