@@ -13,11 +13,11 @@
 #include <string>
 #include <vector>
 
+#include "codec/base/sample_pool.h"
+#include "codec/base/thread_pool.h"
 #include "codec/block_codec.h"
 #include "codec/colour.h"
-#include "codec/sample_pool.h"
-#include "codec/thread_pool.h"
-#include "tools/imageio/image_io.h"
+#include "encoder/io/image_io.h"
 
 namespace fvv {
 namespace {
@@ -111,7 +111,7 @@ int Kodak(const std::string& dir, int images, bool only_97_arith) {
           if (only_97_arith && !(k == 2 && c > 0)) continue;
           EncodeSettings s;
           s.kernel = static_cast<WaveletKernel>(k);
-          s.coder = c == kQuadtreeCoder ? EntropyCoder::kArith4
+          s.coder = c == kQuadtreeCoder ? EntropyCoder::kQuadtree
                                         : static_cast<EntropyCoder>(c < 4 ? c : 3);
           if (c == 5) s.weights = BandWeights::kAxisBands;
           const Block& block = k == 2 && (c < 4 || c == kQuadtreeCoder) ? fractional : whole;
@@ -297,7 +297,7 @@ int main(int argc, char** argv) {
   const std::string mode = argv[1], dir = argv[2];
   int images = 24;
   bool only_97_arith = false;
-  fvv::EntropyCoder coder = fvv::EntropyCoder::kArith3;
+  fvv::EntropyCoder coder = fvv::EntropyCoder::kSetSignContexts;
   for (int i = 3; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--images" && i + 1 < argc) {
@@ -310,7 +310,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "--coder: arith3 or arith4, not %s\n", c.c_str());
         return 2;
       }
-      coder = c == "arith4" ? fvv::EntropyCoder::kArith4 : fvv::EntropyCoder::kArith3;
+      coder = c == "arith4" ? fvv::EntropyCoder::kQuadtree : fvv::EntropyCoder::kSetSignContexts;
     } else {
       std::fprintf(stderr, "unknown option %s\n", a.c_str());
       return 2;

@@ -24,9 +24,9 @@
 #include <string>
 #include <vector>
 
-#include "codec/thread_pool.h"
+#include "codec/base/thread_pool.h"
+#include "conformance/sample/sample_stream.h"
 #include "container/writer.h"
-#include "encoder/sample/sample_stream.h"
 #include "fvv/fvv_decoder.hpp"
 
 namespace {

@@ -20,10 +20,10 @@
 #include <string>
 #include <vector>
 
-#include "codec/mask_coder.h"
-#include "encoder/sample/sample_stream.h"
-#include "encoder/sample/sample_volume.h"
-#include "tools/imageio/image_io.h"
+#include "codec/mask.h"
+#include "conformance/sample/sample_stream.h"
+#include "conformance/sample/sample_volume.h"
+#include "encoder/io/image_io.h"
 
 namespace fvv {
 namespace {

@@ -14,9 +14,9 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <string>
 
-#include "codec/thread_pool.h"
+#include "codec/base/thread_pool.h"
+#include "conformance/sample/sample_stream.h"
 #include "container/writer.h"
-#include "encoder/sample/sample_stream.h"
 #include "fvv/fvv_decoder.hpp"
 #include "player/render/headless.h"
 #include "player/render/renderer.h"

@@ -1,10 +1,10 @@
-// Rate-distortion benchmark of the encoder (issue 6): on one capture's
+// Rate-distortion benchmark of the encoder: on one capture's
 // multi-view atlas textures (what `fvv encode --save-textures` writes), at
 // four compression ratios, one table from one run:
 //   fvv      4D wavelet + 4D SPIHT on the encoder's GOPs (8 frames x 1 camera;
 //            in process, 2 threads)
 //   fvv BISK the predictive scheme (T00, R0, R per 8-frame GOP of all cameras)
-//            with shape-adaptive BISK (in process, 1 thread; issue 9)
+//            with shape-adaptive BISK (in process, 1 thread)
 //   OpenJPEG per-frame JPEG 2000 (opj_compress -I, 9/7, -r at fvv's bytes)
 //   x264     each camera's atlas sequence as one H.264 video (yuv444p, preset
 //            medium, two-pass at fvv's bitrate)
@@ -43,8 +43,8 @@
 #include "codec/fill.h"
 #include "codec/predictive_texture.h"
 #include "encoder/encode/encoder.h"
+#include "encoder/io/image_io.h"
 #include "fvv/fvv_decoder.hpp"
-#include "tools/imageio/image_io.h"
 
 namespace fvv {
 namespace {
@@ -209,7 +209,7 @@ Result RunFvv(const Sequence& seq, const std::string& capture, const std::string
   return r;
 }
 
-// The predictive scheme with shape-adaptive BISK (issue 9), in process: GOPs
+// The predictive scheme with shape-adaptive BISK, in process: GOPs
 // of 8 frames x every camera (T00 per GOP), each given its share of `target`.
 Result RunPredictive(const Sequence& seq, uint64_t target, WaveletKernel kernel) {
   Result r;

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Encoding speed with the capture front end included (issue 6 target: >= 1
+# Encoding speed with the capture front end included (target: >= 1
 # frame/s for 8 cameras at 640x480 on a 2-core machine): `fvv encode` tracks
 # the sample capture (8 cameras, 640x480, 50 frames of CMU 01_01), resamples,
 # codes and writes it; frames per second of wall time, as the encoder reports.
@@ -14,7 +14,7 @@ rounds=${2:-2}
 ./tools/setup.sh >/dev/null
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j2 --target fvv >/dev/null
-fvv=build/encoder/cli/fvv
+fvv=build/tools/fvv/fvv
 work=${FVV_BENCH_DIR:-/tmp/fvv_encode_bench}
 mkdir -p "$work"
 if [ ! -f "$work/capture/capture.json" ]; then
@@ -32,7 +32,7 @@ if [ -n "$peer_ref" ]; then
   cmake -S "$peer_dir" -B "$peer_dir/build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
     -DFVV_BUILD_TESTS=OFF -DFVV_BUILD_BENCH=OFF >/dev/null
   cmake --build "$peer_dir/build" -j2 --target fvv >/dev/null
-  encoders+=("$peer_ref:$peer_dir/build/encoder/cli/fvv")
+  encoders+=("$peer_ref:$peer_dir/build/tools/fvv/fvv")
 fi
 printf '%-14s %5s %9s %9s %9s\n' encoder round "wall s" "frames/s" "cpu s"
 declare -A sum

@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 ./tools/setup.sh >/dev/null
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j2 --target fvv rd_bench
-fvv=build/encoder/cli/fvv
+fvv=build/tools/fvv/fvv
 out=out/rd_bench
 frames=${1:-16}
 if [ ! -f "$out/textures/textures.json" ]; then

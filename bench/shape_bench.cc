@@ -1,4 +1,4 @@
-// Shape refinement benchmark (issue 10, section 6): a synthetic capture whose
+// Shape refinement benchmark: a synthetic capture whose
 // actor has surface detail the generic model lacks (bumps and hollows up to
 // --detail metres), with its true poses and proportions; the generic model,
 // the visual hull and the refined model against the true surface (distances)
@@ -17,7 +17,7 @@
 #include <cstring>
 #include <string>
 
-#include "encoder/synth/shape_comparison.h"
+#include "tools/synth/shape_comparison.h"
 
 int main(int argc, char** argv) {
   fvv::SynthOptions so;

@@ -1,4 +1,4 @@
-// Marker-free motion capture benchmark (issue 5): seconds per frame, mean and
+// Marker-free motion capture benchmark: seconds per frame, mean and
 // max 3D joint error (cm) and silhouette IoU on synthetic captures with ground
 // truth, silhouettes by background subtraction:
 //   (a) the built-in actor driven by CMU BVH 01_01, 8 cameras;
@@ -13,9 +13,9 @@
 #include <cstring>
 #include <string>
 
-#include "encoder/capture/joint_truth.h"
-#include "encoder/capture/track_capture.h"
-#include "encoder/synth/synth.h"
+#include "encoder/track/joint_truth.h"
+#include "encoder/track/track_capture.h"
+#include "tools/synth/synth.h"
 
 namespace {
 

@@ -3,10 +3,10 @@
 include(CMakePackageConfigHelpers)
 install(DIRECTORY include/fvv DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 # Exported as fvv::dec, fvv::codec, ... (the same names as the build-tree aliases).
-foreach(t codec_dec codec thread_pool container_dec container dec)
+foreach(t base codec_dec codec container_dec container dec)
   set_target_properties(fvv_${t} PROPERTIES EXPORT_NAME ${t})
 endforeach()
-install(TARGETS fvv_codec_dec fvv_codec fvv_thread_pool fvv_container_dec fvv_container fvv_dec EXPORT fvvTargets
+install(TARGETS fvv_codec_dec fvv_codec fvv_base fvv_container_dec fvv_container fvv_dec EXPORT fvvTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
@@ -18,10 +18,10 @@ install(EXPORT fvvTargets NAMESPACE fvv:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cm
 # "encoder": its static libraries need the capture front end's dependencies
 # (Eigen, yaml-cpp, toml++, libpng, OpenEXR, nlohmann-json), which decoder-only
 # applications should not have to install. find_package(fvv COMPONENTS encoder).
-foreach(t encoder encode capture atlas body imageio)
+foreach(t encoder encode shape track capture atlas body imageio)
   set_target_properties(fvv_${t} PROPERTIES EXPORT_NAME ${t})
 endforeach()
-install(TARGETS fvv_encoder fvv_encode fvv_capture fvv_atlas fvv_body fvv_imageio
+install(TARGETS fvv_encoder fvv_encode fvv_shape fvv_track fvv_capture fvv_atlas fvv_body fvv_imageio
         EXPORT fvvEncoderTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
@@ -58,5 +58,5 @@ install(FILES ${CMAKE_CURRENT_BINARY_DIR}/fvvConfig.cmake
               ${CMAKE_CURRENT_BINARY_DIR}/fvvConfigVersion.cmake
         DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/fvv)
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/fvv.pc
-     "prefix=${CMAKE_INSTALL_PREFIX}\nlibdir=\${prefix}/${CMAKE_INSTALL_LIBDIR}\nincludedir=\${prefix}/${CMAKE_INSTALL_INCLUDEDIR}\n\nName: fvv\nDescription: free-viewpoint video codec SDK\nVersion: ${PROJECT_VERSION}\nLibs: -L\${libdir} -lfvv_dec -lfvv_container -lfvv_container_dec -lfvv_codec -lfvv_codec_dec -lfvv_thread_pool -lzstd\nCflags: -I\${includedir}\n")
+     "prefix=${CMAKE_INSTALL_PREFIX}\nlibdir=\${prefix}/${CMAKE_INSTALL_LIBDIR}\nincludedir=\${prefix}/${CMAKE_INSTALL_INCLUDEDIR}\n\nName: fvv\nDescription: free-viewpoint video codec SDK\nVersion: ${PROJECT_VERSION}\nLibs: -L\${libdir} -lfvv_dec -lfvv_container -lfvv_container_dec -lfvv_codec -lfvv_codec_dec -lfvv_base -lzstd\nCflags: -I\${includedir}\n")
 install(FILES ${CMAKE_CURRENT_BINARY_DIR}/fvv.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)

@@ -1,7 +1,6 @@
-// Shape-adaptive BISK (binary set splitting with k-d trees; issue 9, section
-// 2): an embedded coder of the in-shape coefficients of a shape-adaptive
-// wavelet transform (codec/sa_wavelet.h). Only texels inside the shape cost
-// anything.
+// Shape-adaptive BISK (binary set splitting with k-d trees): an embedded coder of the in-shape
+// coefficients of a shape-adaptive wavelet transform (codec/sa_wavelet.h). Only texels inside the
+// shape cost anything.
 //
 // Sets are rectangles of coefficients, each shrunk to the bounding box of the
 // in-shape coefficients it holds (the decoder knows the shape, so it shrinks
@@ -31,8 +30,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "codec/base/status.h"
 #include "codec/sa_wavelet.h"
-#include "codec/status.h"
 
 namespace fvv {
 

@@ -1,7 +1,7 @@
 #include <algorithm>
 
 #include "codec/bisk.h"
-#include "codec/bisk_coder.h"
+#include "codec/bisk_common.h"
 
 namespace fvv {
 

@@ -2,7 +2,7 @@
 #include <cstdlib>
 
 #include "codec/bisk.h"
-#include "codec/bisk_coder.h"
+#include "codec/bisk_common.h"
 
 namespace fvv {
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "codec/large_buffer.h"
+#include "codec/base/large_buffer.h"
 
 namespace fvv {
 

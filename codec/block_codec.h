@@ -12,13 +12,13 @@
 #include <cstdint>
 #include <vector>
 
+#include "codec/base/parallel.h"
+#include "codec/base/sample_pool.h"
+#include "codec/base/status.h"
 #include "codec/block.h"
 #include "codec/fill.h"
-#include "codec/parallel.h"
-#include "codec/sample_pool.h"
 #include "codec/spiht4d.h"
 #include "codec/spiht4d_common.h"
-#include "codec/status.h"
 #include "codec/subband_weights.h"
 #include "codec/wavelet.h"
 
@@ -72,9 +72,9 @@ struct EncodeSettings {
   // The 9/7's sample precision f (ignored by the reversible kernels). 2 writes
   // what format versions 1 and 2 read; see subband_weights.h.
   int frac_bits_97 = kFracBits97;
-  // kArith3 needs a format version 5 decoder, kArith2 version 4; kArith is
+  // kSetSignContexts needs a format version 5 decoder, kNeighbourContexts version 4; kArith is
   // what older ones read.
-  EntropyCoder coder = EntropyCoder::kArith3;
+  EntropyCoder coder = EntropyCoder::kSetSignContexts;
   // kOwnBand needs a format version 6 decoder; kAxisBands is what older ones read.
   BandWeights weights = BandWeights::kOwnBand;
   RateMode rate_mode = RateMode::kBitsPerSample;
@@ -88,9 +88,9 @@ struct EncodeSettings {
   // cut is known, coefficients that would turn significant only in its lowest
   // bitplane with no significant neighbour are zeroed, the block is coded
   // again, and the result is kept if it decodes with less error at the same
-  // bytes (+0.1 dB at 120:1 and 280:1 on the demo atlas textures, for a
-  // second SPIHT encode and two decodes). Decoders see an ordinary stream.
-  // A PSNR target does not prune: its gain is inside the search's 0.1 dB.
+  // bytes, for a second SPIHT encode and two decodes (docs/encoder.md,
+  // "Pruning"). Decoders see an ordinary stream. A PSNR target does not
+  // prune: its gain is smaller than the PSNR search's tolerance.
   bool prune_isolated = true;
   ParallelRunner runner = SerialRunner;
 };

@@ -10,11 +10,11 @@ constexpr uint32_t kMaxPoints = 2 * kMaxBitplanes;
 }  // namespace
 
 uint8_t BlockFileVersionFor(const BlockParams& p) {
-  if (p.coder == EntropyCoder::kArith4) return 7;
+  if (p.coder == EntropyCoder::kQuadtree) return 7;
   if (p.sample_frac > 0) return 6;
   if (p.weights == BandWeights::kOwnBand) return 5;
-  if (p.coder == EntropyCoder::kArith3) return 4;
-  if (p.coder == EntropyCoder::kArith2) return 3;
+  if (p.coder == EntropyCoder::kSetSignContexts) return 4;
+  if (p.coder == EntropyCoder::kNeighbourContexts) return 3;
   return p.frac_bits == LegacyFracBits(p.kernel) ? 1 : 2;
 }
 

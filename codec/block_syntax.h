@@ -1,8 +1,8 @@
 // Serialisation of a coded block: the payload syntax shared by the stand-alone
-// block file (`fvv block`, docs/block_file.md) and, later, the container's
-// texture fragments. In memory only; the caller does file I/O.
+// block file (`fvv block`, docs/block_file.md) and the container's texture
+// fragments (SPEC.md 9.1). In memory only; the caller does file I/O.
 //
-//   block_file()       magic "fvvb", version u8 (1..6), block_params(), channel_stream() x 3
+//   block_file()       magic "fvvb", version u8 (1..7), block_params(), channel_stream() x 3
 //   block_params()     kernel u8, coder u8, colour u8, chroma u8, [version 2: frac_bits u8],
 //                      [version 6: sample_frac u8],
 //                      frames u32, cameras u32, height u32, width u32
@@ -17,9 +17,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "codec/bit_io.h"
+#include "codec/base/bit_io.h"
+#include "codec/base/status.h"
 #include "codec/block_codec.h"
-#include "codec/status.h"
 
 namespace fvv {
 
@@ -28,7 +28,8 @@ namespace fvv {
 // Version 3 admits coder 2 (arith2), version 4 coder 3 (arith3). Version 5
 // weights coefficients by their own band (BandWeights::kOwnBand); versions 1 to
 // 4 by the per-axis bands of their position. Version 6 says the decoded
-// samples' fractional bits (BlockParams::sample_frac).
+// samples' fractional bits (BlockParams::sample_frac). Version 7 admits coder 4
+// (arith4, the quadtree).
 constexpr uint8_t kBlockFileVersion = 7;
 
 // The block file version that can hold these parameters.

@@ -1,7 +1,7 @@
 #include <cstring>
 
-#include "codec/mask_coder.h"
-#include "codec/mask_traversal.h"
+#include "codec/mask.h"
+#include "codec/mask_common.h"
 
 namespace fvv {
 namespace {

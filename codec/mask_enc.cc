@@ -1,5 +1,5 @@
-#include "codec/mask_coder.h"
-#include "codec/mask_traversal.h"
+#include "codec/mask.h"
+#include "codec/mask_common.h"
 
 namespace fvv {
 namespace {

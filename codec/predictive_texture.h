@@ -1,4 +1,4 @@
-// The predictive multi-view texture scheme (issue 9, section 1), on one GOP of
+// The predictive multi-view texture scheme, on one GOP of
 // frames x cameras atlas textures with their visibility masks, in YUV (BT.601):
 //
 //   T0(t)  = visibility-weighted mean over the cameras of frame t
@@ -25,8 +25,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "codec/parallel.h"
-#include "codec/status.h"
+#include "codec/base/parallel.h"
+#include "codec/base/status.h"
 #include "codec/wavelet.h"
 
 namespace fvv {

@@ -4,7 +4,7 @@
 #include "codec/bisk.h"
 #include "codec/colour.h"
 #include "codec/predictive_texture.h"
-#include "codec/predictive_texture_support.h"
+#include "codec/predictive_texture_common.h"
 #include "codec/sa_wavelet.h"
 
 namespace fvv {

@@ -1,4 +1,4 @@
-// The shape-adaptive 2D wavelet transform (issue 9, section 2): only the
+// The shape-adaptive 2D wavelet transform: only the
 // samples inside a shape are transformed, and the transform yields exactly as
 // many coefficients as there are samples, placed where a shape mask of each
 // subband says (the decoder derives the same masks from the shape alone).

@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "codec/base/status.h"
 #include "codec/spiht4d_common.h"
-#include "codec/status.h"
 
 namespace fvv {
 

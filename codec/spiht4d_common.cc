@@ -8,11 +8,11 @@ namespace fvv {
 
 const char* CoderName(EntropyCoder c) {
   switch (c) {
-    case EntropyCoder::kArith4:
+    case EntropyCoder::kQuadtree:
       return "arith4";
-    case EntropyCoder::kArith3:
+    case EntropyCoder::kSetSignContexts:
       return "arith3";
-    case EntropyCoder::kArith2:
+    case EntropyCoder::kNeighbourContexts:
       return "arith2";
     case EntropyCoder::kArith:
       return "arith";

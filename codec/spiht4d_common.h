@@ -27,7 +27,7 @@
 #include <memory>
 #include <vector>
 
-#include "codec/quadtree4d.h"
+#include "codec/quadtree4d_common.h"
 #include "codec/subband_weights.h"
 #include "codec/wavelet.h"
 
@@ -39,22 +39,22 @@ enum class EntropyCoder : uint8_t {
   // Format version 4: the same range coder with the neighbourhood contexts of
   // ctx2 below (significance of the coefficients at t - 1 and t + 1, of a set's
   // root and its neighbours, and of a refined coefficient's neighbours).
-  kArith2 = 2,
+  kNeighbourContexts = 2,
   // Format version 5: ctx3 below (a set's significance also on its root's
   // magnitude and on the sets of its neighbours in space and time, a sign on
   // the signs of four spatial and two temporal neighbours) with probabilities
   // that adapt fast while a context is young (mixing::Update).
-  kArith3 = 3,
+  kSetSignContexts = 3,
   // Format version 8: not SPIHT's sets but a quadtree per subband
-  // (codec/quadtree4d.h), with coder 3's count-adaptive probabilities.
-  kArith4 = 4,
+  // (codec/quadtree4d_common.h), with coder 3's count-adaptive probabilities.
+  kQuadtree = 4,
 };
 constexpr int kEntropyCoders = 5;
 const char* CoderName(EntropyCoder c);
 inline bool RangeCoded(EntropyCoder c) { return c != EntropyCoder::kBinary; }
 // Probabilities that adapt fast while a context is young (mixing::Update).
 inline bool CountAdaptive(EntropyCoder c) {
-  return c == EntropyCoder::kArith3 || c == EntropyCoder::kArith4;
+  return c == EntropyCoder::kSetSignContexts || c == EntropyCoder::kQuadtree;
 }
 
 constexpr int kMaxChildren = 81;  // 3 per axis in the odd-size corner case
@@ -422,10 +422,10 @@ void SpihtTraverse(const SpihtTree& tree, int planes, Side* side) {
 template <class Side>
 void SpihtTraverse(EntropyCoder coder, const SpihtTree& tree, int planes, Side* side) {
   switch (coder) {
-    case EntropyCoder::kArith3:
+    case EntropyCoder::kSetSignContexts:
       SpihtTraverse<ContextSet::kSets>(tree, planes, side);
       break;
-    case EntropyCoder::kArith2:
+    case EntropyCoder::kNeighbourContexts:
       SpihtTraverse<ContextSet::kNeighbourhood>(tree, planes, side);
       break;
     default:

@@ -39,8 +39,8 @@ enum class BandWeights : uint8_t {
   // Format version 6 (coding tool 15): the norm of the coefficient's own band. At
   // its level l (the smallest non-zero band code; roots have none), an axis whose
   // band code is l contributes the detail norm of split l, every other axis the
-  // low norm after min(l, K_a) splits. +0.25 to +0.38 dB on the atlas textures
-  // and +0.09 to +0.17 dB on the Kodak images at equal bytes.
+  // low norm after min(l, K_a) splits (docs/encoder.md, "Own-band subband
+  // weights").
   kOwnBand = 1,
 };
 
@@ -68,8 +68,8 @@ double ComputeAxisNorm(WaveletKernel kernel, bool high, int level);
 // f, SPEC.md 9.6's f). The reversible kernels have none. The 9/7 had 2 up to
 // format version 2 (texr version 0); format version 3 declares f in texr
 // version 1, and the encoder writes 5: at 2 bits the rounding of the lifting
-// steps cost as much as the quantiser at high rates (1.6 dB at 20:1 on the demo
-// atlas textures). Above 6 nothing is gained and the headroom of 32-bit
+// steps cost as much as the quantiser at high rates (docs/encoder.md, "The
+// 9/7's sample precision"). Above 6 nothing is gained and the headroom of 32-bit
 // coefficients shrinks.
 constexpr int kFracBits97Legacy = 2;
 constexpr int kFracBits97 = 5;

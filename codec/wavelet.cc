@@ -4,7 +4,7 @@
 #include <cstring>
 #include <functional>
 
-#include "codec/simd.h"
+#include "codec/base/simd.h"
 
 namespace fvv {
 

@@ -20,8 +20,8 @@
 #include <functional>
 #include <vector>
 
+#include "codec/base/parallel.h"
 #include "codec/block.h"
-#include "codec/parallel.h"
 
 namespace fvv {
 

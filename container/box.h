@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "codec/bit_io.h"
-#include "codec/status.h"
+#include "codec/base/bit_io.h"
+#include "codec/base/status.h"
 
 namespace fvv {
 

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "codec/status.h"
+#include "codec/base/status.h"
 #include "container/box.h"
 
 namespace fvv {

@@ -16,11 +16,11 @@ uint32_t TextureTools(WaveletKernel kernel, EntropyCoder coder, ColourSpace colo
   if (frac_bits != LegacyFracBits(kernel)) tools |= kToolTexturePrecision;
   if (weights == BandWeights::kOwnBand) tools |= kToolOwnBandWeights;
   if (sample_frac > 0) tools |= kToolSamplePrecision | kToolOwnBandWeights;
-  tools |= coder == EntropyCoder::kArith4   ? kToolQuadtreeArith4
-           : coder == EntropyCoder::kArith3 ? kToolSpihtArith3
-           : coder == EntropyCoder::kArith2 ? kToolSpihtArith2
-           : coder == EntropyCoder::kArith  ? kToolSpihtArith
-                                            : kToolSpihtBinary;
+  tools |= coder == EntropyCoder::kQuadtree            ? kToolQuadtreeArith4
+           : coder == EntropyCoder::kSetSignContexts   ? kToolSpihtArith3
+           : coder == EntropyCoder::kNeighbourContexts ? kToolSpihtArith2
+           : coder == EntropyCoder::kArith             ? kToolSpihtArith
+                                                       : kToolSpihtBinary;
   if (chroma == ChromaFormat::k420) tools |= kToolChroma420;
   if (colour == ColourSpace::kRct) tools |= kToolReversibleColour;
   return tools;

@@ -9,10 +9,10 @@
 #include <cstdint>
 #include <vector>
 
+#include "codec/base/status.h"
 #include "codec/block_codec.h"
-#include "codec/mask_coder.h"
+#include "codec/mask.h"
 #include "codec/predictive_texture.h"
-#include "codec/status.h"
 #include "container/box.h"
 #include "container/file_header.h"
 
@@ -40,7 +40,7 @@ struct FragmentData {
   EncodedBlock texture;                         // params.shape follows info and the header
   bool predictive = false;                      // the texture is 'ptex', in `predictive_texture`
   PredictiveStreams predictive_texture;         // levels follow the atlas size
-  std::vector<uint8_t> masks;                   // coded masks (codec/mask_coder.h); empty = absent
+  std::vector<uint8_t> masks;                   // coded masks (codec/mask.h); empty = absent
   MaskCoding mask_mode = MaskCoding::kContext;  // how `masks` is coded (mode 2: version 2)
   std::vector<uint8_t> vertex_visibility;       // coded; empty = absent
   uint32_t checksum = 0;                        // filled by the reader

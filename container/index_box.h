@@ -6,7 +6,7 @@
 #include <utility>
 #include <vector>
 
-#include "codec/status.h"
+#include "codec/base/status.h"
 #include "container/box.h"
 #include "container/file_header.h"
 

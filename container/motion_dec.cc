@@ -1,7 +1,7 @@
 // Motion track decoder (SPEC.md 6.3, 6.4).
 #include <zstd.h>
 
-#include "container/motion_traversal.h"
+#include "container/motion_common.h"
 
 namespace fvv {
 namespace motion {

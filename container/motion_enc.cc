@@ -3,7 +3,7 @@
 
 #include <algorithm>
 
-#include "container/motion_traversal.h"
+#include "container/motion_common.h"
 
 namespace fvv {
 namespace motion {

@@ -13,7 +13,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "codec/status.h"
+#include "codec/base/status.h"
 #include "container/body_model.h"
 #include "container/box.h"
 #include "container/fixed_rotation.h"

@@ -6,7 +6,7 @@
 
 #include <vector>
 
-#include "codec/status.h"
+#include "codec/base/status.h"
 #include "container/body_model.h"
 #include "container/box.h"
 #include "container/cameras.h"

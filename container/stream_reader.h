@@ -18,7 +18,7 @@
 
 #include <vector>
 
-#include "codec/status.h"
+#include "codec/base/status.h"
 #include "container/fragment.h"
 #include "container/stream_info.h"
 

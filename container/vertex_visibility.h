@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "codec/status.h"
+#include "codec/base/status.h"
 
 namespace fvv {
 

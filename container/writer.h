@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "codec/status.h"
+#include "codec/base/status.h"
 #include "container/fragment.h"
 #include "container/stream_info.h"
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "codec/block_codec.h"
-#include "codec/mask_coder.h"
+#include "codec/mask.h"
 #include "codec/predictive_texture.h"
 #include "container/stream_reader.h"
 #include "container/vertex_visibility.h"

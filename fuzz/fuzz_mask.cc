@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "codec/mask_coder.h"
+#include "codec/mask.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 4) return 0;

@@ -10,9 +10,9 @@
 
 #include "codec/block_syntax.h"
 #include "codec/colour.h"
-#include "codec/mask_coder.h"
+#include "codec/mask.h"
+#include "conformance/sample/sample_stream.h"
 #include "container/writer.h"
-#include "encoder/sample/sample_stream.h"
 #include "fuzz/fuzz_skeleton.h"
 
 namespace fvv {
@@ -54,30 +54,30 @@ int Run(const std::string& dir) {
       {"arith2",
        [](SampleStreamOptions* o) {
          o->frac_bits_97 = kFracBits97;
-         o->coder = EntropyCoder::kArith2;
+         o->coder = EntropyCoder::kNeighbourContexts;
        }},
       {"arith3",
        [](SampleStreamOptions* o) {
          o->frac_bits_97 = kFracBits97;
-         o->coder = EntropyCoder::kArith3;
+         o->coder = EntropyCoder::kSetSignContexts;
        }},
       {"own_band_weights",
        [](SampleStreamOptions* o) {
          o->frac_bits_97 = kFracBits97;
-         o->coder = EntropyCoder::kArith3;
+         o->coder = EntropyCoder::kSetSignContexts;
          o->weights = BandWeights::kOwnBand;
        }},
       {"sample_precision",
        [](SampleStreamOptions* o) {
          o->frac_bits_97 = kFracBits97;
-         o->coder = EntropyCoder::kArith3;
+         o->coder = EntropyCoder::kSetSignContexts;
          o->weights = BandWeights::kOwnBand;
          o->sample_frac = 3;
        }},
       {"arith4",
        [](SampleStreamOptions* o) {
          o->frac_bits_97 = kFracBits97;
-         o->coder = EntropyCoder::kArith4;
+         o->coder = EntropyCoder::kQuadtree;
          o->weights = BandWeights::kOwnBand;
          o->sample_frac = 3;
        }},

@@ -1,4 +1,4 @@
-// The texture atlas (issue 6): every triangle of the generic body gets texels,
+// The texture atlas: every triangle of the generic body gets texels,
 // none shared with another triangle (rasterised coverage), charts keep their
 // gutters, texel density is uniform, seams duplicate vertices faithfully.
 #include "encoder/atlas/atlas.h"

@@ -1,4 +1,4 @@
-// Capture directories and calibration (issue 4): projection round trips,
+// Capture directories and calibration: projection round trips,
 // calibration sanity checks, capture.json errors that name what is wrong,
 // frame sources (image sequences, ffmpeg-decoded video).
 #include "encoder/capture/capture.h"

@@ -1,5 +1,5 @@
-// The shape-adaptive wavelet transform and shape-adaptive BISK (issue 9,
-// section 2): exact round trips, only in-shape texels coded, embeddedness.
+// The shape-adaptive wavelet transform and shape-adaptive BISK:
+// exact round trips, only in-shape texels coded, embeddedness.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -7,10 +7,10 @@
 #include <random>
 #include <thread>
 
+#include "codec/base/large_buffer.h"
+#include "codec/base/thread_pool.h"
 #include "codec/block_codec.h"
 #include "codec/block_syntax.h"
-#include "codec/large_buffer.h"
-#include "codec/thread_pool.h"
 #include "tests/test_blocks.h"
 
 namespace fvv {
@@ -262,8 +262,8 @@ TEST(BlockFile, HeaderErrorsAreNamed) {
 // Coder 2 needs block file version 3 and coder 3 version 4; versions 1 and 2
 // name coders 0 and 1 only, and coder 4 does not exist.
 TEST(BlockFile, EachCoderHasItsFirstVersion) {
-  for (const auto& [coder, version] :
-       {std::pair{EntropyCoder::kArith2, 3}, std::pair{EntropyCoder::kArith3, 4}}) {
+  for (const auto& [coder, version] : {std::pair{EntropyCoder::kNeighbourContexts, 3},
+                                       std::pair{EntropyCoder::kSetSignContexts, 4}}) {
     const std::vector<uint8_t> file = SmallBlockFile(coder);
     ASSERT_EQ(file[4], version);
     EXPECT_EQ(file[6], static_cast<uint8_t>(coder));  // after magic, version and kernel
@@ -291,7 +291,7 @@ TEST(BlockFile, EachCoderHasItsFirstVersion) {
 // version 4 decode validly but differently (the weights are not in the
 // payload: the version says them).
 TEST(BlockFile, Version5HasOwnBandWeights) {
-  for (EntropyCoder coder : {EntropyCoder::kArith, EntropyCoder::kArith3}) {
+  for (EntropyCoder coder : {EntropyCoder::kArith, EntropyCoder::kSetSignContexts}) {
     const std::vector<uint8_t> file = SmallBlockFile(coder, BandWeights::kOwnBand);
     ASSERT_EQ(file[4], 5);
     auto parsed = ReadBlockFile(file.data(), file.size());
@@ -313,10 +313,12 @@ TEST(BlockFile, Version5HasOwnBandWeights) {
 // Every prefix and every single-byte change: a defined outcome, never a crash
 // (run under ASan+UBSan in CI).
 TEST(BlockFile, EveryPrefixAndByteFlipEndsInErrorOrValidDecode) {
-  for (EntropyCoder coder : {EntropyCoder::kBinary, EntropyCoder::kArith, EntropyCoder::kArith2,
-                             EntropyCoder::kArith3, EntropyCoder::kArith4}) {
-    const std::vector<uint8_t> file = SmallBlockFile(
-        coder, coder >= EntropyCoder::kArith3 ? BandWeights::kOwnBand : BandWeights::kAxisBands);
+  for (EntropyCoder coder :
+       {EntropyCoder::kBinary, EntropyCoder::kArith, EntropyCoder::kNeighbourContexts,
+        EntropyCoder::kSetSignContexts, EntropyCoder::kQuadtree}) {
+    const std::vector<uint8_t> file =
+        SmallBlockFile(coder, coder >= EntropyCoder::kSetSignContexts ? BandWeights::kOwnBand
+                                                                      : BandWeights::kAxisBands);
     for (size_t n = 0; n < file.size(); ++n) {
       auto parsed = ReadBlockFile(file.data(), n);
       ASSERT_FALSE(parsed.ok()) << "prefix " << n << " parsed";
@@ -368,7 +370,7 @@ TEST(Decoder, RandomStreamsWithValidHeadersDecodeToClampedSamples) {
       for (uint8_t& b : s.data) b = static_cast<uint8_t>(rng());
     }
     for (EntropyCoder coder :
-         {EntropyCoder::kBinary, EntropyCoder::kArith, EntropyCoder::kArith4}) {
+         {EntropyCoder::kBinary, EntropyCoder::kArith, EntropyCoder::kQuadtree}) {
       enc.params.coder = coder;
       auto dec = DecodeBlock(enc, DecodeBudget{}, SerialRunner);
       ASSERT_TRUE(dec.ok());

@@ -7,7 +7,7 @@
 #include <random>
 
 #include "codec/logistic_mixing.h"
-#include "codec/mask_coder.h"
+#include "codec/mask.h"
 
 namespace fvv {
 namespace {

@@ -1,4 +1,4 @@
-// The predictive multi-view texture scheme (issue 9, section 1): closed loop,
+// The predictive multi-view texture scheme: closed loop,
 // lossless at full length, rate control, and what prediction saves.
 #include <gtest/gtest.h>
 

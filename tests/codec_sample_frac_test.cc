@@ -198,7 +198,7 @@ TEST(SampleFrac, BlockFileVersion7CarriesCoder4) {
   const std::vector<uint8_t> rgb = TestRgb(shape, 4);
   EncodeSettings s;
   s.rate_value = 2.0;
-  s.coder = EntropyCoder::kArith4;
+  s.coder = EntropyCoder::kQuadtree;
   auto enc = EncodeBlock(
       BlockFromRgb(rgb.data(), shape, ColourSpace::kYCbCr601, ChromaFormat::k444, 3), nullptr, s);
   ASSERT_TRUE(enc.ok());
@@ -207,7 +207,7 @@ TEST(SampleFrac, BlockFileVersion7CarriesCoder4) {
   ASSERT_EQ(file[6], 4);  // coder
   auto parsed = ReadBlockFile(file.data(), file.size());
   ASSERT_TRUE(parsed.ok()) << parsed.status().ToString();
-  EXPECT_EQ(parsed->params.coder, EntropyCoder::kArith4);
+  EXPECT_EQ(parsed->params.coder, EntropyCoder::kQuadtree);
   EXPECT_EQ(WriteBlockFile(*parsed), file);
   std::vector<uint8_t> bad = file;
   bad[4] = 6;

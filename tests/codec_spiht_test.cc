@@ -6,21 +6,23 @@
 #include <cmath>
 #include <random>
 
+#include "codec/base/thread_pool.h"
 #include "codec/block_codec.h"
-#include "codec/quadtree4d.h"
 #include "codec/spiht4d.h"
-#include "codec/thread_pool.h"
+#include "tests/codec_coding_comparison.h"
 #include "tests/test_blocks.h"
 
 namespace fvv {
 namespace {
 
+using ::fvv::testing::CodedPsnr;
+using ::fvv::testing::MovingAndStillBlocks;
+using ::fvv::testing::MovingTextureBlock;
+using ::fvv::testing::PsnrAtRate;
 using ::fvv::testing::RandomBlock;
 using ::fvv::testing::SmoothBlock;
 
-const Shape4D kOddShapes[] = {Shape4D{{3, 5, 17, 33}}, Shape4D{{1, 1, 64, 64}},
-                              Shape4D{{8, 8, 32, 32}}, Shape4D{{2, 7, 1, 9}},
-                              Shape4D{{1, 1, 1, 1}},   Shape4D{{5, 1, 3, 1}}};
+using ::fvv::testing::kOddShapes;
 
 TEST(SpihtTree, EveryCoefficientHasExactlyOneTreePath) {
   for (const Shape4D& shape : kOddShapes) {
@@ -140,68 +142,14 @@ INSTANTIATE_TEST_SUITE_P(
     KernelsAndCoders, LosslessRoundTrip,
     ::testing::Values(LosslessCase{WaveletKernel::kHaar, EntropyCoder::kBinary},
                       LosslessCase{WaveletKernel::kHaar, EntropyCoder::kArith},
-                      LosslessCase{WaveletKernel::kHaar, EntropyCoder::kArith2},
-                      LosslessCase{WaveletKernel::kHaar, EntropyCoder::kArith3},
-                      LosslessCase{WaveletKernel::kHaar, EntropyCoder::kArith4},
+                      LosslessCase{WaveletKernel::kHaar, EntropyCoder::kNeighbourContexts},
+                      LosslessCase{WaveletKernel::kHaar, EntropyCoder::kSetSignContexts},
+                      LosslessCase{WaveletKernel::kHaar, EntropyCoder::kQuadtree},
                       LosslessCase{WaveletKernel::kLeGall53, EntropyCoder::kBinary},
                       LosslessCase{WaveletKernel::kLeGall53, EntropyCoder::kArith},
-                      LosslessCase{WaveletKernel::kLeGall53, EntropyCoder::kArith2},
-                      LosslessCase{WaveletKernel::kLeGall53, EntropyCoder::kArith3},
-                      LosslessCase{WaveletKernel::kLeGall53, EntropyCoder::kArith4}));
-
-// A textured block whose frames are the same pattern moved a little (as a
-// GOP's atlas textures are, where the tracked surface slides by a texel or so):
-// edges of a coarse checker and a few sinusoids, plus noise.
-Block MovingTextureBlock(const Shape4D& shape, uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::uniform_int_distribution<int32_t> noise(-1, 1);
-  return testing::FunctionBlock(
-      shape, ColourSpace::kYCbCr601, [&](int c, uint32_t t, uint32_t cam, uint32_t y, uint32_t x) {
-        const double u = x + 0.4 * t + 3.0 * cam, w = y + 0.25 * t;
-        const bool check = (int(u / 29) + int(w / 23)) % 2 != 0;
-        const double v = 128 + (check ? 12 : -12) / (c + 1.0) + 20 * std::sin(0.05 * u + c) +
-                         15 * std::cos(0.04 * w - 0.03 * u);
-        return std::clamp<int32_t>(static_cast<int32_t>(v) + noise(rng), 0, 255);
-      });
-}
-
-// PSNR of `block` coded at `bpp` with `coder`, of Y and of the three channels
-// weighted as in RGB (what the rate allocation minimises); also checks that the
-// stream read with the contexts of `other` decodes to something else.
-struct CodedPsnr {
-  double y = 0, weighted = 0;
-};
-CodedPsnr PsnrAtRate(const Block& block, EntropyCoder coder, double bpp, EntropyCoder other,
-                     ThreadPool* pool, BandWeights weights = BandWeights::kOwnBand) {
-  EncodeSettings s;
-  s.coder = coder;
-  s.weights = weights;
-  s.rate_value = bpp;
-  s.runner = pool->runner();
-  s.prune_isolated = false;  // the coder alone: pruning helps both, the weaker more
-  auto enc = EncodeBlock(block, nullptr, s);
-  EXPECT_TRUE(enc.ok()) << enc.status().ToString();
-  if (!enc.ok()) return {};
-  EXPECT_EQ(enc->params.coder, coder);
-  EXPECT_LE(enc->total_bytes(), uint64_t(std::ceil(bpp * block.shape().count() / 8)));
-  auto dec = DecodeBlock(*enc, DecodeBudget{}, pool->runner());
-  EXPECT_TRUE(dec.ok()) << dec.status().ToString();
-  if (!dec.ok()) return {};
-  EncodedBlock wrong = *enc;
-  wrong.params.coder = other;
-  auto misread = DecodeBlock(wrong, DecodeBudget{}, pool->runner());
-  EXPECT_TRUE(misread.ok());
-  if (misread.ok()) {
-    EXPECT_NE(misread->channels[0].samples, dec->channels[0].samples);
-  }
-  double mse = 0, weight_sum = 0;
-  for (int c = 0; c < 3; ++c) {
-    mse += s.channel_weights[c] * ChannelMse(block.channels[c], dec->channels[c], nullptr);
-    weight_sum += s.channel_weights[c];
-  }
-  return {PsnrFromMse(ChannelMse(block.channels[0], dec->channels[0], nullptr)),
-          PsnrFromMse(mse / weight_sum)};
-}
+                      LosslessCase{WaveletKernel::kLeGall53, EntropyCoder::kNeighbourContexts},
+                      LosslessCase{WaveletKernel::kLeGall53, EntropyCoder::kSetSignContexts},
+                      LosslessCase{WaveletKernel::kLeGall53, EntropyCoder::kQuadtree}));
 
 // Coder 2 (format version 4) against coder 1, and coder 3 (version 5) against
 // coder 2: the same decisions in the same order with other contexts, so the
@@ -216,21 +164,15 @@ TEST(Arith2, BetterAtEqualBytesOnBlocksCorrelatedInTime) {
   // bpp, +0.56 dB at 0.4 bpp. (With own-band weights, weighted PSNR: +0.14 and
   // +0.35 dB.)
   for (double bpp : {0.1, 0.4}) {
-    const double arith = PsnrAtRate(block, EntropyCoder::kArith, bpp, EntropyCoder::kArith2, &pool,
-                                    BandWeights::kAxisBands)
-                             .y;
-    const double arith2 = PsnrAtRate(block, EntropyCoder::kArith2, bpp, EntropyCoder::kArith, &pool,
-                                     BandWeights::kAxisBands)
+    const double arith =
+        PsnrAtRate(block, EntropyCoder::kArith, bpp, EntropyCoder::kNeighbourContexts, &pool,
+                   BandWeights::kAxisBands)
+            .y;
+    const double arith2 = PsnrAtRate(block, EntropyCoder::kNeighbourContexts, bpp,
+                                     EntropyCoder::kArith, &pool, BandWeights::kAxisBands)
                               .y;
     EXPECT_GT(arith2, arith + 0.2) << "at " << bpp << " bpp";
   }
-}
-
-// The two blocks the coding comparisons below run on: an 8-frame moving
-// texture and one larger still frame of it.
-std::pair<Block, Block> MovingAndStillBlocks() {
-  return {MovingTextureBlock(Shape4D{{8, 1, 256, 256}}, 5),
-          MovingTextureBlock(Shape4D{{1, 1, 384, 384}}, 7)};
 }
 
 // Coder 3 gains in space as well as in time: on the moving texture and on one
@@ -244,74 +186,13 @@ TEST(Arith3, BetterAtEqualBytesThanArith2) {
   for (const auto& [block, bpp] :
        {std::pair{&moving, 0.05}, std::pair{&moving, 0.1}, std::pair{&moving, 0.2},
         std::pair{&still, 0.1}, std::pair{&still, 0.2}, std::pair{&still, 0.3}}) {
-    const double arith2 =
-        PsnrAtRate(*block, EntropyCoder::kArith2, bpp, EntropyCoder::kArith3, &pool).weighted;
-    const double arith3 =
-        PsnrAtRate(*block, EntropyCoder::kArith3, bpp, EntropyCoder::kArith2, &pool).weighted;
+    const double arith2 = PsnrAtRate(*block, EntropyCoder::kNeighbourContexts, bpp,
+                                     EntropyCoder::kSetSignContexts, &pool)
+                              .weighted;
+    const double arith3 = PsnrAtRate(*block, EntropyCoder::kSetSignContexts, bpp,
+                                     EntropyCoder::kNeighbourContexts, &pool)
+                              .weighted;
     EXPECT_GT(arith3, arith2 + 0.05) << block->shape().ToString() << " at " << bpp << " bpp";
-  }
-}
-
-// Coder 4 (format version 8) against coder 3 on textures that fill the fine
-// bands: quadtrees per band code them with fewer decisions than SPIHT's set
-// tests. Weighted PSNR at equal bytes. Measured: still +0.28, +0.74, +1.50 and
-// +0.65 dB at 0.1, 0.2, 0.3 and 1 bpp; moving +0.27, +0.91 and +0.59 dB at
-// 0.05, 0.1 and 0.2 bpp. (On the demo's atlas textures, with their smooth
-// fills, the two are within 0.02 dB: docs/encoder.md.)
-TEST(Arith4, BetterAtEqualBytesThanArith3OnTextures) {
-  ThreadPool pool(2);
-  const auto [moving, still] = MovingAndStillBlocks();
-  for (double bpp : {0.1, 0.2, 0.3, 1.0}) {
-    const double arith3 =
-        PsnrAtRate(still, EntropyCoder::kArith3, bpp, EntropyCoder::kArith4, &pool).weighted;
-    const double arith4 =
-        PsnrAtRate(still, EntropyCoder::kArith4, bpp, EntropyCoder::kArith3, &pool).weighted;
-    EXPECT_GT(arith4, arith3 + 0.1) << "still, at " << bpp << " bpp";
-  }
-  for (double bpp : {0.05, 0.1, 0.2}) {
-    const double arith3 =
-        PsnrAtRate(moving, EntropyCoder::kArith3, bpp, EntropyCoder::kArith4, &pool).weighted;
-    const double arith4 =
-        PsnrAtRate(moving, EntropyCoder::kArith4, bpp, EntropyCoder::kArith3, &pool).weighted;
-    EXPECT_GT(arith4, arith3 + 0.1) << "moving, at " << bpp << " bpp";
-  }
-}
-
-// Coder 4's bands: every coefficient in exactly one band, each band's parent a
-// level up with the same high-pass axes, each tree level's grid the one below
-// halved, and one node at the top.
-TEST(QuadtreeLayout, BandsPartitionTheBlockAndTreesHalve) {
-  for (const Shape4D& shape :
-       {kOddShapes[0], kOddShapes[1], kOddShapes[2], kOddShapes[3], kOddShapes[4], kOddShapes[5],
-        Shape4D{{8, 1, 512, 512}}, Shape4D{{1, 1, 512, 768}}}) {
-    const WaveletGeometry g(shape);
-    const QuadtreeLayout layout(g);
-    std::vector<int> covered(shape.count(), 0);
-    size_t nodes = 0;
-    for (const QuadtreeBand& b : layout.bands()) {
-      std::array<uint32_t, kAxes> p;
-      for (p[0] = 0; p[0] < b.n[0]; ++p[0])
-        for (p[1] = 0; p[1] < b.n[1]; ++p[1])
-          for (p[2] = 0; p[2] < b.n[2]; ++p[2])
-            for (p[3] = 0; p[3] < b.n[3]; ++p[3]) ++covered[layout.Coefficient(b, p)];
-      if (b.parent >= 0) {
-        const QuadtreeBand& parent = layout.bands()[b.parent];
-        EXPECT_EQ(parent.level, b.level + 1);
-        EXPECT_EQ(parent.axes, b.axes);
-      }
-      ASSERT_EQ(b.dims.size(), size_t(b.top) + 1);
-      EXPECT_EQ(b.dims[0], b.n);
-      for (int k = 1; k <= b.top; ++k)
-        for (int a = 0; a < kAxes; ++a) EXPECT_EQ(b.dims[k][a], (b.dims[k - 1][a] + 1) / 2);
-      EXPECT_EQ(b.dims[b.top], (std::array<uint32_t, kAxes>{1, 1, 1, 1}));
-      for (int k = 0; k <= b.top; ++k) {
-        EXPECT_EQ(b.offset[k], nodes);
-        nodes += size_t(b.dims[k][0]) * b.dims[k][1] * b.dims[k][2] * b.dims[k][3];
-      }
-    }
-    EXPECT_EQ(nodes, layout.nodes());
-    for (size_t i = 0; i < covered.size(); ++i)
-      ASSERT_EQ(covered[i], 1) << shape.ToString() << " coefficient " << i;
   }
 }
 
@@ -326,11 +207,12 @@ TEST(OwnBandWeights, BetterAtEqualBytesThanAxisBands) {
   for (const auto& [block, bpp] :
        {std::pair{&moving, 0.05}, std::pair{&moving, 0.1}, std::pair{&moving, 0.4},
         std::pair{&still, 0.1}, std::pair{&still, 0.3}, std::pair{&still, 1.0}}) {
-    const double axis = PsnrAtRate(*block, EntropyCoder::kArith3, bpp, EntropyCoder::kArith2, &pool,
-                                   BandWeights::kAxisBands)
+    const double axis = PsnrAtRate(*block, EntropyCoder::kSetSignContexts, bpp,
+                                   EntropyCoder::kNeighbourContexts, &pool, BandWeights::kAxisBands)
                             .weighted;
-    const double own =
-        PsnrAtRate(*block, EntropyCoder::kArith3, bpp, EntropyCoder::kArith2, &pool).weighted;
+    const double own = PsnrAtRate(*block, EntropyCoder::kSetSignContexts, bpp,
+                                  EntropyCoder::kNeighbourContexts, &pool)
+                           .weighted;
     EXPECT_GT(own, axis + 0.1) << block->shape().ToString() << " at " << bpp << " bpp";
   }
 }
@@ -406,15 +288,17 @@ TEST_P(Embedded, QualityNeverDropsAsBytesAreAdded) {
 
 INSTANTIATE_TEST_SUITE_P(
     KernelsAndCoders, Embedded,
-    ::testing::Combine(
-        ::testing::Values(WaveletKernel::kHaar, WaveletKernel::kLeGall53, WaveletKernel::kCdf97),
-        ::testing::Values(EntropyCoder::kBinary, EntropyCoder::kArith, EntropyCoder::kArith2,
-                          EntropyCoder::kArith3, EntropyCoder::kArith4)));
+    ::testing::Combine(::testing::Values(WaveletKernel::kHaar, WaveletKernel::kLeGall53,
+                                         WaveletKernel::kCdf97),
+                       ::testing::Values(EntropyCoder::kBinary, EntropyCoder::kArith,
+                                         EntropyCoder::kNeighbourContexts,
+                                         EntropyCoder::kSetSignContexts, EntropyCoder::kQuadtree)));
 
 TEST(Embedded, EveryPrefixOfASmallStreamDecodes) {
   const Shape4D shape{{2, 2, 8, 12}};
-  for (EntropyCoder coder : {EntropyCoder::kBinary, EntropyCoder::kArith, EntropyCoder::kArith2,
-                             EntropyCoder::kArith3, EntropyCoder::kArith4}) {
+  for (EntropyCoder coder :
+       {EntropyCoder::kBinary, EntropyCoder::kArith, EntropyCoder::kNeighbourContexts,
+        EntropyCoder::kSetSignContexts, EntropyCoder::kQuadtree}) {
     const EncodedBlock enc = EncodeSmooth(shape, WaveletKernel::kCdf97, coder, 3.0);
     const Block ref = SmoothBlock(shape, ColourSpace::kYCbCr601, 9);
     for (uint64_t bytes = 1; bytes <= enc.total_bytes(); ++bytes) {
@@ -558,18 +442,18 @@ INSTANTIATE_TEST_SUITE_P(
                                    0x287e15cac8b5f9ebull, 0xc935b295c6cd14e6ull},
                       PinnedDecode{kFracBits97, EntropyCoder::kArith, kAxis, 0x037d962b1e93695full,
                                    0xb763be1644f0c3a9ull},
-                      PinnedDecode{kFracBits97, EntropyCoder::kArith2, kAxis, 0xfab51f3cb3aa7083ull,
-                                   0xaefdc83fd44d6fdeull},
-                      PinnedDecode{kFracBits97, EntropyCoder::kArith3, kAxis, 0x62dc3d1b0be03817ull,
-                                   0x8606325f993a04eeull},
+                      PinnedDecode{kFracBits97, EntropyCoder::kNeighbourContexts, kAxis,
+                                   0xfab51f3cb3aa7083ull, 0xaefdc83fd44d6fdeull},
+                      PinnedDecode{kFracBits97, EntropyCoder::kSetSignContexts, kAxis,
+                                   0x62dc3d1b0be03817ull, 0x8606325f993a04eeull},
                       PinnedDecode{kFracBits97, EntropyCoder::kArith, kOwn, 0xf6654a815f27012full,
                                    0xcc775231cbac1526ull},
-                      PinnedDecode{kFracBits97, EntropyCoder::kArith3, kOwn, 0x8b48ddf06e991203ull,
-                                   0x61f784c10149a7fcull},
-                      PinnedDecode{kFracBits97, EntropyCoder::kArith3, kOwn, 0xa68e2db331ebfc81ull,
-                                   0x5730cf6b7812a4bfull, 3},
-                      PinnedDecode{kFracBits97, EntropyCoder::kArith4, kOwn, 0xf6bfd95d18e268abull,
-                                   0xb4df560a3fcfad7dull, 3}));
+                      PinnedDecode{kFracBits97, EntropyCoder::kSetSignContexts, kOwn,
+                                   0x8b48ddf06e991203ull, 0x61f784c10149a7fcull},
+                      PinnedDecode{kFracBits97, EntropyCoder::kSetSignContexts, kOwn,
+                                   0xa68e2db331ebfc81ull, 0x5730cf6b7812a4bfull, 3},
+                      PinnedDecode{kFracBits97, EntropyCoder::kQuadtree, kOwn,
+                                   0xf6bfd95d18e268abull, 0xb4df560a3fcfad7dull, 3}));
 
 }  // namespace
 }  // namespace fvv

@@ -12,8 +12,8 @@
 #include "conformance/lib/conformance_case.h"
 #include "conformance/lib/runner.h"
 #include "conformance/lib/sha256.h"
+#include "conformance/sample/sample_stream.h"
 #include "container/file_header.h"
-#include "encoder/sample/sample_stream.h"
 #include "fvv/fvv_types.h"
 #include "gtest/gtest.h"
 
@@ -258,7 +258,7 @@ TEST(Coverage, EveryVersionToolLevelAndErrorHasACase) {
 // The README's table is how implementers find a case for a tool: it must name
 // every case of the suite.
 TEST(Coverage, ReadmeNamesEveryCase) {
-  std::ifstream in(kSuite + "/README.md");
+  std::ifstream in(kSuite + "/../README.md");
   const std::string readme(std::istreambuf_iterator<char>(in), {});
   ASSERT_FALSE(readme.empty());
   auto dirs = FindCaseDirs(kSuite);

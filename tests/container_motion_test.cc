@@ -5,8 +5,8 @@
 #include <cmath>
 #include <random>
 
+#include "conformance/sample/sample_stream.h"
 #include "container/motion_track.h"
-#include "encoder/sample/sample_stream.h"
 
 namespace fvv {
 namespace {

@@ -7,14 +7,14 @@
 #include <cmath>
 #include <random>
 
+#include "codec/base/thread_pool.h"
 #include "codec/colour.h"
-#include "codec/mask_coder.h"
+#include "codec/mask.h"
 #include "codec/predictive_texture.h"
-#include "codec/thread_pool.h"
+#include "conformance/sample/sample_stream.h"
 #include "container/box.h"
 #include "container/crc32c.h"
 #include "container/file_reader.h"
-#include "encoder/sample/sample_stream.h"
 #include "fuzz/decode_all.h"
 #include "player/decoder/gop_decoder.h"
 

@@ -3,8 +3,8 @@
 // Run under ASan+UBSan in CI (tools/test.sh), which is what makes it bite.
 #include <gtest/gtest.h>
 
+#include "conformance/sample/sample_stream.h"
 #include "container/file_reader.h"
-#include "encoder/sample/sample_stream.h"
 #include "fuzz/decode_all.h"
 
 namespace fvv {

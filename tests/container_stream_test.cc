@@ -6,13 +6,13 @@
 #include <cstdio>
 #include <random>
 
-#include "codec/mask_coder.h"
+#include "codec/mask.h"
+#include "conformance/sample/sample_stream.h"
 #include "container/box.h"
 #include "container/crc32c.h"
 #include "container/file_reader.h"
 #include "container/stream_reader.h"
 #include "container/writer.h"
-#include "encoder/sample/sample_stream.h"
 #include "fuzz/decode_all.h"
 
 namespace fvv {

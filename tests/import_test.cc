@@ -1,4 +1,4 @@
-// Importers (issue 4): BVH motion and its retargeting onto the generic body
+// Importers: BVH motion and its retargeting onto the generic body
 // model; skinned, animated glTF 2.0 characters (CesiumMan from ../shared/data).
 #include <gtest/gtest.h>
 #include <sys/stat.h>

@@ -1,8 +1,8 @@
-// Shape refinement (issue 10, sections 3 and 6) and its parts: nearest-surface
+// Shape refinement and its parts: nearest-surface
 // queries, the visual hull's surface mesh, and the refined model against a
 // synthetic actor's true surface (closer than the generic model and than the
 // visual hull, and better novel views from held-out cameras).
-#include "encoder/capture/shape_refinement.h"
+#include "encoder/shape/shape_refinement.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -17,12 +17,12 @@
 #include "encoder/body/kinematics.h"
 #include "encoder/body/mesh_ops.h"
 #include "encoder/capture/capture.h"
-#include "encoder/capture/capture_frames.h"
-#include "encoder/capture/surface_index.h"
 #include "encoder/encode/encoder.h"
 #include "encoder/encode/pose_file.h"
-#include "encoder/synth/shape_comparison.h"
-#include "encoder/synth/view_score.h"
+#include "encoder/shape/surface_index.h"
+#include "encoder/track/capture_frames.h"
+#include "tools/synth/shape_comparison.h"
+#include "tools/synth/view_score.h"
 
 namespace fvv {
 namespace {

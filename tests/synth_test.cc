@@ -1,8 +1,8 @@
-// fvv synth (issue 4): the generator's output agrees with its own ground truth
+// fvv synth: the generator's output agrees with its own ground truth
 // (silhouettes equal the projected posed mesh within a pixel; joints are the
 // body model's), images look like a capture (actor differs from the plate only
 // inside its silhouette and shadow), and output is deterministic for a seed.
-#include "encoder/synth/synth.h"
+#include "tools/synth/synth.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -13,7 +13,7 @@
 
 #include "encoder/body/kinematics.h"
 #include "encoder/capture/calibration.h"
-#include "encoder/capture/silhouette.h"
+#include "encoder/track/silhouette.h"
 
 namespace fvv {
 namespace {
@@ -249,7 +249,7 @@ TEST_F(SynthTest, DeterministicForASeed) {
 }
 
 // Background subtraction against the plates recovers the true silhouettes,
-// shadows excluded: what tracking starts from (issue 5).
+// shadows excluded: what tracking starts from.
 TEST_F(SynthTest, BackgroundSubtractionRecoversSilhouettes) {
   ASSERT_TRUE(result_.ok()) << result_.ToString();
   StatusOr<Capture> c = LoadCapture(dir_);

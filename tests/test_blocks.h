@@ -10,6 +10,11 @@
 
 namespace fvv::testing {
 
+// Shapes with odd, unequal and unit extents: where trees and bands have corners.
+inline const Shape4D kOddShapes[] = {Shape4D{{3, 5, 17, 33}}, Shape4D{{1, 1, 64, 64}},
+                                     Shape4D{{8, 8, 32, 32}}, Shape4D{{2, 7, 1, 9}},
+                                     Shape4D{{1, 1, 1, 1}},   Shape4D{{5, 1, 3, 1}}};
+
 // Uniform random samples in each channel's full range.
 inline Block RandomBlock(const Shape4D& shape, ColourSpace colour, uint32_t seed) {
   std::mt19937 rng(seed);

@@ -1,4 +1,4 @@
-// Marker-free motion capture (issue 5): on a short synthetic capture with
+// Marker-free motion capture: on a short synthetic capture with
 // known motion, silhouettes from background subtraction and the tracker recover
 // the joints within a bound; empty silhouettes and bad inputs are flagged or
 // refused, never a crash or a wild pose. Also Powell's method on its own.
@@ -10,14 +10,14 @@
 #include <cstdlib>
 
 #include "encoder/body/kinematics.h"
-#include "encoder/capture/joint_truth.h"
-#include "encoder/capture/pose_smoothing.h"
-#include "encoder/capture/powell.h"
-#include "encoder/capture/silhouette.h"
-#include "encoder/capture/track_capture.h"
-#include "encoder/capture/tracker.h"
-#include "encoder/synth/gltf_actor.h"
-#include "encoder/synth/synth.h"
+#include "encoder/track/joint_truth.h"
+#include "encoder/track/pose_smoothing.h"
+#include "encoder/track/powell.h"
+#include "encoder/track/silhouette.h"
+#include "encoder/track/track_capture.h"
+#include "encoder/track/tracker.h"
+#include "tools/synth/gltf_actor.h"
+#include "tools/synth/synth.h"
 
 namespace fvv {
 namespace {

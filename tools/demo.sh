@@ -14,7 +14,7 @@ out=${1:-out/demo}
 ./tools/setup.sh
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j2 --target fvv shape_bench
-fvv=build/encoder/cli/fvv
+fvv=build/tools/fvv/fvv
 rm -rf "$out" && mkdir -p "$out"
 echo "== the sample capture: 8 cameras at 640x480, 50 frames, with ground truth"
 motion=()
@@ -59,7 +59,7 @@ $fvv render "$out/capture.fvv" -o "$out/render_heldout" --cameras-from "$out/cap
 echo "== shape refinement: generic model, visual hull and refined model against a bumpy actor's true surface"
 build/bench/shape_bench --out "$out/shape"
 echo "== conformance: the suite's streams through the reference decoder (conformance/README.md)"
-$fvv conform conformance -q
+$fvv conform conformance/cases -q
 echo
 echo "outputs: $out/capture (capture.json, camNN/ frames, background/ plates, truth/ poses,"
 echo "         joints, silhouettes, texture, held-out views), $out/capture_sheet.png,"

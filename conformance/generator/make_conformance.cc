@@ -18,11 +18,11 @@
 
 #include "conformance/generator/stream_edit.h"
 #include "conformance/lib/runner.h"
+#include "conformance/sample/sample_stream.h"
 #include "container/file_header.h"
 #include "container/writer.h"
-#include "encoder/sample/sample_stream.h"
+#include "encoder/io/image_io.h"
 #include "fvv/fvv_types.h"
-#include "tools/imageio/image_io.h"
 
 namespace fvv {
 namespace {
@@ -379,12 +379,12 @@ std::vector<CaseSpec> ValidCases() {
     c.mask_coding = MaskCoding::kMixing;
     add(name + "_53_420_multicamera", the_53, c, {30, 200});
   };
-  coder_cases(EntropyCoder::kArith2,
+  coder_cases(EntropyCoder::kNeighbourContexts,
               "SPIHT coder 2 (neighbourhood contexts, temporal neighbours in 4-frame GOPs), 9/7 "
               "with 5 fractional bits, masks; 2x2 GOP grid",
               "SPIHT coder 2 with the 5/3 kernel, 4:2:0 on an odd atlas, 6-frame x 3-camera GOPs, "
               "mask mode 2");
-  coder_cases(EntropyCoder::kArith3,
+  coder_cases(EntropyCoder::kSetSignContexts,
               "SPIHT coder 3 (set and sign contexts, neighbours in time in 4-frame GOPs, "
               "count-adaptive probabilities), 9/7 with 5 fractional bits, masks; 2x2 GOP grid",
               "SPIHT coder 3 with the 5/3 kernel, 4:2:0 on an odd atlas, 6-frame x 3-camera GOPs, "
@@ -392,7 +392,7 @@ std::vector<CaseSpec> ValidCases() {
   // Format version 8: coder 4 (quadtrees per subband, 9.9), in the same two
   // settings and with the encoder's other defaults (own-band weights, 3
   // fractional sample bits).
-  coder_cases(EntropyCoder::kArith4,
+  coder_cases(EntropyCoder::kQuadtree,
               "coder 4 (quadtrees per subband, neighbours in time in 4-frame GOPs), 9/7 with 5 "
               "fractional bits, masks; 2x2 GOP grid",
               "coder 4 with the 5/3 kernel, 4:2:0 on an odd atlas (bands whose parents have "
@@ -400,14 +400,14 @@ std::vector<CaseSpec> ValidCases() {
   add("arith4_sample_precision_97",
       "coder 4 with own-band weights and decoded samples with 3 fractional bits, 9/7 with 5 "
       "fractional bits, masks; 2x2 GOP grid",
-      encoder_defaults(EntropyCoder::kArith4), {1, 64, 700});
+      encoder_defaults(EntropyCoder::kQuadtree), {1, 64, 700});
 
   // Format version 6: own-band weights ('texr' version 2, 9.3): the 9/7 with
   // coder 3 as the encoder's defaults have it, the 5/3 (power-of-two weights)
   // with coder 1 in multi-camera GOPs, and the 9/7 at its legacy precision.
   o = Base(8, 4, 64, 64, 4, 2);
   o.frac_bits_97 = kFracBits97;
-  o.coder = EntropyCoder::kArith3;
+  o.coder = EntropyCoder::kSetSignContexts;
   o.weights = BandWeights::kOwnBand;
   add("own_band_weights_97",
       "own-band weights (texr version 2), SPIHT coder 3, 9/7 with 5 fractional bits, masks; "
@@ -435,10 +435,10 @@ std::vector<CaseSpec> ValidCases() {
   add("sample_precision_97",
       "decoded samples with 3 fractional bits (texr version 3), own-band weights, SPIHT coder 3, "
       "9/7 with 5 fractional bits, masks; 2x2 GOP grid",
-      encoder_defaults(EntropyCoder::kArith3), {1, 64, 700});
+      encoder_defaults(EntropyCoder::kSetSignContexts), {1, 64, 700});
   o = Base(6, 3, 37, 23, 6, 3);
   o.frac_bits_97 = 6;
-  o.coder = EntropyCoder::kArith3;
+  o.coder = EntropyCoder::kSetSignContexts;
   o.weights = BandWeights::kOwnBand;
   o.sample_frac = 4;
   o.chroma = ChromaFormat::k420;
@@ -748,7 +748,7 @@ std::vector<CaseSpec> InvalidCases() {
 
   // Format version 4: SPIHT coder 2.
   const auto arith2 = [](CaseSpec* c) {
-    c->options.coder = EntropyCoder::kArith2;
+    c->options.coder = EntropyCoder::kNeighbourContexts;
     return c;
   };
   arith2(add("arith2_in_version_3", "the spiht-arith2 tool (bit 13) in a format version 3 header",
@@ -796,13 +796,13 @@ std::vector<CaseSpec> InvalidCases() {
         ->edit = patch_first_fragment(box::kTexture, 1, static_cast<uint8_t>(n + 1));
   };
   // Format version 5: SPIHT coder 3.
-  coder_invalid_cases(EntropyCoder::kArith3, EntropyCoder::kArith2, "spiht-arith3", "spiht-arith2",
-                      14, 5);
+  coder_invalid_cases(EntropyCoder::kSetSignContexts, EntropyCoder::kNeighbourContexts,
+                      "spiht-arith3", "spiht-arith2", 14, 5);
 
   // Format version 6: own-band weights ('texr' version 2).
   const auto own_band = [](CaseSpec* c) {
     c->options.frac_bits_97 = kFracBits97;
-    c->options.coder = EntropyCoder::kArith3;
+    c->options.coder = EntropyCoder::kSetSignContexts;
     c->options.weights = BandWeights::kOwnBand;
     return c;
   };
@@ -866,7 +866,7 @@ std::vector<CaseSpec> InvalidCases() {
   };
 
   // Format version 8: coder 4.
-  coder_invalid_cases(EntropyCoder::kArith4, EntropyCoder::kArith3, "quadtree-arith4",
+  coder_invalid_cases(EntropyCoder::kQuadtree, EntropyCoder::kSetSignContexts, "quadtree-arith4",
                       "spiht-arith3", 17, 8);
   return v;
 }
@@ -875,7 +875,7 @@ int Main(int argc, char** argv) {
   CLI::App app{"Makes the fvv conformance suite's cases (streams and test.json)."};
   std::string out, only;
   bool force = false;
-  app.add_option("out", out, "conformance directory (conformance/)")->required();
+  app.add_option("out", out, "conformance case directory (conformance/cases/)")->required();
   app.add_option("--only", only, "make only the case of this name (e.g. invalid/box_size_zero)");
   app.add_flag("--force", force, "remake cases that exist (released cases never change!)");
   CLI11_PARSE(app, argc, argv);

@@ -8,7 +8,7 @@
 #include <functional>
 #include <vector>
 
-#include "codec/status.h"
+#include "codec/base/status.h"
 #include "container/box.h"
 
 namespace fvv {

@@ -6,13 +6,13 @@
 #include <cstdio>
 #include <memory>
 
-#include "codec/thread_pool.h"
+#include "codec/base/thread_pool.h"
 #include "conformance/lib/sha256.h"
 #include "container/file_reader.h"
 #include "container/stream_reader.h"
 #include "container/vertex_visibility.h"
+#include "encoder/io/image_io.h"
 #include "player/decoder/gop_decoder.h"
-#include "tools/imageio/image_io.h"
 
 namespace fvv {
 namespace {

@@ -12,8 +12,8 @@
 #include <sstream>
 
 #include "conformance/lib/sha256.h"
+#include "encoder/io/image_io.h"
 #include "fvv/fvv_types.h"
-#include "tools/imageio/image_io.h"
 
 namespace fvv {
 namespace {

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "codec/status.h"
+#include "codec/base/status.h"
 #include "conformance/lib/conformance_case.h"
 
 namespace fvv {

@@ -1,4 +1,4 @@
-// The texture atlas of a body model (issue 6, built once per model): charts
+// The texture atlas of a body model (built once per model): charts
 // grown from a seed triangle within each body segment, adding neighbours while
 // a triangle's normal stays within a limit of the chart's average normal;
 // each chart projected orthographically onto the plane of its average normal
@@ -11,7 +11,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "codec/status.h"
+#include "codec/base/status.h"
 #include "container/body_model.h"
 
 namespace fvv {

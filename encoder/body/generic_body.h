@@ -1,4 +1,4 @@
-// The generic human body model (issue 4): 16 body segments, 17 joints and 35
+// The generic human body model: 16 body segments, 17 joints and 35
 // pose degrees of freedom, each segment a closed triangle mesh (23,040 triangles
 // in all), skinned smoothly across every joint so bent limbs show no gaps.
 // Built in code: no data files. Per-segment length and girth scales (stature and
@@ -13,7 +13,7 @@
 #include <array>
 #include <string>
 
-#include "codec/status.h"
+#include "codec/base/status.h"
 #include "container/body_model.h"
 
 namespace fvv {

@@ -7,7 +7,7 @@
 
 #include <Eigen/Core>
 
-#include "codec/status.h"
+#include "codec/base/status.h"
 #include "container/cameras.h"
 
 namespace fvv {

@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "encoder/capture/calibration.h"
-#include "tools/imageio/image_io.h"
+#include "encoder/io/image_io.h"
 
 namespace fvv {
 namespace {

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "codec/status.h"
+#include "codec/base/status.h"
 #include "container/cameras.h"
 
 namespace fvv {

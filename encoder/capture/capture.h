@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "codec/status.h"
+#include "codec/base/status.h"
 #include "container/cameras.h"
-#include "tools/imageio/image_io.h"
+#include "encoder/io/image_io.h"
 
 namespace fvv {
 

@@ -7,8 +7,8 @@
 #include <memory>
 #include <string>
 
-#include "codec/status.h"
-#include "tools/imageio/image_io.h"
+#include "codec/base/status.h"
+#include "encoder/io/image_io.h"
 
 namespace fvv {
 

@@ -51,9 +51,9 @@ fvv::Status ToSettings(const fvv_encoder_settings& c, fvv::EncoderSettings* s) {
   s->kernel = kKernels[c.kernel];
   s->frac_bits_97 = int(c.precision_97);
   s->coder = c.coder == FVV_CODER_BINARY   ? fvv::EntropyCoder::kBinary
-             : c.coder == FVV_CODER_ARITH2 ? fvv::EntropyCoder::kArith2
-             : c.coder == FVV_CODER_ARITH3 ? fvv::EntropyCoder::kArith3
-             : c.coder == FVV_CODER_ARITH4 ? fvv::EntropyCoder::kArith4
+             : c.coder == FVV_CODER_ARITH2 ? fvv::EntropyCoder::kNeighbourContexts
+             : c.coder == FVV_CODER_ARITH3 ? fvv::EntropyCoder::kSetSignContexts
+             : c.coder == FVV_CODER_ARITH4 ? fvv::EntropyCoder::kQuadtree
                                            : fvv::EntropyCoder::kArith;
   s->weights = c.weights == FVV_WEIGHTS_AXIS_BANDS ? fvv::BandWeights::kAxisBands
                                                    : fvv::BandWeights::kOwnBand;

@@ -7,21 +7,21 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "codec/base/thread_pool.h"
 #include "codec/colour.h"
 #include "codec/fill.h"
-#include "codec/mask_coder.h"
+#include "codec/mask.h"
 #include "codec/predictive_texture.h"
-#include "codec/thread_pool.h"
 #include "container/writer.h"
 #include "encoder/atlas/atlas.h"
+#include "encoder/body/body_shape_json.h"
 #include "encoder/body/kinematics.h"
-#include "encoder/capture/body_shape_json.h"
-#include "encoder/capture/capture_frames.h"
-#include "encoder/capture/features.h"
-#include "encoder/capture/track_capture.h"
 #include "encoder/encode/ordered_queue.h"
 #include "encoder/encode/pose_file.h"
 #include "encoder/encode/seamless_texture.h"
+#include "encoder/track/capture_frames.h"
+#include "encoder/track/features.h"
+#include "encoder/track/track_capture.h"
 
 namespace fvv {
 namespace {

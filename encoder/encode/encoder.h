@@ -1,4 +1,4 @@
-// The encoder (issue 6): a capture directory in, a .fvv out. The capture front
+// The encoder: a capture directory in, a .fvv out. The capture front
 // end (silhouettes and marker-free motion capture, or poses given), the body
 // model with its texture atlas, multi-view resampling of every camera into the
 // atlas, 4D-SPIHT texture coding of GOP blocks (frames x cameras), lossless
@@ -18,15 +18,15 @@
 #include <functional>
 #include <string>
 
+#include "codec/base/status.h"
 #include "codec/block_codec.h"
-#include "codec/mask_coder.h"
-#include "codec/status.h"
+#include "codec/mask.h"
 #include "container/index_box.h"
 #include "container/motion_track.h"
-#include "encoder/capture/shape_refinement.h"
-#include "encoder/capture/track_capture.h"
-#include "encoder/capture/tracker.h"
 #include "encoder/encode/resample.h"
+#include "encoder/shape/shape_refinement.h"
+#include "encoder/track/track_capture.h"
+#include "encoder/track/tracker.h"
 
 namespace fvv {
 
@@ -40,16 +40,16 @@ struct EncoderSettings {
   bool extract_silhouettes = false;  // background subtraction even if silhouettes are given
   TrackerOptions tracker;
   // Tracked poses only (given poses are used as they are): smoothing over time
-  // before resampling (encoder/capture/pose_smoothing.h).
+  // before resampling (encoder/track/pose_smoothing.h).
   PoseSmoothing pose_smoothing = TrackCaptureOptions{}.smoothing;
   ResampleOptions resample;
   // Refine the body model's shape to the actor on the first encoded frame
-  // (silhouettes, stereo; issue 10) before resampling: the stream's model is
+  // (silhouettes, stereo) before resampling: the stream's model is
   // then the refined mesh (same topology, skinning and atlas).
   bool refine_shape = false;
   ShapeRefinementOptions refinement;
   std::string features;  // feature points (features.json) for the refinement's features term
-  // Seamless texture (issue 10): each frame's camera textures blended into one
+  // Seamless texture: each frame's camera textures blended into one
   // (best camera per triangle, multi-resolution splines), averaged over the
   // frames into a static texture of the actor. With fallback_texture, texels
   // no camera of a frame sees take the static texture's colour, in the
@@ -60,11 +60,10 @@ struct EncoderSettings {
 
   // Format and rate.
   uint32_t atlas_size = 512;  // 16..4096
-  // 8 frames x 1 camera: on the demo capture, a transform across the cameras
-  // of a GOP costs 0.6 to 1.9 dB against coding each camera on its own at the
-  // same bytes (the cameras see different parts of the body; see
-  // docs/encoder.md), and single-camera fragments let a player decode only the
-  // cameras it blends.
+  // 8 frames x 1 camera: a transform across the cameras of a GOP codes worse
+  // than each camera on its own at the same bytes (the cameras see different
+  // parts of the body; docs/encoder.md, "Why one camera per GOP"), and single-camera fragments let
+  // a player decode only the cameras it blends.
   uint16_t gop_frames = 8, gop_cameras = 1;  // gop_cameras 0: all the capture's cameras
   // kSpiht4d: 4D wavelet + 4D SPIHT per GOP block ('texr'). kPredictive: the
   // predictive multi-view scheme with shape-adaptive BISK ('ptex', format
@@ -73,28 +72,27 @@ struct EncoderSettings {
   TextureCodec texture_codec = TextureCodec::kSpiht4d;
   WaveletKernel kernel = WaveletKernel::kCdf97;
   // The 9/7's sample precision (fractional bits, SPEC.md 9.6): 5 writes format
-  // version 3 (1.6 dB better at 20:1 on the demo capture than 2); 2 keeps a 9/7
+  // version 3 (docs/encoder.md); 2 keeps a 9/7
   // SPIHT stream readable by version 1 and 2 decoders.
   int frac_bits_97 = kFracBits97;
-  // kArith2: what format version 4 decoders read; kArith: versions 1..3.
-  EntropyCoder coder = EntropyCoder::kArith3;
+  // kNeighbourContexts: what format version 4 decoders read; kArith: versions 1..3.
+  EntropyCoder coder = EntropyCoder::kSetSignContexts;
   // kOwnBand (format version 6) weights coefficients by their own band's norm;
   // kAxisBands is what format versions 1 to 5 decoders read.
   BandWeights weights = BandWeights::kOwnBand;
   // Fractional bits of the decoded samples (format version 7, codec/block.h):
   // the atlas goes into the 9/7 with its YCbCr unrounded to 1/2^n, and comes out
-  // so. 3 is 1.9 dB better at 20:1 on the demo capture than 0, what format
-  // versions 1 to 6 decoders read. The 5/3, Haar and predictive codecs take 0.
+  // so (docs/encoder.md, "Fractional samples"). 0 is what format versions 1
+  // to 6 decoders read. The 5/3, Haar and predictive codecs take 0.
   int sample_frac = kDefaultSampleFrac;
   ChromaFormat chroma = ChromaFormat::k444;
   // Texels no camera saw: the codec's pyramid fill refined by sparse-fill
-  // projections (codec/fill.h). On the demo capture the default's 8 make
-  // textures 45 % smaller at the same PSNR and add about 0.2 s per frame.
+  // projections (codec/fill.h; docs/encoder.md, "Filling texels no camera
+  // saw").
   FillOptions fill;
   // Rate-distortion pruning of isolated coefficients in the last coded bitplane
-  // with a bits-per-texel or bytes target (EncodeSettings::prune_isolated):
-  // +0.1 dB at 120:1 on the demo capture for a second SPIHT encode and two
-  // decodes per GOP. Encoder-side only.
+  // with a bits-per-texel or bytes target (EncodeSettings::prune_isolated),
+  // for a second SPIHT encode and two decodes per GOP. Encoder-side only.
   bool prune_isolated = true;
   // kPsnr: weighted-YUV PSNR over visible texels per GOP; kBitsPerSample: bits
   // per atlas texel (all of them, seen or not); kTotalBytes: bytes per GOP.

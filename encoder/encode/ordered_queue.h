@@ -12,7 +12,7 @@
 #include <mutex>
 #include <thread>
 
-#include "codec/status.h"
+#include "codec/base/status.h"
 
 namespace fvv {
 

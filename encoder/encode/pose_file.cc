@@ -5,8 +5,8 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "encoder/capture/body_shape_json.h"
-#include "tools/imageio/image_io.h"
+#include "encoder/body/body_shape_json.h"
+#include "encoder/io/image_io.h"
 
 namespace fvv {
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "codec/status.h"
+#include "codec/base/status.h"
 #include "encoder/body/generic_body.h"
 
 namespace fvv {

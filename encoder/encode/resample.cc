@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "encoder/capture/calibration.h"
-#include "encoder/capture/depth_map.h"
+#include "encoder/shape/depth_map.h"
 
 namespace fvv {
 namespace {

@@ -1,4 +1,4 @@
-// Multi-view resampling into the texture atlas (issue 6, section 2): for one
+// Multi-view resampling into the texture atlas: for one
 // frame and one camera, every atlas texel's surface point on the posed model is
 // projected into that camera's image and sampled there, when the camera sees it:
 // in front of the camera's depth map of the posed model (shadow-map style),
@@ -18,7 +18,7 @@
 
 #include "container/body_model.h"
 #include "container/cameras.h"
-#include "tools/imageio/image_io.h"
+#include "encoder/io/image_io.h"
 
 namespace fvv {
 

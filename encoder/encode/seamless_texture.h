@@ -1,4 +1,4 @@
-// Seamless texture recovery (issue 10, section 4): one texture of the actor in
+// Seamless texture recovery: one texture of the actor in
 // the atlas from all cameras of a frame. Each triangle takes its texels from
 // its best visible camera (the one facing it most squarely among those whose
 // resampled texture holds the texel); the cameras' textures are then joined

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "codec/status.h"
+#include "codec/base/status.h"
 #include "container/body_model.h"
 
 namespace fvv {

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "codec/status.h"
-#include "tools/imageio/image_io.h"
+#include "codec/base/status.h"
+#include "encoder/io/image_io.h"
 
 namespace fvv {
 

@@ -9,7 +9,7 @@
 
 #include <vector>
 
-#include "codec/status.h"
+#include "codec/base/status.h"
 #include "container/body_model.h"
 #include "encoder/import/bvh.h"
 

@@ -7,7 +7,6 @@
 #include <string>
 #include <vector>
 
-#include "codec/colour.h"
 #include "fvv/fvv_decoder.h"
 #include "player/decoder/decoder.h"
 
@@ -15,6 +14,7 @@ static_assert(FVV_FORMAT_VERSION == fvv::kFormatVersion,
               "the public header and the container must agree on the format version");
 #include "player/decoder/pose.h"
 #include "player/decoder/public_camera.h"
+#include "player/decoder/view_pixels.h"
 
 struct fvv_decoder {
   explicit fvv_decoder(const fvv_decoder_settings& s) : impl(s) {}
@@ -35,7 +35,7 @@ struct FrameImpl {
   fvv_frame frame;  // first member: fvv_frame* and FrameImpl* convert by reinterpret_cast
   std::vector<float> world, skin;
   std::vector<fvv_view> views;
-  // Uninitialised on allocation: every byte is written by ConvertView, and
+  // Uninitialised on allocation: every byte is written by ViewPixels, and
   // zero-filling megabytes per frame first would cost a pass over memory.
   std::vector<std::unique_ptr<uint8_t[]>> pixels;
   std::shared_ptr<const fvv::DecodedGop> gop;  // keeps the masks alive
@@ -70,48 +70,6 @@ void BuildModel(fvv_decoder* d) {
   d->model_built = true;
 }
 
-// One camera's atlas texture of a decoded GOP, in the requested format.
-void ConvertView(const fvv::Block& block, uint32_t t, uint32_t c, fvv_pixel_format format,
-                 std::unique_ptr<uint8_t[]>* pixels) {
-  const fvv::Shape4D& luma = block.shape();
-  const fvv::Shape4D& chroma = block.channels[1].shape;
-  const uint32_t w = luma.width(), h = luma.height();
-  const bool half = block.chroma == fvv::ChromaFormat::k420;
-  pixels->reset(new uint8_t[size_t{w} * h * 3]);
-  uint8_t* out = pixels->get();
-  const int32_t* Y = block.channels[0].samples.data() + luma.Index(t, c, 0, 0);
-  const int32_t* U = block.channels[1].samples.data() + chroma.Index(t, c, 0, 0);
-  const int32_t* V = block.channels[2].samples.data() + chroma.Index(t, c, 0, 0);
-  const uint32_t cw = chroma.width();
-  const int frac = block.sample_frac;
-  if (format == FVV_FORMAT_RGB8 && !half && block.colour == fvv::ColourSpace::kYCbCr601) {
-    for (uint32_t y = 0; y < h; ++y) {
-      const size_t row = size_t{y} * w;
-      fvv::YcbcrRowToRgb8(Y + row, U + row, V + row, w, out + 3 * row, frac);
-    }
-    return;
-  }
-  // YUV444 bytes: samples with fractional bits rounded to whole ones.
-  const int32_t round = frac ? 1 << (frac - 1) : 0;
-  auto to_byte = [frac, round](int32_t s) { return static_cast<uint8_t>((s + round) >> frac); };
-  for (uint32_t y = 0; y < h; ++y) {
-    for (uint32_t x = 0; x < w; ++x) {
-      const size_t i = size_t{y} * w + x;
-      const size_t ci = half ? size_t{y >> 1} * cw + (x >> 1) : i;
-      if (format == FVV_FORMAT_RGB8) {
-        const fvv::Rgb8 p = fvv::YuvToRgb(block.colour, Y[i], U[ci], V[ci], frac);
-        out[3 * i] = p.r;
-        out[3 * i + 1] = p.g;
-        out[3 * i + 2] = p.b;
-      } else {
-        out[i] = to_byte(Y[i]);
-        out[size_t{w} * h + i] = to_byte(U[ci]);
-        out[2 * size_t{w} * h + i] = to_byte(V[ci]);
-      }
-    }
-  }
-}
-
 // The getters' common precondition: a decoder and an output, after READY.
 fvv_status RequireReady(fvv_decoder* d, const void* out, const char* what) {
   if (!d || !out) return Misuse(d, (std::string(what) + ": NULL argument").c_str());
@@ -132,10 +90,6 @@ fvv::GopBudget ToGopBudget(const fvv_decode_budget* budget) {
 }  // namespace
 
 extern "C" {
-
-const char* fvv_status_name(fvv_status status) {
-  return fvv::StatusCodeName(static_cast<fvv::StatusCode>(status));
-}
 
 void fvv_decoder_default_settings(fvv_decoder_settings* settings) {
   if (!settings) return;
@@ -287,8 +241,9 @@ fvv_status fvv_decoder_decode_frame(fvv_decoder* d, uint32_t index, const fvv_de
       impl->views[c].mask = nullptr;
       continue;
     }
-    ConvertView(g.textures[group], t, local, static_cast<fvv_pixel_format>(b.format),
-                &impl->pixels[c]);
+    fvv::ViewPixels(g.textures[group], t, local,
+                    b.format == FVV_FORMAT_RGB8 ? fvv::ViewFormat::kRgb8 : fvv::ViewFormat::kYuv444,
+                    &impl->pixels[c]);
     impl->views[c].pixels = impl->pixels[c].get();
     const auto& masks = g.masks[group];
     const uint32_t group_cameras = g.groups[group].camera_count;

@@ -9,8 +9,8 @@
 #include <memory>
 #include <string>
 
-#include "codec/sample_pool.h"
-#include "codec/thread_pool.h"
+#include "codec/base/sample_pool.h"
+#include "codec/base/thread_pool.h"
 #include "container/file_reader.h"
 #include "container/stream_reader.h"
 #include "fvv/fvv_decoder.h"

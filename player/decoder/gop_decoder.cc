@@ -6,7 +6,7 @@
 #include <thread>
 
 #include "codec/block_codec.h"
-#include "codec/mask_coder.h"
+#include "codec/mask.h"
 #include "codec/predictive_texture.h"
 
 namespace fvv {

@@ -6,9 +6,9 @@
 #include <memory>
 #include <vector>
 
+#include "codec/base/parallel.h"
+#include "codec/base/sample_pool.h"
 #include "codec/block.h"
-#include "codec/parallel.h"
-#include "codec/sample_pool.h"
 #include "container/fragment.h"
 #include "container/motion_track.h"
 #include "container/stream_info.h"

@@ -6,7 +6,7 @@
 #include <memory>
 #include <vector>
 
-#include "codec/status.h"
+#include "codec/base/status.h"
 #include "player/render/gl_api.h"
 
 namespace fvv {

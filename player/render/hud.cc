@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cctype>
 
+#include "player/render/shaders.h"
+
 namespace fvv {
 namespace {
 
@@ -74,21 +76,9 @@ const Glyph& GlyphOf(char c) {
   return kFont[sizeof(kFont) / sizeof(kFont[0]) - 1];  // '?'
 }
 
-const char* const kVertex = R"(#version 330 core
-layout(location = 0) in vec2 a_pixel;
-uniform vec2 u_viewport;
-void main() {
-  // Pixel coordinates, origin at the top left, to clip space.
-  gl_Position = vec4(2.0 * a_pixel.x / u_viewport.x - 1.0, 1.0 - 2.0 * a_pixel.y / u_viewport.y,
-                     0.0, 1.0);
-}
-)";
+const char* const kVertex = shaders::kHudVert;
 
-const char* const kFragment = R"(#version 330 core
-uniform vec3 u_colour;
-out vec4 o_colour;
-void main() { o_colour = vec4(u_colour, 1.0); }
-)";
+const char* const kFragment = shaders::kHudFrag;
 
 void AddQuad(float x0, float y0, float x1, float y1, std::vector<float>* v) {
   const float q[12] = {x0, y0, x1, y0, x1, y1, x0, y0, x1, y1, x0, y1};

@@ -4,76 +4,20 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <string>
 
+#include "player/render/shaders.h"
+
 namespace fvv {
 namespace {
 
-const char* kVertexShader = R"(#version 330 core
-layout(location = 0) in vec3 a_pos;
-layout(location = 1) in float a_weight;
-uniform mat4 u_view_proj;
-out vec3 v_world;
-out float v_weight;
-void main() {
-  v_world = a_pos;
-  v_weight = a_weight;
-  gl_Position = u_view_proj * vec4(a_pos, 1.0);
-}
-)";
+const char* const kVertexShader = shaders::kProjectiveVert;
 
 // Pass 0 lays down depth and a faint grey coverage (what a fragment no camera
 // can texture shows); pass 1 adds one camera's projected colour times weight.
-const char* kAccumulateShader = R"(#version 330 core
-in vec3 v_world;
-in float v_weight;
-uniform int u_pass;
-uniform mat3 u_rotation;       // world -> camera
-uniform vec3 u_translation;
-uniform vec4 u_intrinsics;     // fx fy cx cy (pixel centres at integers)
-uniform vec4 u_distortion;     // k1 k2 p1 p2
-uniform float u_k3;
-uniform vec2 u_size;           // image width, height
-uniform sampler2D u_image;     // premultiplied RGBA, row 0 at the top
-out vec4 o_accum;
-void main() {
-  if (u_pass == 0) {
-    o_accum = vec4(0.5, 0.5, 0.5, 1.0) * 1e-7;
-    return;
-  }
-  vec3 p = u_rotation * v_world + u_translation;
-  if (p.z <= 1e-6 || v_weight <= 0.0) discard;
-  vec2 n = p.xy / p.z;
-  float r2 = dot(n, n);
-  float k1 = u_distortion.x, k2 = u_distortion.y, p1 = u_distortion.z, p2 = u_distortion.w;
-  float radial = 1.0 + r2 * (k1 + r2 * (k2 + r2 * u_k3));
-  vec2 d = vec2(n.x * radial + 2.0 * p1 * n.x * n.y + p2 * (r2 + 2.0 * n.x * n.x),
-                n.y * radial + p1 * (r2 + 2.0 * n.y * n.y) + 2.0 * p2 * n.x * n.y);
-  vec2 uv = (u_intrinsics.xy * d + u_intrinsics.zw + 0.5) / u_size;
-  if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) discard;
-  vec4 s = texture(u_image, uv);
-  // Premultiplied: s.rgb / s.a is the actor's colour, s.a how much of the
-  // sample lies on the (expanded) silhouette.
-  if (s.a < 0.02) discard;
-  float w = v_weight * s.a;
-  o_accum = vec4(s.rgb / s.a * w, w);
-}
-)";
+const char* const kAccumulateShader = shaders::kProjectiveAccumulateFrag;
 
-const char* kResolveVertexShader = R"(#version 330 core
-void main() {
-  vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0);
-  gl_Position = vec4(p, 0.0, 1.0);
-}
-)";
+const char* const kResolveVertexShader = shaders::kProjectiveResolveVert;
 
-const char* kResolveShader = R"(#version 330 core
-uniform sampler2D u_accum;
-uniform vec3 u_background;
-out vec4 o_color;
-void main() {
-  vec4 a = texelFetch(u_accum, ivec2(gl_FragCoord.xy), 0);
-  o_color = vec4(a.a > 0.0 ? a.rgb / a.a : u_background, 1.0);
-}
-)";
+const char* const kResolveShader = shaders::kProjectiveResolveFrag;
 
 }  // namespace
 

@@ -1,4 +1,4 @@
-// Renderer I (issue 10, section 5): the posed model textured directly from the
+// Renderer I: the posed model textured directly from the
 // capture's camera images by projective texturing. Every camera's image is
 // projected onto the model through its calibration (lens distortion included);
 // per-vertex blending weights, computed by the caller from visibility and the
@@ -19,7 +19,7 @@
 #include <memory>
 #include <vector>
 
-#include "codec/status.h"
+#include "codec/base/status.h"
 #include "fvv/fvv_decoder.h"
 #include "player/render/gl_api.h"
 #include "player/render/renderer.h"

@@ -1,6 +1,6 @@
 // Renderer II: the body model skinned into the decoded pose and textured from
-// every camera's atlas texture, blended per fragment by viewing angle
-// (DESIGN.md 1; issue 7): camera i's weight is its visibility mask at the texel
+// every camera's atlas texture, blended per fragment by viewing angle:
+// camera i's weight is its visibility mask at the texel
 // times (1 / (angle(view direction, camera direction) + eps))^exponent,
 // normalised; where no camera saw a texel the best-facing camera fills in.
 // OpenGL 3.3 core; the context (OSMesa or GLFW) belongs to the caller.
@@ -12,7 +12,7 @@
 #include <memory>
 #include <vector>
 
-#include "codec/status.h"
+#include "codec/base/status.h"
 #include "fvv/fvv_decoder.h"
 #include "player/render/gl_api.h"
 

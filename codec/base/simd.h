@@ -1,0 +1,24 @@
+// FVV_SIMD_CLONES marks an inner loop for an AVX2 clone beside the baseline
+// one, chosen at load time where the CPU has AVX2: the loops are written so that
+// both compute identical results. Off under AddressSanitizer (its
+// instrumentation and ifunc resolvers do not mix) and off x86-64.
+#ifndef FVV_CODEC_BASE_SIMD_H_
+#define FVV_CODEC_BASE_SIMD_H_
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__SANITIZE_ADDRESS__)
+#define FVV_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define FVV_SIMD_CLONES
+#endif
+
+// Helpers called from a clone must be inlined into it to run with its
+// instruction set: a separate copy is compiled for the baseline only.
+#if defined(__GNUC__)
+#define FVV_ALWAYS_INLINE inline __attribute__((always_inline))
+#define FVV_INLINE_LAMBDA __attribute__((always_inline))  // after a lambda's parameters
+#else
+#define FVV_ALWAYS_INLINE inline
+#define FVV_INLINE_LAMBDA
+#endif
+
+#endif  // FVV_CODEC_BASE_SIMD_H_

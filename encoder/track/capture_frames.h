@@ -1,0 +1,41 @@
+// Per-frame camera images and silhouettes of a capture, for every camera at
+// once (both cores): the given silhouettes, or background subtraction against
+// the plates (or the temporal median of frames spread over the take when a
+// camera has none). What tracking and the encoder's texture resampling read.
+#ifndef FVV_ENCODER_TRACK_CAPTURE_FRAMES_H_
+#define FVV_ENCODER_TRACK_CAPTURE_FRAMES_H_
+
+#include <memory>
+#include <vector>
+
+#include "codec/base/status.h"
+#include "codec/base/thread_pool.h"
+#include "encoder/capture/capture.h"
+#include "encoder/track/silhouette.h"
+
+namespace fvv {
+
+class CaptureFrames {
+ public:
+  // `extract`: background subtraction even when the capture lists silhouettes.
+  static StatusOr<std::unique_ptr<CaptureFrames>> Open(const Capture& capture, bool extract,
+                                                       ThreadPool* pool);
+
+  bool given_silhouettes() const { return given_; }
+  const Capture& capture() const { return reader_.capture(); }
+
+  // Frame `frame` of every camera: silhouettes (grey, 0 or 255) and, when
+  // `images` is not null, the RGB images.
+  Status Read(uint32_t frame, std::vector<Image>* images, std::vector<Image>* silhouettes);
+
+ private:
+  CaptureFrames(const Capture& capture, ThreadPool* pool) : reader_(capture), pool_(pool) {}
+  CaptureReader reader_;
+  ThreadPool* pool_;
+  bool given_ = false;
+  std::vector<BackgroundModel> backgrounds_;
+};
+
+}  // namespace fvv
+
+#endif  // FVV_ENCODER_TRACK_CAPTURE_FRAMES_H_

@@ -1,0 +1,62 @@
+// The motion-capture front end on a whole capture directory: silhouettes
+// (given, or by background subtraction against the plates or a temporal
+// median), then initialisation and tracking frame by frame. What `fvv track`,
+// the encoder and the tracking benchmark run.
+#ifndef FVV_ENCODER_TRACK_TRACK_CAPTURE_H_
+#define FVV_ENCODER_TRACK_TRACK_CAPTURE_H_
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "codec/base/status.h"
+#include "encoder/capture/capture.h"
+#include "encoder/track/pose_smoothing.h"
+#include "encoder/track/tracker.h"
+
+namespace fvv {
+
+struct TrackCaptureOptions {
+  uint32_t first = 0;
+  uint32_t last = UINT32_MAX;  // clamped to the last frame
+  bool extract = false;        // background subtraction even when silhouettes are given
+  TrackerOptions tracker;
+  // Poses are smoothed over time before they are reported (on_frame and the
+  // result), each frame once Radius() later frames are tracked. The fit
+  // figures (IoU, XOR, flags) stay those of the frame's own fit.
+  PoseSmoothing smoothing{1.0};
+  std::string save_silhouettes;  // directory for the silhouettes used (PNG), or empty
+  std::string overlays;          // directory for fit overlays (PNG), or empty
+  std::function<void(const std::string&)> progress;  // one line per frame
+  // Called after each frame's fit (smoothed: later by the smoothing's radius)
+  // with that frame's images and silhouettes (the
+  // encoder resamples textures here, so frames are read once). An error stops
+  // tracking and is returned. The tracker gives the body shape and model.
+  std::function<Status(uint32_t frame, const FrameFit& fit, const Tracker& tracker,
+                       const std::vector<Image>& images, const std::vector<Image>& silhouettes)>
+      on_frame;
+};
+
+struct TrackCaptureResult {
+  Capture capture;
+  uint32_t first = 0, last = 0;
+  bool given_silhouettes = false;
+  std::vector<FrameFit> fits;  // per frame first..last
+  BodyShape shape;
+  BodyModel model;  // the generic body with the fitted shape
+  double silhouette_seconds = 0, fit_seconds = 0;
+  double callback_seconds = 0;  // in on_frame
+  int flagged = 0;
+  double mean_iou = 0;
+  std::vector<std::vector<double>> Poses() const;
+  // poses.json: DOF names, body shape, per frame DOFs, fit quality and flags.
+  std::string ToJson() const;
+};
+
+StatusOr<TrackCaptureResult> TrackCapture(const std::string& capture_path,
+                                          const TrackCaptureOptions& options);
+
+}  // namespace fvv
+
+#endif  // FVV_ENCODER_TRACK_TRACK_CAPTURE_H_

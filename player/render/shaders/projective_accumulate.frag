@@ -1,0 +1,34 @@
+#version 330 core
+in vec3 v_world;
+in float v_weight;
+uniform int u_pass;
+uniform mat3 u_rotation;       // world -> camera
+uniform vec3 u_translation;
+uniform vec4 u_intrinsics;     // fx fy cx cy (pixel centres at integers)
+uniform vec4 u_distortion;     // k1 k2 p1 p2
+uniform float u_k3;
+uniform vec2 u_size;           // image width, height
+uniform sampler2D u_image;     // premultiplied RGBA, row 0 at the top
+out vec4 o_accum;
+void main() {
+  if (u_pass == 0) {
+    o_accum = vec4(0.5, 0.5, 0.5, 1.0) * 1e-7;
+    return;
+  }
+  vec3 p = u_rotation * v_world + u_translation;
+  if (p.z <= 1e-6 || v_weight <= 0.0) discard;
+  vec2 n = p.xy / p.z;
+  float r2 = dot(n, n);
+  float k1 = u_distortion.x, k2 = u_distortion.y, p1 = u_distortion.z, p2 = u_distortion.w;
+  float radial = 1.0 + r2 * (k1 + r2 * (k2 + r2 * u_k3));
+  vec2 d = vec2(n.x * radial + 2.0 * p1 * n.x * n.y + p2 * (r2 + 2.0 * n.x * n.x),
+                n.y * radial + p1 * (r2 + 2.0 * n.y * n.y) + 2.0 * p2 * n.x * n.y);
+  vec2 uv = (u_intrinsics.xy * d + u_intrinsics.zw + 0.5) / u_size;
+  if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) discard;
+  vec4 s = texture(u_image, uv);
+  // Premultiplied: s.rgb / s.a is the actor's colour, s.a how much of the
+  // sample lies on the (expanded) silhouette.
+  if (s.a < 0.02) discard;
+  float w = v_weight * s.a;
+  o_accum = vec4(s.rgb / s.a * w, w);
+}

@@ -1,0 +1,309 @@
+#include "tools/fvv/capture_command.h"
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+
+#include "encoder/capture/calibration_import.h"
+#include "encoder/capture/capture.h"
+#include "encoder/shape/visual_hull.h"
+#include "encoder/track/capture_frames.h"
+#include "tools/fvv/register_command.h"
+#include "tools/synth/synth.h"
+
+namespace fvv {
+namespace {
+
+int Fail(const Status& s) {
+  std::fprintf(stderr, "fvv: %s\n", s.ToString().c_str());
+  return 1;
+}
+
+int RunSynthCommand(SynthOptions o) {
+  o.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+  StatusOr<SynthSummary> s = RunSynth(o);
+  if (!s.ok()) return Fail(s.status());
+  std::printf("synthetic capture: %s\n", o.output_dir.c_str());
+  std::printf("  actor:    %s\n", s->actor.c_str());
+  std::printf("  cameras:  %zu at %ux%u, %u held out (truth/heldout)\n", s->capture.cameras.size(),
+              o.width, o.height, o.held_out);
+  std::printf("  frames:   %u at %.3g fps\n", o.frames, o.fps);
+  std::printf("  truth:    %s/truth (poses, 3D joints, silhouettes, texture)\n",
+              o.output_dir.c_str());
+  std::printf("  time:     %.1f s (%.2f s per frame)\n", s->seconds, s->seconds / o.frames);
+  return 0;
+}
+
+struct SheetArgs {
+  std::string capture, output;
+  uint32_t frame = 0;
+  bool silhouettes = false;
+};
+
+int RunSheet(const SheetArgs& a) {
+  StatusOr<Capture> c = LoadCapture(a.capture);
+  if (!c.ok()) return Fail(c.status());
+  CaptureReader reader(*c);
+  std::vector<Image> tiles;
+  for (uint32_t i = 0; i < c->cameras.size(); ++i) {
+    StatusOr<Image> img =
+        a.silhouettes ? reader.ReadSilhouette(i, a.frame) : reader.ReadFrame(i, a.frame);
+    if (!img.ok()) return Fail(img.status());
+    tiles.push_back(std::move(*img));
+  }
+  Status s = WriteImage(a.output, MakeContactSheet(tiles));
+  if (!s.ok()) return Fail(s);
+  std::printf("contact sheet: %zu cameras at frame %u -> %s\n", tiles.size(), a.frame,
+              a.output.c_str());
+  return 0;
+}
+
+int RunCheck(const std::string& path) {
+  StatusOr<Capture> c = LoadCapture(path);
+  if (!c.ok()) return Fail(c.status());
+  CaptureReader reader(*c);
+  Status s = reader.CheckFiles();
+  if (!s.ok()) return Fail(s);
+  // Decode the first and last frame of every camera: sizes and formats.
+  for (uint32_t i = 0; i < c->cameras.size(); ++i) {
+    for (uint32_t f : {0u, c->frame_count - 1}) {
+      StatusOr<Image> img = reader.ReadFrame(i, f);
+      if (!img.ok()) return Fail(img.status());
+    }
+  }
+  std::printf("capture %s: %zu cameras, %u frames at %.3g fps, up axis %s%s%s: OK\n", path.c_str(),
+              c->cameras.size(), c->frame_count, c->frame_rate,
+              c->declared_up_axis == 'z' ? "z (cameras below in fvv's y-up world)" : "y",
+              reader.HasBackgrounds() ? ", background plates" : "",
+              reader.HasSilhouettes() ? ", silhouettes" : "");
+  for (const CaptureCamera& cam : c->cameras) {
+    const Camera& k = cam.calibration;
+    const auto centre = k.Centre();
+    std::printf("  %-8s %ux%u  f=%.1f  centre (%.2f, %.2f, %.2f) m  %s\n", k.name.c_str(), k.width,
+                k.height, k.fx, centre[0], centre[1], centre[2],
+                cam.frames.kind == FrameSource::Kind::kVideo ? "video" : "images");
+  }
+  return 0;
+}
+
+struct ImportArgs {
+  std::vector<std::string> files;
+  std::string output_dir;
+  std::string images = "{camera}/%06d.png";
+  std::string video;
+  int64_t first = 0;
+  uint32_t frame_count = 0;
+  double fps = 25;
+  std::string unit = "m";
+  std::string up = "y";
+};
+
+std::string ForCamera(std::string pattern, const std::string& camera) {
+  for (size_t i = pattern.find("{camera}"); i != std::string::npos;
+       i = pattern.find("{camera}", i)) {
+    pattern.replace(i, 8, camera);
+    i += camera.size();
+  }
+  return pattern;
+}
+
+int RunImportCalib(const ImportArgs& a) {
+  const double unit = a.unit == "m" ? 1.0 : a.unit == "cm" ? 0.01 : a.unit == "mm" ? 0.001 : -1;
+  if (unit < 0) return Fail(InvalidArgument("--translation-unit must be m, cm or mm"));
+  Capture c;
+  c.directory = a.output_dir;
+  c.frame_rate = a.fps;
+  c.up_axis = a.up[0];
+  for (const std::string& f : a.files) {
+    StatusOr<std::vector<Camera>> cams = ImportCalibrationFile(f, unit);
+    if (!cams.ok()) return Fail(cams.status());
+    for (const Camera& k : *cams) {
+      CaptureCamera cc;
+      cc.calibration = k;
+      if (a.video.empty()) {
+        cc.frames.path = ForCamera(a.images, k.name);
+        cc.frames.first = a.first;
+      } else {
+        cc.frames.kind = FrameSource::Kind::kVideo;
+        cc.frames.path = ForCamera(a.video, k.name);
+      }
+      c.cameras.push_back(cc);
+    }
+  }
+  c.frame_count = a.frame_count;
+  if (c.frame_count == 0 && a.video.empty() && !c.cameras.empty()) {
+    // Count the first camera's consecutive frames on disk.
+    while (c.frame_count < kMaxCaptureFrames) {
+      std::ifstream probe(FramePath(c, c.cameras[0].frames, c.frame_count));
+      if (!probe) break;
+      ++c.frame_count;
+    }
+  }
+  if (c.frame_count == 0) {
+    return Fail(InvalidArgument("no frames found for camera \"" + c.cameras[0].calibration.name +
+                                "\" at " + FramePath(c, c.cameras[0].frames, 0) +
+                                "; give --frame-count (and --images or --video)"));
+  }
+  // Round trip through the parser: what we write must load.
+  StatusOr<Capture> check = ParseCapture(CaptureToJson(c), c.directory);
+  if (!check.ok()) return Fail(check.status());
+  Status s = SaveCapture(c);
+  if (!s.ok()) return Fail(s);
+  std::printf("imported %zu cameras from %zu files -> %s/capture.json (%u frames at %.3g fps)\n",
+              c.cameras.size(), a.files.size(), a.output_dir.c_str(), c.frame_count, c.frame_rate);
+  return 0;
+}
+
+}  // namespace
+
+struct HullArgs {
+  std::string capture, output;
+  uint32_t frame = 0;
+  VisualHullOptions options;
+  bool extract = false;
+};
+
+int RunHull(const HullArgs& a) {
+  const auto start = std::chrono::steady_clock::now();
+  StatusOr<Capture> cap = LoadCapture(a.capture);
+  if (!cap.ok()) return Fail(cap.status());
+  if (a.frame >= cap->frame_count) {
+    return Fail(InvalidArgument("--frame " + std::to_string(a.frame) + ": the capture has " +
+                                std::to_string(cap->frame_count) + " frames"));
+  }
+  ThreadPool pool(2);
+  auto frames = CaptureFrames::Open(*cap, a.extract, &pool);
+  if (!frames.ok()) return Fail(frames.status());
+  std::vector<Image> silhouettes;
+  if (Status s = (*frames)->Read(a.frame, nullptr, &silhouettes); !s.ok()) return Fail(s);
+  std::vector<Camera> cameras;
+  for (const CaptureCamera& c : cap->cameras) cameras.push_back(c.calibration);
+  StatusOr<VisualHull> hull = CarveVisualHull(cameras, silhouettes, a.options, pool.runner());
+  if (!hull.ok()) return Fail(hull.status());
+  const std::vector<Eigen::Vector3d> surface = hull->SurfaceVoxels();
+  if (Status s = WritePointCloudPly(a.output, surface); !s.ok()) return Fail(s);
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e9), hi = -lo;
+  for (const Eigen::Vector3d& p : surface) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  std::printf(
+      "visual hull of frame %u (%zu cameras, %s silhouettes): %zu voxels of %.1f cm, "
+      "%.4f m^3, extent %.2f x %.2f x %.2f m; %zu surface voxels -> %s (%.2f s)\n",
+      a.frame, cameras.size(), (*frames)->given_silhouettes() ? "given" : "extracted",
+      hull->OccupiedCount(), 100 * a.options.voxel_size, hull->Volume(), hi.x() - lo.x(),
+      hi.y() - lo.y(), hi.z() - lo.z(), surface.size(), a.output.c_str(),
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  return 0;
+}
+
+void AddCaptureCommands(CLI::App* app, int* exit_code) {
+  auto o = std::make_shared<SynthOptions>();
+  CLI::App* s = app->add_subcommand(
+      "synth", "Render a synthetic multi-view capture with ground truth (OpenGL, headless)");
+  s->add_option("-o,--output", o->output_dir, "Output capture directory")->required();
+  s->add_option("--cameras", o->cameras, "Ring cameras")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
+  s->add_flag("--overhead", o->overhead, "Add a camera looking down from above");
+  s->add_option("--width", o->width, "Image width")->capture_default_str();
+  s->add_option("--height", o->height, "Image height")->capture_default_str();
+  s->add_option("--fps", o->fps, "Frame rate")->capture_default_str();
+  s->add_option("--frames", o->frames, "Frame count")->capture_default_str();
+  s->add_option("--seed", o->seed, "Seed (noise, texture detail)")->capture_default_str();
+  s->add_option("--motion", o->motion, "BVH motion file (default: a built-in walk)");
+  s->add_option("--motion-start", o->motion_start, "Seconds into the BVH clip to start from")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  s->add_option("--actor", o->actor, "\"builtin\" or a glTF 2.0 character (.glb/.gltf)")
+      ->capture_default_str();
+  s->add_option("--stature", o->stature, "Built-in actor's size (1.0 = 1.75 m)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.5, 1.4));
+  s->add_option("--surface-detail", o->surface_detail,
+                "Built-in actor: bumps and hollows off the generic shape, up to this many metres "
+                "(a true surface for shape refinement to recover)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 0.1));
+  s->add_option("--noise", o->noise, "Sensor noise (std. dev., 8-bit levels)")
+      ->capture_default_str();
+  s->add_option("--colour-mismatch", o->colour_mismatch, "Per-camera gain spread (0.05 = 5 %)")
+      ->capture_default_str();
+  s->add_flag("--unlit", o->unlit,
+              "No shading on the actor: the camera images show the surface texture's own "
+              "colours (to check texture resampling against truth/texture.png)");
+  s->add_option("--held-out", o->held_out, "Extra cameras for novel-view evaluation")
+      ->capture_default_str();
+  s->add_flag("--with-silhouettes", o->link_silhouettes,
+              "List the true silhouettes in capture.json (skip background subtraction)");
+  s->add_flag_callback(
+      "--classic", [o] { o->width = 320, o->height = 240, o->fps = 15; },
+      "320x240 at 15 fps, as in the original studio");
+  s->callback([o, exit_code] { *exit_code = RunSynthCommand(*o); });
+
+  CLI::App* cap = app->add_subcommand(
+      "capture",
+      "Capture directories: check, contact sheet, calibration import, visual hull, registration "
+      "from feature points");
+  cap->require_subcommand(1);
+  auto check_path = std::make_shared<std::string>();
+  CLI::App* check =
+      cap->add_subcommand("check", "Validate a capture: calibration, files, frame sizes");
+  check->add_option("capture", *check_path, "Capture directory or capture.json")->required();
+  check->callback([check_path, exit_code] { *exit_code = RunCheck(*check_path); });
+
+  auto sheet = std::make_shared<SheetArgs>();
+  CLI::App* sh = cap->add_subcommand("sheet", "A contact sheet (PNG) of all cameras at one frame");
+  sh->add_option("capture", sheet->capture, "Capture directory or capture.json")->required();
+  sh->add_option("-o,--output", sheet->output, "Output image (.png or .exr)")->required();
+  sh->add_option("--frame", sheet->frame, "Frame index")->capture_default_str();
+  sh->add_flag("--silhouettes", sheet->silhouettes, "Show the capture's silhouettes instead");
+  sh->callback([sheet, exit_code] { *exit_code = RunSheet(*sheet); });
+
+  auto imp = std::make_shared<ImportArgs>();
+  CLI::App* ic = cap->add_subcommand(
+      "import-calib",
+      "Make capture.json from OpenCV-style calibration files (YAML FileStorage or TOML)");
+  ic->add_option("files", imp->files, "Calibration files: one camera each, or sections per camera")
+      ->required()
+      ->check(CLI::ExistingFile);
+  ic->add_option("-o,--output", imp->output_dir, "Capture directory to write capture.json into")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  ic->add_option("--images", imp->images, "Frame pattern per camera ({camera} = its name)")
+      ->capture_default_str();
+  ic->add_option("--video", imp->video, "Video file per camera instead ({camera} = its name)");
+  ic->add_option("--first", imp->first, "Number of the first image")->capture_default_str();
+  ic->add_option("--frame-count", imp->frame_count,
+                 "Frames (default: count the first camera's images)");
+  ic->add_option("--fps", imp->fps, "Frame rate")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  ic->add_option("--translation-unit", imp->unit, "Unit of t in the files: m, cm or mm")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"m", "cm", "mm"}));
+  ic->add_option("--up", imp->up, "World up axis: y or z")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"y", "z"}));
+  ic->callback([imp, exit_code] { *exit_code = RunImportCalib(*imp); });
+
+  auto hull = std::make_shared<HullArgs>();
+  CLI::App* vh = cap->add_subcommand(
+      "hull",
+      "The visual hull of one frame: voxels carved by every camera's silhouette (given, or by "
+      "background subtraction); writes its surface voxels as a PLY point cloud");
+  vh->add_option("capture", hull->capture, "Capture directory or capture.json")->required();
+  vh->add_option("-o,--output", hull->output, "Output point cloud (.ply)")->required();
+  vh->add_option("--frame", hull->frame, "Frame index")->capture_default_str();
+  vh->add_option("--voxel", hull->options.voxel_size, "Voxel size in metres")
+      ->capture_default_str()
+      ->check(CLI::Range(0.002, 0.2));
+  vh->add_option("--margin", hull->options.margin_px,
+                 "Pixels the silhouettes are taken to be larger (calibration and edge error)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 20.0));
+  vh->add_flag("--extract", hull->extract,
+               "Background subtraction even when the capture lists silhouettes");
+  vh->callback([hull, exit_code] { *exit_code = RunHull(*hull); });
+  AddRegisterCommand(cap, exit_code);
+}
+
+}  // namespace fvv

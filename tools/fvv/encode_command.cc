@@ -1,0 +1,187 @@
+#include "tools/fvv/encode_command.h"
+
+#include <cstdio>
+#include <memory>
+
+#include "encoder/encode/encoder.h"
+#include "tools/fvv/codec_options.h"
+#include "tools/fvv/frame_range.h"
+#include "tools/fvv/smooth_option.h"
+
+namespace fvv {
+namespace {
+
+struct EncodeArgs {
+  std::string capture, output, poses, textures, save_textures, summary_json, frames, static_texture,
+      features;
+  CodecOptionArgs codec;
+  std::string motion_coder = "arith", texture_codec = "spiht", mask_coder = "mixing";
+  bool kernel_given = false, gop_cameras_given = false;
+  double bpp = 0, psnr = 0;
+  uint64_t bytes = 0;
+  uint32_t atlas = 512, threads = 2;
+  uint16_t gop_frames = 8, gop_cameras = 1, key_interval = 1;
+  bool no_masks = false, extract = false, fixed_shape = false, quiet = false, refine_shape = false,
+       no_fallback = false, no_prune = false;
+  int margin = 2;
+  double smooth = TrackCaptureOptions{}.smoothing.sigma_frames;
+  int fill_iterations = FillOptions{}.iterations;
+  std::vector<std::string> meta;
+};
+
+int Fail(const Status& s) {
+  std::fprintf(stderr, "fvv: %s\n", s.ToString().c_str());
+  return 1;
+}
+
+int RunEncode(const EncodeArgs& a) {
+  EncoderSettings s;
+  s.poses = a.poses;
+  s.textures = a.textures;
+  s.save_textures = a.save_textures;
+  const Status range = ParseFrameRange(a.frames, &s.first_frame, &s.last_frame);
+  if (!range.ok()) return Fail(range);
+  s.extract_silhouettes = a.extract;
+  s.tracker.adapt_shape = !a.fixed_shape;
+  s.pose_smoothing.sigma_frames = a.smooth;
+  s.refine_shape = a.refine_shape;
+  s.fallback_texture = !a.no_fallback;
+  s.static_texture = a.static_texture;
+  s.features = a.features;
+  if (!a.features.empty() && !a.refine_shape) {
+    std::fprintf(stderr, "fvv: --features is for --refine-shape\n");
+    return 1;
+  }
+  s.resample.silhouette_margin = a.margin;
+  s.atlas_size = a.atlas;
+  s.gop_frames = a.gop_frames;
+  s.gop_cameras = a.gop_cameras;
+  s.kernel = a.codec.Kernel();
+  s.frac_bits_97 = a.codec.precision_97;
+  s.coder = a.codec.Coder();
+  s.weights = a.codec.Weights();
+  s.sample_frac = a.codec.sample_bits;
+  s.chroma = a.codec.Chroma();
+  s.fill.iterations = a.fill_iterations;
+  s.prune_isolated = !a.no_prune;
+  if (a.texture_codec == "predictive") {
+    // Its defaults: all cameras in one GOP (it predicts across them) and the
+    // 5/3 kernel (better than the 9/7 with BISK: docs/encoder.md).
+    s.texture_codec = TextureCodec::kPredictive;
+    if (!a.gop_cameras_given) s.gop_cameras = 0;
+    if (!a.kernel_given) s.kernel = WaveletKernel::kLeGall53;
+  }
+  const int targets = (a.bpp > 0) + (a.bytes > 0) + (a.psnr > 0);
+  if (targets > 1) return Fail(InvalidArgument("give at most one of --bpp, --bytes, --psnr"));
+  if (a.bpp > 0) {
+    s.rate_mode = RateMode::kBitsPerSample, s.rate_value = a.bpp;
+  } else if (a.bytes > 0) {
+    s.rate_mode = RateMode::kTotalBytes, s.rate_value = double(a.bytes);
+  } else if (a.psnr > 0) {
+    s.rate_mode = RateMode::kPsnr, s.rate_value = a.psnr;
+  }
+  s.masks = !a.no_masks;
+  s.mask_coding = MaskCoderFromName(a.mask_coder);
+  s.motion_coder = a.motion_coder == "zstd" ? MotionCoder::kZstd : MotionCoder::kArith;
+  s.key_interval = a.key_interval;
+  s.threads = a.threads;
+  s.metadata = {{"generator", "fvv encode"}, {"capture", a.capture}};
+  for (const std::string& kv : a.meta) {
+    const size_t eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0) {
+      return Fail(InvalidArgument("--meta " + kv + " is not KEY=VALUE"));
+    }
+    s.metadata.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
+  }
+  if (!a.quiet) {
+    s.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+  }
+  StatusOr<EncodeSummary> r = EncodeCapture(a.capture, a.output, s);
+  if (!r.ok()) return Fail(r.status());
+  std::printf("%s", r->Table().c_str());
+  if (!a.save_textures.empty()) {
+    std::printf("  textures and masks before coding: %s (textures.json describes them)\n",
+                a.save_textures.c_str());
+  }
+  if (!a.summary_json.empty()) {
+    const std::string text = r->ToJson();
+    const Status w =
+        WriteFileAtomic(a.summary_json, reinterpret_cast<const uint8_t*>(text.data()), text.size());
+    if (!w.ok()) return Fail(w);
+  }
+  return 0;
+}
+
+}  // namespace
+
+void AddEncodeCommand(CLI::App* app, int* exit_code) {
+  auto a = std::make_shared<EncodeArgs>();
+  CLI::App* e = app->add_subcommand("encode",
+                                    "Encode a capture into a .fvv stream: motion capture, atlas "
+                                    "resampling, 4D-SPIHT (or predictive BISK) textures");
+  e->footer(
+      "Rate: one of --psnr (default 36 dB, weighted YUV over visible texels, per GOP), --bpp "
+      "(bits per atlas texel of a GOP block, seen or not) or --bytes (per GOP).\n"
+      "Poses: tracked from the capture's silhouettes unless --poses gives them (fvv track's "
+      "poses.json, or a synthetic capture's truth.json or directory). --textures encodes atlas "
+      "textures made by --save-textures (or by a studio's own pipeline in that layout).\n"
+      "Example: fvv encode cap -o cap.fvv --save-textures tex/");
+  e->add_option("capture", a->capture, "Capture directory or capture.json")->required();
+  e->add_option("-o,--output", a->output, "The .fvv file to write")->required();
+  e->add_option("--poses", a->poses, "Use these poses instead of tracking");
+  e->add_option("--textures", a->textures,
+                "Encode these atlas textures and masks (a --save-textures directory)")
+      ->check(CLI::ExistingDirectory);
+  e->add_option("--save-textures", a->save_textures,
+                "Also write the atlas textures and masks before coding (PNG) here");
+  e->add_option("--frames", a->frames, "Frame range A:B (default all)");
+  e->add_option("--psnr", a->psnr, "Target PSNR in dB");
+  e->add_option("--bpp", a->bpp, "Target bits per atlas texel");
+  e->add_option("--bytes", a->bytes, "Target bytes per GOP");
+  e->add_option("--atlas", a->atlas, "Atlas side in texels (16..4096)")->capture_default_str();
+  e->add_option("--gop-frames", a->gop_frames, "Frames per GOP")->capture_default_str();
+  e->add_option("--gop-cameras", a->gop_cameras, "Cameras per GOP")->capture_default_str();
+  AddCodecOptions(e, &a->codec);
+  AddFillOption(e, &a->fill_iterations);
+  AddPruneOption(e, &a->no_prune);
+  AddTextureCodecOption(e, &a->texture_codec);
+  AddMaskCoderOption(e, &a->mask_coder);
+  e->add_flag("--no-masks", a->no_masks,
+              "Do not code visibility masks (the player then blends every camera everywhere)");
+  e->add_option("--motion-coder", a->motion_coder, "Motion track entropy coder")
+      ->check(CLI::IsMember({"arith", "zstd"}))
+      ->capture_default_str();
+  e->add_option("--key-interval", a->key_interval,
+                "Motion key-frame interval (> 1: frames between are interpolated)")
+      ->capture_default_str();
+  e->add_option("--silhouette-margin", a->margin,
+                "Pixels the image silhouettes grow by before resampling")
+      ->capture_default_str();
+  e->add_flag("--extract", a->extract,
+              "Background subtraction even when the capture lists silhouettes");
+  e->add_flag("--fixed-shape", a->fixed_shape, "Tracking keeps the generic body's proportions");
+  AddSmoothOption(e, &a->smooth);
+  e->add_flag("--no-fallback-texture", a->no_fallback,
+              "Leave texels no camera of a frame sees to the codec's fill, instead of the "
+              "actor's seamless static texture");
+  e->add_option("--static-texture", a->static_texture,
+                "Also write the actor's static seamless texture (atlas layout) to this image");
+  e->add_option("--features", a->features,
+                "With --refine-shape: feature points (JSON, joint centres per camera image) for "
+                "the refinement's features term")
+      ->check(CLI::ExistingFile);
+  e->add_flag("--refine-shape", a->refine_shape,
+              "Refine the body model's surface to the actor on the first frame (silhouettes, "
+              "stereo) before resampling; the stream stores the refined model");
+  e->add_option("--threads", a->threads, "Worker threads")->capture_default_str();
+  e->add_option("--meta", a->meta, "Metadata KEY=VALUE (repeatable)");
+  e->add_option("--summary-json", a->summary_json, "Also write the summary as JSON here");
+  e->add_flag("-q,--quiet", a->quiet, "No per-frame progress");
+  e->callback([a, e, exit_code] {
+    a->kernel_given = e->count("--kernel") > 0;
+    a->gop_cameras_given = e->count("--gop-cameras") > 0;
+    *exit_code = RunEncode(*a);
+  });
+}
+
+}  // namespace fvv

@@ -1,0 +1,211 @@
+#include "tools/fvv/render_frames.h"
+
+#include <chrono>
+#include <cstdio>
+#include <optional>
+
+#include "codec/base/thread_pool.h"
+#include "encoder/body/generic_body.h"
+#include "encoder/capture/capture.h"
+#include "encoder/encode/pose_file.h"
+#include "encoder/track/capture_frames.h"
+#include "encoder/track/track_capture.h"
+#include "fvv/fvv_decoder.hpp"
+#include "player/decoder/public_camera.h"
+#include "player/render/projective_renderer.h"
+
+namespace fvv {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double Since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+// Frames drawn by renderer type R (both renderers draw and read back alike).
+template <class R>
+class FramesDrawnBy : public RenderFrames {
+ public:
+  Status Draw(const RenderView& view, int width, int height) override {
+    return renderer_->Draw(view, width, height);
+  }
+  Status ReadRgb(int width, int height, std::vector<uint8_t>* rgb) override {
+    return renderer_->ReadRgb(width, height, rgb);
+  }
+
+ protected:
+  std::unique_ptr<R> renderer_;
+};
+
+class StreamFrames : public FramesDrawnBy<Renderer> {
+ public:
+  Status Open(const std::string& path, const StreamRenderOptions& o) {
+    decoder_ = MakeDecoder();
+    if (!decoder_) return Internal("cannot create a decoder");
+    if (fvv_decoder_open_file(decoder_.get(), path.c_str()) != FVV_OK) {
+      return Corrupt(fvv_decoder_error(decoder_.get()));
+    }
+    fvv_decoder_get_info(decoder_.get(), &info_);
+    first_ = 0;
+    last_ = info_.frame_count - 1;
+    fps_ = double(info_.frame_rate_num) / info_.frame_rate_den;
+    cameras_.resize(info_.camera_count);
+    for (uint32_t c = 0; c < info_.camera_count; ++c) {
+      fvv_decoder_get_camera(decoder_.get(), c, &cameras_[c]);
+    }
+    budget_.max_bytes_per_gop = o.bytes;
+    budget_.max_ms_per_gop = o.max_ms;
+    return Status::Ok();
+  }
+  Status CreateRenderer(const GlApi& gl) override {
+    fvv_model model;
+    fvv_decoder_get_model(decoder_.get(), &model);
+    auto r = Renderer::Create(gl, model, CameraCentres(decoder_.get()), info_.atlas_width,
+                              info_.atlas_height);
+    if (!r.ok()) return r.status();
+    renderer_ = std::move(r).value();
+    return Status::Ok();
+  }
+  Status Load(uint32_t f, glm::vec3* root) override {
+    const auto t0 = Clock::now();
+    FramePtr frame = DecodeFrame(decoder_.get(), f, &budget_);
+    if (!frame)
+      return Corrupt("frame " + std::to_string(f) + ": " + fvv_decoder_error(decoder_.get()));
+    decode_s_ += Since(t0);
+    const auto t1 = Clock::now();
+    FVV_RETURN_IF_ERROR(renderer_->SetFrame(*frame));
+    upload_s_ += Since(t1);
+    *root = glm::vec3(frame->bone_world[12], frame->bone_world[13], frame->bone_world[14]);
+    return Status::Ok();
+  }
+  std::string LoadTimes(uint32_t frames) const override {
+    char line[160];
+    std::snprintf(line, sizeof(line),
+                  "Renderer II; texture upload %.1f ms per frame, decode %.0f ms (real-time "
+                  "factor %.2f)",
+                  upload_s_ * 1e3 / frames, decode_s_ * 1e3, decode_s_ / (frames / fps_));
+    return line;
+  }
+
+ private:
+  DecoderPtr decoder_;
+  fvv_stream_info info_{};
+  fvv_decode_budget budget_{};
+  double decode_s_ = 0, upload_s_ = 0;
+};
+
+class CaptureFramesSource : public FramesDrawnBy<ProjectiveRenderer> {
+ public:
+  CaptureFramesSource() : pool_(2) {}
+  Status Open(const std::string& path, const CaptureRenderOptions& o) {
+    options_ = o;
+    StatusOr<Capture> cap = LoadCapture(path);
+    if (!cap.ok()) return cap.status();
+    capture_ = std::move(cap).value();
+    const uint32_t last = std::min(o.last, capture_.frame_count - 1);
+    if (o.first > last) {
+      return InvalidArgument("--first beyond the capture's " +
+                             std::to_string(capture_.frame_count) + " frames");
+    }
+    if (!o.poses.empty()) {
+      StatusOr<PoseSequence> poses = LoadPoseFile(o.poses);
+      if (!poses.ok()) return poses.status();
+      first_ = std::max(o.first, poses->first_frame);
+      last_ = std::min<uint32_t>(last, poses->first_frame + uint32_t(poses->poses.size()) - 1);
+      if (first_ > last_) {
+        return InvalidArgument(o.poses + " has poses for frames " +
+                               std::to_string(poses->first_frame) + ".." +
+                               std::to_string(poses->first_frame + poses->poses.size() - 1) +
+                               ", none of the frames asked for");
+      }
+      model_ = MakeGenericBody(poses->shape);
+      for (uint32_t f = first_; f <= last_; ++f)
+        poses_.push_back(poses->poses[f - poses->first_frame]);
+    } else {
+      // No poses: the capture front end tracks the actor first.
+      TrackCaptureOptions to;
+      to.first = o.first;
+      to.last = last;
+      to.progress = o.progress;
+      StatusOr<TrackCaptureResult> tracked = TrackCapture(path, to);
+      if (!tracked.ok()) return tracked.status();
+      first_ = tracked->first;
+      last_ = tracked->last;
+      model_ = tracked->model;
+      poses_ = tracked->Poses();
+    }
+    fps_ = capture_.frame_rate;
+    for (const CaptureCamera& c : capture_.cameras) {
+      calibrations_.push_back(c.calibration);
+    }
+    for (const Camera& c : calibrations_) cameras_.push_back(PublicCamera(c));
+    StatusOr<std::unique_ptr<CaptureFrames>> frames = CaptureFrames::Open(capture_, false, &pool_);
+    if (!frames.ok()) return frames.status();
+    frames_ = std::move(frames).value();
+    return Status::Ok();
+  }
+  Status CreateRenderer(const GlApi& gl) override {
+    std::vector<uint32_t> indices;
+    for (const auto& t : model_.mesh.triangles) indices.insert(indices.end(), t.begin(), t.end());
+    auto r =
+        ProjectiveRenderer::Create(gl, indices, uint32_t(model_.mesh.positions.size()), cameras_);
+    if (!r.ok()) return r.status();
+    renderer_ = std::move(r).value();
+    return Status::Ok();
+  }
+  Status Load(uint32_t f, glm::vec3* root) override {
+    const auto t0 = Clock::now();
+    std::vector<Image> images, silhouettes;
+    FVV_RETURN_IF_ERROR(frames_->Read(f, &images, &silhouettes));
+    read_s_ += Since(t0);
+    const auto t1 = Clock::now();
+    StatusOr<ProjectiveFrame> frame =
+        MakeProjectiveFrame(model_, poses_[f - first_], calibrations_, images, silhouettes,
+                            options_.projective, pool_.runner());
+    if (!frame.ok()) return frame.status();
+    prepare_s_ += Since(t1);
+    const auto t2 = Clock::now();
+    std::vector<const uint8_t*> rgba;
+    for (const Image& i : frame->images) rgba.push_back(i.pixels.data());
+    FVV_RETURN_IF_ERROR(renderer_->SetFrame(frame->positions, frame->weights, rgba));
+    upload_s_ += Since(t2);
+    *root = glm::vec3(float(frame->root.x()), float(frame->root.y()), float(frame->root.z()));
+    return Status::Ok();
+  }
+  std::string LoadTimes(uint32_t frames) const override {
+    char line[200];
+    std::snprintf(line, sizeof(line),
+                  "Renderer I (projective); per frame: images and silhouettes read %.0f ms, "
+                  "visibility and weights %.0f ms, upload %.1f ms",
+                  read_s_ * 1e3 / frames, prepare_s_ * 1e3 / frames, upload_s_ * 1e3 / frames);
+    return line;
+  }
+
+ private:
+  CaptureRenderOptions options_;
+  ThreadPool pool_;
+  Capture capture_;
+  std::vector<Camera> calibrations_;  // cameras_ names point into these
+  BodyModel model_;
+  std::vector<std::vector<double>> poses_;  // first_..last_
+  std::unique_ptr<CaptureFrames> frames_;
+  double read_s_ = 0, prepare_s_ = 0, upload_s_ = 0;
+};
+
+}  // namespace
+
+StatusOr<std::unique_ptr<RenderFrames>> OpenStreamFrames(const std::string& path,
+                                                         const StreamRenderOptions& options) {
+  auto frames = std::make_unique<StreamFrames>();
+  FVV_RETURN_IF_ERROR(frames->Open(path, options));
+  return std::unique_ptr<RenderFrames>(std::move(frames));
+}
+
+StatusOr<std::unique_ptr<RenderFrames>> OpenCaptureFrames(const std::string& path,
+                                                          const CaptureRenderOptions& options) {
+  auto frames = std::make_unique<CaptureFramesSource>();
+  FVV_RETURN_IF_ERROR(frames->Open(path, options));
+  return std::unique_ptr<RenderFrames>(std::move(frames));
+}
+
+}  // namespace fvv

@@ -1,0 +1,131 @@
+#include "tools/fvv/track_command.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <memory>
+
+#include "encoder/io/image_io.h"
+#include "encoder/track/joint_truth.h"
+#include "encoder/track/track_capture.h"
+#include "tools/fvv/frame_range.h"
+#include "tools/fvv/smooth_option.h"
+
+namespace fvv {
+namespace {
+
+struct TrackArgs {
+  std::string capture, output, truth, save_silhouettes, overlays;
+  std::string frames;  // "A:B"
+  bool extract = false;
+  bool no_shape = false;
+  bool quiet = false;
+  double smooth = TrackCaptureOptions{}.smoothing.sigma_frames;
+};
+
+int Fail(const Status& s) {
+  std::fprintf(stderr, "fvv: %s\n", s.ToString().c_str());
+  return 1;
+}
+
+int RunTrack(const TrackArgs& a) {
+  TrackCaptureOptions o;
+  const Status range = ParseFrameRange(a.frames, &o.first, &o.last);
+  if (!range.ok()) return Fail(range);
+  o.extract = a.extract;
+  o.tracker.adapt_shape = !a.no_shape;
+  o.smoothing.sigma_frames = a.smooth;
+  o.save_silhouettes = a.save_silhouettes;
+  o.overlays = a.overlays;
+  for (const std::string& dir : {a.save_silhouettes, a.overlays}) {
+    if (dir.empty()) continue;
+    const Status made = MakeDirectories(dir);
+    if (!made.ok()) return Fail(made);
+  }
+  if (!a.quiet)
+    o.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+  StatusOr<TrackCaptureResult> r = TrackCapture(a.capture, o);
+  if (!r.ok()) return Fail(r.status());
+  const std::string text = r->ToJson();
+  Status s = WriteFileAtomic(a.output, reinterpret_cast<const uint8_t*>(text.data()), text.size());
+  if (!s.ok()) return Fail(s);
+  const size_t count = r->fits.size();
+  std::printf("tracked frames %u..%u of %s: %zu frames, %d flagged\n", r->first, r->last,
+              a.capture.c_str(), count, r->flagged);
+  {
+    // Height standing, and each proportion against the generic body's.
+    double bottom = 1e30, top = -1e30;
+    for (const auto& v : r->model.mesh.positions) {
+      bottom = std::min(bottom, double(v[1]));
+      top = std::max(top, double(v[1]));
+    }
+    const BodyShape& b = r->shape;
+    std::printf(
+        "  body shape: %.2f m tall (stature %.3f); length / girth: head %.2f / %.2f, trunk %.2f / "
+        "%.2f, arms %.2f / %.2f, legs %.2f / %.2f, neck girth %.2f of the "
+        "head's\n",
+        top - bottom, b.stature, b.length[kSegHead], b.girth[kSegHead], b.length[kSegChest],
+        b.girth[kSegChest], b.length[kSegLeftUpperArm], b.girth[kSegLeftUpperArm],
+        b.length[kSegLeftThigh], b.girth[kSegLeftThigh], b.neck_ratio);
+  }
+  std::printf("  silhouettes: %s, mean IoU %.3f\n",
+              r->given_silhouettes ? "given" : "background subtraction", r->mean_iou);
+  std::printf("  time: %.3f s per frame (silhouettes %.3f, fitting %.3f)\n",
+              (r->silhouette_seconds + r->fit_seconds) / count, r->silhouette_seconds / count,
+              r->fit_seconds / count);
+  if (!a.truth.empty()) {
+    StatusOr<JointErrors> e = CompareWithTruth(a.truth, r->model.skeleton, r->Poses(), r->first);
+    if (!e.ok()) return Fail(e.status());
+    std::printf("  joint error against %s: mean %.2f cm, max %.2f cm (%zu joints: %s)\n",
+                a.truth.c_str(), 100 * e->mean, 100 * e->max, e->joints.size(),
+                e->Describe().c_str());
+    // Where the error is: drift while tracking shows as a rising run of frames.
+    const std::vector<double>& f = e->per_frame;
+    const size_t worst = size_t(std::max_element(f.begin(), f.end()) - f.begin());
+    const size_t best = size_t(std::min_element(f.begin(), f.end()) - f.begin());
+    std::printf("  per frame: best frame %u (%.2f cm), worst frame %u (%.2f cm)\n",
+                r->first + unsigned(best), 100 * f[best], r->first + unsigned(worst),
+                100 * f[worst]);
+    if (f.size() <= 100) {
+      for (size_t i = 0; i < f.size(); ++i)
+        std::printf("%s%5.1f%s", i % 10 == 0 ? "    cm:" : "", 100 * f[i],
+                    i % 10 == 9 || i + 1 == f.size() ? "\n" : "");
+    }
+    // Per joint: a large mean offset is a bias (joint placement inside the
+    // body, a proportion), the rest moves from frame to frame.
+    std::printf("  per joint (mean error, mean offset x y z in cm):\n");
+    for (size_t k = 0; k < e->joints.size(); ++k) {
+      const Eigen::Vector3d& off = e->per_joint_offset[k];
+      std::printf("    %-11s %5.1f  (%+5.1f %+5.1f %+5.1f)\n", e->joints[k].c_str(),
+                  100 * e->per_joint_mean[k], 100 * off.x(), 100 * off.y(), 100 * off.z());
+    }
+  }
+  std::printf("  poses: %s\n", a.output.c_str());
+  return 0;
+}
+
+}  // namespace
+
+void AddTrackCommand(CLI::App* app, int* exit_code) {
+  auto a = std::make_shared<TrackArgs>();
+  CLI::App* t = app->add_subcommand(
+      "track", "Marker-free motion capture: fit the body model to a capture's silhouettes");
+  t->add_option("capture", a->capture, "Capture directory or capture.json")->required();
+  t->add_option("-o,--output", a->output, "Poses (JSON): DOFs, fit quality and flags per frame")
+      ->required();
+  t->add_option("--truth", a->truth,
+                "Ground truth (fvv synth's truth.json or its directory): joint errors");
+  t->add_option("--frames", a->frames, "Frame range A:B (default all)");
+  t->add_flag("--extract", a->extract,
+              "Background subtraction even when the capture lists silhouettes");
+  t->add_flag("--fixed-shape", a->no_shape, "Keep the generic body's proportions");
+  AddSmoothOption(t, &a->smooth);
+  t->add_option("--save-silhouettes", a->save_silhouettes,
+                "Write the silhouettes used (PNG) here (created if missing)");
+  t->add_option("--overlays", a->overlays,
+                "Write each frame's cameras with the fit drawn over them (PNG) here (created if "
+                "missing)");
+  t->add_flag("-q,--quiet", a->quiet, "No per-frame progress");
+  t->callback([a, exit_code] { *exit_code = RunTrack(*a); });
+}
+
+}  // namespace fvv

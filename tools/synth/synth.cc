@@ -1,0 +1,368 @@
+#include "tools/synth/synth.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "codec/base/thread_pool.h"
+#include "encoder/body/generic_body.h"
+#include "encoder/body/kinematics.h"
+#include "encoder/capture/calibration.h"
+#include "encoder/import/bvh.h"
+#include "encoder/import/retarget.h"
+#include "encoder/track/features.h"
+#include "player/render/headless.h"
+#include "tools/synth/body_texture.h"
+#include "tools/synth/gltf_actor.h"
+#include "tools/synth/procedural_motion.h"
+#include "tools/synth/surface_detail.h"
+#include "tools/synth/synth_renderer.h"
+
+namespace fvv {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Reproducible noise on every platform: a counter-based hash and Box-Muller.
+class NoiseSource {
+ public:
+  explicit NoiseSource(uint64_t seed) : state_(seed * 0x9E3779B97F4A7C15ull + 1) {}
+  double Uniform() {
+    state_ ^= state_ >> 12;
+    state_ ^= state_ << 25;
+    state_ ^= state_ >> 27;
+    return ((state_ * 0x2545F4914F6CDD1Dull) >> 11) * (1.0 / 9007199254740992.0);
+  }
+  double Gaussian() {
+    const double u = std::max(Uniform(), 1e-300), v = Uniform();
+    return std::sqrt(-2 * std::log(u)) * std::cos(2 * kPi * v);
+  }
+
+ private:
+  uint64_t state_;
+};
+
+// Sensor noise and per-camera colour response.
+void ApplySensor(Image* image, double sigma, const std::array<double, 3>& gain, uint64_t seed) {
+  NoiseSource rng(seed);
+  for (size_t i = 0; i < image->pixels.size(); ++i) {
+    const double v = image->pixels[i] * gain[i % 3] + sigma * rng.Gaussian();
+    image->pixels[i] = static_cast<uint8_t>(std::clamp(std::lround(v), 0l, 255l));
+  }
+}
+
+std::string CameraDir(const Camera& c) { return c.name; }
+
+std::string FrameName(uint32_t frame) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%06u.png", frame);
+  return buf;
+}
+
+nlohmann::json Vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+}  // namespace
+
+std::vector<Camera> MakeStudioCameras(uint32_t count, uint32_t width, uint32_t height, double phase,
+                                      const std::string& prefix) {
+  std::vector<Camera> out;
+  // Framing: about 2.3 m of height at the ring's radius fills the image, so the
+  // actor stays in view when it walks up to a camera.
+  const double radius = 3.6, focal = 1.5 * height;
+  for (uint32_t i = 0; i < count; ++i) {
+    const double a = 2 * kPi * (i + phase) / count;
+    const double y = (i % 2 == 0) ? 1.3 : 2.0;
+    char name[32];
+    std::snprintf(name, sizeof(name), "%s%02u", prefix.c_str(), i);
+    out.push_back(LookAtCamera(name, width, height, focal,
+                               Eigen::Vector3d(radius * std::sin(a), y, radius * std::cos(a)),
+                               Eigen::Vector3d(0, 0.9, 0), Eigen::Vector3d(0, 1, 0)));
+  }
+  return out;
+}
+
+StatusOr<std::unique_ptr<Actor>> MakeSynthActor(const SynthOptions& o) {
+  if (o.actor != "builtin") {
+    if (!o.motion.empty()) {
+      return InvalidArgument(
+          "synth: --motion drives the built-in actor; a glTF actor plays its own animation");
+    }
+    StatusOr<std::unique_ptr<GltfActor>> g = GltfActor::Load(o.actor, o.fps, o.frames);
+    if (!g.ok()) return Status(g.status().code(), "synth: --actor: " + g.status().message());
+    return std::unique_ptr<Actor>(std::move(*g));
+  }
+  BodyShape shape;
+  shape.stature = o.stature;
+  FVV_RETURN_IF_ERROR(ValidateBodyShape(shape));
+  BodyModel model = MakeGenericBody(shape);
+  if (!(o.surface_detail >= 0 && o.surface_detail <= 0.1)) {
+    return InvalidArgument("synth: surface detail must be 0..0.1 m");
+  }
+  AddSurfaceDetail(o.surface_detail, o.seed, &model);
+  std::vector<std::vector<double>> poses;
+  std::string motion = "built-in walk";
+  if (!o.motion.empty()) {
+    // Only the proportions matter: the retargeter scales the root path by leg length.
+    StatusOr<BvhMotion> bvh = ReadBvhFile(o.motion, 1.0);
+    if (!bvh.ok()) return Status(bvh.status().code(), "synth: --motion: " + bvh.status().message());
+    RetargetOptions r;
+    r.fps = o.fps;
+    r.frames = o.frames;
+    r.start_seconds = o.motion_start;
+    // CMU's BVH conversions open with a T-pose reference frame that is not part
+    // of the performance: the next frame jumps away from it (tens of degrees
+    // within one capture interval, which no real motion does): start after it.
+    const std::vector<DofRef> bvh_dofs = bvh->skeleton.Dofs();
+    bool reference_frame = false;
+    for (size_t d = 0; bvh->frames.size() > 1 && d < bvh_dofs.size(); ++d) {
+      if (IsRotationDof(bvh_dofs[d].kind) &&
+          std::abs(bvh->frames[1][d] - bvh->frames[0][d]) > 0.5) {
+        reference_frame = true;
+      }
+    }
+    if (reference_frame && r.start_seconds < bvh->frame_time) r.start_seconds = bvh->frame_time;
+    StatusOr<std::vector<std::vector<double>>> retargeted =
+        RetargetToGenericBody(*bvh, model.skeleton, r);
+    if (!retargeted.ok()) {
+      return Status(retargeted.status().code(),
+                    "synth: " + o.motion + ": " + retargeted.status().message());
+    }
+    poses = std::move(*retargeted);
+    const size_t slash = o.motion.find_last_of('/');
+    motion = "BVH motion " + (slash == std::string::npos ? o.motion : o.motion.substr(slash + 1));
+  } else {
+    poses = ProceduralWalk(model.skeleton, o.frames, o.fps);
+  }
+  Image texture = BakeBodyTexture(model, static_cast<int>(o.texture_size), o.seed);
+  return std::unique_ptr<Actor>(new BodyModelActor(
+      std::move(model), std::move(poses), std::move(texture), "built-in body model, " + motion));
+}
+
+StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
+  const auto start = std::chrono::steady_clock::now();
+  auto say = [&](const std::string& line) {
+    if (o.progress) o.progress(line);
+  };
+  if (o.output_dir.empty()) return InvalidArgument("synth: no output directory given");
+  if (o.cameras < 1 || o.cameras > 64) return InvalidArgument("synth: --cameras must be 1..64");
+  if (o.held_out > 16) return InvalidArgument("synth: --held-out must be 0..16");
+  if (o.width < 16 || o.height < 16 || o.width > 4096 || o.height > 4096) {
+    return InvalidArgument("synth: image size must be 16..4096 on each side");
+  }
+  if (o.frames < 1 || o.frames > 100000)
+    return InvalidArgument("synth: --frames must be 1..100000");
+  if (!(o.fps > 0 && o.fps <= 240)) return InvalidArgument("synth: --fps must be in (0, 240]");
+  if (!(o.noise >= 0 && o.noise <= 50)) return InvalidArgument("synth: --noise must be 0..50");
+  if (!(o.colour_mismatch >= 0 && o.colour_mismatch <= 0.5)) {
+    return InvalidArgument("synth: --colour-mismatch must be 0..0.5");
+  }
+  if (o.texture_size < 64 || o.texture_size > 4096) {
+    return InvalidArgument("synth: texture size must be 64..4096");
+  }
+
+  StatusOr<std::unique_ptr<Actor>> made = MakeSynthActor(o);
+  if (!made.ok()) return made.status();
+  const Actor& actor = **made;
+  if (actor.frame_count() < o.frames) {
+    return Internal("synth: actor has fewer frames than asked for");
+  }
+  say("synth: actor: " + actor.Describe());
+
+  std::vector<Camera> cameras = MakeStudioCameras(o.cameras, o.width, o.height, 0.0, "cam");
+  if (o.overhead) {
+    cameras.push_back(LookAtCamera("top", o.width, o.height, 0.9 * o.height,
+                                   Eigen::Vector3d(0, 4.2, 0.3), Eigen::Vector3d(0, 0, 0),
+                                   Eigen::Vector3d(0, 1, 0)));
+  }
+  const std::vector<Camera> held = MakeStudioCameras(o.held_out, o.width, o.height, 0.5, "held");
+
+  const std::string dir = o.output_dir;
+  FVV_RETURN_IF_ERROR(MakeDirectories(dir + "/background"));
+  FVV_RETURN_IF_ERROR(MakeDirectories(dir + "/truth/heldout"));
+  for (const Camera& c : cameras) {
+    FVV_RETURN_IF_ERROR(MakeDirectories(dir + "/" + CameraDir(c)));
+    FVV_RETURN_IF_ERROR(MakeDirectories(dir + "/truth/silhouettes/" + CameraDir(c)));
+  }
+  for (const Camera& c : held) {
+    FVV_RETURN_IF_ERROR(MakeDirectories(dir + "/truth/heldout/" + CameraDir(c)));
+    FVV_RETURN_IF_ERROR(MakeDirectories(dir + "/truth/heldout/silhouettes/" + CameraDir(c)));
+  }
+
+  uint32_t max_w = o.width, max_h = o.height;
+  StatusOr<std::unique_ptr<HeadlessContext>> context =
+      HeadlessContext::Create(static_cast<int>(max_w), static_cast<int>(max_h));
+  if (!context.ok()) return context.status();
+  StatusOr<std::unique_ptr<SynthRenderer>> renderer =
+      SynthRenderer::Create((*context)->gl(), actor.mesh(), actor.bone_count());
+  if (!renderer.ok()) return renderer.status();
+  SynthRenderer& r = **renderer;
+  r.SetUnlit(o.unlit);
+
+  // Per-camera colour response (gains around 1) and noise seeds.
+  NoiseSource gains_rng(o.seed * 7919u + 17);
+  std::vector<std::array<double, 3>> gain(cameras.size() + held.size());
+  for (auto& g : gain) {
+    const double common = 1 + o.colour_mismatch * (2 * gains_rng.Uniform() - 1);
+    for (double& c : g) c = common * (1 + 0.3 * o.colour_mismatch * (2 * gains_rng.Uniform() - 1));
+  }
+  auto seed_of = [&](uint32_t camera, uint32_t frame) {
+    return (uint64_t{o.seed} << 40) ^ (uint64_t{camera} << 24) ^ frame;
+  };
+
+  ThreadPool pool(2);
+  struct Pending {
+    std::string path;
+    Image image;
+  };
+  auto write_all = [&](std::vector<Pending>* pending) -> Status {
+    std::vector<Status> results(pending->size());
+    pool.Run(static_cast<uint32_t>(pending->size()),
+             [&](uint32_t i) { results[i] = WritePng((*pending)[i].path, (*pending)[i].image); });
+    pending->clear();
+    for (Status& s : results) FVV_RETURN_IF_ERROR(s);
+    return Status::Ok();
+  };
+
+  // Background plates: the empty studio, with its own sensor noise.
+  std::vector<Pending> pending;
+  for (uint32_t c = 0; c < cameras.size(); ++c) {
+    FVV_RETURN_IF_ERROR(r.DrawScene(cameras[c], nullptr, Eigen::Vector3d::Zero()));
+    StatusOr<Image> plate = r.Read(cameras[c], 3);
+    if (!plate.ok()) return plate.status();
+    ApplySensor(&*plate, o.noise, gain[c], seed_of(c, 0xFFFFFF));
+    pending.push_back({dir + "/background/" + CameraDir(cameras[c]) + ".png", std::move(*plate)});
+  }
+  FVV_RETURN_IF_ERROR(write_all(&pending));
+
+  nlohmann::json truth_frames = nlohmann::json::array();
+  FeatureSet features;
+  const auto body = dynamic_cast<const BodyModelActor*>(&actor);
+  for (uint32_t f = 0; f < o.frames; ++f) {
+    const std::vector<Eigen::Matrix4f> skin = actor.Skinning(f);
+    const Eigen::Vector3d root = actor.RootPosition(f);
+    auto film = [&](const Camera& cam, uint32_t index, const std::string& image_dir,
+                    const std::string& silhouette_dir) -> Status {
+      FVV_RETURN_IF_ERROR(r.DrawScene(cam, &skin, root));
+      StatusOr<Image> frame = r.Read(cam, 3);
+      if (!frame.ok()) return frame.status();
+      ApplySensor(&*frame, o.noise, gain[index], seed_of(index, f));
+      pending.push_back({image_dir + "/" + FrameName(f), std::move(*frame)});
+      FVV_RETURN_IF_ERROR(r.DrawSilhouette(cam, skin));
+      StatusOr<Image> sil = r.Read(cam, 1);
+      if (!sil.ok()) return sil.status();
+      pending.push_back({silhouette_dir + "/" + FrameName(f), std::move(*sil)});
+      return Status::Ok();
+    };
+    for (uint32_t c = 0; c < cameras.size(); ++c) {
+      const std::string name = CameraDir(cameras[c]);
+      FVV_RETURN_IF_ERROR(
+          film(cameras[c], c, dir + "/" + name, dir + "/truth/silhouettes/" + name));
+    }
+    for (uint32_t c = 0; c < held.size(); ++c) {
+      const std::string name = CameraDir(held[c]);
+      FVV_RETURN_IF_ERROR(film(held[c], uint32_t(cameras.size()) + c,
+                               dir + "/truth/heldout/" + name,
+                               dir + "/truth/heldout/silhouettes/" + name));
+    }
+    FVV_RETURN_IF_ERROR(write_all(&pending));
+
+    // Feature points: the joints seen by each camera (truth/features.json,
+    // as a studio's annotation or a keypoint detector would give them).
+    for (const NamedPoint& j : actor.Joints(f)) {
+      if (!IsFeatureName(j.name)) continue;
+      for (uint32_t c = 0; c < cameras.size(); ++c) {
+        Eigen::Vector2d px;
+        if (ProjectPoint(cameras[c], j.position, &px) && px.x() >= 0 && px.y() >= 0 &&
+            px.x() <= cameras[c].width - 1 && px.y() <= cameras[c].height - 1) {
+          features.frames[f][j.name][c] = px;
+        }
+      }
+    }
+    nlohmann::json tf;
+    tf["frame"] = f;
+    nlohmann::json joints = nlohmann::json::object();
+    for (const NamedPoint& j : actor.Joints(f)) joints[j.name] = Vec(j.position);
+    tf["joints"] = joints;
+    if (body) tf["dofs"] = body->pose(f);
+    truth_frames.push_back(tf);
+
+    if (o.progress && ((f + 1) % 10 == 0 || f + 1 == o.frames)) {
+      const double elapsed =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const double eta = elapsed / (f + 1) * (o.frames - f - 1);
+      char line[160];
+      std::snprintf(line, sizeof(line),
+                    "synth: frame %u/%u (%zu cameras + %zu held out), %.1f s, ETA %.0f s", f + 1,
+                    o.frames, cameras.size(), held.size(), elapsed, eta);
+      say(line);
+    }
+  }
+
+  // The actor's texture, and the ground-truth record.
+  FVV_RETURN_IF_ERROR(WritePng(dir + "/truth/texture.png", actor.mesh().texture));
+  nlohmann::json truth;
+  truth["generator"] = "fvv synth";
+  truth["actor"] = actor.Describe();
+  truth["seed"] = o.seed;
+  truth["frame_rate"] = o.fps;
+  truth["frame_count"] = o.frames;
+  truth["noise"] = o.noise;
+  truth["unlit"] = o.unlit;
+  truth["colour_mismatch"] = o.colour_mismatch;
+  if (body) {
+    truth["body_model"] = "generic";
+    truth["stature"] = o.stature;
+    truth["surface_detail"] = o.surface_detail;
+    nlohmann::json dofs = nlohmann::json::array();
+    for (const DofRef& d : body->model().skeleton.Dofs()) {
+      static const char* kKinds[] = {"rx", "ry", "rz", "tx", "ty", "tz"};
+      dofs.push_back(body->model().skeleton.bones[d.bone].name + "." + kKinds[d.kind]);
+    }
+    truth["dof_names"] = dofs;
+  }
+  truth["frames"] = truth_frames;
+  const std::string features_text = FeaturesToJson(features, cameras);
+  FVV_RETURN_IF_ERROR(WriteFileAtomic(dir + "/truth/features.json",
+                                      reinterpret_cast<const uint8_t*>(features_text.data()),
+                                      features_text.size()));
+  const std::string truth_text = truth.dump(1) + "\n";
+  FVV_RETURN_IF_ERROR(WriteFileAtomic(dir + "/truth/truth.json",
+                                      reinterpret_cast<const uint8_t*>(truth_text.data()),
+                                      truth_text.size()));
+
+  // capture.json last: a directory with one is complete.
+  auto capture_of = [&](const std::vector<Camera>& cams, const std::string& cdir, bool silhouettes,
+                        bool backgrounds) {
+    Capture c;
+    c.directory = cdir;
+    c.frame_rate = o.fps;
+    c.frame_count = o.frames;
+    c.up_axis = 'y';
+    for (const Camera& cam : cams) {
+      CaptureCamera cc;
+      cc.calibration = cam;
+      cc.frames.path = CameraDir(cam) + "/%06d.png";
+      if (backgrounds) cc.background = "background/" + CameraDir(cam) + ".png";
+      if (silhouettes) {
+        FrameSource s;
+        s.path =
+            (cdir == dir ? "truth/silhouettes/" : "silhouettes/") + CameraDir(cam) + "/%06d.png";
+        cc.silhouettes = s;
+      }
+      c.cameras.push_back(cc);
+    }
+    return c;
+  };
+  if (!held.empty()) {
+    FVV_RETURN_IF_ERROR(SaveCapture(capture_of(held, dir + "/truth/heldout", true, false)));
+  }
+  SynthSummary summary;
+  summary.capture = capture_of(cameras, dir, o.link_silhouettes, true);
+  FVV_RETURN_IF_ERROR(SaveCapture(summary.capture));
+  summary.actor = actor.Describe();
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return summary;
+}
+
+}  // namespace fvv

@@ -1,0 +1,66 @@
+// `fvv synth`: renders an animated, textured character from calibrated studio
+// cameras with real OpenGL (OSMesa) and writes a capture directory plus ground
+// truth (docs/capture-format.md):
+//   DIR/capture.json, DIR/<camera>/NNNNNN.png, DIR/background/<camera>.png
+//   DIR/truth/truth.json          poses, 3D joints, generator settings
+//   DIR/truth/silhouettes/<camera>/NNNNNN.png
+//   DIR/truth/texture.png         the actor's surface texture
+//   DIR/truth/heldout/            held-out cameras: a capture of their own
+// Deterministic for a given seed.
+#ifndef FVV_TOOLS_SYNTH_SYNTH_H_
+#define FVV_TOOLS_SYNTH_SYNTH_H_
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "codec/base/status.h"
+#include "encoder/capture/capture.h"
+#include "tools/synth/actor.h"
+
+namespace fvv {
+
+struct SynthOptions {
+  std::string output_dir;
+  uint32_t cameras = 8;
+  bool overhead = false;  // one more camera looking down from above the centre
+  uint32_t width = 640, height = 480;
+  double fps = 25;
+  uint32_t frames = 50;
+  uint32_t seed = 1;
+  std::string motion;             // a BVH file; empty: the built-in walk
+  double motion_start = 0;        // seconds into the BVH clip
+  std::string actor = "builtin";  // "builtin" or a glTF 2.0 file (.glb/.gltf)
+  double stature = 1.0;           // the built-in actor's size (1.0 = 1.75 m)
+  double surface_detail = 0.0;    // the built-in actor's bumps off the generic shape (metres)
+  double noise = 1.5;             // sensor noise, standard deviation in 8-bit levels
+  double colour_mismatch = 0.0;   // per-camera gain spread, e.g. 0.05 for +-5 %
+  bool unlit = false;             // the actor without shading: its texture's own colours
+  uint32_t held_out = 2;          // extra cameras for novel-view evaluation
+  bool link_silhouettes = false;  // also list the true silhouettes in capture.json
+  uint32_t texture_size = 1024;
+  std::function<void(const std::string&)> progress;  // one line per update
+};
+
+struct SynthSummary {
+  Capture capture;
+  std::string actor;
+  double seconds = 0;
+};
+
+// The studio ring: `count` cameras at equal angles (radius 3.6 m, heights
+// alternating 1.3 m and 2.0 m) looking at the capture volume's centre, plus an
+// overhead camera when asked. `phase` offsets the angles (held-out cameras sit
+// between ring cameras).
+std::vector<Camera> MakeStudioCameras(uint32_t count, uint32_t width, uint32_t height, double phase,
+                                      const std::string& prefix);
+
+// Builds the actor the options describe.
+StatusOr<std::unique_ptr<Actor>> MakeSynthActor(const SynthOptions& options);
+
+StatusOr<SynthSummary> RunSynth(const SynthOptions& options);
+
+}  // namespace fvv
+
+#endif  // FVV_TOOLS_SYNTH_SYNTH_H_
