@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <Eigen/Geometry>
+#include <array>
 #include <cstdlib>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -398,4 +399,173 @@ TEST_F(CaptureFiles, ImportsOpenCvYamlAndToml) {
 }
 
 }  // namespace
+
+// The camera every import test describes, and the check that an imported camera
+// is it: known points project to the same pixels (to 1e-6 px), and a point on
+// the optical axis lands on the principal point.
+void ExpectSameCamera(const Camera& truth, const Camera& c) {
+  EXPECT_EQ(c.width, truth.width) << c.name;
+  EXPECT_EQ(c.height, truth.height) << c.name;
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(0.3, 1.6, -0.2),
+                                   Eigen::Vector3d(-0.5, 0.2, 0.4)}) {
+    Eigen::Vector2d a, b;
+    ASSERT_TRUE(ProjectPoint(truth, p, &a));
+    ASSERT_TRUE(ProjectPoint(c, p, &b)) << c.name;
+    EXPECT_LT((a - b).norm(), 1e-6) << c.name << " at " << p.transpose();
+  }
+  const Eigen::Matrix3d r = CameraRotation(c);
+  const std::array<double, 3> centre = c.Centre();
+  const Eigen::Vector3d on_axis =
+      Eigen::Vector3d(centre[0], centre[1], centre[2]) + 2.0 * r.row(2).transpose();
+  Eigen::Vector2d px;
+  ASSERT_TRUE(ProjectPoint(c, on_axis, &px));
+  EXPECT_NEAR(px.x(), truth.cx, 1e-6);
+  EXPECT_NEAR(px.y(), truth.cy, 1e-6);
+}
+
+std::string RotationVector(const Camera& c) {
+  const Eigen::AngleAxisd aa(CameraRotation(c));
+  const Eigen::Vector3d w = aa.angle() * aa.axis();
+  return List(w.data(), 3);
+}
+
+// anipose, Pose2Sim and FreeMoCap: [cam_N] sections named by `name`, the image
+// size as `size`, K as `matrix`, 4 distortion terms, `rotation` a rotation
+// vector, translation in metres; a [metadata] section that is not a camera.
+TEST_F(CaptureFiles, ImportsAniposeToml) {
+  Camera truth = TestCamera();
+  truth.distortion[4] = 0;  // these files carry k1 k2 p1 p2
+  std::ofstream toml(dir_ + "/Calib_board.toml");
+  for (const char* name : {"cam01", "cam02"}) {
+    toml << "[cam_" << name[4] << "]\nname = \"" << name << "\"\nsize = [ 640.0, 480.0,]\n"
+         << "matrix = [ [ " << truth.fx << ", 0.0, " << truth.cx << ",], [ 0.0, " << truth.fy
+         << ", " << truth.cy << ",], [ 0.0, 0.0, 1.0,],]\n"
+         << "distortions = [ " << List(truth.distortion.data(), 4) << ",]\n"
+         << "rotation = [ " << RotationVector(truth) << ",]\n"
+         << "translation = [ " << List(truth.translation.data(), 3) << ",]\nfisheye = false\n\n";
+  }
+  toml << "[metadata]\nadjusted = false\nerror = 0.0\n";
+  toml.close();
+  StatusOr<ImportedCalibration> got = ImportCalibrationFiles({dir_ + "/Calib_board.toml"}, 1.0);
+  ASSERT_TRUE(got.ok()) << got.status().ToString();
+  EXPECT_EQ(got->format, "TOML");
+  ASSERT_EQ(got->cameras.size(), 2u);
+  EXPECT_EQ(got->cameras[0].name, "cam01");
+  EXPECT_EQ(got->cameras[1].name, "cam02");
+  for (const Camera& c : got->cameras) ExpectSameCamera(truth, c);
+}
+
+// EasyMocap: intri.yml and extri.yml complete each other; names are strings
+// ("01"); R_<cam> is a rotation vector, Rot_<cam> the matrix.
+TEST_F(CaptureFiles, ImportsEasyMocapIntriAndExtri) {
+  const Camera truth = TestCamera();
+  const double k[9] = {truth.fx, 0, truth.cx, 0, truth.fy, truth.cy, 0, 0, 1};
+  auto matrix = [](const std::string& key, int rows, int cols, const std::string& data) {
+    return key + ": !!opencv-matrix\n   rows: " + std::to_string(rows) +
+           "\n   cols: " + std::to_string(cols) + "\n   dt: d\n   data: [ " + data + " ]\n";
+  };
+  std::ofstream(dir_ + "/intri.yml") << "%YAML:1.0\n---\nnames:\n   - \"01\"\n   - \"02\"\n"
+                                     << matrix("K_01", 3, 3, List(k, 9))
+                                     << matrix("dist_01", 1, 5, List(truth.distortion.data(), 5))
+                                     << matrix("K_02", 3, 3, List(k, 9))
+                                     << matrix("dist_02", 1, 5, List(truth.distortion.data(), 5))
+                                     << "H_01: 480\nW_01: 640\nH_02: 480\nW_02: 640\n";
+  std::ofstream(dir_ + "/extri.yml")
+      << "%YAML:1.0\n---\nnames:\n   - \"01\"\n   - \"02\"\n"
+      << matrix("R_01", 3, 1, RotationVector(truth))
+      << matrix("T_01", 3, 1, List(truth.translation.data(), 3)) << matrix("R_02", 3, 1, "0, 0, 0")
+      << matrix("Rot_02", 3, 3, List(truth.rotation.data(), 9))
+      << matrix("T_02", 3, 1, List(truth.translation.data(), 3));
+  StatusOr<ImportedCalibration> got =
+      ImportCalibrationFiles({dir_ + "/intri.yml", dir_ + "/extri.yml"}, 1.0);
+  ASSERT_TRUE(got.ok()) << got.status().ToString();
+  EXPECT_EQ(got->format, "EasyMocap");
+  ASSERT_EQ(got->cameras.size(), 2u);
+  EXPECT_EQ(got->cameras[0].name, "01");
+  for (const Camera& c : got->cameras) ExpectSameCamera(truth, c);
+  // The intrinsics alone: a clear error about what is missing, naming the camera.
+  StatusOr<ImportedCalibration> half = ImportCalibrationFiles({dir_ + "/intri.yml"}, 1.0);
+  ASSERT_FALSE(half.ok());
+  EXPECT_NE(half.status().message().find("camera 01: no rotation"), std::string::npos)
+      << half.status().message();
+  // The same file twice: a field given again is refused, naming both places.
+  half = ImportCalibrationFiles({dir_ + "/extri.yml", dir_ + "/extri.yml"}, 1.0);
+  ASSERT_FALSE(half.ok());
+  EXPECT_NE(half.status().message().find("given again"), std::string::npos)
+      << half.status().message();
+}
+
+// Qualisys .qca.txt: the camera's pose in the lab (mm, rotation row by row),
+// intrinsics in 1/64 pixel on the sensor, the video window's offset, and the
+// half turn about the camera's x axis between Qualisys and OpenCV axes.
+TEST_F(CaptureFiles, ImportsQualisysQca) {
+  const Camera truth = TestCamera();
+  const Eigen::Matrix3d half_turn_x = Eigen::Vector3d(1, -1, -1).asDiagonal();
+  const Eigen::Matrix3d m = half_turn_x * CameraRotation(truth);
+  const std::array<double, 3> centre = truth.Centre();
+  const int left = 16, top = 8;
+  std::ofstream xml(dir_ + "/Calib.qca.txt");
+  xml << "<?xml version='1.0' encoding='ASCII'?>\n<calibration type=\"regular\">\n<cameras>\n";
+  for (const char* serial : {"cam01", "cam02"}) {
+    char buf[1024];
+    std::snprintf(buf, sizeof(buf),
+                  "<camera active=\"1\" serial=\"%s\">\n"
+                  "<fov_video bottom=\"%d\" left=\"%d\" right=\"%d\" top=\"%d\"/>\n"
+                  "<transform r11=\"%.17g\" r12=\"%.17g\" r13=\"%.17g\" r21=\"%.17g\" "
+                  "r22=\"%.17g\" r23=\"%.17g\" r31=\"%.17g\" r32=\"%.17g\" r33=\"%.17g\" "
+                  "x=\"%.17g\" y=\"%.17g\" z=\"%.17g\"/>\n"
+                  "<intrinsic centerPointU=\"%.17g\" centerPointV=\"%.17g\" "
+                  "focalLengthU=\"%.17g\" focalLengthV=\"%.17g\" radialDistortion1=\"%.17g\" "
+                  "radialDistortion2=\"%.17g\" radialDistortion3=\"%.17g\" "
+                  "tangentalDistortion1=\"%.17g\" tangentalDistortion2=\"%.17g\"/>\n</camera>\n",
+                  serial, top + 479, left, left + 639, top, m(0, 0), m(0, 1), m(0, 2), m(1, 0),
+                  m(1, 1), m(1, 2), m(2, 0), m(2, 1), m(2, 2), centre[0] * 1000, centre[1] * 1000,
+                  centre[2] * 1000, (truth.cx + left) * 64, (truth.cy + top) * 64, truth.fx * 64,
+                  truth.fy * 64, truth.distortion[0], truth.distortion[1], truth.distortion[4],
+                  truth.distortion[2], truth.distortion[3]);
+    xml << buf;
+  }
+  xml << "<camera active=\"0\" serial=\"spare\"/>\n</cameras>\n</calibration>\n";
+  xml.close();
+  // --translation-unit does not apply: the format is in millimetres.
+  StatusOr<ImportedCalibration> got = ImportCalibrationFiles({dir_ + "/Calib.qca.txt"}, 0.01);
+  ASSERT_TRUE(got.ok()) << got.status().ToString();
+  EXPECT_EQ(got->format, "Qualisys");
+  ASSERT_EQ(got->cameras.size(), 2u);  // the inactive camera is left out
+  EXPECT_EQ(got->cameras[1].name, "cam02");
+  for (const Camera& c : got->cameras) ExpectSameCamera(truth, c);
+  // Broken files: a missing attribute, and not a calibration at all.
+  std::ofstream(dir_ + "/broken.qca.txt")
+      << "<calibration><cameras><camera serial=\"c\"><fov_video left=\"0\"/><transform/>"
+      << "<intrinsic/></camera></cameras></calibration>";
+  StatusOr<ImportedCalibration> bad = ImportCalibrationFiles({dir_ + "/broken.qca.txt"}, 1.0);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.status().message().find("camera c: a missing or non-numeric attribute"),
+            std::string::npos)
+      << bad.status().message();
+  std::ofstream(dir_ + "/other.xml") << "<html><body/></html>";
+  bad = ImportCalibrationFiles({dir_ + "/other.xml"}, 1.0);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.status().message().find("not a Qualisys calibration"), std::string::npos);
+}
+
+// Frames of another size than the calibration's window: their size is taken,
+// with a note saying by how much; a principal point outside them is an error.
+TEST(CalibrationImport, FrameSizeWinsWithANoteAndThePrincipalPointMustLieInside) {
+  Camera c = TestCamera();
+  std::string note;
+  ASSERT_TRUE(FitImageSize(640, 480, &c, &note).ok());
+  EXPECT_TRUE(note.empty()) << note;
+  ASSERT_TRUE(FitImageSize(632, 480, &c, &note).ok());
+  EXPECT_EQ(c.width, 632u);
+  EXPECT_NE(note.find("640x480, its frames are 632x480 (-8 x +0 pixels)"), std::string::npos)
+      << note;
+  EXPECT_EQ(c.cx, 322.5);
+  Status s = FitImageSize(320, 240, &c, &note);
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.message().find("principal point (322.5, 236.0) lies outside the 320x240 image"),
+            std::string::npos)
+      << s.message();
+}
+
 }  // namespace fvv

@@ -88,7 +88,7 @@ t = [0, -1300, 3600]
 TOML
 out=$("$fvv" capture import-calib "$dir/rig.toml" -o "$dir/imported" --translation-unit mm --fps 25 2>&1) ||
   fail "import-calib: $out"
-grep -q "imported 2 cameras from 1 files" <<<"$out" && grep -q "(3 frames at 25 fps)" <<<"$out" ||
+grep -q "imported 2 cameras (TOML) from 1 file(s)" <<<"$out" && grep -q "(3 frames at 25 fps)" <<<"$out" ||
   fail "import report: $out"
 "$fvv" capture check "$dir/imported" >/dev/null || fail "imported capture does not check"
 printf '[cam00]\nwidth = 96\n' >"$dir/partial.toml"

@@ -58,6 +58,17 @@ $fvv render "$out/capture.fvv" -o "$out/render_heldout" --cameras-from "$out/cap
   --camera 0 --first 30 --last 33
 echo "== shape refinement: generic model, visual hull and refined model against a bumpy actor's true surface"
 build/bench/shape_bench --out "$out/shape"
+real=../shared/data/real/pose2sim_single
+if [ -d "$real" ]; then
+  echo "== a real capture (Pose2Sim's demo: Qualisys calibration, 4 portrait videos at 60 fps): import and look"
+  mkdir -p "$out/real"
+  $fvv capture import-calib "$real/calibration/Calib.qca.txt" -o "$out/real" \
+    --video "$(cd "$real/videos" && pwd)/{camera}.mp4" --up z
+  $fvv capture check "$out/real"
+  $fvv capture sheet "$out/real" --frame 50 -o "$out/real_sheet.png"
+else
+  echo "== (no real capture at $real: skipping its step)"
+fi
 echo "== conformance: the suite's streams through the reference decoder (conformance/README.md)"
 $fvv conform conformance/cases -q
 echo
@@ -73,4 +84,5 @@ echo "         $out/render_projective (Renderer I: contact sheet, held-out camer
 echo "         $out/render_heldout is Renderer II's, $out/capture/truth/heldout/held00 the truth),"
 echo "         $out/shape/capture (the bumpy actor's synthetic capture the shape table measured),"
 echo "         $out/capture_predictive.fvv and $out/render_predictive (the predictive texture codec),"
+echo "         $out/real (the real capture's capture.json) and $out/real_sheet.png,"
 echo "         $out/still_arith3.fvb and $out/still_arith4.fvb (one atlas frame, coders 3 and 4)"

@@ -14,7 +14,7 @@ packages=(
   libeigen3-dev  # body model kinematics, calibration, tracking
   ffmpeg  # video frame sources of captures
   libtinygltf-dev  # glTF 2.0 characters (fvv synth --actor)
-  libyaml-cpp-dev libtomlplusplus-dev  # OpenCV-style calibration files (fvv capture import-calib)
+  libyaml-cpp-dev libtomlplusplus-dev libtinyxml2-dev  # calibration files (fvv capture import-calib)
   libssl-dev  # SHA-256 of decoded output (fvv conform)
 )
 

@@ -1,6 +1,7 @@
 // Decoding a video file frame by frame through the ffmpeg program (a child
 // process writing raw RGB24 to a pipe), so any format ffmpeg reads works as a
-// capture's frame source without linking libavcodec.
+// capture's frame source without linking libavcodec. A reader destroyed before
+// the video's end ends its decoder at once.
 #ifndef FVV_ENCODER_CAPTURE_VIDEO_READER_H_
 #define FVV_ENCODER_CAPTURE_VIDEO_READER_H_
 
@@ -8,6 +9,7 @@
 #include <string>
 
 #include "codec/base/status.h"
+#include "encoder/io/child_process.h"
 #include "encoder/io/image_io.h"
 
 namespace fvv {
@@ -30,11 +32,18 @@ class VideoReader {
   std::string path_;
   uint32_t width_ = 0, height_ = 0, next_ = 0;
   int channels_ = 3;
-  int fd_ = -1;
-  int pid_ = -1;
+  std::unique_ptr<ChildProcess> decoder_;
 };
 
-// Whether an ffmpeg executable is on PATH.
+struct VideoInfo {
+  uint32_t width = 0, height = 0;
+  uint32_t frames = 0;    // 0 when the container does not say
+  double frame_rate = 0;  // 0 when the container does not say
+};
+// The first video stream's size, frame count and rate (ffprobe).
+StatusOr<VideoInfo> ProbeVideo(const std::string& path);
+
+// Whether the ffmpeg and ffprobe executables are on PATH.
 bool HaveFfmpeg();
 
 }  // namespace fvv

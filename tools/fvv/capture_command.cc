@@ -1,12 +1,19 @@
 #include "tools/fvv/capture_command.h"
 
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <memory>
 
+#include "encoder/capture/calibration.h"
 #include "encoder/capture/calibration_import.h"
 #include "encoder/capture/capture.h"
+#include "encoder/capture/video_reader.h"
+#include "encoder/io/image_io.h"
 #include "encoder/shape/visual_hull.h"
 #include "encoder/track/capture_frames.h"
 #include "tools/fvv/register_command.h"
@@ -94,7 +101,7 @@ struct ImportArgs {
   std::string video;
   int64_t first = 0;
   uint32_t frame_count = 0;
-  double fps = 25;
+  double fps = 0;  // 0: the videos' rate, or 25
   std::string unit = "m";
   std::string up = "y";
 };
@@ -108,30 +115,84 @@ std::string ForCamera(std::string pattern, const std::string& camera) {
   return pattern;
 }
 
+// The size of a camera's frames (the first image, or the video's stream) and,
+// for a video, its frame count and rate; false where the frames are not there.
+struct FramesFound {
+  bool found = false;
+  uint32_t width = 0, height = 0, frames = 0;
+  double frame_rate = 0;
+};
+
+StatusOr<FramesFound> FindFrames(const Capture& c, const FrameSource& source) {
+  FramesFound f;
+  const std::string first = FramePath(c, source, 0);
+  if (source.kind == FrameSource::Kind::kVideo) {
+    if (access(first.c_str(), F_OK) != 0) return f;
+    StatusOr<VideoInfo> info = ProbeVideo(first);
+    if (!info.ok()) return info.status();
+    f = {true, info->width, info->height, info->frames, info->frame_rate};
+    return f;
+  }
+  if (access(first.c_str(), F_OK) != 0) return f;
+  StatusOr<Image> image = ReadImage(first);
+  if (!image.ok()) return image.status();
+  f.found = true;
+  f.width = image->width;
+  f.height = image->height;
+  return f;
+}
+
 int RunImportCalib(const ImportArgs& a) {
   const double unit = a.unit == "m" ? 1.0 : a.unit == "cm" ? 0.01 : a.unit == "mm" ? 0.001 : -1;
   if (unit < 0) return Fail(InvalidArgument("--translation-unit must be m, cm or mm"));
+  StatusOr<ImportedCalibration> imported = ImportCalibrationFiles(a.files, unit);
+  if (!imported.ok()) return Fail(imported.status());
   Capture c;
   c.directory = a.output_dir;
-  c.frame_rate = a.fps;
   c.up_axis = a.up[0];
-  for (const std::string& f : a.files) {
-    StatusOr<std::vector<Camera>> cams = ImportCalibrationFile(f, unit);
-    if (!cams.ok()) return Fail(cams.status());
-    for (const Camera& k : *cams) {
-      CaptureCamera cc;
-      cc.calibration = k;
-      if (a.video.empty()) {
-        cc.frames.path = ForCamera(a.images, k.name);
-        cc.frames.first = a.first;
-      } else {
-        cc.frames.kind = FrameSource::Kind::kVideo;
-        cc.frames.path = ForCamera(a.video, k.name);
-      }
-      c.cameras.push_back(cc);
+  double video_rate = 0;
+  uint32_t video_frames = 0;
+  for (Camera& k : imported->cameras) {
+    CaptureCamera cc;
+    if (a.video.empty()) {
+      cc.frames.path = ForCamera(a.images, k.name);
+      cc.frames.first = a.first;
+    } else {
+      cc.frames.kind = FrameSource::Kind::kVideo;
+      cc.frames.path = ForCamera(a.video, k.name);
     }
+    // The frames say what size the images are; a calibration made for another
+    // window (a sensor crop, a different recording mode) is kept but fitted.
+    StatusOr<FramesFound> found = FindFrames(c, cc.frames);
+    if (!found.ok()) return Fail(found.status());
+    if (found->found) {
+      std::string note;
+      Status s = FitImageSize(found->width, found->height, &k, &note);
+      if (!s.ok()) return Fail(s);
+      if (!note.empty()) std::fprintf(stderr, "warning: %s\n", note.c_str());
+      if (found->frames > 0) {
+        if (video_frames != 0 && found->frames != video_frames) {
+          std::fprintf(stderr,
+                       "warning: camera %s's video has %u frames, an earlier one %u; "
+                       "the capture takes the shorter\n",
+                       k.name.c_str(), found->frames, video_frames);
+        }
+        video_frames = video_frames == 0 ? found->frames : std::min(video_frames, found->frames);
+      }
+      if (video_rate == 0) video_rate = found->frame_rate;
+    } else if (k.width == 0 || k.height == 0) {
+      return Fail(InvalidArgument("camera " + k.name + ": the calibration gives no image size, " +
+                                  "and its frames are not at " + FramePath(c, cc.frames, 0) +
+                                  " to take it from (--images or --video)"));
+    } else {
+      Status s = ValidateCalibration(k, "camera " + k.name);
+      if (!s.ok()) return Fail(s);
+    }
+    cc.calibration = k;
+    c.cameras.push_back(cc);
   }
-  c.frame_count = a.frame_count;
+  c.frame_rate = a.fps > 0 ? a.fps : video_rate > 0 ? video_rate : 25;
+  c.frame_count = a.frame_count > 0 ? a.frame_count : video_frames;
   if (c.frame_count == 0 && a.video.empty() && !c.cameras.empty()) {
     // Count the first camera's consecutive frames on disk.
     while (c.frame_count < kMaxCaptureFrames) {
@@ -150,8 +211,17 @@ int RunImportCalib(const ImportArgs& a) {
   if (!check.ok()) return Fail(check.status());
   Status s = SaveCapture(c);
   if (!s.ok()) return Fail(s);
-  std::printf("imported %zu cameras from %zu files -> %s/capture.json (%u frames at %.3g fps)\n",
-              c.cameras.size(), a.files.size(), a.output_dir.c_str(), c.frame_count, c.frame_rate);
+  std::printf(
+      "imported %zu cameras (%s) from %zu file(s) -> %s/capture.json (%u frames at %.3g fps)\n",
+      c.cameras.size(), imported->format.c_str(), a.files.size(), a.output_dir.c_str(),
+      c.frame_count, c.frame_rate);
+  for (const CaptureCamera& cc : c.cameras) {
+    const Camera& k = cc.calibration;
+    const std::array<double, 3> centre = k.Centre();
+    std::printf("  %-8s %ux%u  f %.1f %.1f  c %.1f %.1f  centre (%.3f, %.3f, %.3f) m\n",
+                k.name.c_str(), k.width, k.height, k.fx, k.fy, k.cx, k.cy, centre[0], centre[1],
+                centre[2]);
+  }
   return 0;
 }
 
@@ -261,8 +331,12 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
   auto imp = std::make_shared<ImportArgs>();
   CLI::App* ic = cap->add_subcommand(
       "import-calib",
-      "Make capture.json from OpenCV-style calibration files (YAML FileStorage or TOML)");
-  ic->add_option("files", imp->files, "Calibration files: one camera each, or sections per camera")
+      "Make capture.json from a studio's calibration: OpenCV FileStorage YAML, TOML (anipose, "
+      "Pose2Sim, FreeMoCap), EasyMocap intri.yml + extri.yml, Qualisys .qca.txt. Image sizes "
+      "come from the frames where they differ from the calibration's (with a warning)");
+  ic->add_option("files", imp->files,
+                 "Calibration files: one camera each, sections per camera, or files that complete "
+                 "each other (EasyMocap's intri.yml and extri.yml)")
       ->required()
       ->check(CLI::ExistingFile);
   ic->add_option("-o,--output", imp->output_dir, "Capture directory to write capture.json into")
@@ -274,10 +348,10 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
   ic->add_option("--first", imp->first, "Number of the first image")->capture_default_str();
   ic->add_option("--frame-count", imp->frame_count,
                  "Frames (default: count the first camera's images)");
-  ic->add_option("--fps", imp->fps, "Frame rate")
-      ->capture_default_str()
+  ic->add_option("--fps", imp->fps, "Frame rate (default: the videos' rate, or 25)")
       ->check(CLI::PositiveNumber);
-  ic->add_option("--translation-unit", imp->unit, "Unit of t in the files: m, cm or mm")
+  ic->add_option("--translation-unit", imp->unit,
+                 "Unit of t in the files: m, cm or mm (Qualisys files are always mm)")
       ->capture_default_str()
       ->check(CLI::IsMember({"m", "cm", "mm"}));
   ic->add_option("--up", imp->up, "World up axis: y or z")

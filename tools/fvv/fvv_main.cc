@@ -5,6 +5,7 @@
 #include <malloc.h>
 #endif
 
+#include "encoder/io/child_process.h"
 #include "tools/fvv/block_command.h"
 #include "tools/fvv/capture_command.h"
 #include "tools/fvv/conform_command.h"
@@ -20,13 +21,14 @@ int main(int argc, char** argv) {
   // The codec allocates and frees buffers of several MB per GOP and channel
   // (planes, transform scratch, trial decodes). By default glibc serves each
   // from a fresh mmap and trims freed heap back to the system, so every one
-  // is page-faulted in again: 14 % of an encode's time. Keeping freed memory
-  // for reuse made the code stage of `fvv encode` 25-30 % faster; peak
-  // resident memory stayed the same (294 and 296 MB on a 16-frame encode). The libraries leave
+  // is page-faulted in again (docs/encoder.md, "Speed"). The libraries leave
   // allocation to their host.
   mallopt(M_MMAP_THRESHOLD, 256 << 20);
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
 #endif
+  // Ctrl-C, a scheduler's SIGTERM or a closed terminal take the ffmpeg
+  // children along (a capture's video decoders, a render's encoder).
+  fvv::KillChildrenOnTerminatingSignals();
   CLI::App app{"fvv: free-viewpoint video of human actors (codec SDK tools)"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "fvv 0.1.0");

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "encoder/capture/capture.h"
+#include "encoder/io/child_process.h"
 #include "encoder/io/image_io.h"
 #include "fvv/fvv_decoder.hpp"
 #include "player/decoder/public_camera.h"
@@ -133,7 +134,7 @@ class VideoWriter {
       return InvalidArgument("--video needs an even width and height (yuv420p), not " +
                              std::to_string(width) + "x" + std::to_string(height));
     }
-    if (std::system("command -v ffmpeg >/dev/null 2>&1") != 0) {
+    if (!HaveProgram("ffmpeg")) {
       return IoError("--video needs ffmpeg on the PATH (Debian: apt-get install ffmpeg)");
     }
     auto w = std::unique_ptr<VideoWriter>(new VideoWriter);
@@ -141,27 +142,50 @@ class VideoWriter {
     w->temp_ = path + ".part.mp4";
     char rate[32];
     std::snprintf(rate, sizeof(rate), "%.6f", fps);
-    const std::string cmd = "ffmpeg -v error -y -f rawvideo -pix_fmt rgb24 -s " +
-                            std::to_string(width) + "x" + std::to_string(height) + " -r " + rate +
-                            " -i - -c:v libx264 -preset medium -crf 18 -pix_fmt yuv420p '" +
-                            w->temp_ + "'";
-    w->pipe_ = popen(cmd.c_str(), "w");
-    if (!w->pipe_) return IoError("cannot start ffmpeg");
+    StatusOr<std::unique_ptr<ChildProcess>> encoder =
+        ChildProcess::Start({"ffmpeg",
+                             "-v",
+                             "error",
+                             "-nostdin",
+                             "-y",
+                             "-f",
+                             "rawvideo",
+                             "-pix_fmt",
+                             "rgb24",
+                             "-s",
+                             std::to_string(width) + "x" + std::to_string(height),
+                             "-r",
+                             rate,
+                             "-i",
+                             "pipe:0",
+                             "-c:v",
+                             "libx264",
+                             "-preset",
+                             "medium",
+                             "-crf",
+                             "18",
+                             "-pix_fmt",
+                             "yuv420p",
+                             "-f",
+                             "mp4",
+                             w->temp_},
+                            ChildProcess::Pipe::kWriteStdin);
+    if (!encoder.ok()) return encoder.status();
+    w->encoder_ = std::move(encoder).value();
     return w;
   }
   ~VideoWriter() {
-    if (pipe_) pclose(pipe_);
+    encoder_.reset();  // killed if still running: the output was not finished
     std::remove(temp_.c_str());
   }
   Status Add(const std::vector<uint8_t>& rgb) {
-    if (std::fwrite(rgb.data(), 1, rgb.size(), pipe_) != rgb.size()) {
+    if (!encoder_->Write(rgb.data(), rgb.size())) {
       return IoError("ffmpeg stopped taking frames for " + path_);
     }
     return Status::Ok();
   }
   Status Close() {
-    const int rc = pclose(pipe_);
-    pipe_ = nullptr;
+    const int rc = encoder_->Finish();
     if (rc != 0) return IoError("ffmpeg failed to write " + path_);
     if (std::rename(temp_.c_str(), path_.c_str()) != 0) return IoError("cannot write " + path_);
     return Status::Ok();
@@ -170,7 +194,7 @@ class VideoWriter {
  private:
   VideoWriter() = default;
   std::string path_, temp_;
-  FILE* pipe_ = nullptr;
+  std::unique_ptr<ChildProcess> encoder_;
 };
 
 int RunRender(const RenderArgs& a) {

@@ -1,0 +1,126 @@
+#!/usr/bin/env bash
+# Every fvv command that reads a capture, on a capture whose cameras are video
+# files: with a frame range that stops before the videos end, with errors (a
+# video shorter than the capture says, a missing one) and under SIGTERM. Each
+# run is under a timeout; the test checks the exit status, the outputs (written
+# whole, or not at all), and that no ffmpeg child outlives its fvv.
+set -u
+fvv=$1
+dir=$2
+data=${3:-}  # third-party test data (../shared/data); the real-capture part skips without it
+rm -rf "$dir" && mkdir -p "$dir"
+dir=$(cd "$dir" && pwd)
+fail() { echo "FAIL: $*" >&2; exit 1; }
+command -v ffmpeg >/dev/null || { echo "SKIP: ffmpeg not installed (tools/setup.sh installs it)"; exit 0; }
+
+# Children of any fvv of this test: ffmpeg processes reading this directory's videos.
+leftover() { pgrep -f "ffmpeg.*$dir" || true; }
+no_children() {
+  local left
+  left=$(leftover)
+  [ -z "$left" ] || { pgrep -af "ffmpeg.*$dir" >&2; fail "$1: ffmpeg children left behind"; }
+}
+# Runs fvv under a timeout; a hang is a failure of its own.
+run() {
+  timeout 120 "$fvv" "$@"
+  local rc=$?
+  [ $rc -ne 124 ] || fail "fvv $* hung (killed after 120 s)"
+  return $rc
+}
+
+"$fvv" synth -o "$dir/cap" --cameras 3 --width 160 --height 120 --frames 24 --held-out 0 \
+  >/dev/null 2>&1 || fail "synth"
+for c in cam00 cam01 cam02; do
+  ffmpeg -v error -y -framerate 25 -i "$dir/cap/$c/%06d.png" -c:v libx264 -qp 0 \
+    -pix_fmt yuv444p "$dir/cap/$c.mp4" || fail "ffmpeg encode $c"
+done
+python3 - "$dir/cap/capture.json" <<'EOF' || fail "capture.json for videos"
+import json, sys
+path = sys.argv[1]
+c = json.load(open(path))
+for cam in c["cameras"]:
+    cam["frames"] = {"video": cam["name"] + ".mp4"}
+json.dump(c, open(path, "w"), indent=1)
+EOF
+
+# Early stops: each command reads a few frames of 24 and must exit, with its output.
+out=$(run capture check "$dir/cap" 2>&1) || fail "check: $out"
+no_children "capture check"
+out=$(run capture sheet "$dir/cap" --frame 2 -o "$dir/sheet.png" 2>&1) || fail "sheet: $out"
+[ -s "$dir/sheet.png" ] || fail "sheet: no contact sheet"
+no_children "capture sheet"
+out=$(run capture hull "$dir/cap" --frame 3 -o "$dir/hull.ply" --voxel 0.03 2>&1) || fail "hull: $out"
+head -1 "$dir/hull.ply" | grep -q "^ply" || fail "hull: no point cloud"
+no_children "capture hull"
+out=$(run track "$dir/cap" --frames 0:4 -o "$dir/poses.json" -q 2>&1) || fail "track: $out"
+grep -q '"frames"' "$dir/poses.json" || fail "track: no poses.json"
+no_children "track"
+out=$(run encode "$dir/cap" --frames 0:3 --poses "$dir/poses.json" --atlas 128 -o "$dir/part.fvv" \
+  -q 2>&1) || fail "encode: $out"
+"$fvv" info "$dir/part.fvv" >/dev/null || fail "encode: unreadable stream"
+no_children "encode"
+out=$(run render "$dir/cap" --renderer projective --poses "$dir/poses.json" --first 0 --last 3 \
+  --size 160x120 -o "$dir/render" --video "$dir/render.mp4" 2>&1) || fail "render: $out"
+[ -s "$dir/render.mp4" ] && [ -f "$dir/render/render_f00003.png" ] || fail "render: outputs missing"
+no_children "render"
+
+# A video shorter than the capture says: a clear error naming the video and the
+# frame, a non-zero exit, no output, no child.
+cp -r "$dir/cap" "$dir/short"
+ffmpeg -v error -y -i "$dir/cap/cam01.mp4" -frames:v 10 -c:v libx264 -qp 0 -pix_fmt yuv444p \
+  "$dir/short/cam01.mp4" || fail "ffmpeg cut"
+out=$(run track "$dir/short" -o "$dir/short_poses.json" -q 2>&1) && fail "track of a short video succeeded"
+grep -q "cam01.mp4: no frame 10" <<<"$out" || fail "short video error: $out"
+[ ! -e "$dir/short_poses.json" ] || fail "track wrote poses after an error"
+no_children "track (short video)"
+out=$(run encode "$dir/short" --poses "$dir/cap/truth/truth.json" --frames 8:12 --atlas 128 \
+  -o "$dir/short.fvv" -q 2>&1) && fail "encode of a short video succeeded"
+grep -q "cam01.mp4" <<<"$out" || fail "encode short video error: $out"
+[ ! -e "$dir/short.fvv" ] || fail "encode left a stream after an error"
+no_children "encode (short video)"
+
+# A missing video.
+cp -r "$dir/cap" "$dir/missing" && rm "$dir/missing/cam02.mp4"
+out=$(run capture sheet "$dir/missing" --frame 1 -o "$dir/missing.png" 2>&1) &&
+  fail "sheet with a missing video succeeded"
+grep -q "cam02.mp4" <<<"$out" || fail "missing video error: $out"
+no_children "capture sheet (missing video)"
+
+# SIGTERM while tracking: fvv ends with the signal, its decoders with it, and
+# no poses.json appears.
+timeout 120 "$fvv" track "$dir/cap" -o "$dir/killed.json" -q >/dev/null 2>&1 &
+pid=$!
+for _ in $(seq 1 100); do
+  [ -n "$(leftover)" ] && break
+  sleep 0.1
+done
+[ -n "$(leftover)" ] || fail "track started no video decoder"
+sleep 0.5
+kill -TERM $pid
+wait $pid
+rc=$?
+[ $rc -eq 143 ] || fail "track under SIGTERM exited $rc, not 143"
+sleep 0.2
+no_children "track (SIGTERM)"
+[ ! -e "$dir/killed.json" ] || fail "a poses.json after SIGTERM"
+
+# The real capture: its Qualisys calibration and videos of two widths, imported
+# with the frames' size taken and said; a contact sheet stops early there too.
+real="$data/real/pose2sim_single"
+if [ -n "$data" ] && [ -f "$real/calibration/Calib.qca.txt" ]; then
+  mkdir -p "$dir/real"
+  out=$(run capture import-calib "$real/calibration/Calib.qca.txt" -o "$dir/real" \
+    --video "$(cd "$real/videos" && pwd)/{camera}.mp4" --up z 2>&1) || fail "import real: $out"
+  grep -q "imported 4 cameras (Qualisys) from 1 file(s)" <<<"$out" || fail "import report: $out"
+  grep -q "cam01: the calibration's image is 1088x1920, its frames are 1080x1920 (-8 x +0" \
+    <<<"$out" || fail "no warning about cam01's width: $out"
+  grep -q "(100 frames at 60 fps)" <<<"$out" || fail "frames and rate from the videos: $out"
+  out=$(run capture sheet "$dir/real" --frame 10 -o "$dir/real.png" 2>&1) || fail "real sheet: $out"
+  [ -s "$dir/real.png" ] || fail "real sheet missing"
+  leftover_real=$(pgrep -f "ffmpeg.*pose2sim_single" || true)
+  [ -z "$leftover_real" ] || fail "real capture: ffmpeg children left behind"
+else
+  echo "SKIP (real capture part): no $real (FVV_TEST_DATA_DIR)"
+fi
+
+echo "video captures: 6 commands stop early and exit; short and missing videos fail cleanly; SIGTERM leaves no child"
