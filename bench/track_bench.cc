@@ -4,7 +4,10 @@
 //   (a) the built-in actor driven by CMU BVH 01_01, 8 cameras;
 //   (b) CesiumMan (../shared/data: a body that is not our model), 8 cameras,
 //       comparing corresponding joints;
-//   (c) as (a) with 4 cameras.
+//   (c) as (a) with 4 cameras;
+//   (d) as (c) in the conditions of a real take: no background plates (a
+//       temporal median instead), furniture around the volume, a second person
+//       walking through behind the actor, portrait cameras (height x width).
 // Usage: track_bench [--frames N] [--data DIR] [--out DIR] [--width W --height H]
 #include <sys/stat.h>
 
@@ -53,11 +56,13 @@ int main(int argc, char** argv) {
     const char* label;
     std::string actor, motion;
     uint32_t cameras;
+    bool real_conditions = false;
   };
   std::vector<Case> cases = {
       {"(a) built-in actor, CMU 01_01", "builtin", Exists(bvh) ? bvh : "", 8},
       {"(b) CesiumMan (glTF)", cesium, "", 8},
-      {"(c) built-in actor, CMU 01_01", "builtin", Exists(bvh) ? bvh : "", 4}};
+      {"(c) built-in actor, CMU 01_01", "builtin", Exists(bvh) ? bvh : "", 4},
+      {"(d) as (c), real conditions", "builtin", Exists(bvh) ? bvh : "", 4, true}};
   std::printf("track_bench: %u frames at %ux%u, 25 fps, silhouettes by background subtraction\n",
               frames, width, height);
   std::printf("%-32s %7s %9s %12s %11s %10s %8s %s\n", "case", "cameras", "s/frame", "mean (cm)",
@@ -73,6 +78,10 @@ int main(int argc, char** argv) {
     std::system(("rm -rf '" + s.output_dir + "'").c_str());
     s.cameras = c.cameras;
     s.width = width, s.height = height;
+    if (c.real_conditions) {
+      s.width = height, s.height = width;  // portrait
+      s.plates = false, s.clutter = true, s.bystander = true;
+    }
     s.frames = frames;
     s.held_out = 0;
     s.actor = c.actor;
@@ -102,6 +111,7 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
   }
   std::printf(
-      "targets: mean <= 2 cm on (a), <= 5 cm on (b); <= 1 s per frame on this 2-core machine\n");
+      "targets: mean <= 2 cm on (a), <= 5 cm on (b), <= 4 cm on (d) and no worse than (c); <= 1 s "
+      "per frame on this 2-core machine\n");
   return 0;
 }

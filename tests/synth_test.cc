@@ -5,6 +5,7 @@
 #include "tools/synth/synth.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -246,6 +247,67 @@ TEST_F(SynthTest, DeterministicForASeed) {
   ASSERT_TRUE(a.ok() && b.ok() && o.ok());
   EXPECT_EQ(a->pixels, b->pixels);
   EXPECT_NE(a->pixels, o->pixels);
+}
+
+// The conditions of a real take, against the same take without them (same
+// seed, so the actor and the noise are the same): no plates written or listed;
+// the clutter changes the studio's pixels but not the actor's; the bystander
+// changes pixels outside the actor's silhouette, never the truth (silhouettes,
+// joints); truth.json records the conditions.
+TEST_F(SynthTest, RealTakeConditionsChangeTheFramesNotTheTruth) {
+  ASSERT_TRUE(result_.ok()) << result_.ToString();
+  SynthOptions clean = options_;
+  clean.output_dir = dir_ + "_clean";
+  clean.frames = 2;
+  clean.held_out = 0;
+  clean.cameras = 4;
+  SynthOptions real = clean;
+  real.output_dir = dir_ + "_real";
+  real.plates = false, real.clutter = true, real.bystander = true;
+  std::system(("rm -rf '" + clean.output_dir + "' '" + real.output_dir + "'").c_str());
+  ASSERT_TRUE(RunSynth(clean).ok());
+  StatusOr<SynthSummary> made = RunSynth(real);
+  ASSERT_TRUE(made.ok()) << made.status().ToString();
+  StatusOr<Capture> c = LoadCapture(real.output_dir);
+  ASSERT_TRUE(c.ok()) << c.status().ToString();
+  CaptureReader reader(*c);
+  EXPECT_FALSE(reader.HasBackgrounds());
+  struct stat st;
+  EXPECT_NE(stat((real.output_dir + "/background").c_str(), &st), 0);
+  std::ifstream truth_file(real.output_dir + "/truth/truth.json");
+  const nlohmann::json truth = nlohmann::json::parse(truth_file);
+  EXPECT_EQ(truth["plates"], false);
+  EXPECT_EQ(truth["clutter"], true);
+  EXPECT_EQ(truth["bystander"], true);
+  std::ifstream clean_truth_file(clean.output_dir + "/truth/truth.json");
+  const nlohmann::json clean_truth = nlohmann::json::parse(clean_truth_file);
+  EXPECT_EQ(truth["frames"], clean_truth["frames"]);
+  size_t changed_outside = 0, changed_inside = 0, outside = 0;
+  for (const char* cam : {"cam00", "cam01", "cam02", "cam03"}) {
+    const std::string name = std::string(cam) + "/000001.png";
+    StatusOr<Image> a = ReadImage(clean.output_dir + "/" + name);
+    StatusOr<Image> b = ReadImage(real.output_dir + "/" + name);
+    StatusOr<Image> sa = ReadImage(clean.output_dir + "/truth/silhouettes/" + name);
+    StatusOr<Image> sb = ReadImage(real.output_dir + "/truth/silhouettes/" + name);
+    ASSERT_TRUE(a.ok() && b.ok() && sa.ok() && sb.ok());
+    EXPECT_EQ(sa->pixels, sb->pixels) << cam;
+    for (size_t i = 0; i < sa->pixels.size(); ++i) {
+      int d = 0;
+      for (int k = 0; k < 3; ++k)
+        d += std::abs(int(a->pixels[3 * i + k]) - int(b->pixels[3 * i + k]));
+      if (sa->pixels[i]) {
+        changed_inside += d > 30;
+      } else {
+        ++outside;
+        changed_outside += d > 30;
+      }
+    }
+  }
+  // Props and the bystander cover part of the studio; the actor stays itself
+  // except where the bystander passes in front of it.
+  EXPECT_GT(changed_outside, outside / 50) << changed_outside << " of " << outside;
+  EXPECT_LT(changed_inside, changed_outside);
+  std::system(("rm -rf '" + clean.output_dir + "' '" + real.output_dir + "'").c_str());
 }
 
 // Background subtraction against the plates recovers the true silhouettes,

@@ -305,6 +305,20 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
   s->add_flag("--with-silhouettes", o->link_silhouettes,
               "List the true silhouettes in capture.json (skip background subtraction)");
   s->add_flag_callback(
+      "--no-plates", [o] { o->plates = false; },
+      "Write no background plates (a studio that shot none: silhouettes come from the take)");
+  s->add_flag("--clutter", o->clutter,
+              "Furniture and equipment around the capture volume, as in a lab");
+  s->add_flag("--bystander", o->bystander,
+              "A second person walks through behind the actor (in the frames, not the truth)");
+  s->add_flag_callback(
+      "--real-conditions",
+      [o] {
+        o->plates = false, o->clutter = true, o->bystander = true, o->cameras = 4;
+        o->width = 360, o->height = 640;
+      },
+      "What broke on a real take: no plates, clutter, a bystander, 4 portrait cameras (360x640)");
+  s->add_flag_callback(
       "--classic", [o] { o->width = 320, o->height = 240, o->fps = 15; },
       "320x240 at 15 fps, as in the original studio");
   s->callback([o, exit_code] { *exit_code = RunSynthCommand(*o); });

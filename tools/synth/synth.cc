@@ -1,5 +1,6 @@
 #include "tools/synth/synth.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -139,6 +140,34 @@ StatusOr<std::unique_ptr<Actor>> MakeSynthActor(const SynthOptions& o) {
       std::move(model), std::move(poses), std::move(texture), "built-in body model, " + motion));
 }
 
+// The bystander: the generic body, a little shorter and dressed otherwise,
+// walking the built-in gait along a straight line behind the actor (from the
+// left of camera 0's view to its right), passing the middle at mid-take.
+StatusOr<std::unique_ptr<Actor>> MakeBystander(const SynthOptions& o) {
+  BodyShape shape;
+  shape.stature = 0.94;
+  BodyModel model = MakeGenericBody(shape);
+  std::vector<std::vector<double>> poses = ProceduralWalk(model.skeleton, o.frames, o.fps);
+  const int x = DofIndex(model.skeleton, kRoot, 3), z = DofIndex(model.skeleton, kRoot, 5);
+  const int yaw = DofIndex(model.skeleton, kRoot, 1);
+  if (x < 0 || z < 0 || yaw < 0) return Internal("synth: the body model has no root translation");
+  const double speed = 1.1, line_z = -1.7;  // metres per second; metres behind the centre
+  for (uint32_t f = 0; f < o.frames; ++f) {
+    const double t = (f - 0.5 * (o.frames - 1)) / o.fps;
+    poses[f][x] = std::clamp(speed * t, -4.5, 4.5);
+    poses[f][z] = line_z;
+    poses[f][yaw] = kPi / 2;  // facing +x, the way it walks
+  }
+  Image texture = BakeBodyTexture(model, static_cast<int>(o.texture_size / 2), o.seed + 101);
+  // Dressed otherwise: the clothing's colours turned (red to green, blue to red).
+  for (size_t i = 0; i + 2 < texture.pixels.size(); i += 3) {
+    std::rotate(texture.pixels.begin() + i, texture.pixels.begin() + i + 1,
+                texture.pixels.begin() + i + 3);
+  }
+  return std::unique_ptr<Actor>(
+      new BodyModelActor(std::move(model), std::move(poses), std::move(texture), "bystander"));
+}
+
 StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   auto say = [&](const std::string& line) {
@@ -178,7 +207,7 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
   const std::vector<Camera> held = MakeStudioCameras(o.held_out, o.width, o.height, 0.5, "held");
 
   const std::string dir = o.output_dir;
-  FVV_RETURN_IF_ERROR(MakeDirectories(dir + "/background"));
+  if (o.plates) FVV_RETURN_IF_ERROR(MakeDirectories(dir + "/background"));
   FVV_RETURN_IF_ERROR(MakeDirectories(dir + "/truth/heldout"));
   for (const Camera& c : cameras) {
     FVV_RETURN_IF_ERROR(MakeDirectories(dir + "/" + CameraDir(c)));
@@ -194,10 +223,22 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
       HeadlessContext::Create(static_cast<int>(max_w), static_cast<int>(max_h));
   if (!context.ok()) return context.status();
   StatusOr<std::unique_ptr<SynthRenderer>> renderer =
-      SynthRenderer::Create((*context)->gl(), actor.mesh(), actor.bone_count());
+      SynthRenderer::Create((*context)->gl(), actor.mesh(), actor.bone_count(), o.clutter);
   if (!renderer.ok()) return renderer.status();
   SynthRenderer& r = **renderer;
   r.SetUnlit(o.unlit);
+  std::unique_ptr<Actor> bystander;
+  std::unique_ptr<SynthRenderer> bystander_renderer;
+  if (o.bystander) {
+    StatusOr<std::unique_ptr<Actor>> b = MakeBystander(o);
+    if (!b.ok()) return b.status();
+    bystander = std::move(*b);
+    StatusOr<std::unique_ptr<SynthRenderer>> br =
+        SynthRenderer::Create((*context)->gl(), bystander->mesh(), bystander->bone_count());
+    if (!br.ok()) return br.status();
+    bystander_renderer = std::move(*br);
+    say("synth: a bystander walks through behind the actor");
+  }
 
   // Per-camera colour response (gains around 1) and noise seeds.
   NoiseSource gains_rng(o.seed * 7919u + 17);
@@ -226,7 +267,7 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
 
   // Background plates: the empty studio, with its own sensor noise.
   std::vector<Pending> pending;
-  for (uint32_t c = 0; c < cameras.size(); ++c) {
+  for (uint32_t c = 0; o.plates && c < cameras.size(); ++c) {
     FVV_RETURN_IF_ERROR(r.DrawScene(cameras[c], nullptr, Eigen::Vector3d::Zero()));
     StatusOr<Image> plate = r.Read(cameras[c], 3);
     if (!plate.ok()) return plate.status();
@@ -244,6 +285,9 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
     auto film = [&](const Camera& cam, uint32_t index, const std::string& image_dir,
                     const std::string& silhouette_dir) -> Status {
       FVV_RETURN_IF_ERROR(r.DrawScene(cam, &skin, root));
+      if (bystander) {
+        FVV_RETURN_IF_ERROR(bystander_renderer->DrawActorOver(cam, bystander->Skinning(f)));
+      }
       StatusOr<Image> frame = r.Read(cam, 3);
       if (!frame.ok()) return frame.status();
       ApplySensor(&*frame, o.noise, gain[index], seed_of(index, f));
@@ -310,6 +354,9 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
   truth["noise"] = o.noise;
   truth["unlit"] = o.unlit;
   truth["colour_mismatch"] = o.colour_mismatch;
+  truth["plates"] = o.plates;
+  truth["clutter"] = o.clutter;
+  truth["bystander"] = o.bystander;
   if (body) {
     truth["body_model"] = "generic";
     truth["stature"] = o.stature;
@@ -358,7 +405,7 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
     FVV_RETURN_IF_ERROR(SaveCapture(capture_of(held, dir + "/truth/heldout", true, false)));
   }
   SynthSummary summary;
-  summary.capture = capture_of(cameras, dir, o.link_silhouettes, true);
+  summary.capture = capture_of(cameras, dir, o.link_silhouettes, o.plates);
   FVV_RETURN_IF_ERROR(SaveCapture(summary.capture));
   summary.actor = actor.Describe();
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

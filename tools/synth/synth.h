@@ -40,6 +40,12 @@ struct SynthOptions {
   uint32_t held_out = 2;          // extra cameras for novel-view evaluation
   bool link_silhouettes = false;  // also list the true silhouettes in capture.json
   uint32_t texture_size = 1024;
+  // Conditions of real studios: no empty-studio plates; furniture and equipment
+  // standing around the capture volume; a second person walking through behind
+  // the actor (in the frames only: not in the truth, the plates or features).
+  bool plates = true;
+  bool clutter = false;
+  bool bystander = false;
   std::function<void(const std::string&)> progress;  // one line per update
 };
 

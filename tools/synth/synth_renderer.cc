@@ -18,7 +18,7 @@ const char* const kFragmentShader = shaders::kSynthFrag;
 
 StatusOr<std::unique_ptr<SynthRenderer>> SynthRenderer::Create(const GlApi& gl,
                                                                const ActorMesh& mesh,
-                                                               size_t bone_count) {
+                                                               size_t bone_count, bool clutter) {
   if (bone_count == 0 || bone_count > kMaxBones) {
     return Unsupported("synth: actor has " + std::to_string(bone_count) + " bones (1..256)");
   }
@@ -70,8 +70,10 @@ StatusOr<std::unique_ptr<SynthRenderer>> SynthRenderer::Create(const GlApi& gl,
   r->actor_indices_ = static_cast<GLsizei>(mesh.indices.size());
 
   // The studio: a 12 m x 12 m floor and four 4.5 m walls (normals face inwards).
-  std::vector<float> sp, sn;
+  // Per vertex a prop number (the uv attribute's u): 0 for the room.
+  std::vector<float> sp, sn, sprop;
   std::vector<uint32_t> si;
+  float prop = 0;
   auto quad = [&](const Eigen::Vector3f& o, const Eigen::Vector3f& a, const Eigen::Vector3f& b) {
     const Eigen::Vector3f normal = a.cross(b).normalized();
     const uint32_t base = static_cast<uint32_t>(sp.size() / 3);
@@ -79,6 +81,7 @@ StatusOr<std::unique_ptr<SynthRenderer>> SynthRenderer::Create(const GlApi& gl,
          {o, Eigen::Vector3f(o + a), Eigen::Vector3f(o + a + b), Eigen::Vector3f(o + b)}) {
       sp.insert(sp.end(), {p.x(), p.y(), p.z()});
       sn.insert(sn.end(), {normal.x(), normal.y(), normal.z()});
+      sprop.insert(sprop.end(), {prop, 0.0f});
     }
     si.insert(si.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
   };
@@ -89,10 +92,30 @@ StatusOr<std::unique_ptr<SynthRenderer>> SynthRenderer::Create(const GlApi& gl,
   quad({-h, 0, h}, {0, 0, -2 * h}, {0, top, 0});      // left wall, normal +x
   quad({h, 0, -h}, {0, 0, 2 * h}, {0, top, 0});       // right wall, normal -x
   quad({-h, top, -h}, {2 * h, 0, 0}, {0, 0, 2 * h});  // ceiling, normal -y
+  if (clutter) {
+    // Boxes standing on the floor around the capture volume, between it and
+    // the ring of cameras or behind it: a desk, crates, a cabinet, two stands.
+    // (centre x, z, half extents x, y, z; y from the floor)
+    const float boxes[][5] = {{-2.2f, -1.9f, 0.7f, 0.38f, 0.35f}, {2.3f, -1.2f, 0.3f, 0.3f, 0.3f},
+                              {1.9f, 2.3f, 0.45f, 0.9f, 0.25f},   {-2.6f, 1.4f, 0.25f, 0.22f, 0.4f},
+                              {0.4f, -2.7f, 0.06f, 0.85f, 0.06f}, {-1.2f, 2.6f, 0.06f, 0.7f, 0.06f},
+                              {2.8f, 0.6f, 0.35f, 0.55f, 0.35f}};
+    for (const auto& bx : boxes) {
+      prop += 1;
+      const Eigen::Vector3f lo(bx[0] - bx[2], 0, bx[1] - bx[4]);
+      const Eigen::Vector3f dx(2 * bx[2], 0, 0), dy(0, 2 * bx[3], 0), dz(0, 0, 2 * bx[4]);
+      quad(lo + dy, dz, dx);  // top, normal +y
+      quad(lo, dx, dy);       // normal -z
+      quad(lo + dz, dy, dx);  // normal +z
+      quad(lo, dy, dz);       // normal -x
+      quad(lo + dx, dz, dy);  // normal +x
+    }
+  }
   g.GenVertexArrays(1, &r->studio_vao_);
   g.BindVertexArray(r->studio_vao_);
   attrib(0, 3, sp.data(), sp.size() * 4);
   attrib(1, 3, sn.data(), sn.size() * 4);
+  attrib(2, 2, sprop.data(), sprop.size() * 4);
   buffer(GL_ELEMENT_ARRAY_BUFFER, si.data(), si.size() * 4);
   r->studio_indices_ = static_cast<GLsizei>(si.size());
   g.BindVertexArray(0);
@@ -170,6 +193,16 @@ Status SynthRenderer::DrawScene(const Camera& camera, const std::vector<Eigen::M
   gl_.DrawElements(GL_TRIANGLES, studio_indices_, GL_UNSIGNED_INT, nullptr);
   gl_.BindVertexArray(0);
   if (skinning) DrawActor(*skinning, 0);
+  const GLenum e = gl_.GetError();
+  if (e != GL_NO_ERROR) return Internal("synth: OpenGL error " + std::to_string(e) + " drawing");
+  return Status::Ok();
+}
+
+Status SynthRenderer::DrawActorOver(const Camera& camera,
+                                    const std::vector<Eigen::Matrix4f>& skinning) {
+  FVV_RETURN_IF_ERROR(SetCamera(camera));
+  gl_.Uniform1f(u_unlit_, unlit_ ? 1.0f : 0.0f);
+  DrawActor(skinning, 0);
   const GLenum e = gl_.GetError();
   if (e != GL_NO_ERROR) return Internal("synth: OpenGL error " + std::to_string(e) + " drawing");
   return Status::Ok();

@@ -19,8 +19,10 @@ namespace fvv {
 class SynthRenderer {
  public:
   static constexpr size_t kMaxBones = kMaxSkinBones;
+  // `clutter`: the studio also holds furniture and equipment (boxes, a
+  // cabinet, stands) around the capture volume, each its own colour.
   static StatusOr<std::unique_ptr<SynthRenderer>> Create(const GlApi& gl, const ActorMesh& mesh,
-                                                         size_t bone_count);
+                                                         size_t bone_count, bool clutter = false);
   ~SynthRenderer();
   SynthRenderer(const SynthRenderer&) = delete;
   SynthRenderer& operator=(const SynthRenderer&) = delete;
@@ -32,6 +34,9 @@ class SynthRenderer {
   // Unlit: the actor shows its texture's own colours (tests compare resampled
   // textures with it); lit by default.
   void SetUnlit(bool unlit) { unlit_ = unlit; }
+  // This renderer's actor added to the current drawing (depth-tested against
+  // what is there): a second person in a scene another renderer drew.
+  Status DrawActorOver(const Camera& camera, const std::vector<Eigen::Matrix4f>& skinning);
   // The actor alone, white on black.
   Status DrawSilhouette(const Camera& camera, const std::vector<Eigen::Matrix4f>& skinning);
   // The last drawing, top-down rows (RGB or grey).

@@ -14,7 +14,16 @@ float noise(vec2 p) {
   vec2 u = f * f * (3.0 - 2.0 * f);
   return mix(mix(hash(i), hash(i + vec2(1, 0)), u.x), mix(hash(i + vec2(0, 1)), hash(i + vec2(1, 1)), u.x), u.y);
 }
+// Props (v_uv.x > 0.5): a colour of their own, light grain, darker edges below.
+vec3 prop(vec3 p, vec3 n, float id) {
+  vec3 c = vec3(0.25 + 0.6 * hash(vec2(id, 1.0)), 0.25 + 0.6 * hash(vec2(id, 2.0)),
+                0.25 + 0.6 * hash(vec2(id, 3.0)));
+  float along = abs(n.x) > 0.5 ? p.z : p.x;
+  return c * (0.85 + 0.2 * noise(vec2(along, p.y) * 14.0 + id));
+}
 vec3 studio(vec3 p, vec3 n) {
+  // Rounded: the hash magnifies the interpolation's last bits into stripes.
+  if (v_uv.x > 0.5) return prop(p, n, floor(v_uv.x + 0.5));
   if (n.y > 0.5) {  // floor: two-tone tiles, carpet grain, a taped circle and cross
     vec2 q = p.xz;
     float tile = mod(floor(q.x / 0.8) + floor(q.y / 0.8), 2.0);
