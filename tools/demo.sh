@@ -66,6 +66,10 @@ if [ -d "$real" ]; then
     --video "$(cd "$real/videos" && pwd)/{camera}.mp4" --up z
   $fvv capture check "$out/real"
   $fvv capture sheet "$out/real" --frame 50 -o "$out/real_sheet.png"
+  # The person the pretrained network sees in each camera (masks and keypoints),
+  # where this build has OpenCV's dnn module and tools/setup.sh fetched the models.
+  $fvv capture sheet "$out/real" --frame 50 --persons -o "$out/real_persons.png" ||
+    echo "  (no person models: fvv falls back to background subtraction)"
 else
   echo "== (no real capture at $real: skipping its step)"
 fi
@@ -84,5 +88,6 @@ echo "         $out/render_projective (Renderer I: contact sheet, held-out camer
 echo "         $out/render_heldout is Renderer II's, $out/capture/truth/heldout/held00 the truth),"
 echo "         $out/shape/capture (the bumpy actor's synthetic capture the shape table measured),"
 echo "         $out/capture_predictive.fvv and $out/render_predictive (the predictive texture codec),"
-echo "         $out/real (the real capture's capture.json) and $out/real_sheet.png,"
+echo "         $out/real (the real capture's capture.json), $out/real_sheet.png and"
+echo "         $out/real_persons.png (the network's person masks and keypoints),"
 echo "         $out/still_arith3.fvb and $out/still_arith4.fvb (one atlas frame, coders 3 and 4)"

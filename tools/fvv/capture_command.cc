@@ -16,6 +16,7 @@
 #include "encoder/io/image_io.h"
 #include "encoder/shape/visual_hull.h"
 #include "encoder/track/capture_frames.h"
+#include "encoder/track/person_observer.h"
 #include "tools/fvv/register_command.h"
 #include "tools/synth/synth.h"
 
@@ -45,18 +46,61 @@ int RunSynthCommand(SynthOptions o) {
 struct SheetArgs {
   std::string capture, output;
   uint32_t frame = 0;
-  bool silhouettes = false;
+  bool silhouettes = false, persons = false;
+  std::string models;
 };
+
+// The network's person mask tinted red over the image, its keypoints as green
+// dots (grey where it thinks them hidden).
+void DrawPerson(const PersonObservation& p, Image* image) {
+  if (p.mask.pixels.size() * 3 == image->pixels.size()) {
+    for (size_t i = 0; i < p.mask.pixels.size(); ++i) {
+      const int a = p.mask.pixels[i];
+      uint8_t* px = &image->pixels[3 * i];
+      px[0] = static_cast<uint8_t>(px[0] + (255 - px[0]) * a / 510);
+      px[1] = static_cast<uint8_t>(px[1] - px[1] * a / 510);
+      px[2] = static_cast<uint8_t>(px[2] - px[2] * a / 510);
+    }
+  }
+  const int r = std::max(2, static_cast<int>(image->width / 200));
+  for (const PersonKeypoint& k : p.keypoints) {
+    const uint8_t colour[3] = {static_cast<uint8_t>(k.visibility > 0.5 ? 40 : 160),
+                               static_cast<uint8_t>(k.visibility > 0.5 ? 255 : 160),
+                               static_cast<uint8_t>(k.visibility > 0.5 ? 40 : 160)};
+    for (int dy = -r; dy <= r; ++dy) {
+      for (int dx = -r; dx <= r; ++dx) {
+        const long x = std::lround(k.pixel.x()) + dx, y = std::lround(k.pixel.y()) + dy;
+        if (x < 0 || y < 0 || x >= long(image->width) || y >= long(image->height)) continue;
+        std::copy_n(colour, 3, &image->pixels[3 * (size_t(y) * image->width + size_t(x))]);
+      }
+    }
+  }
+}
 
 int RunSheet(const SheetArgs& a) {
   StatusOr<Capture> c = LoadCapture(a.capture);
   if (!c.ok()) return Fail(c.status());
   CaptureReader reader(*c);
+  std::unique_ptr<PersonObserver> observer;
+  if (a.persons) {
+    if (a.silhouettes) return Fail(InvalidArgument("--persons draws over images, not silhouettes"));
+    StatusOr<std::unique_ptr<PersonObserver>> o =
+        PersonObserver::Load(a.models.empty() ? DefaultModelDirectory() : a.models);
+    if (!o.ok()) return Fail(o.status());
+    observer = std::move(*o);
+  }
   std::vector<Image> tiles;
   for (uint32_t i = 0; i < c->cameras.size(); ++i) {
     StatusOr<Image> img =
         a.silhouettes ? reader.ReadSilhouette(i, a.frame) : reader.ReadFrame(i, a.frame);
     if (!img.ok()) return Fail(img.status());
+    if (observer) {
+      StatusOr<PersonObservation> seen = observer->Observe(*img, nullptr);
+      if (!seen.ok()) return Fail(seen.status());
+      std::printf("  %-8s %s (score %.2f)\n", c->cameras[i].calibration.name.c_str(),
+                  seen->found ? "person found" : "no person", seen->score);
+      if (seen->found) DrawPerson(*seen, &*img);
+    }
     tiles.push_back(std::move(*img));
   }
   Status s = WriteImage(a.output, MakeContactSheet(tiles));
@@ -340,6 +384,11 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
   sh->add_option("-o,--output", sheet->output, "Output image (.png or .exr)")->required();
   sh->add_option("--frame", sheet->frame, "Frame index")->capture_default_str();
   sh->add_flag("--silhouettes", sheet->silhouettes, "Show the capture's silhouettes instead");
+  sh->add_flag("--persons", sheet->persons,
+               "Draw the person the pretrained network sees: its mask (red) and 33 keypoints "
+               "(green; grey where it thinks them hidden)");
+  sh->add_option("--models", sheet->models,
+                 "Directory of the person models (default: $FVV_MODEL_DIR or ~/.cache/fvv/models)");
   sh->callback([sheet, exit_code] { *exit_code = RunSheet(*sheet); });
 
   auto imp = std::make_shared<ImportArgs>();

@@ -1,0 +1,196 @@
+// Person masks and keypoints from the pretrained network
+// (encoder/track/person_observer): on a synthetic capture, against its truth
+// (the projected joints, the true silhouette); on the empty studio (nobody);
+// carried from frame to frame; and on a frame of the real capture.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <string>
+
+#include "encoder/capture/capture.h"
+#include "encoder/capture/video_reader.h"
+#include "encoder/track/features.h"
+#include "encoder/track/person_observer.h"
+#include "tools/synth/synth.h"
+
+namespace fvv {
+namespace {
+
+std::unique_ptr<PersonObserver> LoadOrSkipReason(std::string* reason) {
+  if (!PersonObserverAvailable()) {
+    *reason = "built without OpenCV's dnn module (apt-get install libopencv-dev)";
+    return nullptr;
+  }
+  StatusOr<std::unique_ptr<PersonObserver>> o = PersonObserver::Load(DefaultModelDirectory());
+  if (!o.ok()) {
+    *reason = o.status().ToString() + " (tools/setup.sh fetches them)";
+    return nullptr;
+  }
+  return std::move(*o);
+}
+
+// The generic body's joints and BlazePose's keypoints at the same places.
+const std::map<std::string, int> kJointKeypoints = {
+    {"l_shoulder", 11}, {"r_shoulder", 12}, {"l_elbow", 13}, {"r_elbow", 14},
+    {"l_wrist", 15},    {"r_wrist", 16},    {"l_hip", 23},   {"r_hip", 24},
+    {"l_knee", 25},     {"r_knee", 26},     {"l_ankle", 27}, {"r_ankle", 28}};
+
+double MaskIou(const Image& mask, const Image& truth) {
+  size_t both = 0, either = 0;
+  for (size_t i = 0; i < truth.pixels.size(); ++i) {
+    const bool a = mask.pixels[i] > 127, b = truth.pixels[i] > 127;
+    both += a && b;
+    either += a || b;
+  }
+  return either ? double(both) / either : 0;
+}
+
+class PersonObserverSynthTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    observer_ = LoadOrSkipReason(&skip_).release();
+    if (!observer_) return;
+    options_.output_dir = ::testing::TempDir() + "/person_observer_" + std::to_string(getpid());
+    std::system(("rm -rf '" + options_.output_dir + "'").c_str());
+    options_.cameras = 4;
+    options_.frames = 3;
+    options_.held_out = 0;
+    options_.texture_size = 512;
+    made_ = RunSynth(options_).status();
+  }
+  static void TearDownTestSuite() {
+    delete observer_;
+    observer_ = nullptr;
+    std::system(("rm -rf '" + options_.output_dir + "'").c_str());
+  }
+  void SetUp() override {
+    if (!observer_) GTEST_SKIP() << "person models unavailable: " << skip_;
+    ASSERT_TRUE(made_.ok()) << made_.ToString();
+  }
+  static PersonObserver* observer_;
+  static std::string skip_;
+  static SynthOptions options_;
+  static Status made_;
+};
+PersonObserver* PersonObserverSynthTest::observer_ = nullptr;
+std::string PersonObserverSynthTest::skip_;
+SynthOptions PersonObserverSynthTest::options_;
+Status PersonObserverSynthTest::made_;
+
+// In every camera the person is found, its joints' keypoints lie near the
+// projected true joints, and its mask covers the true silhouette.
+TEST_F(PersonObserverSynthTest, KeypointsAndMaskMatchTheTruth) {
+  StatusOr<Capture> cap = LoadCapture(options_.output_dir);
+  ASSERT_TRUE(cap.ok()) << cap.status().ToString();
+  std::vector<Camera> cameras;
+  for (const CaptureCamera& c : cap->cameras) cameras.push_back(c.calibration);
+  StatusOr<FeatureSet> truth =
+      LoadFeatures(options_.output_dir + "/truth/features.json", cameras, cap->frame_count);
+  ASSERT_TRUE(truth.ok()) << truth.status().ToString();
+  CaptureReader reader(*cap);
+  std::vector<double> errors;
+  for (uint32_t c = 0; c < cameras.size(); ++c) {
+    StatusOr<Image> frame = reader.ReadFrame(c, 1);
+    ASSERT_TRUE(frame.ok());
+    StatusOr<PersonObservation> seen = observer_->Observe(*frame, nullptr);
+    ASSERT_TRUE(seen.ok()) << seen.status().ToString();
+    ASSERT_TRUE(seen->found) << "camera " << c << " score " << seen->score;
+    for (const auto& [joint, k] : kJointKeypoints) {
+      const auto& views = truth->frames.at(1).at(joint);
+      auto it = views.find(c);
+      if (it == views.end()) continue;
+      errors.push_back((seen->keypoints[k].pixel - it->second).norm());
+    }
+    StatusOr<Image> silhouette =
+        ReadImage(options_.output_dir + "/truth/silhouettes/" + cameras[c].name + "/000001.png");
+    ASSERT_TRUE(silhouette.ok());
+    EXPECT_GT(MaskIou(seen->mask, *silhouette), 0.75) << "camera " << c;
+  }
+  ASSERT_GE(errors.size(), 40u);
+  std::sort(errors.begin(), errors.end());
+  std::printf("keypoint error against the true joints: median %.1f, 90th percentile %.1f pixels\n",
+              errors[errors.size() / 2], errors[errors.size() * 9 / 10]);
+  // 640x480, the actor about 300 pixels tall: the network's joints and the
+  // body model's differ by definition (hips, shoulders) by a few pixels.
+  EXPECT_LT(errors[errors.size() / 2], 12.0) << "median keypoint error (pixels)";
+  EXPECT_LT(errors[errors.size() * 9 / 10], 30.0) << "90th percentile (pixels)";
+}
+
+// The empty studio: nobody is there.
+TEST_F(PersonObserverSynthTest, NobodyInTheEmptyStudio) {
+  StatusOr<Image> plate = ReadImage(options_.output_dir + "/background/cam00.png");
+  ASSERT_TRUE(plate.ok());
+  StatusOr<PersonObservation> seen = observer_->Observe(*plate, nullptr);
+  ASSERT_TRUE(seen.ok()) << seen.status().ToString();
+  EXPECT_FALSE(seen->found) << "score " << seen->score;
+}
+
+// Carried over: the region from one frame finds the person in the next without
+// the detector, at the same keypoints (within a few pixels).
+TEST_F(PersonObserverSynthTest, TheRegionCarriesToTheNextFrame) {
+  StatusOr<Capture> cap = LoadCapture(options_.output_dir);
+  ASSERT_TRUE(cap.ok());
+  CaptureReader reader(*cap);
+  StatusOr<Image> f1 = reader.ReadFrame(0, 1), f2 = reader.ReadFrame(0, 2);
+  ASSERT_TRUE(f1.ok() && f2.ok());
+  StatusOr<PersonObservation> a = observer_->Observe(*f1, nullptr);
+  ASSERT_TRUE(a.ok() && a->found);
+  EXPECT_TRUE(a->detected);
+  StatusOr<PersonObservation> carried = observer_->Observe(*f2, &a->next);
+  StatusOr<PersonObservation> fresh = observer_->Observe(*f2, nullptr);
+  ASSERT_TRUE(carried.ok() && fresh.ok());
+  ASSERT_TRUE(carried->found && fresh->found);
+  EXPECT_FALSE(carried->detected);
+  double worst = 0;
+  for (int k : {11, 12, 23, 24, 25, 26}) {
+    worst = std::max(worst, (carried->keypoints[k].pixel - fresh->keypoints[k].pixel).norm());
+  }
+  EXPECT_LT(worst, 8.0);
+}
+
+// A frame of the real capture: the person on the treadmill is found, the
+// trunk's and legs' keypoints lie inside its mask, the mask is person-sized.
+TEST(PersonObserverReal, FindsThePersonOnTheTreadmill) {
+  const std::string video =
+      std::string(FVV_TEST_DATA_DIR) + "/real/pose2sim_single/videos/cam03.mp4";
+  if (access(video.c_str(), R_OK) != 0) GTEST_SKIP() << "no real capture at " << video;
+  if (!HaveFfmpeg()) GTEST_SKIP() << "ffmpeg not installed (tools/setup.sh installs it)";
+  std::string reason;
+  std::unique_ptr<PersonObserver> observer = LoadOrSkipReason(&reason);
+  if (!observer) GTEST_SKIP() << "person models unavailable: " << reason;
+  StatusOr<std::unique_ptr<VideoReader>> reader = VideoReader::Open(video, 1088, 1920);
+  ASSERT_TRUE(reader.ok()) << reader.status().ToString();
+  StatusOr<Image> frame = (*reader)->Next();
+  ASSERT_TRUE(frame.ok());
+  StatusOr<PersonObservation> seen = observer->Observe(*frame, nullptr);
+  ASSERT_TRUE(seen.ok()) << seen.status().ToString();
+  ASSERT_TRUE(seen->found);
+  EXPECT_GT(seen->score, 0.9);
+  // A joint's keypoint is its centre, which may lie just off the visible
+  // outline (the back of a knee): within 15 pixels (1.4 % of the width).
+  for (int k : {11, 12, 23, 24, 25, 26}) {
+    const Eigen::Vector2d p = seen->keypoints[k].pixel;
+    ASSERT_TRUE(p.x() >= 0 && p.y() >= 0 && p.x() < 1088 && p.y() < 1920) << k;
+    bool near = false;
+    for (int dy = -15; dy <= 15 && !near; ++dy) {
+      for (int dx = -15; dx <= 15 && !near; ++dx) {
+        const int x = int(p.x()) + dx, y = int(p.y()) + dy;
+        near = x >= 0 && y >= 0 && x < 1088 && y < 1920 &&
+               seen->mask.pixels[size_t(y) * 1088 + size_t(x)] > 127;
+      }
+    }
+    EXPECT_TRUE(near) << PersonKeypointName(k) << " far from the mask";
+  }
+  size_t area = 0;
+  for (uint8_t v : seen->mask.pixels) area += v > 127;
+  const double share = double(area) / seen->mask.pixels.size();
+  EXPECT_GT(share, 0.03);
+  EXPECT_LT(share, 0.3);
+}
+
+}  // namespace
+}  // namespace fvv
