@@ -1,6 +1,7 @@
 // Marker-free motion capture benchmark: seconds per frame, mean and
 // max 3D joint error (cm) and silhouette IoU on synthetic captures with ground
-// truth, silhouettes by background subtraction:
+// truth, silhouettes by background subtraction against plates, or (case d, no
+// plates) from the person network where its models are installed:
 //   (a) the built-in actor driven by CMU BVH 01_01, 8 cameras;
 //   (b) CesiumMan (../shared/data: a body that is not our model), 8 cameras,
 //       comparing corresponding joints;
@@ -63,10 +64,9 @@ int main(int argc, char** argv) {
       {"(b) CesiumMan (glTF)", cesium, "", 8},
       {"(c) built-in actor, CMU 01_01", "builtin", Exists(bvh) ? bvh : "", 4},
       {"(d) as (c), real conditions", "builtin", Exists(bvh) ? bvh : "", 4, true}};
-  std::printf("track_bench: %u frames at %ux%u, 25 fps, silhouettes by background subtraction\n",
-              frames, width, height);
+  std::printf("track_bench: %u frames at %ux%u, 25 fps\n", frames, width, height);
   std::printf("%-32s %7s %9s %12s %11s %10s %8s %s\n", "case", "cameras", "s/frame", "mean (cm)",
-              "max (cm)", "IoU", "flagged", "joints");
+              "max (cm)", "IoU", "flagged", "joints  silhouettes");
   for (size_t k = 0; k < cases.size(); ++k) {
     const Case& c = cases[k];
     if (c.actor != "builtin" && !Exists(c.actor)) {
@@ -105,8 +105,9 @@ int main(int argc, char** argv) {
     }
     const double spf = (r->silhouette_seconds + r->fit_seconds) / r->fits.size();
     std::printf(
-        "%-32s %7u %9.3f %12.2f %11.2f %10.3f %8d %zu%s\n", c.label, c.cameras, spf, 100 * e->mean,
-        100 * e->max, r->mean_iou, r->flagged, e->joints.size(),
+        "%-32s %7u %9.3f %12.2f %11.2f %10.3f %8d %zu  %s%s\n", c.label, c.cameras, spf,
+        100 * e->mean, 100 * e->max, r->mean_iou, r->flagged, e->joints.size(),
+        r->silhouette_source.c_str(),
         c.motion.empty() && c.actor == "builtin" ? " (built-in walk: CMU files absent)" : "");
     std::fflush(stdout);
   }

@@ -14,7 +14,9 @@
 #include "encoder/capture/capture.h"
 #include "encoder/capture/video_reader.h"
 #include "encoder/track/features.h"
+#include "encoder/track/joint_truth.h"
 #include "encoder/track/person_observer.h"
+#include "encoder/track/track_capture.h"
 #include "tools/synth/synth.h"
 
 namespace fvv {
@@ -150,6 +152,44 @@ TEST_F(PersonObserverSynthTest, TheRegionCarriesToTheNextFrame) {
     worst = std::max(worst, (carried->keypoints[k].pixel - fresh->keypoints[k].pixel).norm());
   }
   EXPECT_LT(worst, 8.0);
+}
+
+// Tracking a take in the conditions of a real one (no plates, furniture, a
+// bystander, 4 portrait cameras): with the person network's masks the body is
+// followed; with a temporal median (the fallback) it is lost.
+TEST(PersonSilhouettes, TrackATakeWhereSubtractionLosesTheBody) {
+  std::string reason;
+  std::unique_ptr<PersonObserver> probe = LoadOrSkipReason(&reason);
+  if (!probe) GTEST_SKIP() << "person models unavailable: " << reason;
+  SynthOptions s;
+  s.output_dir = ::testing::TempDir() + "/person_track_" + std::to_string(getpid());
+  std::system(("rm -rf '" + s.output_dir + "'").c_str());
+  s.cameras = 4;
+  s.width = 270, s.height = 480;
+  s.frames = 8;
+  s.held_out = 0;
+  s.texture_size = 512;
+  s.plates = false, s.clutter = true, s.bystander = true;
+  ASSERT_TRUE(RunSynth(s).ok());
+  double mean[2] = {0, 0};
+  std::string source[2];
+  for (int with = 0; with < 2; ++with) {
+    TrackCaptureOptions o;
+    o.persons = with ? TrackCaptureOptions::Persons::kOn : TrackCaptureOptions::Persons::kOff;
+    StatusOr<TrackCaptureResult> r = TrackCapture(s.output_dir, o);
+    ASSERT_TRUE(r.ok()) << r.status().ToString();
+    source[with] = r->silhouette_source;
+    StatusOr<JointErrors> e = CompareWithTruth(s.output_dir, r->model.skeleton, r->Poses(), 0);
+    ASSERT_TRUE(e.ok()) << e.status().ToString();
+    mean[with] = e->mean;
+  }
+  std::system(("rm -rf '" + s.output_dir + "'").c_str());
+  EXPECT_EQ(source[1], "person masks");
+  EXPECT_EQ(source[0], "background subtraction");
+  std::printf("mean joint error: temporal median %.1f cm, person masks %.1f cm\n", 100 * mean[0],
+              100 * mean[1]);
+  EXPECT_LT(mean[1], 0.05);
+  EXPECT_GT(mean[0], 2 * mean[1]);
 }
 
 // A frame of the real capture: the person on the treadmill is found, the

@@ -1,14 +1,26 @@
 #include "encoder/track/capture_frames.h"
 
+#include <optional>
+
+#include "encoder/track/person_selection.h"
+
 namespace fvv {
 
 StatusOr<std::unique_ptr<CaptureFrames>> CaptureFrames::Open(const Capture& capture, bool extract,
-                                                             ThreadPool* pool) {
+                                                             ThreadPool* pool,
+                                                             PersonObserver* persons) {
   std::unique_ptr<CaptureFrames> f(new CaptureFrames(capture, pool));
   CaptureReader& reader = f->reader_;
   const size_t n = capture.cameras.size();
   f->given_ = reader.HasSilhouettes() && !extract;
   if (f->given_) return f;
+  f->plates_ = reader.HasBackgrounds();
+  if (persons) {
+    f->persons_ = persons;
+    f->regions_.assign(n, PersonRegion());
+    // Without plates the network's masks are the silhouettes: no median needed.
+    if (!f->plates_) return f;
+  }
   f->backgrounds_.resize(n);
   for (uint32_t c = 0; c < n; ++c) {
     if (capture.cameras[c].background) {
@@ -34,6 +46,7 @@ StatusOr<std::unique_ptr<CaptureFrames>> CaptureFrames::Open(const Capture& capt
 
 Status CaptureFrames::Read(uint32_t frame, std::vector<Image>* images,
                            std::vector<Image>* silhouettes) {
+  if (persons_) return ReadWithPersons(frame, images, silhouettes);
   const uint32_t n = uint32_t(capture().cameras.size());
   silhouettes->assign(n, Image());
   if (images) images->assign(n, Image());
@@ -58,6 +71,101 @@ Status CaptureFrames::Read(uint32_t frame, std::vector<Image>* images,
     if (images) (*images)[c] = std::move(*image);
   });
   for (const Status& s : errors) FVV_RETURN_IF_ERROR(s);
+  return Status::Ok();
+}
+
+std::string CaptureFrames::silhouette_source() const {
+  if (given_) return "given";
+  if (persons_) return plates_ ? "person masks and background subtraction" : "person masks";
+  return "background subtraction";
+}
+
+Status CaptureFrames::ReadWithPersons(uint32_t frame, std::vector<Image>* images,
+                                      std::vector<Image>* silhouettes) {
+  const uint32_t n = uint32_t(capture().cameras.size());
+  std::vector<Image> read(n);
+  std::vector<Status> errors(n);
+  pool_->Run(n, [&](uint32_t c) {
+    StatusOr<Image> image = reader_.ReadFrame(c, frame);
+    if (image.ok()) {
+      read[c] = std::move(*image);
+    } else {
+      errors[c] = image.status();
+    }
+  });
+  for (const Status& s : errors) FVV_RETURN_IF_ERROR(s);
+  auto named = [&](uint32_t c, const Status& s) {
+    return Status(s.code(), "camera " + capture().cameras[c].calibration.name + ": " + s.message());
+  };
+  // Cameras that follow the actor look where it was; the others detect
+  // everyone, and the person whose hips agree in 3D with the followed cameras
+  // (or, with none, across the detecting ones) is taken as the actor.
+  std::vector<PersonObservation> seen(n);
+  std::vector<std::optional<Eigen::Vector2d>> known(n);
+  std::vector<std::vector<PersonObserver::Candidate>> candidates(n);
+  bool detect = false;
+  for (uint32_t c = 0; c < n; ++c) {
+    if (regions_[c].size > 0) {
+      StatusOr<PersonObservation> o = persons_->ObserveRegion(read[c], regions_[c]);
+      if (!o.ok()) return named(c, o.status());
+      seen[c] = std::move(*o);
+    }
+    if (seen[c].found) {
+      known[c] = 0.5 * (seen[c].keypoints[23].pixel + seen[c].keypoints[24].pixel);
+      continue;
+    }
+    StatusOr<std::vector<PersonObserver::Candidate>> people = persons_->Detect(read[c]);
+    if (!people.ok()) return named(c, people.status());
+    candidates[c] = std::move(*people);
+    detect = detect || !candidates[c].empty();
+  }
+  if (detect) {
+    std::vector<Camera> cameras;
+    std::vector<std::vector<Eigen::Vector2d>> hips(n);
+    for (uint32_t c = 0; c < n; ++c) {
+      cameras.push_back(capture().cameras[c].calibration);
+      for (const PersonObserver::Candidate& p : candidates[c]) hips[c].push_back(p.hips);
+    }
+    const ActorChoice choice = ChooseActor(cameras, hips, known);
+    for (uint32_t c = 0; c < n; ++c) {
+      if (candidates[c].empty()) continue;
+      // No two cameras agree (one camera, or the actor seen once): the most
+      // confident person, as a single camera would.
+      const int pick = choice.hips ? choice.chosen[c] : 0;
+      if (pick < 0) continue;
+      StatusOr<PersonObservation> o = persons_->ObserveRegion(read[c], candidates[c][pick].region);
+      if (!o.ok()) return named(c, o.status());
+      seen[c] = std::move(*o);
+      seen[c].detected = true;
+    }
+  }
+  silhouettes->assign(n, Image());
+  pool_->Run(n, [&](uint32_t c) {
+    regions_[c] = seen[c].found ? seen[c].next : PersonRegion();
+    Image& s = (*silhouettes)[c];
+    s.width = read[c].width;
+    s.height = read[c].height;
+    s.channels = 1;
+    s.pixels.assign(size_t{s.width} * s.height, 0);
+    if (!seen[c].found) return;
+    // Half the network's probability, as a mask; holes and specks cleaned as
+    // background subtraction's are.
+    for (size_t i = 0; i < s.pixels.size(); ++i)
+      s.pixels[i] = seen[c].mask.pixels[i] > 127 ? 255 : 0;
+    CleanMask(&s, SilhouetteParams());
+    if (!plates_) return;
+    // With plates: background subtraction's edges, only where the person is.
+    StatusOr<Image> subtracted = ExtractSilhouette(read[c], backgrounds_[c]);
+    if (!subtracted.ok()) {
+      errors[c] = subtracted.status();
+      return;
+    }
+    for (size_t i = 0; i < s.pixels.size(); ++i) {
+      s.pixels[i] = s.pixels[i] && subtracted->pixels[i] ? 255 : 0;
+    }
+  });
+  for (const Status& s : errors) FVV_RETURN_IF_ERROR(s);
+  if (images) *images = std::move(read);
   return Status::Ok();
 }
 

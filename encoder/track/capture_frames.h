@@ -1,16 +1,20 @@
 // Per-frame camera images and silhouettes of a capture, for every camera at
-// once (both cores): the given silhouettes, or background subtraction against
-// the plates (or the temporal median of frames spread over the take when a
-// camera has none). What tracking and the encoder's texture resampling read.
+// once (both cores): the given silhouettes; or the person a pretrained network
+// sees (its mask, kept where background subtraction agrees when there are
+// plates); or background subtraction against the plates (or the temporal
+// median of frames spread over the take when a camera has none). What tracking
+// and the encoder's texture resampling read.
 #ifndef FVV_ENCODER_TRACK_CAPTURE_FRAMES_H_
 #define FVV_ENCODER_TRACK_CAPTURE_FRAMES_H_
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "codec/base/status.h"
 #include "codec/base/thread_pool.h"
 #include "encoder/capture/capture.h"
+#include "encoder/track/person_observer.h"
 #include "encoder/track/silhouette.h"
 
 namespace fvv {
@@ -18,10 +22,16 @@ namespace fvv {
 class CaptureFrames {
  public:
   // `extract`: background subtraction even when the capture lists silhouettes.
+  // `persons`: silhouettes from the person network instead of (without plates)
+  // or together with (with plates) background subtraction; not owned.
   static StatusOr<std::unique_ptr<CaptureFrames>> Open(const Capture& capture, bool extract,
-                                                       ThreadPool* pool);
+                                                       ThreadPool* pool,
+                                                       PersonObserver* persons = nullptr);
 
   bool given_silhouettes() const { return given_; }
+  // "given", "person masks", "person masks and background subtraction" or
+  // "background subtraction".
+  std::string silhouette_source() const;
   const Capture& capture() const { return reader_.capture(); }
 
   // Frame `frame` of every camera: silhouettes (grey, 0 or 255) and, when
@@ -30,10 +40,16 @@ class CaptureFrames {
 
  private:
   CaptureFrames(const Capture& capture, ThreadPool* pool) : reader_(capture), pool_(pool) {}
+  Status ReadWithPersons(uint32_t frame, std::vector<Image>* images,
+                         std::vector<Image>* silhouettes);
+
   CaptureReader reader_;
   ThreadPool* pool_;
   bool given_ = false;
+  bool plates_ = false;
   std::vector<BackgroundModel> backgrounds_;
+  PersonObserver* persons_ = nullptr;
+  std::vector<PersonRegion> regions_;  // per camera, from its last frame (size 0: detect)
 };
 
 }  // namespace fvv

@@ -142,11 +142,12 @@ PersonObserver::~PersonObserver() = default;
 
 namespace {
 
-// The detector: the whole image letterboxed into 224 x 224, values in [-1, 1];
-// the best-scoring person's alignment points make the region. False when
-// nobody scores above `min_score`.
-bool DetectRegion(cv::dnn::Net& net, const std::vector<Anchor>& anchors, const cv::Mat& image,
-                  double min_score, PersonRegion* region) {
+// The detector: the whole image letterboxed into 224 x 224, values in [-1, 1].
+// Per anchor scoring over `min_score`: the person's alignment points (the hips'
+// centre and a point the whole body's extent reaches) make its region.
+std::vector<PersonObserver::Candidate> DetectCandidates(cv::dnn::Net& net,
+                                                        const std::vector<Anchor>& anchors,
+                                                        const cv::Mat& image, double min_score) {
   const double scale = double(kDetectorSize) / std::max(image.cols, image.rows);
   const int w = std::max(1, int(std::lround(image.cols * scale)));
   const int h = std::max(1, int(std::lround(image.rows * scale)));
@@ -160,23 +161,39 @@ bool DetectRegion(cv::dnn::Net& net, const std::vector<Anchor>& anchors, const c
   net.forward(outs, std::vector<cv::String>{"Identity", "Identity_1"});
   const float* boxes = outs[0].ptr<float>();
   const float* scores = outs[1].ptr<float>();
-  int best = -1;
-  double best_score = min_score;
+  std::vector<PersonObserver::Candidate> all;
   for (int i = 0; i < kAnchors; ++i) {
     const double sc = Sigmoid(std::clamp<double>(scores[i], -100, 100));
-    if (sc > best_score) best_score = sc, best = i;
+    if (sc <= min_score) continue;
+    // Values: a face box (x, y, w, h), then keypoints: the hips' centre, a point
+    // the whole body reaches, the shoulders' centre, the upper body's.
+    const float* v = boxes + size_t{kDetectorValues} * i;
+    const Anchor& a = anchors[i];
+    auto to_image = [&](float raw_x, float raw_y) {
+      const double x = raw_x + a.x * kDetectorSize, y = raw_y + a.y * kDetectorSize;
+      return Eigen::Vector2d((x - pad_x) / scale - 0.5, (y - pad_y) / scale - 0.5);
+    };
+    PersonObserver::Candidate c;
+    c.score = sc;
+    c.hips = to_image(v[4], v[5]);
+    c.region = RegionFromPoints(c.hips, to_image(v[6], v[7]));
+    all.push_back(c);
   }
-  if (best < 0) return false;
-  // Values: a face box (x, y, w, h), then keypoints: the hips' centre, a point
-  // the whole body's extent reaches, the shoulders' centre, the upper body's.
-  const float* v = boxes + size_t{kDetectorValues} * best;
-  const Anchor& a = anchors[best];
-  auto to_image = [&](float raw_x, float raw_y) {
-    const double x = raw_x + a.x * kDetectorSize, y = raw_y + a.y * kDetectorSize;
-    return Eigen::Vector2d((x - pad_x) / scale - 0.5, (y - pad_y) / scale - 0.5);
-  };
-  *region = RegionFromPoints(to_image(v[4], v[5]), to_image(v[6], v[7]));
-  return true;
+  std::sort(all.begin(), all.end(),
+            [](const PersonObserver::Candidate& a, const PersonObserver::Candidate& b) {
+              return a.score > b.score;
+            });
+  // One per person: anchors whose hips fall near a more confident one's are
+  // the same person.
+  std::vector<PersonObserver::Candidate> kept;
+  for (const PersonObserver::Candidate& c : all) {
+    bool same = false;
+    for (const PersonObserver::Candidate& k : kept) {
+      same = same || (c.hips - k.hips).norm() < 0.2 * k.region.size;
+    }
+    if (!same) kept.push_back(c);
+  }
+  return kept;
 }
 
 // The landmark network on `region`, rotated upright, at 256 x 256 in [0, 1].
@@ -228,26 +245,36 @@ PersonObservation Landmarks(cv::dnn::Net& net, const cv::Mat& image, const Perso
 
 }  // namespace
 
-StatusOr<PersonObservation> PersonObserver::Observe(const Image& rgb,
-                                                    const PersonRegion* previous) {
+namespace {
+
+StatusOr<cv::Mat> Wrap(const Image& rgb) {
   if (rgb.channels != 3 || rgb.width == 0 || rgb.height == 0 ||
       rgb.pixels.size() != size_t{rgb.width} * rgb.height * 3) {
     return InvalidArgument("person observer: needs a non-empty RGB image");
   }
-  const cv::Mat image(static_cast<int>(rgb.height), static_cast<int>(rgb.width), CV_8UC3,
-                      const_cast<uint8_t*>(rgb.pixels.data()));
+  return cv::Mat(static_cast<int>(rgb.height), static_cast<int>(rgb.width), CV_8UC3,
+                 const_cast<uint8_t*>(rgb.pixels.data()));
+}
+
+}  // namespace
+
+StatusOr<std::vector<PersonObserver::Candidate>> PersonObserver::Detect(const Image& rgb) {
+  StatusOr<cv::Mat> image = Wrap(rgb);
+  if (!image.ok()) return image.status();
   try {
-    PersonRegion region;
-    const bool carried = previous && previous->size > 8;
-    if (carried) {
-      region = *previous;
-    } else if (!DetectRegion(nets_->detector, nets_->anchors, image, min_detection_score,
-                             &region)) {
-      PersonObservation nobody;
-      nobody.detected = true;
-      return nobody;
-    }
-    PersonObservation best = Landmarks(nets_->landmarks, image, region, min_presence_score);
+    return DetectCandidates(nets_->detector, nets_->anchors, *image, min_detection_score);
+  } catch (const cv::Exception& e) {
+    return Internal(std::string("person observer: OpenCV: ") + e.what());
+  }
+}
+
+StatusOr<PersonObservation> PersonObserver::ObserveRegion(const Image& rgb,
+                                                          const PersonRegion& region) {
+  StatusOr<cv::Mat> image = Wrap(rgb);
+  if (!image.ok()) return image.status();
+  if (!(region.size > 8)) return InvalidArgument("person observer: an empty region");
+  try {
+    PersonObservation best = Landmarks(nets_->landmarks, *image, region, min_presence_score);
     // The detector places the region from two points and can cut off the feet
     // or the head (a side view); the landmarks, even unsure, place a better one.
     // Two more looks: there, and at the first region grown by half.
@@ -256,15 +283,29 @@ StatusOr<PersonObservation> PersonObserver::Observe(const Image& rgb,
       grown.size *= 1.5;
       for (const PersonRegion& retry : {best.next, grown}) {
         if (!(retry.size > 8)) continue;
-        PersonObservation again = Landmarks(nets_->landmarks, image, retry, min_presence_score);
+        PersonObservation again = Landmarks(nets_->landmarks, *image, retry, min_presence_score);
         if (again.score > best.score) best = std::move(again);
       }
     }
-    best.detected = !carried;
     return best;
   } catch (const cv::Exception& e) {
     return Internal(std::string("person observer: OpenCV: ") + e.what());
   }
+}
+
+StatusOr<PersonObservation> PersonObserver::Observe(const Image& rgb,
+                                                    const PersonRegion* previous) {
+  if (previous && previous->size > 8) return ObserveRegion(rgb, *previous);
+  StatusOr<std::vector<Candidate>> people = Detect(rgb);
+  if (!people.ok()) return people.status();
+  if (people->empty()) {
+    PersonObservation nobody;
+    nobody.detected = true;
+    return nobody;
+  }
+  StatusOr<PersonObservation> seen = ObserveRegion(rgb, people->front().region);
+  if (seen.ok()) seen->detected = true;
+  return seen;
 }
 
 #else  // no OpenCV dnn
@@ -282,6 +323,14 @@ StatusOr<std::unique_ptr<PersonObserver>> PersonObserver::Load(const std::string
 PersonObserver::~PersonObserver() = default;
 
 StatusOr<PersonObservation> PersonObserver::Observe(const Image&, const PersonRegion*) {
+  return Unsupported("person observer: built without OpenCV's dnn module");
+}
+
+StatusOr<std::vector<PersonObserver::Candidate>> PersonObserver::Detect(const Image&) {
+  return Unsupported("person observer: built without OpenCV's dnn module");
+}
+
+StatusOr<PersonObservation> PersonObserver::ObserveRegion(const Image&, const PersonRegion&) {
   return Unsupported("person observer: built without OpenCV's dnn module");
 }
 

@@ -53,9 +53,20 @@ class PersonObserver {
   ~PersonObserver();
 
   // One RGB image. `previous`: the region from the last frame of the same
-  // camera, to skip the detector; the detector runs when it is null or the
-  // person was lost there.
+  // camera, to skip the detector; without it the detector runs and the most
+  // confident person is taken.
   StatusOr<PersonObservation> Observe(const Image& rgb, const PersonRegion* previous);
+
+  // Every person the detector finds, most confident first (a person found
+  // twice is kept once).
+  struct Candidate {
+    double score = 0;
+    Eigen::Vector2d hips = Eigen::Vector2d::Zero();  // the hips' centre, pixels
+    PersonRegion region;
+  };
+  StatusOr<std::vector<Candidate>> Detect(const Image& rgb);
+  // The landmark network on one region (a candidate's, or one carried over).
+  StatusOr<PersonObservation> ObserveRegion(const Image& rgb, const PersonRegion& region);
 
   // Tuning: the detector's minimum score, the landmark network's minimum
   // presence score.

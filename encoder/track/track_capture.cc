@@ -8,6 +8,7 @@
 #include "codec/base/thread_pool.h"
 #include "encoder/body/body_shape_json.h"
 #include "encoder/track/capture_frames.h"
+#include "encoder/track/person_observer.h"
 
 namespace fvv {
 
@@ -21,7 +22,7 @@ std::string TrackCaptureResult::ToJson() const {
   nlohmann::json out;
   out["generator"] = "fvv track";
   out["capture"] = capture.directory;
-  out["silhouettes"] = given_silhouettes ? "given" : "background subtraction";
+  out["silhouettes"] = silhouette_source;
   nlohmann::json names = nlohmann::json::array();
   for (const DofRef& d : model.skeleton.Dofs()) {
     static const char* kKinds[] = {"rx", "ry", "rz", "tx", "ty", "tz"};
@@ -59,9 +60,27 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
   }
   const size_t n = cap.cameras.size();
   ThreadPool pool(2);
-  StatusOr<std::unique_ptr<CaptureFrames>> frames = CaptureFrames::Open(cap, o.extract, &pool);
+  std::unique_ptr<PersonObserver> persons;
+  const bool listed = CaptureReader(cap).HasSilhouettes() && !o.extract;
+  const bool plates = CaptureReader(cap).HasBackgrounds();
+  if (o.persons == TrackCaptureOptions::Persons::kOn ||
+      (o.persons == TrackCaptureOptions::Persons::kAuto && !listed && !plates)) {
+    StatusOr<std::unique_ptr<PersonObserver>> observer =
+        PersonObserver::Load(o.person_models.empty() ? DefaultModelDirectory() : o.person_models);
+    if (observer.ok()) {
+      persons = std::move(*observer);
+    } else if (o.persons == TrackCaptureOptions::Persons::kOn) {
+      return observer.status();
+    } else if (o.progress) {
+      o.progress("track: no background plates and no person network (" +
+                 observer.status().message() + "): silhouettes by a temporal median");
+    }
+  }
+  StatusOr<std::unique_ptr<CaptureFrames>> frames =
+      CaptureFrames::Open(cap, o.extract, &pool, persons.get());
   if (!frames.ok()) return frames.status();
   r.given_silhouettes = (*frames)->given_silhouettes();
+  r.silhouette_source = (*frames)->silhouette_source();
   std::vector<Camera> cameras;
   for (const CaptureCamera& c : cap.cameras) cameras.push_back(c.calibration);
   StatusOr<std::unique_ptr<Tracker>> tracker = Tracker::Create(cameras, o.tracker);

@@ -21,6 +21,11 @@ struct TrackCaptureOptions {
   uint32_t first = 0;
   uint32_t last = UINT32_MAX;  // clamped to the last frame
   bool extract = false;        // background subtraction even when silhouettes are given
+  // Silhouettes from the person network (encoder/track/person_observer.h):
+  // kAuto where the capture has neither silhouettes nor plates and the models
+  // load (else background subtraction, saying why through `progress`).
+  enum class Persons { kAuto, kOff, kOn } persons = Persons::kAuto;
+  std::string person_models;  // model directory; empty: DefaultModelDirectory()
   TrackerOptions tracker;
   // Poses are smoothed over time before they are reported (on_frame and the
   // result), each frame once Radius() later frames are tracked. The fit
@@ -42,7 +47,8 @@ struct TrackCaptureResult {
   Capture capture;
   uint32_t first = 0, last = 0;
   bool given_silhouettes = false;
-  std::vector<FrameFit> fits;  // per frame first..last
+  std::string silhouette_source;  // CaptureFrames::silhouette_source()
+  std::vector<FrameFit> fits;     // per frame first..last
   BodyShape shape;
   BodyModel model;  // the generic body with the fitted shape
   double silhouette_seconds = 0, fit_seconds = 0;

@@ -17,6 +17,7 @@ struct TrackArgs {
   std::string capture, output, truth, save_silhouettes, overlays;
   std::string frames;  // "A:B"
   bool extract = false;
+  std::string persons = "auto", models;
   bool no_shape = false;
   bool quiet = false;
   double smooth = TrackCaptureOptions{}.smoothing.sigma_frames;
@@ -32,6 +33,10 @@ int RunTrack(const TrackArgs& a) {
   const Status range = ParseFrameRange(a.frames, &o.first, &o.last);
   if (!range.ok()) return Fail(range);
   o.extract = a.extract;
+  o.persons = a.persons == "on"    ? TrackCaptureOptions::Persons::kOn
+              : a.persons == "off" ? TrackCaptureOptions::Persons::kOff
+                                   : TrackCaptureOptions::Persons::kAuto;
+  o.person_models = a.models;
   o.tracker.adapt_shape = !a.no_shape;
   o.smoothing.sigma_frames = a.smooth;
   o.save_silhouettes = a.save_silhouettes;
@@ -67,8 +72,7 @@ int RunTrack(const TrackArgs& a) {
         b.girth[kSegChest], b.length[kSegLeftUpperArm], b.girth[kSegLeftUpperArm],
         b.length[kSegLeftThigh], b.girth[kSegLeftThigh], b.neck_ratio);
   }
-  std::printf("  silhouettes: %s, mean IoU %.3f\n",
-              r->given_silhouettes ? "given" : "background subtraction", r->mean_iou);
+  std::printf("  silhouettes: %s, mean IoU %.3f\n", r->silhouette_source.c_str(), r->mean_iou);
   std::printf("  time: %.3f s per frame (silhouettes %.3f, fitting %.3f)\n",
               (r->silhouette_seconds + r->fit_seconds) / count, r->silhouette_seconds / count,
               r->fit_seconds / count);
@@ -117,6 +121,13 @@ void AddTrackCommand(CLI::App* app, int* exit_code) {
   t->add_option("--frames", a->frames, "Frame range A:B (default all)");
   t->add_flag("--extract", a->extract,
               "Background subtraction even when the capture lists silhouettes");
+  t->add_option("--persons", a->persons,
+                "Silhouettes from the pretrained person network: auto (where the capture has "
+                "no plates and the models are installed), on, off")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "on", "off"}));
+  t->add_option("--models", a->models,
+                "Directory of the person models (default: $FVV_MODEL_DIR or ~/.cache/fvv/models)");
   t->add_flag("--fixed-shape", a->no_shape, "Keep the generic body's proportions");
   AddSmoothOption(t, &a->smooth);
   t->add_option("--save-silhouettes", a->save_silhouettes,
