@@ -1,0 +1,99 @@
+// The summary fvv encode prints, and its JSON form (--summary-json).
+#include <cstdarg>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "encoder/encode/encoder.h"
+
+namespace fvv {
+
+std::string EncodeSummary::Table() const {
+  std::string out;
+  char line[256];
+  auto add = [&](const char* fmt, auto... args) {
+    std::snprintf(line, sizeof(line), fmt, args...);
+    out += line;
+  };
+  add("%s: %u frames (from %u) x %u cameras, atlas %ux%u, %u GOPs, level %u, pose source: %s\n",
+      output.c_str(), frames, first_frame, cameras, atlas_size, atlas_size, gops, level,
+      pose_source.c_str());
+  add("  size              %12llu bytes   %9.1f kbps\n", (unsigned long long)file_bytes,
+      kbps(file_bytes));
+  add("    textures        %12llu bytes   %9.1f kbps\n", (unsigned long long)texture_bytes,
+      kbps(texture_bytes));
+  add("    masks           %12llu bytes   %9.1f kbps\n", (unsigned long long)mask_bytes,
+      kbps(mask_bytes));
+  add("    motion          %12llu bytes   %9.2f kbps\n", (unsigned long long)motion_bytes,
+      kbps(motion_bytes));
+  add("    model, headers  %12llu bytes\n",
+      (unsigned long long)(file_bytes - texture_bytes - mask_bytes - motion_bytes));
+  add("  compression       %8.1f:1 vs 24-bit RGB atlases, %.1f:1 vs visible texels (%.1f %% "
+      "of atlas texels seen)\n",
+      ratio_atlas(), ratio_visible(), 100.0 * visible_texels / std::max<uint64_t>(1, atlas_texels));
+  add("  PSNR (visible)    Y %.2f dB  U %.2f dB  V %.2f dB  RGB %.2f dB\n", psnr[0], psnr[1],
+      psnr[2], psnr_rgb);
+  if (pose_source == "tracked") {
+    add("  tracking          mean IoU %.3f, %d frame(s) flagged\n", mean_iou, flagged_frames);
+  }
+  if (fallback_texels > 0 || seamless_s > 0) {
+    add("  seamless texture  %.3f s per frame; %llu texel(s) no camera saw filled from it\n",
+        seamless_s / std::max(1u, frames), (unsigned long long)fallback_texels);
+  }
+  if (!refine_moves.empty()) {
+    add("  shape refinement  %.1f s on the first frame, mean vertex move %.1f mm\n", refine_s, [&] {
+      double sum = 0;
+      for (double m : refine_moves) sum += m;
+      return sum * 1e3;
+    }());
+  }
+  const double f = std::max(1u, frames);
+  add("  seconds per frame read %.3f  track %.3f  resample %.3f  code %.3f  write %.3f  "
+      "total %.3f (%.2f frames/s)\n",
+      read_s / f, track_s / f, resample_s / f, code_s / f, write_s / f, total_s / f,
+      f / std::max(1e-9, total_s));
+  return out;
+}
+
+std::string EncodeSummary::ToJson() const {
+  nlohmann::json j = {
+      {"output", output},
+      {"level", level},
+      {"first_frame", first_frame},
+      {"frames", frames},
+      {"cameras", cameras},
+      {"atlas_size", atlas_size},
+      {"gops", gops},
+      {"poses", pose_source},
+      {"bytes",
+       {{"file", file_bytes},
+        {"texture", texture_bytes},
+        {"masks", mask_bytes},
+        {"motion", motion_bytes}}},
+      {"kbps",
+       {{"file", kbps(file_bytes)},
+        {"texture", kbps(texture_bytes)},
+        {"masks", kbps(mask_bytes)},
+        {"motion", kbps(motion_bytes)}}},
+      {"atlas_texels", atlas_texels},
+      {"visible_texels", visible_texels},
+      {"ratio_atlas", ratio_atlas()},
+      {"ratio_visible", ratio_visible()},
+      {"psnr", {{"y", psnr[0]}, {"u", psnr[1]}, {"v", psnr[2]}, {"rgb", psnr_rgb}}},
+      {"tracking", {{"mean_iou", mean_iou}, {"flagged", flagged_frames}}},
+      {"seamless_texture", {{"seconds", seamless_s}, {"fallback_texels", fallback_texels}}},
+      {"shape_refinement",
+       {{"refined", !refine_moves.empty()},
+        {"seconds", refine_s},
+        {"mean_move_per_level_m", refine_moves}}},
+      {"seconds",
+       {{"read", read_s},
+        {"track", track_s},
+        {"resample", resample_s},
+        {"code", code_s},
+        {"write", write_s},
+        {"total", total_s}}}};
+  return j.dump(1) + "\n";
+}
+
+}  // namespace fvv

@@ -1,0 +1,206 @@
+// The encoder session's body model and atlas, its frame loop (resampling,
+// the static and fallback texture) and the stream it writes at the end.
+#include "encoder/encode/encoder_session.h"
+
+namespace fvv {
+namespace encoding {
+
+// The body model and atlas for the actor's shape (once); with
+// refine_shape, the model refined on `first` (its pose, images and
+// silhouettes) first.
+Status Session::SetShape(const BodyShape& shape, const RefinementFrame* first) {
+  if (!model_.mesh.positions.empty()) return Status::Ok();
+  shape_ = shape;
+  model_ = MakeGenericBody(shape);
+  if (s_.refine_shape) {
+    if (!first) return InvalidArgument("--refine-shape needs the capture's images");
+    const auto t0 = Clock::now();
+    ShapeRefinementReport report;
+    StatusOr<BodyModel> refined =
+        RefineShape(model_, cameras_, {*first}, s_.refinement, &report, pool_.runner());
+    if (!refined.ok()) return refined.status();
+    model_ = std::move(refined).value();
+    sum_.refine_s = Since(t0);
+    for (const auto& l : report.levels) sum_.refine_moves.push_back(l.mean_move);
+    char line[160];
+    std::snprintf(
+        line, sizeof(line),
+        "encode: shape refined on the first frame in %.1f s (mean move per level:", sum_.refine_s);
+    std::string say = line;
+    for (double m : sum_.refine_moves) {
+      std::snprintf(line, sizeof(line), " %.1f mm", m * 1e3);
+      say += line;
+    }
+    if (s_.progress) s_.progress(say + ")");
+  }
+  AtlasOptions ao;
+  ao.size = s_.atlas_size;
+  StatusOr<Atlas> atlas = BuildAtlas(model_.mesh, ao);
+  if (!atlas.ok()) return atlas.status();
+  model_.mesh = std::move(atlas->mesh);
+  map_ = MapAtlasTexels(model_.mesh, s_.atlas_size);
+  const size_t texels = size_t(s_.atlas_size) * s_.atlas_size;
+  span_rgb_.assign(size_t(s_.gop_frames) * sum_.cameras * texels * 3, 0);
+  span_mask_.assign(size_t(s_.gop_frames) * sum_.cameras * texels, 0);
+  if (s_.fallback_texture || !s_.static_texture.empty()) {
+    static_ = std::make_unique<StaticTexture>(s_.atlas_size);
+    span_fallback_.assign(s_.gop_frames, {});
+    all_seen_.assign(texels, 1);
+  }
+  if (!s_.save_textures.empty()) FVV_RETURN_IF_ERROR(MakeTextureDirectories());
+  return Status::Ok();
+}
+
+// One frame: `images` and `silhouettes` per camera, or, with `textures`, the
+// atlas textures and masks themselves.
+Status Session::AddFrame(uint32_t frame, const std::vector<double>& dofs,
+                         const std::vector<Image>& images, const std::vector<Image>& silhouettes) {
+  const auto t0 = Clock::now();
+  const Skeleton& skeleton = model_.skeleton;
+  const QuantisedPose q = QuantisePose(skeleton.Dofs(), motion_, dofs);
+  poses_.push_back(q);
+  raw_poses_.push_back(dofs);
+  const size_t texels = size_t(s_.atlas_size) * s_.atlas_size;
+  const uint32_t slot = (frame - first_) % s_.gop_frames;
+  const std::vector<Affine> skin =
+      SkinningMatrices(skeleton, DequantisePose(skeleton.Dofs(), motion_, q));
+  std::vector<Eigen::Vector3f> normals;
+  const std::vector<Eigen::Vector3f> positions = SkinPositions(model_.mesh, skin, &normals);
+  if (images.empty()) {
+    FVV_RETURN_IF_ERROR(ReadTextures(frame, slot));
+  } else {
+    pool_.Run(sum_.cameras, [&](uint32_t c) {
+      const size_t plane = size_t(slot) * sum_.cameras + c;
+      ResampleView(map_, model_.mesh, positions, normals, cameras_[c], images[c],
+                   silhouettes.empty() ? Image() : silhouettes[c], s_.resample,
+                   &span_rgb_[plane * texels * 3], &span_mask_[plane * texels]);
+    });
+  }
+  sum_.resample_s += Since(t0);
+  if (static_) AddToStaticTexture(slot, positions);
+  if (slot + 1 == s_.gop_frames || frame == last_) FVV_RETURN_IF_ERROR(CodeSpan(slot + 1));
+  return Status::Ok();
+}
+
+Status Session::Finish(const std::string& output) {
+  const auto t0 = Clock::now();
+  StreamInfo info;
+  FileHeader& h = info.header;
+  FVV_RETURN_IF_ERROR(FillHeader(&h));
+  info.cameras = cameras_;
+  info.model = model_;
+  info.motion = motion_;
+  info.metadata = s_.metadata;
+  // An offline encoder knows the whole take: motion statistics up front.
+  TrainMotionParams(model_.skeleton, poses_, s_.gop_frames, &info.motion);
+  for (FragmentData& f : fragments_) {
+    if (f.info.first_camera != 0) continue;
+    std::vector<QuantisedPose> poses(poses_.begin() + f.info.first_frame,
+                                     poses_.begin() + f.info.first_frame + f.info.frame_count);
+    FVV_ASSIGN_OR_RETURN(f.motion, EncodeMotion(model_.skeleton, info.motion, poses));
+    sum_.motion_bytes += f.motion.size();
+  }
+  StatusOr<std::unique_ptr<FileWriter>> writer = FileWriter::Create(output, info);
+  if (!writer.ok()) return writer.status();
+  for (const FragmentData& f : fragments_) FVV_RETURN_IF_ERROR((*writer)->AddFragment(f));
+  FVV_RETURN_IF_ERROR((*writer)->Close());
+  sum_.file_bytes = (*writer)->bytes_written();
+  sum_.level = h.level;
+  sum_.gops = uint32_t(fragments_.size());
+  for (int c = 0; c < 3; ++c) {
+    sum_.psnr[c] = PsnrFromMse(sse_[c] / std::max<double>(1, samples_[c]));
+  }
+  sum_.psnr_rgb = PsnrFromMse(sse_rgb_ / std::max<double>(1, 3.0 * sum_.visible_texels));
+  if (!s_.save_textures.empty()) FVV_RETURN_IF_ERROR(WriteTexturesJson());
+  if (!s_.static_texture.empty()) {
+    Image img;
+    img.width = img.height = s_.atlas_size;
+    img.channels = 3;
+    img.pixels = static_->Rgb();
+    FVV_RETURN_IF_ERROR(WriteImage(s_.static_texture, img));
+  }
+  sum_.write_s += Since(t0);
+  return Status::Ok();
+}
+
+Status Session::FillHeader(FileHeader* h) const {
+  h->frame_rate_num = uint32_t(std::lround(cap_.frame_rate * 1000));
+  h->frame_rate_den = 1000;
+  if (std::abs(cap_.frame_rate - std::round(cap_.frame_rate)) < 1e-9) {
+    h->frame_rate_num = uint32_t(std::lround(cap_.frame_rate));
+    h->frame_rate_den = 1;
+  }
+  h->frame_count = sum_.frames;
+  h->camera_count = uint16_t(sum_.cameras);
+  h->atlas_width = h->atlas_height = uint16_t(s_.atlas_size);
+  h->gop_frames = s_.gop_frames;
+  h->gop_cameras = s_.gop_cameras;
+  if (s_.texture_codec == TextureCodec::kPredictive) {
+    h->tools = (TextureTools(s_.kernel, s_.coder, ColourSpace::kYCbCr601, s_.chroma, 0,
+                             BandWeights::kAxisBands) &
+                (kToolHaar | kToolLeGall53 | kToolCdf97)) |
+               kToolPredictiveTexture;
+  } else {
+    h->tools = TextureTools(s_.kernel, s_.coder, ColourSpace::kYCbCr601, s_.chroma,
+                            KernelFracBits(s_.kernel, s_.frac_bits_97), s_.weights, SampleFrac());
+  }
+  if (s_.masks) h->tools |= kToolMasks;
+  if (s_.key_interval > 1) h->tools |= kToolMotionInterpolation;
+  if (s_.motion_coder == MotionCoder::kZstd) h->tools |= kToolMotionZstd;
+  h->format_version = RequiredFormatVersion(h->tools, s_.mask_coding);
+  // The lowest level whose limits hold the stream.
+  for (const LevelLimits& l : AllLevels()) {
+    h->level = l.level;
+    if (ValidateFileHeader(*h).ok() && ValidateBodyModel(model_, &l).ok()) return Status::Ok();
+  }
+  const Status header = ValidateFileHeader(*h);
+  return InvalidArgument(
+      "no level holds this stream: " +
+      (header.ok() ? ValidateBodyModel(model_, &AllLevels().back()).message() : header.message()));
+}
+
+// Codes the `frames` frames held for the current time span: one block per
+// camera group.
+// The frame's seamless texture joins the static one; the best-facing camera
+// of every texel is kept for the fallback.
+void Session::AddToStaticTexture(uint32_t slot, const std::vector<Eigen::Vector3f>& positions) {
+  const auto t0 = Clock::now();
+  const size_t texels = size_t(s_.atlas_size) * s_.atlas_size;
+  CameraTextures textures{s_.atlas_size, {}, {}}, facing{s_.atlas_size, {}, {}};
+  for (uint32_t c = 0; c < sum_.cameras; ++c) {
+    const size_t plane = size_t(slot) * sum_.cameras + c;
+    textures.rgb.push_back(&span_rgb_[plane * texels * 3]);
+    textures.masks.push_back(&span_mask_[plane * texels]);
+    facing.rgb.push_back(textures.rgb.back());
+    facing.masks.push_back(all_seen_.data());
+  }
+  const std::vector<int16_t> labels =
+      BestCameraLabels(map_, model_.mesh, positions, cameras_, textures);
+  static_->Add(BlendSeamless(textures, labels), labels);
+  span_fallback_[slot] = BestCameraLabels(map_, model_.mesh, positions, cameras_, facing);
+  sum_.seamless_s += Since(t0);
+}
+
+// Texels of the span's frames that no camera saw take the static texture's
+// colour in their best-facing camera.
+void Session::ApplyFallback(uint32_t frames) {
+  const size_t texels = size_t(s_.atlas_size) * s_.atlas_size;
+  for (uint32_t t = 0; t < frames; ++t) {
+    for (uint32_t texel : map_.texel) {
+      const int16_t camera = span_fallback_[t][texel];
+      if (camera < 0 || !static_->Has(texel)) continue;
+      bool seen = false;
+      for (uint32_t c = 0; c < sum_.cameras && !seen; ++c) {
+        seen = span_mask_[(size_t(t) * sum_.cameras + c) * texels + texel] != 0;
+      }
+      if (seen) continue;
+      const size_t plane = size_t(t) * sum_.cameras + uint32_t(camera);
+      static_->Get(texel, &span_rgb_[(plane * texels + texel) * 3]);
+      span_mask_[plane * texels + texel] = 1;
+      ++sum_.fallback_texels;
+    }
+  }
+}
+
+}  // namespace encoding
+}  // namespace fvv

@@ -1,0 +1,170 @@
+// The encoder session: the state between frames of one `fvv encode` (the
+// body model and atlas, the GOP being filled, the coded fragments, the running
+// figures), shared by its parts: the session's frame loop and stream
+// (encoder_session.cc), GOP coding (gop_coding.cc) and the texture directory
+// of --save-textures / --textures (texture_directory.cc). Private to encode/.
+#ifndef FVV_ENCODER_ENCODE_ENCODER_SESSION_H_
+#define FVV_ENCODER_ENCODE_ENCODER_SESSION_H_
+
+#include <array>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <optional>
+
+#include "codec/base/thread_pool.h"
+#include "codec/colour.h"
+#include "codec/fill.h"
+#include "codec/mask.h"
+#include "codec/predictive_texture.h"
+#include "container/writer.h"
+#include "encoder/atlas/atlas.h"
+#include "encoder/body/body_shape_json.h"
+#include "encoder/body/kinematics.h"
+#include "encoder/encode/encoder.h"
+#include "encoder/encode/ordered_queue.h"
+#include "encoder/encode/pose_file.h"
+#include "encoder/encode/seamless_texture.h"
+#include "encoder/track/capture_frames.h"
+#include "encoder/track/features.h"
+#include "encoder/track/track_capture.h"
+
+namespace fvv {
+namespace encoding {
+
+using Clock = std::chrono::steady_clock;
+inline double Since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+// A camera name as a directory name: itself when it is plain, else by index.
+inline std::string CameraDirName(const std::string& name, uint32_t index) {
+  bool plain = !name.empty() && name != "." && name != "..";
+  for (char ch : name) {
+    plain = plain &&
+            (std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-' || ch == '.');
+  }
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "camera_%02u", index);
+  return plain ? name : buf;
+}
+
+inline std::string FrameFile(const std::string& dir, const std::string& camera, const char* kind,
+                             uint32_t frame) {
+  char buf[48];
+  std::snprintf(buf, sizeof(buf), "/%s_%06u.png", kind, frame);
+  return dir + "/" + camera + buf;
+}
+
+// Where the encoder is, between frames.
+class Session {
+ public:
+  Session(const Capture& capture, const std::string& output, const EncoderSettings& s,
+          uint32_t first, uint32_t last)
+      : cap_(capture), s_(s), pool_(std::max(1u, s.threads)), first_(first), last_(last) {
+    sum_.output = output;
+    sum_.first_frame = first;
+    sum_.frames = last - first + 1;
+    sum_.cameras = uint32_t(capture.cameras.size());
+    sum_.atlas_size = s.atlas_size;
+    sum_.fps = capture.frame_rate;
+    sum_.atlas_texels = uint64_t(sum_.frames) * sum_.cameras * s.atlas_size * s.atlas_size;
+    for (uint32_t c = 0; c < sum_.cameras; ++c) {
+      cameras_.push_back(capture.cameras[c].calibration);
+      camera_dirs_.push_back(CameraDirName(cameras_.back().name, c));
+    }
+    // Rotation and translation steps of the motion track: poses are quantised
+    // before resampling, so textures fit the pose the player will draw.
+    motion_.coder = s.motion_coder;
+    motion_.key_interval = s.key_interval;
+  }
+
+  ThreadPool& pool() { return pool_; }
+  EncodeSummary& summary() { return sum_; }
+  const std::vector<std::string>& camera_dirs() const { return camera_dirs_; }
+
+  bool HasShape() const { return !model_.mesh.positions.empty(); }
+  // The body model and atlas for the actor's shape (once); with
+  // refine_shape, the model refined on `first` (its pose, images and
+  // silhouettes) first.
+  Status SetShape(const BodyShape& shape, const RefinementFrame* first);
+
+  // One frame: `images` and `silhouettes` per camera, or, with `textures`, the
+  // atlas textures and masks themselves.
+  Status AddFrame(uint32_t frame, const std::vector<double>& dofs, const std::vector<Image>& images,
+                  const std::vector<Image>& silhouettes);
+
+  Status Finish(const std::string& output);
+
+ private:
+  // The samples' fractional bits: whole samples for the predictive codec.
+  int SampleFrac() const {
+    return s_.texture_codec == TextureCodec::kSpiht4d
+               ? UsableSampleFrac(s_.kernel, s_.frac_bits_97, s_.weights, s_.sample_frac)
+               : 0;
+  }
+  Status FillHeader(FileHeader* h) const;
+
+  // Codes the `frames` frames held for the current time span: one block per
+  // camera group.
+  // The frame's seamless texture joins the static one; the best-facing camera
+  // of every texel is kept for the fallback.
+  void AddToStaticTexture(uint32_t slot, const std::vector<Eigen::Vector3f>& positions);
+
+  // Texels of the span's frames that no camera saw take the static texture's
+  // colour in their best-facing camera.
+  void ApplyFallback(uint32_t frames);
+
+  Status CodeSpan(uint32_t frames);
+
+  // One GOP with the predictive scheme; the same rate targets as SPIHT's.
+  Status CodePredictive(const Block& block, std::vector<uint8_t>& rgb, const UsedMask& used,
+                        const Shape4D& shape, FragmentData* frag);
+
+  // Y, U, V errors against the block coded; RGB errors against the texels as
+  // resampled (what a player shows against what the cameras saw).
+  void Measure(const Block& block, const Block& decoded, const UsedMask& used,
+               const std::vector<uint8_t>& a);
+
+  uint32_t CameraGroups() const { return (sum_.cameras + s_.gop_cameras - 1) / s_.gop_cameras; }
+
+  Status SaveTextures(uint32_t frame, uint32_t slot);
+
+  Status ReadTextures(uint32_t frame, uint32_t slot);
+
+  Status MakeTextureDirectories() const;
+
+  // textures.json: what the textures are (atlas, cameras, frames) and the
+  // poses and body shape they were resampled with, so `--textures` can encode
+  // them again (it is also a valid poses file).
+  Status WriteTexturesJson() const;
+
+  const Capture& cap_;
+  const EncoderSettings& s_;
+  ThreadPool pool_;
+  uint32_t first_, last_;
+  EncodeSummary sum_;
+  std::vector<Camera> cameras_;
+  std::vector<std::string> camera_dirs_;
+  MotionParams motion_;
+  BodyShape shape_;
+  BodyModel model_;
+  TexelMap map_;
+  std::vector<uint8_t> span_rgb_, span_mask_;        // (slot, camera, y, x)
+  std::unique_ptr<StaticTexture> static_;            // with fallback_texture or static_texture
+  std::vector<std::vector<int16_t>> span_fallback_;  // per slot: best-facing camera per texel
+  std::vector<uint8_t> all_seen_;                    // texels x 1: "every camera" masks
+  std::vector<QuantisedPose> poses_;
+  std::vector<std::vector<double>> raw_poses_;
+  std::vector<FragmentData> fragments_;
+  std::array<double, 3> sse_{};
+  std::array<uint64_t, 3> samples_{};
+  double sse_rgb_ = 0;
+};
+
+}  // namespace encoding
+}  // namespace fvv
+
+#endif  // FVV_ENCODER_ENCODE_ENCODER_SESSION_H_

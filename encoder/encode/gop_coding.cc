@@ -1,0 +1,140 @@
+// The encoder session's GOP coding: a span of frames' atlas textures into one
+// fragment per camera group (the 4D wavelet coders or the predictive scheme),
+// with its masks, motion and the running error figures.
+#include "encoder/encode/encoder_session.h"
+
+namespace fvv {
+namespace encoding {
+
+Status Session::CodeSpan(uint32_t frames) {
+  if (s_.fallback_texture && static_) ApplyFallback(frames);
+  const uint32_t span_first = first_ + uint32_t(fragments_.size() / CameraGroups()) * s_.gop_frames;
+  // Saved as coded (fallback texels included), so other codecs compared on
+  // them code the same content, and --textures encodes them again.
+  if (!s_.save_textures.empty()) {
+    for (uint32_t t = 0; t < frames; ++t) FVV_RETURN_IF_ERROR(SaveTextures(span_first + t, t));
+  }
+  const auto t0 = Clock::now();
+  const size_t texels = size_t(s_.atlas_size) * s_.atlas_size;
+  for (uint32_t g = 0; g < CameraGroups(); ++g) {
+    FragmentData frag;
+    frag.info.gop_index = uint32_t(fragments_.size());
+    frag.info.first_frame = span_first - first_;
+    frag.info.frame_count = uint16_t(frames);
+    frag.info.first_camera = uint16_t(g * s_.gop_cameras);
+    frag.info.camera_count =
+        uint16_t(std::min<uint32_t>(s_.gop_cameras, sum_.cameras - g * s_.gop_cameras));
+    Shape4D shape;
+    shape.n = {frames, frag.info.camera_count, s_.atlas_size, s_.atlas_size};
+    std::vector<uint8_t> rgb(shape.count() * 3);
+    UsedMask used(shape.count());
+    for (uint32_t t = 0; t < frames; ++t) {
+      for (uint32_t c = 0; c < frag.info.camera_count; ++c) {
+        const size_t src = size_t(t) * sum_.cameras + frag.info.first_camera + c;
+        const size_t dst = size_t(t) * frag.info.camera_count + c;
+        std::copy_n(&span_rgb_[src * texels * 3], texels * 3, &rgb[dst * texels * 3]);
+        std::copy_n(&span_mask_[src * texels], texels, &used[dst * texels]);
+      }
+    }
+    const Block block =
+        BlockFromRgb(rgb.data(), shape, ColourSpace::kYCbCr601, s_.chroma, SampleFrac());
+    if (s_.texture_codec == TextureCodec::kPredictive) {
+      FVV_RETURN_IF_ERROR(CodePredictive(block, rgb, used, shape, &frag));
+      fragments_.push_back(std::move(frag));
+      continue;
+    }
+    EncodeSettings es;
+    es.kernel = s_.kernel;
+    es.frac_bits_97 = s_.frac_bits_97;
+    es.coder = s_.coder;
+    es.weights = s_.weights;
+    es.rate_mode = s_.rate_mode;
+    es.rate_value = s_.rate_value;
+    es.fill = s_.fill;
+    es.prune_isolated = s_.prune_isolated;
+    es.runner = pool_.runner();
+    Block decoded;
+    EncodeReport report;
+    report.decoded = &decoded;  // what a decoder reconstructs at full length
+    FVV_ASSIGN_OR_RETURN(frag.texture, EncodeBlock(block, s_.masks ? &used : nullptr, es, &report));
+    if (s_.masks) {
+      frag.masks = EncodeMasks(used.data(), shape, s_.mask_coding);
+      frag.mask_mode = s_.mask_coding;
+    }
+    sum_.texture_bytes += frag.texture.total_bytes();
+    sum_.mask_bytes += frag.masks.size();
+    Measure(block, decoded, used, rgb);
+    fragments_.push_back(std::move(frag));
+  }
+  sum_.code_s += Since(t0);
+  return Status::Ok();
+}
+
+// One GOP with the predictive scheme; the same rate targets as SPIHT's.
+Status Session::CodePredictive(const Block& block, std::vector<uint8_t>& rgb, const UsedMask& used,
+                               const Shape4D& shape, FragmentData* frag) {
+  PredictiveGop gop;
+  gop.frames = shape.frames(), gop.cameras = shape.cameras();
+  gop.width = shape.width(), gop.height = shape.height();
+  gop.rgb = std::move(rgb);
+  gop.mask = used;
+  PredictiveEncodeOptions o;
+  o.kernel = s_.kernel;
+  o.runner = pool_.runner();
+  if (s_.rate_mode == RateMode::kPsnr) {
+    o.target_psnr = s_.rate_value;
+  } else if (s_.rate_mode == RateMode::kTotalBytes) {
+    o.target_bytes = uint64_t(s_.rate_value);
+  } else if (s_.rate_mode == RateMode::kBitsPerSample) {
+    o.target_bytes = uint64_t(std::ceil(s_.rate_value * double(shape.count()) / 8));
+  }
+  PredictiveDecoded rec;
+  FVV_ASSIGN_OR_RETURN(frag->predictive_texture, EncodePredictive(gop, o, &rec));
+  frag->predictive = true;
+  frag->masks = EncodeMasks(used.data(), shape, s_.mask_coding);
+  frag->mask_mode = s_.mask_coding;
+  sum_.texture_bytes += frag->predictive_texture.Bytes();
+  sum_.mask_bytes += frag->masks.size();
+  Block decoded = block;
+  const size_t texels = size_t(gop.width) * gop.height;
+  for (int k = 0; k < 3; ++k) {
+    for (size_t tc = 0; tc < rec.yuv.size(); ++tc) {
+      std::copy(rec.yuv[tc][k].begin(), rec.yuv[tc][k].end(),
+                decoded.channels[k].samples.begin() + tc * texels);
+    }
+  }
+  Measure(block, decoded, used, gop.rgb);
+  return Status::Ok();
+}
+
+// Y, U, V errors against the block coded; RGB errors against the texels as
+// resampled (what a player shows against what the cameras saw).
+void Session::Measure(const Block& block, const Block& decoded, const UsedMask& used,
+                      const std::vector<uint8_t>& a) {
+  UsedMask chroma_used;
+  const UsedMask* cmask = &used;
+  if (block.chroma == ChromaFormat::k420) {
+    chroma_used = DownsampleMask(used, block.shape(), block.channels[1].shape);
+    cmask = &chroma_used;
+  }
+  for (int c = 0; c < 3; ++c) {
+    const UsedMask& m = c == 0 ? used : *cmask;
+    uint64_t count = 0;
+    for (uint8_t u : m) count += u != 0;
+    sse_[c] += ChannelMse(block.channels[c], decoded.channels[c], &m, block.sample_frac) * count;
+    samples_[c] += count;
+  }
+  std::vector<uint8_t> b(a.size());
+  BlockToRgb(decoded, b.data());
+  for (size_t i = 0; i < used.size(); ++i) {
+    if (!used[i]) continue;
+    ++sum_.visible_texels;
+    for (int k = 0; k < 3; ++k) {
+      const double d = double(a[3 * i + k]) - b[3 * i + k];
+      sse_rgb_ += d * d;
+    }
+  }
+}
+
+}  // namespace encoding
+}  // namespace fvv
