@@ -1,48 +1,12 @@
-// Coder 4 (format version 8, SPEC.md 9.9): significance coded per subband with a quadtree
-// over each band (in 4D a tree that halves every axis longer than one node),
-// in the manner of EZBC (Hsiang and Woods, "Embedded image coding using
-// zeroblocks of subband/wavelet coefficients and context modeling", 2000).
-//
-// Why a second significance coder: SPIHT's sets span the bands from coarse to
-// fine (a coefficient's descendants), which pays where fine bands are empty
-// under empty coarse ones: the atlas textures, with their smooth fills, and in
-// time. Where texture fills the fine bands (Kodak's kodim08, kodim13) the set
-// tests are coin flips and JPEG 2000's per-band coding does better. A
-// quadtree per band codes a zero block of one band with one decision and
-// models each decision on its neighbours in the band at the same tree level
-// and on the matching node of the parent band.
-//
-// Bands, in order: the final low band R(L); then for l = L down to 1, for each
-// non-empty set m of the axes split at l (m = 1..15 ascending, bit a = axis
-// a), the detail band whose axes in m are high-pass at split l and whose
-// other axes are low-pass. Along an axis in m the band spans [lo[l],
-// lo[l - 1]) (wavelet.h's Mallat layout), along any other axis [0, R_a(l))
-// with R_a(l) the low region's extent after min(l, K_a) splits. These bands
-// partition the block. A band's parent is the band of level l + 1 with the
-// same m, when every axis of m is split at l + 1.
-//
-// A band of extent n has tree levels k = 0 (the coefficients) to top, the
-// level at which its grid is one node: the grid at level k has ceil(n_a / 2^k)
-// nodes along axis a, and node p at level k covers nodes 2p_a and 2p_a + 1 (if
-// present) of level k - 1 along every axis. A node is significant in bitplane
-// n when a coefficient under it has magnitude >= 2^n.
-//
-// Traversal: lists of insignificant nodes per tree level (LIN_k), the list of
-// significant coefficients (LSP). Initially LIN_top of each band holds its
-// top node, bands in the order above. For each bitplane n from the top down:
-//   - sorting: for k = 0, 1, .., the largest top: each entry of LIN_k in list
-//     order is tested. An insignificant entry stays. A significant
-//     coefficient (k = 0) codes its sign and joins the LSP; a significant node
-//     (k > 0) codes its children in raster order (axis 0 outermost), each
-//     tested, the last without a decision when none before it was
-//     significant (one must be). A significant child is handled at once (its
-//     sign, or its own children, depth first); an insignificant one is
-//     appended to LIN at its level, and so is first tested again in the next
-//     bitplane (its level's list has been passed in this one);
-//   - refinement: every LSP entry significant before this bitplane codes bit
-//     n of its magnitude.
-// The truncation points and reconstruction are SPIHT's (spiht4d.h): a pass
-// ends after sorting and after refinement.
+// Coder 4's layout and traversal, shared by its encoder and decoder: the
+// significance of each subband coded with a quadtree over the band (in 4D a
+// tree that halves every axis longer than one node), decisions modelled on the
+// neighbours at the node's tree level, the parent band's node and time. The
+// bands, their order and parents, the tree grids, the lists (LIN per tree
+// level, LSP), the traversal and every context index are specified in SPEC.md
+// 9.9, whose terms the names below follow; why a second significance coder,
+// and what it gains where, is in docs/encoder.md ("Coder 4"). Truncation
+// points and reconstruction are SPIHT's (spiht4d.h).
 #ifndef FVV_CODEC_QUADTREE4D_COMMON_H_
 #define FVV_CODEC_QUADTREE4D_COMMON_H_
 

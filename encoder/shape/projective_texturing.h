@@ -9,8 +9,7 @@
 // the occluder's colours onto them) are left to other cameras.
 //
 // Weights follow the angle theta_i between the vertex normal and the direction
-// to camera i (after Carranza et al., "Free-viewpoint video of human actors",
-// 2003): w_i = 1 / (1 + max_j(1 / theta_j) - 1 / theta_i)^alpha over the
+// to camera i: w_i = 1 / (1 + max_j(1 / theta_j) - 1 / theta_i)^alpha over the
 // cameras that see the vertex, normalised to sum 1. The best-facing camera gets
 // 1 before normalisation; alpha sets how much it dominates the others. A vertex
 // no camera sees takes its colour from the best-facing camera regardless of
