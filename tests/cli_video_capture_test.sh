@@ -28,7 +28,7 @@ run() {
   return $rc
 }
 
-"$fvv" synth -o "$dir/cap" --cameras 3 --width 160 --height 120 --frames 24 --held-out 0 \
+"$fvv" synth -o "$dir/cap" --cameras 3 --width 160 --height 120 --frames 12 --held-out 0 \
   >/dev/null 2>&1 || fail "synth"
 for c in cam00 cam01 cam02; do
   ffmpeg -v error -y -framerate 25 -i "$dir/cap/$c/%06d.png" -c:v libx264 -qp 0 \
@@ -43,7 +43,7 @@ for cam in c["cameras"]:
 json.dump(c, open(path, "w"), indent=1)
 EOF
 
-# Early stops: each command reads a few frames of 24 and must exit, with its output.
+# Early stops: each command reads a few frames of 12 and must exit, with its output.
 out=$(run capture check "$dir/cap" 2>&1) || fail "check: $out"
 no_children "capture check"
 out=$(run capture sheet "$dir/cap" --frame 2 -o "$dir/sheet.png" 2>&1) || fail "sheet: $out"
@@ -67,13 +67,13 @@ no_children "render"
 # A video shorter than the capture says: a clear error naming the video and the
 # frame, a non-zero exit, no output, no child.
 cp -r "$dir/cap" "$dir/short"
-ffmpeg -v error -y -i "$dir/cap/cam01.mp4" -frames:v 10 -c:v libx264 -qp 0 -pix_fmt yuv444p \
+ffmpeg -v error -y -i "$dir/cap/cam01.mp4" -frames:v 6 -c:v libx264 -qp 0 -pix_fmt yuv444p \
   "$dir/short/cam01.mp4" || fail "ffmpeg cut"
 out=$(run track "$dir/short" -o "$dir/short_poses.json" -q 2>&1) && fail "track of a short video succeeded"
-grep -q "cam01.mp4: no frame 10" <<<"$out" || fail "short video error: $out"
+grep -q "cam01.mp4: no frame 6" <<<"$out" || fail "short video error: $out"
 [ ! -e "$dir/short_poses.json" ] || fail "track wrote poses after an error"
 no_children "track (short video)"
-out=$(run encode "$dir/short" --poses "$dir/cap/truth/truth.json" --frames 8:12 --atlas 128 \
+out=$(run encode "$dir/short" --poses "$dir/cap/truth/truth.json" --frames 6:9 --atlas 128 \
   -o "$dir/short.fvv" -q 2>&1) && fail "encode of a short video succeeded"
 grep -q "cam01.mp4" <<<"$out" || fail "encode short video error: $out"
 [ ! -e "$dir/short.fvv" ] || fail "encode left a stream after an error"

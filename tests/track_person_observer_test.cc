@@ -11,8 +11,10 @@
 #include <map>
 #include <string>
 
+#include "codec/base/thread_pool.h"
 #include "encoder/capture/capture.h"
 #include "encoder/capture/video_reader.h"
+#include "encoder/track/capture_frames.h"
 #include "encoder/track/features.h"
 #include "encoder/track/joint_truth.h"
 #include "encoder/track/person_observer.h"
@@ -41,7 +43,8 @@ const std::map<std::string, int> kJointKeypoints = {
     {"l_wrist", 15},    {"r_wrist", 16},    {"l_hip", 23},   {"r_hip", 24},
     {"l_knee", 25},     {"r_knee", 26},     {"l_ankle", 27}, {"r_ankle", 28}};
 
-double MaskIou(const Image& mask, const Image& truth) {
+// IoU of two masks taken at half their range (a probability mask at 50 %).
+double HalfMaskIou(const Image& mask, const Image& truth) {
   size_t both = 0, either = 0;
   for (size_t i = 0; i < truth.pixels.size(); ++i) {
     const bool a = mask.pixels[i] > 127, b = truth.pixels[i] > 127;
@@ -110,7 +113,7 @@ TEST_F(PersonObserverSynthTest, KeypointsAndMaskMatchTheTruth) {
     StatusOr<Image> silhouette =
         ReadImage(options_.output_dir + "/truth/silhouettes/" + cameras[c].name + "/000001.png");
     ASSERT_TRUE(silhouette.ok());
-    EXPECT_GT(MaskIou(seen->mask, *silhouette), 0.75) << "camera " << c;
+    EXPECT_GT(HalfMaskIou(seen->mask, *silhouette), 0.75) << "camera " << c;
   }
   ASSERT_GE(errors.size(), 40u);
   std::sort(errors.begin(), errors.end());
@@ -154,42 +157,58 @@ TEST_F(PersonObserverSynthTest, TheRegionCarriesToTheNextFrame) {
   EXPECT_LT(worst, 8.0);
 }
 
-// Tracking a take in the conditions of a real one (no plates, furniture, a
-// bystander, 4 portrait cameras): with the person network's masks the body is
-// followed; with a temporal median (the fallback) it is lost.
-TEST(PersonSilhouettes, TrackATakeWhereSubtractionLosesTheBody) {
+// A take in the conditions of a real one (no plates, furniture, a bystander
+// starting behind the actor, 4 portrait cameras): the temporal median's
+// silhouettes (the fallback) miss the actor, the person network's match the
+// truth, and tracking on them follows the body. (Tracking on the median's is
+// left out: it loses the body, slowly; track_bench case (d) measures it.)
+TEST(PersonSilhouettes, FollowTheActorWhereSubtractionMissesIt) {
   std::string reason;
-  std::unique_ptr<PersonObserver> probe = LoadOrSkipReason(&reason);
-  if (!probe) GTEST_SKIP() << "person models unavailable: " << reason;
+  std::unique_ptr<PersonObserver> observer = LoadOrSkipReason(&reason);
+  if (!observer) GTEST_SKIP() << "person models unavailable: " << reason;
   SynthOptions s;
   s.output_dir = ::testing::TempDir() + "/person_track_" + std::to_string(getpid());
   std::system(("rm -rf '" + s.output_dir + "'").c_str());
   s.cameras = 4;
-  s.width = 270, s.height = 480;
-  s.frames = 8;
+  s.width = 216, s.height = 384;
+  s.frames = 5;
   s.held_out = 0;
   s.texture_size = 512;
   s.plates = false, s.clutter = true, s.bystander = true;
   ASSERT_TRUE(RunSynth(s).ok());
-  double mean[2] = {0, 0};
-  std::string source[2];
+  StatusOr<Capture> cap = LoadCapture(s.output_dir);
+  ASSERT_TRUE(cap.ok());
+  ThreadPool pool(2);
+  double iou[2] = {0, 0};
   for (int with = 0; with < 2; ++with) {
-    TrackCaptureOptions o;
-    o.persons = with ? TrackCaptureOptions::Persons::kOn : TrackCaptureOptions::Persons::kOff;
-    StatusOr<TrackCaptureResult> r = TrackCapture(s.output_dir, o);
-    ASSERT_TRUE(r.ok()) << r.status().ToString();
-    source[with] = r->silhouette_source;
-    StatusOr<JointErrors> e = CompareWithTruth(s.output_dir, r->model.skeleton, r->Poses(), 0);
-    ASSERT_TRUE(e.ok()) << e.status().ToString();
-    mean[with] = e->mean;
+    StatusOr<std::unique_ptr<CaptureFrames>> frames =
+        CaptureFrames::Open(*cap, false, &pool, with ? observer.get() : nullptr);
+    ASSERT_TRUE(frames.ok()) << frames.status().ToString();
+    EXPECT_EQ((*frames)->silhouette_source(), with ? "person masks" : "background subtraction");
+    std::vector<Image> silhouettes;
+    ASSERT_TRUE((*frames)->Read(2, nullptr, &silhouettes).ok());
+    for (uint32_t c = 0; c < 4; ++c) {
+      StatusOr<Image> truth = ReadImage(s.output_dir + "/truth/silhouettes/" +
+                                        cap->cameras[c].calibration.name + "/000002.png");
+      ASSERT_TRUE(truth.ok());
+      iou[with] += HalfMaskIou(silhouettes[c], *truth) / 4;
+    }
   }
+  TrackCaptureOptions o;
+  o.persons = TrackCaptureOptions::Persons::kAuto;  // no plates: the network
+  StatusOr<TrackCaptureResult> r = TrackCapture(s.output_dir, o);
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  EXPECT_EQ(r->silhouette_source, "person masks");
+  StatusOr<JointErrors> e = CompareWithTruth(s.output_dir, r->model.skeleton, r->Poses(), 0);
+  ASSERT_TRUE(e.ok()) << e.status().ToString();
   std::system(("rm -rf '" + s.output_dir + "'").c_str());
-  EXPECT_EQ(source[1], "person masks");
-  EXPECT_EQ(source[0], "background subtraction");
-  std::printf("mean joint error: temporal median %.1f cm, person masks %.1f cm\n", 100 * mean[0],
-              100 * mean[1]);
-  EXPECT_LT(mean[1], 0.05);
-  EXPECT_GT(mean[0], 2 * mean[1]);
+  std::printf(
+      "silhouette IoU against the truth: temporal median %.2f, person masks %.2f; "
+      "tracked on the masks: %.1f cm\n",
+      iou[0], iou[1], 100 * e->mean);
+  EXPECT_GT(iou[1], 0.75);
+  EXPECT_LT(iou[0], 0.6);
+  EXPECT_LT(e->mean, 0.05);
 }
 
 // A frame of the real capture: the person on the treadmill is found, the

@@ -5,6 +5,13 @@
 #include "encoder/track/person_selection.h"
 
 namespace fvv {
+namespace {
+
+// How far a person's hips may be from where another camera's view puts them,
+// as a share of the person's region (about 1.25 times its height).
+constexpr double kHipTolerance = 0.15;
+
+}  // namespace
 
 StatusOr<std::unique_ptr<CaptureFrames>> CaptureFrames::Open(const Capture& capture, bool extract,
                                                              ThreadPool* pool,
@@ -101,7 +108,7 @@ Status CaptureFrames::ReadWithPersons(uint32_t frame, std::vector<Image>* images
   // everyone, and the person whose hips agree in 3D with the followed cameras
   // (or, with none, across the detecting ones) is taken as the actor.
   std::vector<PersonObservation> seen(n);
-  std::vector<std::optional<Eigen::Vector2d>> known(n);
+  std::vector<std::optional<HipSighting>> known(n);
   std::vector<std::vector<PersonObserver::Candidate>> candidates(n);
   bool detect = false;
   for (uint32_t c = 0; c < n; ++c) {
@@ -111,7 +118,8 @@ Status CaptureFrames::ReadWithPersons(uint32_t frame, std::vector<Image>* images
       seen[c] = std::move(*o);
     }
     if (seen[c].found) {
-      known[c] = 0.5 * (seen[c].keypoints[23].pixel + seen[c].keypoints[24].pixel);
+      known[c] = HipSighting{0.5 * (seen[c].keypoints[23].pixel + seen[c].keypoints[24].pixel),
+                             kHipTolerance * seen[c].region.size};
       continue;
     }
     StatusOr<std::vector<PersonObserver::Candidate>> people = persons_->Detect(read[c]);
@@ -121,10 +129,12 @@ Status CaptureFrames::ReadWithPersons(uint32_t frame, std::vector<Image>* images
   }
   if (detect) {
     std::vector<Camera> cameras;
-    std::vector<std::vector<Eigen::Vector2d>> hips(n);
+    std::vector<std::vector<HipSighting>> hips(n);
     for (uint32_t c = 0; c < n; ++c) {
       cameras.push_back(capture().cameras[c].calibration);
-      for (const PersonObserver::Candidate& p : candidates[c]) hips[c].push_back(p.hips);
+      for (const PersonObserver::Candidate& p : candidates[c]) {
+        hips[c].push_back({p.hips, kHipTolerance * p.region.size});
+      }
     }
     const ActorChoice choice = ChooseActor(cameras, hips, known);
     for (uint32_t c = 0; c < n; ++c) {

@@ -56,9 +56,8 @@ void CaptureVolume(const std::vector<Camera>& cameras, Eigen::Vector3d* centre, 
 }  // namespace
 
 ActorChoice ChooseActor(const std::vector<Camera>& cameras,
-                        const std::vector<std::vector<Eigen::Vector2d>>& candidates,
-                        const std::vector<std::optional<Eigen::Vector2d>>& known,
-                        double tolerance) {
+                        const std::vector<std::vector<HipSighting>>& candidates,
+                        const std::vector<std::optional<HipSighting>>& known) {
   const size_t n = cameras.size();
   ActorChoice best;
   best.chosen.assign(n, -1);
@@ -66,7 +65,7 @@ ActorChoice ChooseActor(const std::vector<Camera>& cameras,
   double radius = 1;
   CaptureVolume(cameras, &centre, &radius);
   // Every camera's points: the actor's where known, else the candidates.
-  std::vector<std::vector<Eigen::Vector2d>> points(n);
+  std::vector<std::vector<HipSighting>> points(n);
   for (size_t c = 0; c < n; ++c) {
     if (c < known.size() && known[c]) {
       points[c] = {*known[c]};
@@ -77,12 +76,10 @@ ActorChoice ChooseActor(const std::vector<Camera>& cameras,
   auto near = [&](size_t c, const Eigen::Vector3d& x, int* index) {
     Eigen::Vector2d px;
     if (!ProjectPoint(cameras[c], x, &px)) return false;
-    const double limit =
-        tolerance * std::hypot(double(cameras[c].width), double(cameras[c].height));
-    double nearest = limit;
+    double nearest = 1;  // in tolerances
     *index = -1;
     for (size_t i = 0; i < points[c].size(); ++i) {
-      const double d = (points[c][i] - px).norm();
+      const double d = (points[c][i].hips - px).norm() / points[c][i].tolerance;
       if (d < nearest) nearest = d, *index = int(i);
     }
     return *index >= 0;
@@ -91,10 +88,10 @@ ActorChoice ChooseActor(const std::vector<Camera>& cameras,
   bool best_anchored = false;
   for (size_t a = 0; a < n; ++a) {
     for (size_t b = a + 1; b < n; ++b) {
-      for (const Eigen::Vector2d& pa : points[a]) {
-        for (const Eigen::Vector2d& pb : points[b]) {
+      for (const HipSighting& pa : points[a]) {
+        for (const HipSighting& pb : points[b]) {
           const std::optional<Eigen::Vector3d> x =
-              Meet(PixelRay(cameras[a], pa), PixelRay(cameras[b], pb));
+              Meet(PixelRay(cameras[a], pa.hips), PixelRay(cameras[b], pb.hips));
           if (!x || x->y() < -0.5 || x->y() > 2.5) continue;  // hips between floor and 2.5 m
           int agreeing = 0;
           bool anchored = false;

@@ -19,15 +19,20 @@ struct ActorChoice {
   int cameras_agreeing = 0;
 };
 
-// `candidates[c]`: the hip centres (pixels) of the people camera c sees.
-// `known[c]`: where camera c already follows the actor (its hips), if it does;
-// those cameras anchor the choice. A candidate is the actor's in camera c when
-// it lies within `tolerance` (a share of the image's diagonal) of the chosen
-// hips' projection.
+// A person's hips' centre in one image, and how far off it may be (pixels;
+// a share of the person's size in that image).
+struct HipSighting {
+  Eigen::Vector2d hips = Eigen::Vector2d::Zero();
+  double tolerance = 0;
+};
+
+// `candidates[c]`: the people camera c sees. `known[c]`: where camera c
+// already follows the actor, if it does; those cameras anchor the choice. A
+// candidate is the actor's in camera c when the chosen hips project within its
+// tolerance.
 ActorChoice ChooseActor(const std::vector<Camera>& cameras,
-                        const std::vector<std::vector<Eigen::Vector2d>>& candidates,
-                        const std::vector<std::optional<Eigen::Vector2d>>& known,
-                        double tolerance = 0.04);
+                        const std::vector<std::vector<HipSighting>>& candidates,
+                        const std::vector<std::optional<HipSighting>>& known);
 
 }  // namespace fvv
 
