@@ -97,7 +97,6 @@ class FlatBuffer:
         v = self.vector(t, i)
         if not v:
             return np.zeros(0, dtype)
-        size = np.dtype(dtype).itemsize
         return np.frombuffer(self.b, dtype, v[1], v[0]).copy() if v[1] else np.zeros(0, dtype)
 
     def bytes(self, t, i):
@@ -167,8 +166,8 @@ def densify(fb, tensor, values, shape):
             for j in range(seg[prev], seg[prev + 1]):
                 walk(level + 1, j, coords + [int(indices[level][j])])
 
-    if order != list(range(len(order))) and len(order) != len(dims):
-        raise ConversionError("sparse tensor with a traversal order this converter does not know")
+    if len(order) != len(dims):
+        raise ConversionError("sparse tensor: traversal order and dimension metadata differ")
     walk(0, 0, [])
     if position[0] != len(values):
         raise ConversionError("sparse tensor: the values do not fill its index")
@@ -213,6 +212,9 @@ class Converter:
             raise ConversionError(f"tensor {self.fb.string(t, 3)}: type {kind} is not supported")
         values = np.frombuffer(data, dtype).copy() if data else None
         return values
+
+    def is_constant(self, i):
+        return i in self.constants or self.raw_constant(i) is not None
 
     def constant(self, i):
         if i in self.constants:
@@ -327,8 +329,7 @@ class Converter:
             act = fb.scalar(opt, 0, "b") if opt else ACT_NONE
             operands = []
             for i in ins:
-                if i in self.constants or fb.scalar(self.tensors[i], 2, "I") and \
-                        self.raw_constant(i) is not None:
+                if self.is_constant(i):
                     c = self.constant(i).astype(np.float32)
                     if c.ndim == 4:
                         c = c.transpose(0, 3, 1, 2)
