@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "encoder/body/generic_body.h"
 #include "encoder/capture/calibration.h"
@@ -94,62 +95,87 @@ std::string FeaturesToJson(const FeatureSet& features, const std::vector<Camera>
   return nlohmann::json{{"features", list}}.dump(1) + "\n";
 }
 
+namespace {
+
+// One point from its views: linear, then refined on the reprojection error.
+std::optional<Feature3D> Triangulate(const std::map<uint32_t, Eigen::Vector2d>& views,
+                                     const std::vector<Camera>& cameras) {
+  // Linear: the point nearest all rays, sum |(I - d d^T)(X - C)|^2.
+  Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  for (const auto& [camera, pixel] : views) {
+    const Eigen::Vector3d c = CameraCentre(cameras[camera]);
+    const Eigen::Vector3d d = (UnprojectPixel(cameras[camera], pixel, 1.0) - c).normalized();
+    const Eigen::Matrix3d m = Eigen::Matrix3d::Identity() - d * d.transpose();
+    a += m;
+    b += m * c;
+  }
+  Eigen::Vector3d x = a.ldlt().solve(b);
+  if (!x.allFinite()) return std::nullopt;
+  // Gauss-Newton on the reprojection error (numerical Jacobian).
+  const auto residuals = [&](const Eigen::Vector3d& p, Eigen::VectorXd* r) {
+    r->resize(2 * Eigen::Index(views.size()));
+    Eigen::Index i = 0;
+    for (const auto& [camera, pixel] : views) {
+      Eigen::Vector2d q;
+      if (!ProjectPoint(cameras[camera], p, &q)) return false;
+      r->segment<2>(i) = q - pixel;
+      i += 2;
+    }
+    return true;
+  };
+  Eigen::VectorXd r;
+  if (!residuals(x, &r)) return std::nullopt;
+  for (int it = 0; it < 5; ++it) {
+    Eigen::MatrixXd jac(r.size(), 3);
+    bool ok = true;
+    for (int k = 0; k < 3 && ok; ++k) {
+      Eigen::Vector3d step = Eigen::Vector3d::Zero();
+      step[k] = 1e-6;
+      Eigen::VectorXd rp, rm;
+      ok = residuals(x + step, &rp) && residuals(x - step, &rm);
+      if (ok) jac.col(k) = (rp - rm) / 2e-6;
+    }
+    if (!ok) break;
+    const Eigen::Vector3d delta = (jac.transpose() * jac).ldlt().solve(-jac.transpose() * r);
+    Eigen::VectorXd next;
+    if (!delta.allFinite() || !residuals(x + delta, &next) || next.squaredNorm() > r.squaredNorm())
+      break;
+    x += delta;
+    r = next;
+  }
+  Feature3D f;
+  f.position = x;
+  f.views = int(views.size());
+  f.rms_px = std::sqrt(r.squaredNorm() / double(views.size()));
+  return f;
+}
+
+}  // namespace
+
 std::map<std::string, Feature3D> TriangulateFeatures(
     const std::map<std::string, std::map<uint32_t, Eigen::Vector2d>>& points,
     const std::vector<Camera>& cameras, double max_rms_px) {
   std::map<std::string, Feature3D> out;
   for (const auto& [name, views] : points) {
     if (views.size() < 2) continue;
-    // Linear: the point nearest all rays, sum |(I - d d^T)(X - C)|^2.
-    Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d b = Eigen::Vector3d::Zero();
+    std::optional<Feature3D> f = Triangulate(views, cameras);
+    if (f && f->rms_px <= max_rms_px) {
+      out[name] = *f;
+      continue;
+    }
+    // One wrong view (a mislabelled point, another person's joint) spoils the
+    // rest: with three or more, each is left out in turn and the subset that
+    // agrees best kept.
+    if (views.size() < 3) continue;
     for (const auto& [camera, pixel] : views) {
-      const Eigen::Vector3d c = CameraCentre(cameras[camera]);
-      const Eigen::Vector3d d = (UnprojectPixel(cameras[camera], pixel, 1.0) - c).normalized();
-      const Eigen::Matrix3d m = Eigen::Matrix3d::Identity() - d * d.transpose();
-      a += m;
-      b += m * c;
-    }
-    Eigen::Vector3d x = a.ldlt().solve(b);
-    if (!x.allFinite()) continue;
-    // Gauss-Newton on the reprojection error (numerical Jacobian).
-    const auto residuals = [&](const Eigen::Vector3d& p, Eigen::VectorXd* r) {
-      r->resize(2 * Eigen::Index(views.size()));
-      Eigen::Index i = 0;
-      for (const auto& [camera, pixel] : views) {
-        Eigen::Vector2d q;
-        if (!ProjectPoint(cameras[camera], p, &q)) return false;
-        r->segment<2>(i) = q - pixel;
-        i += 2;
+      std::map<uint32_t, Eigen::Vector2d> rest = views;
+      rest.erase(camera);
+      std::optional<Feature3D> g = Triangulate(rest, cameras);
+      if (g && g->rms_px <= max_rms_px && (!out.count(name) || g->rms_px < out[name].rms_px)) {
+        out[name] = *g;
       }
-      return true;
-    };
-    Eigen::VectorXd r;
-    if (!residuals(x, &r)) continue;
-    for (int it = 0; it < 5; ++it) {
-      Eigen::MatrixXd jac(r.size(), 3);
-      bool ok = true;
-      for (int k = 0; k < 3 && ok; ++k) {
-        Eigen::Vector3d step = Eigen::Vector3d::Zero();
-        step[k] = 1e-6;
-        Eigen::VectorXd rp, rm;
-        ok = residuals(x + step, &rp) && residuals(x - step, &rm);
-        if (ok) jac.col(k) = (rp - rm) / 2e-6;
-      }
-      if (!ok) break;
-      const Eigen::Vector3d delta = (jac.transpose() * jac).ldlt().solve(-jac.transpose() * r);
-      Eigen::VectorXd next;
-      if (!delta.allFinite() || !residuals(x + delta, &next) ||
-          next.squaredNorm() > r.squaredNorm())
-        break;
-      x += delta;
-      r = next;
     }
-    Feature3D f;
-    f.position = x;
-    f.views = int(views.size());
-    f.rms_px = std::sqrt(r.squaredNorm() / double(views.size()));
-    if (f.rms_px <= max_rms_px) out[name] = f;
   }
   return out;
 }

@@ -45,8 +45,9 @@ struct Feature3D {
   double rms_px = 0;  // reprojection error over its views
 };
 
-// The frame's points seen by at least two cameras, in 3D; points whose
-// reprojection error exceeds `max_rms_px` (a mislabelled view) are left out.
+// The frame's points seen by at least two cameras, in 3D. A point whose
+// reprojection error exceeds `max_rms_px` is made again from its views less
+// one (a mislabelled view), the best that agrees; else it is left out.
 std::map<std::string, Feature3D> TriangulateFeatures(
     const std::map<std::string, std::map<uint32_t, Eigen::Vector2d>>& points,
     const std::vector<Camera>& cameras, double max_rms_px = 4.0);

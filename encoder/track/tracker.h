@@ -1,21 +1,19 @@
-// Marker-free motion capture from silhouettes: the generic body
-// model is fitted to every frame by minimising the number of pixels in the XOR
-// of its rendered silhouette and the image silhouettes, summed over cameras.
+// Marker-free motion capture from silhouettes and, where a keypoint network
+// or a person has marked them, 2D joint sightings: the generic body model is
+// fitted to every frame by minimising the number of pixels in the XOR of its
+// rendered silhouette and the image silhouettes, summed over cameras, plus
+// the distance of its projected joints from the sightings (a robust term:
+// sightings place the body, silhouettes make it fit).
 //
-// The search is hierarchical, in the order of each part's effect on the
-// silhouettes and its place in the kinematic chain: root and torso, then each
-// arm and leg (upper and lower parts jointly, after a small grid search over
-// the upper joint to escape local minima), then hands, feet and head. Each
-// stage runs Powell's method, first on quarter-resolution silhouettes and then
-// on half resolution. Only what a stage moves is rasterised: the silhouettes
-// of the fixed parts are drawn once per stage and the XOR is counted inside the
-// moving parts' bounding box (the rest comes from an integral image). A
-// penalty on overlapping bounding capsules forbids limbs passing through the
-// torso or each other; each frame starts from a damped constant-velocity
-// prediction. Cameras are evaluated in parallel.
+// Initialisation (encoder/track/body_initialiser.h) places the actor and fits
+// its proportions; every later frame starts from a damped constant-velocity
+// prediction and runs the per-frame fit (encoder/track/pose_fitter.h). A frame
+// that fits poorly, or whose joints disagree with the sightings, is searched
+// again from wide grids before it is flagged.
 #ifndef FVV_ENCODER_TRACK_TRACKER_H_
 #define FVV_ENCODER_TRACK_TRACKER_H_
 
+#include <Eigen/Core>
 #include <memory>
 #include <string>
 #include <vector>
@@ -26,6 +24,15 @@
 #include "encoder/io/image_io.h"
 
 namespace fvv {
+
+// A body joint seen in one camera image (by a 2D keypoint network, or marked
+// by a person): which of the generic body's joints (GenericJoint), where
+// (pixels as the calibration's, lens distortion included) and how sure (0..1).
+struct JointSighting {
+  int joint = 0;
+  Eigen::Vector2d pixel = Eigen::Vector2d::Zero();
+  double confidence = 0;
+};
 
 struct TrackerOptions {
   unsigned threads = 2;
@@ -50,6 +57,18 @@ struct TrackerOptions {
   // the silhouettes fit better: a fit can reach each foot with the other leg,
   // the legs crossed, and stay there.
   bool exchange_legs = true;
+  // The keypoint term, per unit of squared error (shares of the actor's
+  // height) per sighting: a share of the camera's silhouette area. Errors
+  // beyond `keypoint_reach` count less and less (a wrong sighting).
+  double keypoint_weight = 2.0;
+  double keypoint_reach = 0.1;
+  // A frame whose joints are further than this from the sightings on average
+  // (shares of the actor's height) is searched again, then flagged.
+  double keypoint_disagreement = 0.06;
+  // The working resolution: images are reduced by the integer factor (2 at
+  // least) that brings the actor's height at the fine level nearest this many
+  // pixels (the coarse level is half as large again); set at initialisation.
+  int fine_height = 200;
 };
 
 struct FrameFit {
@@ -60,6 +79,9 @@ struct FrameFit {
   bool poor = false;         // flagged: fit too poor to trust
   std::string note;          // why it is flagged
   int evaluations = 0;       // objective evaluations spent
+  // Mean distance of the joints from the sightings, in shares of the actor's
+  // height in each image (-1: no sightings).
+  double keypoint_distance = -1;
 };
 
 class Tracker {
@@ -68,12 +90,16 @@ class Tracker {
       std::vector<Camera> cameras, const TrackerOptions& options = TrackerOptions());
   ~Tracker();
 
-  // The first frame: global pose from the silhouettes' geometry, then the body
-  // shape (when adapt_shape) and the full pose. Silhouettes: one per camera,
-  // grey, non-zero = actor, at the cameras' image size.
-  StatusOr<FrameFit> Initialise(const std::vector<Image>& silhouettes);
+  // The first frame: global pose from the sightings triangulated (or the
+  // silhouettes' geometry without them), then the body shape (when
+  // adapt_shape) and the full pose. Silhouettes: one per camera, grey,
+  // non-zero = actor, at the cameras' image size. Sightings: one list per
+  // camera, or none at all.
+  StatusOr<FrameFit> Initialise(const std::vector<Image>& silhouettes,
+                                const std::vector<std::vector<JointSighting>>& sightings = {});
   // Every later frame, from the prediction.
-  StatusOr<FrameFit> Track(const std::vector<Image>& silhouettes);
+  StatusOr<FrameFit> Track(const std::vector<Image>& silhouettes,
+                           const std::vector<std::vector<JointSighting>>& sightings = {});
 
   // The tracking model's silhouette in camera `camera` at `dofs` (full image
   // size, 0/255): for overlays that show how well a frame fits.
