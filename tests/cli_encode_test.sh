@@ -13,7 +13,7 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
 "$fvv" synth -o "$dir/cap" --cameras 4 --width 320 --height 240 --frames 3 --held-out 1 \
   >/dev/null 2>&1 || fail "synth"
 
-out=$("$fvv" encode "$dir/cap" -o "$dir/a.fvv" --atlas 128 --gop-frames 2 --save-textures "$dir/tex" \
+out=$("$fvv" encode "$dir/cap" -o "$dir/a.fvv" --atlas 128 --gop-frames 2 --fixed-shape --save-textures "$dir/tex" \
   --summary-json "$dir/summary.json" --meta title=cli 2>&1) || fail "encode: $out"
 for word in "encode: frame 2 (3/3)" "ETA" "pose source: tracked" "compression" "PSNR (visible)" \
   "seconds per frame" "mean IoU"; do

@@ -52,7 +52,7 @@ no_children "capture sheet"
 out=$(run capture hull "$dir/cap" --frame 3 -o "$dir/hull.ply" --voxel 0.03 2>&1) || fail "hull: $out"
 head -1 "$dir/hull.ply" | grep -q "^ply" || fail "hull: no point cloud"
 no_children "capture hull"
-out=$(run track "$dir/cap" --frames 0:4 -o "$dir/poses.json" -q 2>&1) || fail "track: $out"
+out=$(run track "$dir/cap" --frames 0:4 -o "$dir/poses.json" --fixed-shape -q 2>&1) || fail "track: $out"
 grep -q '"frames"' "$dir/poses.json" || fail "track: no poses.json"
 no_children "track"
 out=$(run encode "$dir/cap" --frames 0:3 --poses "$dir/poses.json" --atlas 128 -o "$dir/part.fvv" \

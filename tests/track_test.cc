@@ -6,10 +6,13 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 
 #include "encoder/body/kinematics.h"
+#include "encoder/capture/calibration.h"
+#include "encoder/track/features.h"
 #include "encoder/track/joint_truth.h"
 #include "encoder/track/pose_smoothing.h"
 #include "encoder/track/powell.h"
@@ -159,6 +162,107 @@ TEST_F(TrackTest, SmoothedFramesReachTheCallbackInOrderWithTheirPoses) {
   StatusOr<TrackCaptureResult> stopped = TrackCapture(options_.output_dir, o);
   ASSERT_FALSE(stopped.ok());
   EXPECT_EQ(stopped.status().message(), "stop at 1");
+}
+
+// Joint sightings as a keypoint network would report them, from the truth's
+// joint projections: a few pixels of noise; `swapped` cameras see every
+// joint's other side (a network's left-right confusion); `shift` moves every
+// joint in the world before projection (sightings of a body elsewhere).
+std::vector<std::vector<JointSighting>> TrueSightings(const std::string& capture_dir,
+                                                      const std::vector<Camera>& cameras,
+                                                      uint32_t frame, uint32_t frame_count,
+                                                      const std::vector<int>& swapped = {},
+                                                      const Eigen::Vector3d& shift = {0, 0, 0}) {
+  StatusOr<FeatureSet> truth =
+      LoadFeatures(capture_dir + "/truth/features.json", cameras, frame_count);
+  EXPECT_TRUE(truth.ok()) << truth.status().ToString();
+  std::vector<std::vector<JointSighting>> out(cameras.size());
+  if (!truth.ok()) return out;
+  const auto& points = truth->frames.at(frame);
+  const auto world = TriangulateFeatures(points, cameras);
+  uint32_t seed = 7 + frame;
+  auto noise = [&] {
+    seed = seed * 1664525u + 1013904223u;
+    return (double(seed >> 8) / double(1u << 24) - 0.5) * 4.0;  // +-2 pixels
+  };
+  for (int j = kLeftShoulder; j < kGenericJointCount; ++j) {
+    const std::string name = GenericJointName(j);
+    if (!world.count(name)) continue;
+    for (uint32_t c = 0; c < cameras.size(); ++c) {
+      const bool swap = std::find(swapped.begin(), swapped.end(), int(c)) != swapped.end();
+      std::string seen_as = name;
+      if (swap) seen_as[0] = name[0] == 'l' ? 'r' : 'l';
+      Eigen::Vector2d p;
+      if (!ProjectPoint(cameras[c], world.at(name).position + shift, &p)) continue;
+      int joint = j;
+      for (int k = 0; k < kGenericJointCount; ++k) {
+        if (seen_as == GenericJointName(k)) joint = k;
+      }
+      out[c].push_back({joint, p + Eigen::Vector2d(noise(), noise()), 0.9});
+    }
+  }
+  return out;
+}
+
+// Sightings place the body and hold the fit: with one camera's left and right
+// confused, tracking still recovers the motion, and the fit's joints lie near
+// the sightings of the other cameras.
+TEST_F(TrackTest, SightingsHoldTheFitWithOneCameraConfused) {
+  ASSERT_TRUE(status_.ok()) << status_.ToString();
+  StatusOr<Capture> c = LoadCapture(options_.output_dir);
+  ASSERT_TRUE(c.ok());
+  CaptureReader reader(*c);
+  const std::vector<Camera> cameras = Cameras(*c);
+  StatusOr<std::unique_ptr<Tracker>> tracker = Tracker::Create(cameras);
+  ASSERT_TRUE(tracker.ok()) << tracker.status().ToString();
+  std::vector<std::vector<double>> poses;
+  for (uint32_t f = 0; f < c->frame_count; ++f) {
+    const auto sightings = TrueSightings(options_.output_dir, cameras, f, c->frame_count, {1});
+    StatusOr<FrameFit> fit = f == 0 ? (*tracker)->Initialise(Silhouettes(&reader, f), sightings)
+                                    : (*tracker)->Track(Silhouettes(&reader, f), sightings);
+    ASSERT_TRUE(fit.ok()) << fit.status().ToString();
+    EXPECT_FALSE(fit->poor) << "frame " << f << ": " << fit->note;
+    EXPECT_GT(fit->iou, 0.85) << "frame " << f;
+    // Five cameras agree within a pixel or two; the confused one is off by
+    // the body's width for the limbs it swaps.
+    EXPECT_GE(fit->keypoint_distance, 0);
+    EXPECT_LT(fit->keypoint_distance, 0.04) << "frame " << f;
+    poses.push_back(fit->dofs);
+  }
+  StatusOr<JointErrors> e =
+      CompareWithTruth(options_.output_dir, (*tracker)->Model().skeleton, poses, 0);
+  ASSERT_TRUE(e.ok()) << e.status().ToString();
+  std::printf("  joint error with sightings (one camera confused): mean %.2f cm, max %.2f cm\n",
+              100 * e->mean, 100 * e->max);
+  EXPECT_LT(e->mean, 0.03);
+  EXPECT_LT(e->max, 0.10);
+}
+
+// Sightings of a body 40 cm away from the one the silhouettes show: the fit
+// follows the silhouettes (the sightings' term is bounded), and the frame is
+// flagged as disagreeing with them, not reported as a good fit.
+TEST_F(TrackTest, FrameDisagreeingWithTheSightingsIsFlagged) {
+  ASSERT_TRUE(status_.ok()) << status_.ToString();
+  StatusOr<Capture> c = LoadCapture(options_.output_dir);
+  ASSERT_TRUE(c.ok());
+  CaptureReader reader(*c);
+  const std::vector<Camera> cameras = Cameras(*c);
+  TrackerOptions o;
+  o.adapt_shape = false;
+  StatusOr<std::unique_ptr<Tracker>> tracker = Tracker::Create(cameras, o);
+  ASSERT_TRUE(tracker.ok());
+  StatusOr<FrameFit> first = (*tracker)->Initialise(
+      Silhouettes(&reader, 0), TrueSightings(options_.output_dir, cameras, 0, c->frame_count));
+  ASSERT_TRUE(first.ok());
+  EXPECT_FALSE(first->poor) << first->note;
+  StatusOr<FrameFit> off = (*tracker)->Track(
+      Silhouettes(&reader, 1),
+      TrueSightings(options_.output_dir, cameras, 1, c->frame_count, {}, {0.4, 0, 0}));
+  ASSERT_TRUE(off.ok());
+  EXPECT_TRUE(off->poor);
+  EXPECT_NE(off->note.find("disagrees with the keypoints"), std::string::npos) << off->note;
+  EXPECT_GT(off->iou, 0.8);  // the silhouettes still hold the body
+  EXPECT_GT(off->keypoint_distance, 0.15);
 }
 
 TEST_F(TrackTest, EmptyOrMissingSilhouettesAreFlaggedNotWild) {

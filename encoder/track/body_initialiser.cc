@@ -204,25 +204,32 @@ std::vector<double> BodyInitialiser::Turned(const Vector3d& centre, const std::v
 // pose. The best heading and its opposite are fitted completely:
 // silhouettes barely tell front from back until the limbs are fitted
 // (knees and elbows bend one way only).
-std::vector<double> BodyInitialiser::InitialiseScaled(const Vector3d& centre, BodyShape* fitted) {
+std::vector<double> BodyInitialiser::InitialiseScaled(const Vector3d& centre,
+                                                      const std::vector<double>* start,
+                                                      BodyShape* fitted) {
   const BodyShape first_guess = InitialShape();
   fit_.shape = first_guess;
   fit_.BuildModel();
+  // The heading search's best and its opposite, and the placed body (its
+  // limbs near: narrow searches); the objective, sightings included, decides.
   std::vector<std::vector<double>> starts = Headings(centre, fit_.stages[kTorsoStage]);
   starts[1] = Turned(centre, starts[0], kPi, fit_.stages[kTorsoStage]);
+  starts.resize(2);
+  if (start) starts.push_back(*start);
   double best_value = 1e300;
   std::vector<double> best;
-  for (int k = 0; k < 2; ++k) {
+  for (size_t k = 0; k < starts.size(); ++k) {
     std::vector<double> p = starts[k];
-    fit_.FitAll(&p, 1.0, Grid::kWide);
+    const bool placed = k == 2;
+    fit_.FitAll(&p, placed ? 0.5 : 1.0, placed ? Grid::kNarrow : Grid::kWide);
     if (fit_.options.adapt_shape) {
       FitSize(&p);
       fit_.FitAll(&p, 0.5, Grid::kNarrow);
     }
     const double v = fit_.EvaluateBody(p);
     if (v < best_value) best_value = v, best = p;
-    if (fit_.options.adapt_shape && k == 0) {
-      // The second heading starts from the same shape estimate as the first.
+    if (fit_.options.adapt_shape) {
+      // The next start begins from the same shape estimate as the first.
       fit_.shape = first_guess;
       fit_.BuildModel();
     }
@@ -243,6 +250,7 @@ std::vector<double> BodyInitialiser::InitialiseScaled(const Vector3d& centre, Bo
 // proportion with the limbs placed; the chosen one is refined at half
 // resolution.
 std::vector<double> BodyInitialiser::InitialiseProportions(const Vector3d& centre,
+                                                           const std::vector<double>* start,
                                                            BodyShape* fitted) {
   const BodyShape first_guess = InitialShape();
   fit_.shape = first_guess;
@@ -252,16 +260,19 @@ std::vector<double> BodyInitialiser::InitialiseProportions(const Vector3d& centr
   // to the sides.
   std::vector<std::vector<double>> starts = Headings(centre, fit_.trunk);
   starts[1] = Turned(centre, starts[0], kPi, fit_.trunk);
+  starts.resize(2);
+  if (start) starts.push_back(*start);
   double best_value = 1e300;
   std::vector<double> best;
   BodyShape best_shape = first_guess;
-  for (int k = 0; k < 2; ++k) {
+  for (size_t k = 0; k < starts.size(); ++k) {
     std::vector<double> p = starts[k];
     fit_.shape = first_guess;
     fit_.BuildModel();
     FitShape(&p, kTrunkShape, 0, 240);
     fit_.FitStage(fit_.stages[kTorsoStage], &p, 0, 0.5);
-    fit_.FitAll(&p, 1.0, Grid::kWide);
+    const bool placed = k == 2;
+    fit_.FitAll(&p, placed ? 0.5 : 1.0, placed ? Grid::kNarrow : Grid::kWide);
     FitShape(&p, kWholeShape, 0, 480);
     fit_.FitAll(&p, 0.5, Grid::kNarrow);
     const double v = fit_.EvaluateBody(p);
@@ -416,26 +427,22 @@ StatusOr<std::vector<double>> BodyInitialiser::Initialise(const std::vector<Imag
   actor_height_ = height;
   BodyShape shape;
   std::vector<double> best, placed;
-  BodyShape placed_shape;
-  placed_by_sightings_ = PlaceBySightings(&placed, &placed_shape);
-  if (placed_by_sightings_) {
-    best = InitialiseFromSightings(placed, placed_shape, &shape);
-  } else {
-    // The generic body's proportions at the actor's size first. An actor
-    // they do not fit (a cartoon character's large head and short legs) is
-    // fitted again with proportions of its own, and the better fit kept.
-    best = InitialiseScaled(centre, &shape);
-    if (fit_.options.adapt_shape) {
-      const double scaled = fit_.EvaluateBody(best);
-      FrameFit scaled_fit;
-      fit_.Measure(best, &scaled_fit);
-      if (scaled_fit.iou < fit_.options.proportions_iou) {
-        BodyShape own;
-        std::vector<double> p = InitialiseProportions(centre, &own);
-        if (fit_.EvaluateBody(p) < scaled) {
-          best = p, shape = own;
-          own_proportions_ = true;
-        }
+  placed_by_sightings_ = !getenv("NOPLACE") && PlaceBySightings(&placed);
+  const std::vector<double>* start = placed_by_sightings_ ? &placed : nullptr;
+  // The generic body's proportions at the actor's size first. An actor they
+  // do not fit (a cartoon character's large head and short legs) is fitted
+  // again with proportions of its own, and the better fit kept.
+  best = InitialiseScaled(centre, start, &shape);
+  if (fit_.options.adapt_shape) {
+    const double scaled = fit_.EvaluateBody(best);
+    FrameFit scaled_fit;
+    fit_.Measure(best, &scaled_fit);
+    if (scaled_fit.iou < fit_.options.proportions_iou) {
+      BodyShape own;
+      std::vector<double> p = InitialiseProportions(centre, start, &own);
+      if (fit_.EvaluateBody(p) < scaled) {
+        best = p, shape = own;
+        own_proportions_ = true;
       }
     }
   }
@@ -445,7 +452,7 @@ StatusOr<std::vector<double>> BodyInitialiser::Initialise(const std::vector<Imag
   return best;
 }
 
-bool BodyInitialiser::PlaceBySightings(std::vector<double>* dofs, BodyShape* shape) {
+bool BodyInitialiser::PlaceBySightings(std::vector<double>* dofs) {
   std::map<std::string, std::map<uint32_t, Eigen::Vector2d>> points;
   std::vector<double> sizes;
   for (size_t c = 0; c < fit_.joints.size(); ++c) {
@@ -456,39 +463,31 @@ bool BodyInitialiser::PlaceBySightings(std::vector<double>* dofs, BodyShape* sha
     }
   }
   if (sizes.size() < 2) return false;
-  // Sightings are a few hundredths of the actor's height off at best: a view
+  // Sightings are one or two hundredths of the actor's height off: a view
   // further off than that is a wrong one.
   std::nth_element(sizes.begin(), sizes.begin() + sizes.size() / 2, sizes.end());
-  const double tolerance = 0.03 * sizes[sizes.size() / 2];
+  const double tolerance = 0.02 * sizes[sizes.size() / 2];
   const std::map<std::string, Feature3D> joints =
       TriangulateFeatures(points, fit_.cameras, tolerance);
+  // The pose only: the build is the silhouettes' to fit (a few noisy
+  // sightings make poor proportions).
   RegistrationOptions ro;
-  ro.fit_shape = fit_.options.adapt_shape;
+  ro.fit_shape = false;
   StatusOr<Registration> reg = RegisterSkeleton(joints, InitialShape(), {}, ro);
   if (!reg.ok()) return false;
+  if (getenv("DBG")) {
+    fprintf(stderr, "reg: %d joints rms %.3f m init %.3f\n", reg->joints, reg->rms_m,
+            reg->initial_rms_m);
+    for (auto& [n, f] : joints)
+      fprintf(stderr, "  %s views %d rms %.1f px  %.3f %.3f %.3f\n", n.c_str(), f.views, f.rms_px,
+              f.position.x(), f.position.y(), f.position.z());
+    for (int d = 0; d < 6; ++d) fprintf(stderr, " root%d %.3f", d, reg->dofs[fit_.Dof(kRoot, d)]);
+    fprintf(stderr, "\n");
+  }
   *dofs = reg->dofs;
-  *shape = fit_.options.adapt_shape ? reg->shape : InitialShape();
   for (size_t d = 0; d < dofs->size(); ++d)
     (*dofs)[d] = std::clamp((*dofs)[d], fit_.lo[d], fit_.hi[d]);
   return true;
-}
-
-// The registered body, fitted to the silhouettes with the sightings holding
-// it: the pose from narrow searches, then every proportion (the overall size
-// held to the measured height), then the pose again.
-std::vector<double> BodyInitialiser::InitialiseFromSightings(const std::vector<double>& placed,
-                                                             const BodyShape& placed_shape,
-                                                             BodyShape* fitted) {
-  fit_.shape = placed_shape;
-  fit_.BuildModel();
-  std::vector<double> p = placed;
-  fit_.FitAll(&p, 0.5, Grid::kNarrow);
-  if (fit_.options.adapt_shape) {
-    FitShape(&p, kWholeShape, kCoarse, 240);
-    fit_.FitAll(&p, 0.35, Grid::kNone);
-  }
-  *fitted = fit_.shape;
-  return p;
 }
 
 }  // namespace fvv

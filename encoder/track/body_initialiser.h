@@ -45,16 +45,17 @@ class BodyInitialiser {
   bool Locate(const std::vector<Image>& sils, Eigen::Vector3d* centre, double* height);
   // The body registered to the triangulated sightings; false when too few
   // joints are seen by two cameras.
-  bool PlaceBySightings(std::vector<double>* dofs, BodyShape* shape);
-  std::vector<double> InitialiseFromSightings(const std::vector<double>& placed,
-                                              const BodyShape& placed_shape, BodyShape* fitted);
+  bool PlaceBySightings(std::vector<double>* dofs);
   std::vector<double> NeutralPose(const Eigen::Vector3d& centre, double yaw) const;
   void FitSize(std::vector<double>* dofs);
   std::vector<std::vector<double>> Headings(const Eigen::Vector3d& centre, const PoseStage& stage);
   std::vector<double> Turned(const Eigen::Vector3d& centre, const std::vector<double>& from,
                              double turn, const PoseStage& stage);
-  std::vector<double> InitialiseScaled(const Eigen::Vector3d& centre, BodyShape* fitted);
-  std::vector<double> InitialiseProportions(const Eigen::Vector3d& centre, BodyShape* fitted);
+  // From `start` (the placed body) or, when null, a heading search.
+  std::vector<double> InitialiseScaled(const Eigen::Vector3d& centre,
+                                       const std::vector<double>* start, BodyShape* fitted);
+  std::vector<double> InitialiseProportions(const Eigen::Vector3d& centre,
+                                            const std::vector<double>* start, BodyShape* fitted);
   BodyShape InitialShape() const;
   double ShapeValue(int param) const;
   void SetShapeValue(int param, double v);

@@ -1,5 +1,6 @@
 #include "encoder/track/capture_frames.h"
 
+#include <chrono>
 #include <optional>
 
 #include "encoder/track/person_selection.h"
@@ -89,6 +90,8 @@ std::string CaptureFrames::silhouette_source() const {
 
 Status CaptureFrames::ReadWithPersons(uint32_t frame, std::vector<Image>* images,
                                       std::vector<Image>* silhouettes) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
   const uint32_t n = uint32_t(capture().cameras.size());
   std::vector<Image> read(n);
   std::vector<Status> errors(n);
@@ -101,6 +104,8 @@ Status CaptureFrames::ReadWithPersons(uint32_t frame, std::vector<Image>* images
     }
   });
   for (const Status& s : errors) FVV_RETURN_IF_ERROR(s);
+  const auto decoded = Clock::now();
+  decode_seconds_ += std::chrono::duration<double>(decoded - start).count();
   auto named = [&](uint32_t c, const Status& s) {
     return Status(s.code(), "camera " + capture().cameras[c].calibration.name + ": " + s.message());
   };
@@ -149,9 +154,12 @@ Status CaptureFrames::ReadWithPersons(uint32_t frame, std::vector<Image>* images
       seen[c].detected = true;
     }
   }
+  person_seconds_ += std::chrono::duration<double>(Clock::now() - decoded).count();
   silhouettes->assign(n, Image());
+  sightings_.assign(n, {});
   pool_->Run(n, [&](uint32_t c) {
     regions_[c] = seen[c].found ? seen[c].next : PersonRegion();
+    sightings_[c] = BodyJointSightings(seen[c]);
     Image& s = (*silhouettes)[c];
     s.width = read[c].width;
     s.height = read[c].height;

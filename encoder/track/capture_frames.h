@@ -37,6 +37,12 @@ class CaptureFrames {
   // Frame `frame` of every camera: silhouettes (grey, 0 or 255) and, when
   // `images` is not null, the RGB images.
   Status Read(uint32_t frame, std::vector<Image>* images, std::vector<Image>* silhouettes);
+  // The body joints the person network saw in the frame Read last, per
+  // camera (empty without the network).
+  const std::vector<std::vector<JointSighting>>& sightings() const { return sightings_; }
+  // Seconds spent so far decoding frames and running the person network.
+  double decode_seconds() const { return decode_seconds_; }
+  double person_seconds() const { return person_seconds_; }
 
  private:
   CaptureFrames(const Capture& capture, ThreadPool* pool) : reader_(capture), pool_(pool) {}
@@ -50,6 +56,8 @@ class CaptureFrames {
   std::vector<BackgroundModel> backgrounds_;
   PersonObserver* persons_ = nullptr;
   std::vector<PersonRegion> regions_;  // per camera, from its last frame (size 0: detect)
+  std::vector<std::vector<JointSighting>> sightings_;
+  double decode_seconds_ = 0, person_seconds_ = 0;
 };
 
 }  // namespace fvv

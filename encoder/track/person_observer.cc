@@ -1,7 +1,10 @@
 #include "encoder/track/person_observer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
+
+#include "encoder/body/generic_body.h"
 
 #if defined(FVV_HAVE_OPENCV_DNN)
 #include <sys/stat.h>
@@ -23,6 +26,22 @@ const char* PersonKeypointName(int index) {
       "left_knee",   "right_knee",      "left_ankle",      "right_ankle",    "left_heel",
       "right_heel",  "left_foot_index", "right_foot_index"};
   return index >= 0 && index < kPersonKeypoints ? kNames[index] : "";
+}
+
+std::vector<JointSighting> BodyJointSightings(const PersonObservation& observation) {
+  // BlazePose's indices of the body's left and right (the person's own)
+  // shoulder, elbow, wrist, hip, knee and ankle.
+  static const std::pair<int, int> kJoints[] = {
+      {11, kLeftShoulder}, {13, kLeftElbow},  {15, kLeftWrist}, {12, kRightShoulder},
+      {14, kRightElbow},   {16, kRightWrist}, {23, kLeftHip},   {25, kLeftKnee},
+      {27, kLeftAnkle},    {24, kRightHip},   {26, kRightKnee}, {28, kRightAnkle}};
+  std::vector<JointSighting> out;
+  if (!observation.found) return out;
+  for (const auto& [keypoint, joint] : kJoints) {
+    const PersonKeypoint& k = observation.keypoints[keypoint];
+    out.push_back({joint, k.pixel, std::clamp(k.visibility, 0.0, 1.0)});
+  }
+  return out;
 }
 
 std::string DefaultModelDirectory() {

@@ -14,6 +14,7 @@
 
 #include "codec/base/status.h"
 #include "encoder/io/image_io.h"
+#include "encoder/track/joint_sighting.h"
 
 namespace fvv {
 
@@ -78,6 +79,11 @@ class PersonObserver {
   PersonObserver() = default;
   std::unique_ptr<Networks> nets_;
 };
+
+// The observation's keypoints that are joints of the generic body
+// (shoulders, elbows, wrists, hips, knees, ankles), their visibility as
+// confidence; none when no person was found.
+std::vector<JointSighting> BodyJointSightings(const PersonObservation& observation);
 
 // Where the models live by default: $FVV_MODEL_DIR, else the directory the
 // set-up fills (build-independent, shared by every build of this checkout).

@@ -34,12 +34,14 @@ std::string TrackCaptureResult::ToJson() const {
   nlohmann::json frames = nlohmann::json::array();
   for (size_t i = 0; i < fits.size(); ++i) {
     const FrameFit& f = fits[i];
-    frames.push_back({{"frame", first + i},
-                      {"dofs", f.dofs},
-                      {"xor_ratio", f.xor_ratio},
-                      {"iou", f.iou},
-                      {"cameras_used", f.cameras_used},
-                      {"flag", f.poor ? f.note : "ok"}});
+    nlohmann::json frame = {{"frame", first + i},
+                            {"dofs", f.dofs},
+                            {"xor_ratio", f.xor_ratio},
+                            {"iou", f.iou},
+                            {"cameras_used", f.cameras_used},
+                            {"flag", f.poor ? f.note : "ok"}};
+    if (f.keypoint_distance >= 0) frame["keypoint_distance"] = f.keypoint_distance;
+    frames.push_back(std::move(frame));
   }
   out["frames"] = frames;
   return out.dump(1) + "\n";
@@ -120,7 +122,10 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
       }
     }
     const auto t1 = Clock::now();
-    StatusOr<FrameFit> fit = f == r.first ? (*tracker)->Initialise(sils) : (*tracker)->Track(sils);
+    const std::vector<std::vector<JointSighting>> none;
+    const auto& sightings = o.keypoints ? (*frames)->sightings() : none;
+    StatusOr<FrameFit> fit =
+        f == r.first ? (*tracker)->Initialise(sils, sightings) : (*tracker)->Track(sils, sightings);
     if (!fit.ok()) {
       return Status(fit.status().code(),
                     "frame " + std::to_string(f) + ": " + fit.status().message());
@@ -128,6 +133,7 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
     const auto t2 = Clock::now();
     r.silhouette_seconds += std::chrono::duration<double>(t1 - t0).count();
     r.fit_seconds += std::chrono::duration<double>(t2 - t1).count();
+    if (f == r.first) r.first_fit_seconds = r.fit_seconds;
     r.flagged += fit->poor;
     r.mean_iou += fit->iou;
     if (!o.overlays.empty()) {
@@ -152,11 +158,16 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
     if (o.progress) {
       const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
       const uint32_t done = f - r.first + 1, total = r.last - r.first + 1;
-      char line[256];
+      char keypoints[48] = "";
+      if (fit->keypoint_distance >= 0) {
+        std::snprintf(keypoints, sizeof(keypoints), "  keypoints %.1f%% off",
+                      100 * fit->keypoint_distance);
+      }
+      char line[320];
       std::snprintf(line, sizeof(line),
-                    "track: frame %u (%u/%u)  IoU %.3f  XOR %.1f%%  %d evaluations  %s  %.2f "
+                    "track: frame %u (%u/%u)  IoU %.3f  XOR %.1f%%%s  %d evaluations  %s  %.2f "
                     "s/frame, ETA %.0f s",
-                    f, done, total, fit->iou, 100 * fit->xor_ratio, fit->evaluations,
+                    f, done, total, fit->iou, 100 * fit->xor_ratio, keypoints, fit->evaluations,
                     fit->poor ? fit->note.c_str() : "ok", elapsed / done,
                     elapsed / done * (total - done));
       o.progress(line);
@@ -175,6 +186,8 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
   }
   while (!waiting.empty()) FVV_RETURN_IF_ERROR(report(r.fits.size() - waiting.size()));
   r.mean_iou /= r.fits.size();
+  r.decode_seconds = (*frames)->decode_seconds();
+  r.person_seconds = (*frames)->person_seconds();
   r.shape = (*tracker)->shape();
   r.model = (*tracker)->Model();
   return r;

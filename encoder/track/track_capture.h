@@ -26,6 +26,9 @@ struct TrackCaptureOptions {
   // load (else background subtraction, saying why through `progress`).
   enum class Persons { kAuto, kOff, kOn } persons = Persons::kAuto;
   std::string person_models;  // model directory; empty: DefaultModelDirectory()
+  // The network's body keypoints place the body and hold the fit (with person
+  // masks only); off: silhouettes alone.
+  bool keypoints = true;
   TrackerOptions tracker;
   // Poses are smoothed over time before they are reported (on_frame and the
   // result), each frame once Radius() later frames are tracked. The fit
@@ -52,6 +55,10 @@ struct TrackCaptureResult {
   BodyShape shape;
   BodyModel model;  // the generic body with the fitted shape
   double silhouette_seconds = 0, fit_seconds = 0;
+  double first_fit_seconds = 0;  // of fit_seconds: the first frame's (initialisation)
+  // Of silhouette_seconds: decoding the frames (person masks only) and the
+  // person network.
+  double decode_seconds = 0, person_seconds = 0;
   double callback_seconds = 0;  // in on_frame
   int flagged = 0;
   double mean_iou = 0;

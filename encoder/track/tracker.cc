@@ -69,6 +69,7 @@ StatusOr<std::unique_ptr<Tracker>> Tracker::Create(std::vector<Camera> cameras,
 StatusOr<FrameFit> Tracker::Initialise(const std::vector<Image>& silhouettes,
                                        const std::vector<std::vector<JointSighting>>& sightings) {
   PoseFitter& f = impl_->fitter;
+  if (getenv("KW")) f.options.keypoint_weight = atof(getenv("KW"));
   // The working resolution from the actor's size: enough pixels across the
   // body for the XOR to place a limb, no more.
   if (silhouettes.size() == f.cameras.size()) {
@@ -150,28 +151,30 @@ StatusOr<FrameFit> Tracker::Track(const std::vector<Image>& silhouettes,
 
 Image Tracker::ModelSilhouette(uint32_t camera, const std::vector<double>& dofs) const {
   const PoseFitter& f = impl_->fitter;
-  const Camera& cam = f.cameras.at(camera);
-  FitView v;
-  v.SetCamera(cam, 1);
-  std::vector<uint32_t> all(f.model.mesh.positions.size());
-  std::iota(all.begin(), all.end(), 0u);
-  std::vector<Eigen::Vector3f> posed;
-  f.SkinVertices(all, f.Skinning(dofs), &posed);
-  std::vector<Eigen::Vector2f> px(posed.size());
-  for (size_t i = 0; i < posed.size(); ++i) px[i] = v.Project(posed[i]);
-  std::vector<uint32_t> tris;
-  for (const auto& t : f.model.mesh.triangles) tris.insert(tris.end(), t.begin(), t.end());
-  Image out;
-  out.width = cam.width, out.height = cam.height, out.channels = 1;
-  out.pixels.assign(size_t{cam.width} * cam.height, 0);
-  RasterBox box{v.w, v.h, -1, -1};
-  RasteriseSilhouette(tris, px, v.w, v.h, out.pixels.data(), &box);
-  for (uint8_t& p : out.pixels) p = p ? 255 : 0;
-  return out;
+  return BodySilhouette(f.model, f.cameras.at(camera), dofs);
 }
 
 const BodyShape& Tracker::shape() const { return impl_->fitter.shape; }
 
 BodyModel Tracker::Model() const { return MakeGenericBody(impl_->fitter.shape); }
+
+Image BodySilhouette(const BodyModel& model, const Camera& camera,
+                     const std::vector<double>& dofs) {
+  FitView v;
+  v.SetCamera(camera, 1);
+  const std::vector<Eigen::Vector3f> posed =
+      SkinPositions(model.mesh, SkinningMatrices(model.skeleton, dofs));
+  std::vector<Eigen::Vector2f> px(posed.size());
+  for (size_t i = 0; i < posed.size(); ++i) px[i] = v.Project(posed[i]);
+  std::vector<uint32_t> tris;
+  for (const auto& t : model.mesh.triangles) tris.insert(tris.end(), t.begin(), t.end());
+  Image out;
+  out.width = camera.width, out.height = camera.height, out.channels = 1;
+  out.pixels.assign(size_t{camera.width} * camera.height, 0);
+  RasterBox box{v.w, v.h, -1, -1};
+  RasteriseSilhouette(tris, px, v.w, v.h, out.pixels.data(), &box);
+  for (uint8_t& p : out.pixels) p = p ? 255 : 0;
+  return out;
+}
 
 }  // namespace fvv

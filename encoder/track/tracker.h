@@ -13,7 +13,6 @@
 #ifndef FVV_ENCODER_TRACK_TRACKER_H_
 #define FVV_ENCODER_TRACK_TRACKER_H_
 
-#include <Eigen/Core>
 #include <memory>
 #include <string>
 #include <vector>
@@ -22,17 +21,9 @@
 #include "container/cameras.h"
 #include "encoder/body/generic_body.h"
 #include "encoder/io/image_io.h"
+#include "encoder/track/joint_sighting.h"
 
 namespace fvv {
-
-// A body joint seen in one camera image (by a 2D keypoint network, or marked
-// by a person): which of the generic body's joints (GenericJoint), where
-// (pixels as the calibration's, lens distortion included) and how sure (0..1).
-struct JointSighting {
-  int joint = 0;
-  Eigen::Vector2d pixel = Eigen::Vector2d::Zero();
-  double confidence = 0;
-};
 
 struct TrackerOptions {
   unsigned threads = 2;
@@ -60,7 +51,7 @@ struct TrackerOptions {
   // The keypoint term, per unit of squared error (shares of the actor's
   // height) per sighting: a share of the camera's silhouette area. Errors
   // beyond `keypoint_reach` count less and less (a wrong sighting).
-  double keypoint_weight = 2.0;
+  double keypoint_weight = 8.0;
   double keypoint_reach = 0.1;
   // A frame whose joints are further than this from the sightings on average
   // (shares of the actor's height) is searched again, then flagged.
@@ -114,6 +105,10 @@ class Tracker {
   explicit Tracker(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };
+
+// The silhouette of `model` posed at `dofs` in `camera` (its image size,
+// 0/255): for overlays, and to score a fit in a camera it did not use.
+Image BodySilhouette(const BodyModel& model, const Camera& camera, const std::vector<double>& dofs);
 
 }  // namespace fvv
 

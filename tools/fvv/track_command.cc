@@ -19,6 +19,7 @@ struct TrackArgs {
   bool extract = false;
   std::string persons = "auto", models;
   bool no_shape = false;
+  bool no_keypoints = false;
   bool quiet = false;
   double smooth = TrackCaptureOptions{}.smoothing.sigma_frames;
 };
@@ -37,6 +38,7 @@ int RunTrack(const TrackArgs& a) {
               : a.persons == "off" ? TrackCaptureOptions::Persons::kOff
                                    : TrackCaptureOptions::Persons::kAuto;
   o.person_models = a.models;
+  o.keypoints = !a.no_keypoints;
   o.tracker.adapt_shape = !a.no_shape;
   o.smoothing.sigma_frames = a.smooth;
   o.save_silhouettes = a.save_silhouettes;
@@ -128,6 +130,9 @@ void AddTrackCommand(CLI::App* app, int* exit_code) {
       ->check(CLI::IsMember({"auto", "on", "off"}));
   t->add_option("--models", a->models,
                 "Directory of the person models (default: $FVV_MODEL_DIR or ~/.cache/fvv/models)");
+  t->add_flag("--no-keypoints", a->no_keypoints,
+              "With person masks, fit silhouettes only (the network's body keypoints neither "
+              "place the body nor hold the fit)");
   t->add_flag("--fixed-shape", a->no_shape, "Keep the generic body's proportions");
   AddSmoothOption(t, &a->smooth);
   t->add_option("--save-silhouettes", a->save_silhouettes,

@@ -1,0 +1,606 @@
+// The real-footage benchmark: a real capture, from its calibration to rendered
+// held-out views. There is no ground truth, and a fit scored against the masks
+// and keypoints it was fitted to proves little, so each camera is scored while
+// it is held out: tracked with the other cameras, then in the held-out camera
+// the IoU of the fitted model's silhouette against the person network's mask,
+// and the distance of the model's projected joints from the network's
+// keypoints (full-resolution pixels), beside the same figures in the cameras
+// the fit used. Seconds per frame by stage. Then, unless --no-render, the
+// held-out camera's view rendered from the other cameras with Renderer II (a
+// stream encoded by `fvv encode` at its default rate) and Renderer I (`fvv
+// render --renderer projective`, straight from the camera images): PSNR and
+// SSIM over the actor's region (the held-out camera's person mask) against the
+// real frame. A contact sheet of real frames, masks, the fitted model and the
+// rendered views goes to OUT/contact_sheet.png, the figures to
+// OUT/real_bench.json.
+//
+//   build/bench/real_bench CAPTURE [--frames A:B] [--render-frames N] [--out DIR]
+//                          [--fvv PATH] [--models DIR] [--no-render]
+//
+// CAPTURE: an imported capture (bench/run_real_bench.sh imports
+// ../shared/data/real/pose2sim_single and runs this).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "codec/base/thread_pool.h"
+#include "encoder/body/generic_body.h"
+#include "encoder/body/kinematics.h"
+#include "encoder/capture/calibration.h"
+#include "encoder/capture/capture.h"
+#include "encoder/io/child_process.h"
+#include "encoder/io/image_io.h"
+#include "encoder/track/capture_frames.h"
+#include "encoder/track/features.h"
+#include "encoder/track/person_observer.h"
+#include "encoder/track/track_capture.h"
+
+namespace fvv {
+namespace {
+
+struct Args {
+  std::string capture, out = "out/real_bench", fvv, models;
+  uint32_t first = 0, last = 29;
+  uint32_t render_frames = 4;
+  int offsets = 0;  // --sync-check N
+  bool render = true;
+};
+
+// What the person network saw in every camera of every benchmarked frame.
+struct Reference {
+  std::vector<std::vector<Image>> masks;  // [frame][camera]
+  std::vector<std::vector<std::vector<JointSighting>>> sightings;
+};
+
+struct FitScore {
+  double iou = 0, joint_px = 0;
+  int frames = 0, joint_frames = 0;
+  double agreement_px = 0;  // KeypointAgreement, summed over frames
+  int agreement_frames = 0;
+};
+
+struct RenderScore {
+  double psnr = 0, ssim = 0;
+  int frames = 0;
+};
+
+double Iou(const Image& a, const Image& b) {
+  int64_t inter = 0, uni = 0;
+  for (size_t i = 0; i < a.pixels.size(); ++i) {
+    const bool x = a.pixels[i] != 0, y = b.pixels[i] != 0;
+    inter += x && y, uni += x || y;
+  }
+  return uni ? double(inter) / double(uni) : 0;
+}
+
+// Mean distance (pixels) of the model's joints from the confident sightings;
+// -1 without any.
+double JointDistance(const BodyModel& model, const std::vector<double>& dofs, const Camera& cam,
+                     const std::vector<JointSighting>& sightings) {
+  const std::vector<Eigen::Vector3d> joints = JointPositions(model.skeleton, dofs);
+  double sum = 0;
+  int n = 0;
+  for (const JointSighting& s : sightings) {
+    if (s.confidence < 0.5) continue;
+    Eigen::Vector2d p;
+    if (!ProjectPoint(cam, joints[s.joint], &p)) continue;
+    sum += (p - s.pixel).norm();
+    ++n;
+  }
+  return n ? sum / n : -1;
+}
+
+// How far the network's keypoints in camera `k` are from the others'
+// triangulated and projected into it (pixels): what any body that meets the
+// other cameras' keypoints can reach in the held-out one, calibration and
+// keypoint noise together; -1 without any.
+double KeypointAgreement(const std::vector<Camera>& cameras, uint32_t k,
+                         const std::vector<std::vector<JointSighting>>& sightings) {
+  std::map<std::string, std::map<uint32_t, Eigen::Vector2d>> points;
+  for (uint32_t c = 0; c < cameras.size(); ++c) {
+    if (c == k) continue;
+    for (const JointSighting& s : sightings[c]) {
+      if (s.confidence >= 0.5) points[GenericJointName(s.joint)][c] = s.pixel;
+    }
+  }
+  // A view off by over 20 pixels (2 % of a standing actor at 1080x1920) is
+  // left out where the others agree.
+  const auto world = TriangulateFeatures(points, cameras, 20.0);
+  double sum = 0;
+  int n = 0;
+  for (const JointSighting& s : sightings[k]) {
+    auto it = world.find(GenericJointName(s.joint));
+    Eigen::Vector2d p;
+    if (s.confidence < 0.5 || it == world.end() ||
+        !ProjectPoint(cameras[k], it->second.position, &p)) {
+      continue;
+    }
+    sum += (p - s.pixel).norm();
+    ++n;
+  }
+  return n ? sum / n : -1;
+}
+
+void Add(FitScore* s, double iou, double joint_px) {
+  s->iou += iou;
+  ++s->frames;
+  if (joint_px >= 0) s->joint_px += joint_px, ++s->joint_frames;
+}
+
+double Luma(const Image& im, size_t i) {
+  const uint8_t* p = &im.pixels[3 * i];
+  return 0.299 * p[0] + 0.587 * p[1] + 0.114 * p[2];
+}
+
+// PSNR (RGB) over the region's pixels, and SSIM (luma, 7x7 windows, the
+// usual constants) averaged over the windows centred in the region.
+void ScoreRender(const Image& real, const Image& render, const Image& region, RenderScore* s) {
+  double se = 0;
+  int64_t count = 0;
+  for (size_t i = 0; i < region.pixels.size(); ++i) {
+    if (!region.pixels[i]) continue;
+    for (int k = 0; k < 3; ++k) {
+      const double d = double(real.pixels[3 * i + k]) - render.pixels[3 * i + k];
+      se += d * d;
+    }
+    count += 3;
+  }
+  if (count == 0) return;
+  const double mse = std::max(se / double(count), 1e-10);
+  const double c1 = 6.5025, c2 = 58.5225;  // (0.01 * 255)^2, (0.03 * 255)^2
+  double ssim = 0;
+  int64_t windows = 0;
+  const int w = int(real.width), h = int(real.height), r = 3;
+  for (int y = r; y < h - r; y += 2) {
+    for (int x = r; x < w - r; x += 2) {
+      if (!region.pixels[size_t(y) * w + x]) continue;
+      double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
+      for (int dy = -r; dy <= r; ++dy) {
+        for (int dx = -r; dx <= r; ++dx) {
+          const size_t i = size_t(y + dy) * w + (x + dx);
+          const double a = Luma(real, i), b = Luma(render, i);
+          sa += a, sb += b, saa += a * a, sbb += b * b, sab += a * b;
+        }
+      }
+      const double n = (2 * r + 1) * (2 * r + 1);
+      const double ma = sa / n, mb = sb / n;
+      const double va = saa / n - ma * ma, vb = sbb / n - mb * mb, cov = sab / n - ma * mb;
+      ssim += (2 * ma * mb + c1) * (2 * cov + c2) / ((ma * ma + mb * mb + c1) * (va + vb + c2));
+      ++windows;
+    }
+  }
+  s->psnr += 10 * std::log10(255.0 * 255.0 / mse);
+  s->ssim += windows ? ssim / double(windows) : 0;
+  ++s->frames;
+}
+
+// The box around the non-zero pixels of the masks, grown by a tenth.
+struct Box {
+  int x0, y0, x1, y1;
+};
+Box ActorBox(const std::vector<const Image*>& masks) {
+  const Image& m0 = *masks[0];
+  Box b{int(m0.width), int(m0.height), -1, -1};
+  for (const Image* m : masks) {
+    for (uint32_t y = 0; y < m->height; ++y) {
+      for (uint32_t x = 0; x < m->width; ++x) {
+        if (!m->pixels[size_t(y) * m->width + x]) continue;
+        b.x0 = std::min(b.x0, int(x)), b.x1 = std::max(b.x1, int(x));
+        b.y0 = std::min(b.y0, int(y)), b.y1 = std::max(b.y1, int(y));
+      }
+    }
+  }
+  if (b.x1 < 0) return {0, 0, int(m0.width) - 1, int(m0.height) - 1};
+  const int gx = (b.x1 - b.x0) / 10 + 8, gy = (b.y1 - b.y0) / 10 + 8;
+  return {std::max(0, b.x0 - gx), std::max(0, b.y0 - gy), std::min(int(m0.width) - 1, b.x1 + gx),
+          std::min(int(m0.height) - 1, b.y1 + gy)};
+}
+
+// `image` (RGB) cropped to `box` and scaled to `height` rows (nearest).
+Image CropScaled(const Image& image, const Box& box, uint32_t height) {
+  const int bw = box.x1 - box.x0 + 1, bh = box.y1 - box.y0 + 1;
+  Image out;
+  out.height = height;
+  out.width = std::max<uint32_t>(1, uint32_t(std::lround(double(bw) * height / bh)));
+  out.channels = 3;
+  out.pixels.resize(size_t(out.width) * out.height * 3);
+  for (uint32_t y = 0; y < out.height; ++y) {
+    const int sy = box.y0 + std::min(bh - 1, int(y * bh / out.height));
+    for (uint32_t x = 0; x < out.width; ++x) {
+      const int sx = box.x0 + std::min(bw - 1, int(x * bw / out.width));
+      for (int k = 0; k < 3; ++k)
+        out.pixels[(size_t(y) * out.width + x) * 3 + k] =
+            image.pixels[(size_t(sy) * image.width + sx) * 3 + k];
+    }
+  }
+  return out;
+}
+
+// The frame with `mask` tinted red, or with the model and the mask drawn as
+// fvv track's overlays do (model only red, mask only blue).
+Image Tinted(const Image& frame, const Image& mask, const Image* model) {
+  Image out = frame;
+  for (size_t i = 0; i < mask.pixels.size(); ++i) {
+    uint8_t* p = &out.pixels[3 * i];
+    const bool s = mask.pixels[i] != 0;
+    if (!model) {
+      if (s) p[0] = uint8_t((p[0] + 255) / 2), p[1] /= 2, p[2] /= 2;
+      continue;
+    }
+    const bool m = model->pixels[i] != 0;
+    if (m == s) continue;
+    p[0] = m ? 255 : 0, p[1] = 0, p[2] = m ? 0 : 255;
+  }
+  return out;
+}
+
+int Fail(const Status& s) {
+  std::fprintf(stderr, "real_bench: %s\n", s.ToString().c_str());
+  return 1;
+}
+
+Status RunFvv(const Args& a, std::vector<std::string> args) {
+  args.insert(args.begin(), a.fvv);
+  int code = 0;
+  StatusOr<std::string> out = RunForOutput(args, &code);
+  if (!out.ok()) return out.status();
+  if (code != 0) {
+    std::string line;
+    for (const std::string& s : args) line += s + " ";
+    return IoError("'" + line + "' exited with " + std::to_string(code));
+  }
+  return Status::Ok();
+}
+
+std::string Absolute(const std::string& directory, const std::string& path) {
+  return path.empty() || path[0] == '/' ? path : directory + "/" + path;
+}
+
+// The capture without camera `k`, in `directory`, its sources by absolute path.
+Capture WithoutCamera(const Capture& full, uint32_t k, const std::string& directory) {
+  Capture c = full;
+  c.directory = directory;
+  c.cameras.erase(c.cameras.begin() + k);
+  for (CaptureCamera& cam : c.cameras) {
+    cam.frames.path = Absolute(full.directory, cam.frames.path);
+    if (cam.background) cam.background = Absolute(full.directory, *cam.background);
+    if (cam.silhouettes) cam.silhouettes->path = Absolute(full.directory, cam.silhouettes->path);
+  }
+  return c;
+}
+
+int Run(const Args& a) {
+  StatusOr<Capture> loaded = LoadCapture(a.capture);
+  if (!loaded.ok()) {
+    std::fprintf(stderr, "real_bench: %s\n", loaded.status().ToString().c_str());
+    return 1;
+  }
+  const Capture full = *loaded;
+  const uint32_t n = uint32_t(full.cameras.size());
+  const uint32_t first = a.first, last = std::min(a.last, full.frame_count - 1);
+  if (n < 3 || first > last) {
+    std::fprintf(stderr, "real_bench: needs 3 cameras or more and frames within the capture\n");
+    return 1;
+  }
+  const std::string models = a.models.empty() ? DefaultModelDirectory() : a.models;
+  StatusOr<std::unique_ptr<PersonObserver>> observer = PersonObserver::Load(models);
+  if (!observer.ok()) {
+    std::fprintf(stderr, "real_bench: %s (the person network scores the held-out cameras)\n",
+                 observer.status().ToString().c_str());
+    return 1;
+  }
+  if (Status s = MakeDirectories(a.out); !s.ok()) {
+    std::fprintf(stderr, "real_bench: %s\n", s.ToString().c_str());
+    return 1;
+  }
+  std::printf("real_bench: %s, %u cameras, frames %u..%u\n", full.directory.c_str(), n, first,
+              last);
+
+  // The network's masks and keypoints in every camera: the reference.
+  Reference ref;
+  {
+    ThreadPool pool(2);
+    StatusOr<std::unique_ptr<CaptureFrames>> frames =
+        CaptureFrames::Open(full, false, &pool, observer->get());
+    if (!frames.ok()) {
+      std::fprintf(stderr, "real_bench: %s\n", frames.status().ToString().c_str());
+      return 1;
+    }
+    for (uint32_t f = first; f <= last; ++f) {
+      std::vector<Image> sils;
+      if (Status s = (*frames)->Read(f, nullptr, &sils); !s.ok()) {
+        std::fprintf(stderr, "real_bench: %s\n", s.ToString().c_str());
+        return 1;
+      }
+      ref.masks.push_back(std::move(sils));
+      ref.sightings.push_back((*frames)->sightings());
+    }
+  }
+
+  std::vector<Camera> calibrations;
+  for (const CaptureCamera& c : full.cameras) calibrations.push_back(c.calibration);
+  if (a.offsets > 0) {
+    // Whether the cameras run in step: each camera's keypoints against the
+    // others' triangulated, with its frames shifted by d.
+    std::printf("keypoint agreement (pixels) with a camera's frames shifted by d\n%-8s", "camera");
+    for (int d = -a.offsets; d <= a.offsets; ++d) std::printf(" %6d", d);
+    std::printf("\n");
+    for (uint32_t k = 0; k < n; ++k) {
+      std::printf("%-8s", full.cameras[k].calibration.name.c_str());
+      for (int d = -a.offsets; d <= a.offsets; ++d) {
+        double sum = 0;
+        int count = 0;
+        for (int i = 0; i < int(ref.sightings.size()); ++i) {
+          if (i + d < 0 || i + d >= int(ref.sightings.size())) continue;
+          std::vector<std::vector<JointSighting>> s = ref.sightings[i];
+          s[k] = ref.sightings[i + d][k];
+          const double v = KeypointAgreement(calibrations, k, s);
+          if (v >= 0) sum += v, ++count;
+        }
+        std::printf(" %6.1f", count ? sum / count : -1.0);
+      }
+      std::printf("\n");
+    }
+    return 0;
+  }
+
+  nlohmann::json report;
+  report["capture"] = full.directory;
+  report["frames"] = {first, last};
+  std::vector<Image> sheet;
+  std::vector<FitScore> held(n), own(n);
+  std::vector<RenderScore> renderer2(n), renderer1(n);
+  struct Times {
+    double decode = 0, persons = 0, masks = 0, initialise = 0, fit = 0;
+  };
+  std::vector<Times> times(n);
+  for (uint32_t k = 0; k < n; ++k) {
+    const std::string name = full.cameras[k].calibration.name;
+    const std::string dir = a.out + "/without_" + name;
+    Capture part = WithoutCamera(full, k, dir);
+    if (Status s = MakeDirectories(dir); !s.ok()) return Fail(s);
+    if (Status s = SaveCapture(part); !s.ok()) return Fail(s);
+    TrackCaptureOptions o;
+    o.first = first, o.last = last;
+    o.persons = TrackCaptureOptions::Persons::kOn;
+    o.person_models = models;
+    std::printf("camera %s held out: tracking with the other %u\n", name.c_str(), n - 1);
+    std::fflush(stdout);
+    StatusOr<TrackCaptureResult> r = TrackCapture(dir, o);
+    if (!r.ok()) {
+      std::fprintf(stderr, "real_bench: %s\n", r.status().ToString().c_str());
+      return 1;
+    }
+    const std::string poses = dir + "/poses.json";
+    const std::string json = r->ToJson();
+    const Status written =
+        WriteFileAtomic(poses, reinterpret_cast<const uint8_t*>(json.data()), json.size());
+    if (!written.ok()) return Fail(written);
+    Times& t = times[k];
+    const double frames = double(last - first + 1);
+    t.decode = r->decode_seconds / frames;
+    t.persons = r->person_seconds / frames;
+    t.masks = (r->silhouette_seconds - r->decode_seconds - r->person_seconds) / frames;
+    t.initialise = r->fits.empty() ? 0 : r->first_fit_seconds;
+    t.fit = frames > 1 ? (r->fit_seconds - r->first_fit_seconds) / (frames - 1) : 0;
+    for (uint32_t f = first; f <= last; ++f) {
+      const double agreement = KeypointAgreement(calibrations, k, ref.sightings[f - first]);
+      if (agreement >= 0) held[k].agreement_px += agreement, ++held[k].agreement_frames;
+      const std::vector<double>& dofs = r->fits[f - first].dofs;
+      for (uint32_t c = 0; c < n; ++c) {
+        const Camera& cam = full.cameras[c].calibration;
+        const Image model = BodySilhouette(r->model, cam, dofs);
+        const double iou = Iou(model, ref.masks[f - first][c]);
+        const double px = JointDistance(r->model, dofs, cam, ref.sightings[f - first][c]);
+        Add(c == k ? &held[k] : &own[k], iou, px);
+      }
+    }
+    const FitScore& h = held[k];
+    std::printf(
+        "  held out: IoU %.3f, joints %.1f px (the others' keypoints %.1f px); used "
+        "cameras: IoU %.3f, joints %.1f px\n",
+        h.iou / h.frames, h.joint_frames ? h.joint_px / h.joint_frames : -1.0,
+        h.agreement_frames ? h.agreement_px / h.agreement_frames : -1.0, own[k].iou / own[k].frames,
+        own[k].joint_frames ? own[k].joint_px / own[k].joint_frames : -1.0);
+
+    const uint32_t render_last = std::min(last, first + std::max(1u, a.render_frames) - 1);
+    std::vector<Image> rendered2, rendered1;
+    if (a.render) {
+      const std::string range = std::to_string(first) + ":" + std::to_string(render_last);
+      const std::string stream = dir + "/stream.fvv";
+      std::printf("  encoding frames %s from the other cameras, rendering camera %s's view\n",
+                  range.c_str(), name.c_str());
+      std::fflush(stdout);
+      Status s =
+          RunFvv(a, {"encode", dir, "-o", stream, "--poses", poses, "--frames", range, "-q"});
+      const std::string out2 = dir + "/renderer2", out1 = dir + "/renderer1";
+      if (s.ok()) {
+        s = RunFvv(a, {"render", stream, "--cameras-from", full.directory, "--camera",
+                       std::to_string(k), "-o", out2});
+      }
+      if (s.ok()) {
+        s = RunFvv(a, {"render", dir, "--renderer", "projective", "--poses", poses,
+                       "--cameras-from", full.directory, "--camera", std::to_string(k), "--first",
+                       std::to_string(first), "--last", std::to_string(render_last), "-o", out1});
+      }
+      if (!s.ok()) {
+        std::fprintf(stderr, "real_bench: %s\n", s.ToString().c_str());
+        return 1;
+      }
+      CaptureReader reader(full);
+      for (uint32_t f = first; f <= render_last; ++f) {
+        StatusOr<Image> real = reader.ReadFrame(k, f);
+        char file[64];
+        // The stream numbers its frames from 0; Renderer I keeps the capture's.
+        std::snprintf(file, sizeof(file), "/render_f%05u.png", f - first);
+        StatusOr<Image> two = ReadImage(out2 + file);
+        std::snprintf(file, sizeof(file), "/render_f%05u.png", f);
+        StatusOr<Image> one = ReadImage(out1 + file);
+        if (!real.ok() || !two.ok() || !one.ok()) {
+          std::fprintf(stderr, "real_bench: frame %u of camera %s: %s\n", f, name.c_str(),
+                       (!real.ok()  ? real.status()
+                        : !two.ok() ? two.status()
+                                    : one.status())
+                           .ToString()
+                           .c_str());
+          return 1;
+        }
+        const Image& region = ref.masks[f - first][k];
+        ScoreRender(*real, *two, region, &renderer2[k]);
+        ScoreRender(*real, *one, region, &renderer1[k]);
+        if (f == first) rendered2.push_back(*two), rendered1.push_back(*one);
+      }
+      std::printf("  Renderer II: PSNR %.2f dB, SSIM %.3f; Renderer I: PSNR %.2f dB, SSIM %.3f\n",
+                  renderer2[k].psnr / renderer2[k].frames, renderer2[k].ssim / renderer2[k].frames,
+                  renderer1[k].psnr / renderer1[k].frames, renderer1[k].ssim / renderer1[k].frames);
+    }
+    // Contact sheet row: the real frame, the network's mask, the fitted
+    // model against it, Renderer I and Renderer II.
+    StatusOr<Image> real = CaptureReader(full).ReadFrame(k, first);
+    if (real.ok()) {
+      const Image& mask = ref.masks[0][k];
+      const Image model = BodySilhouette(r->model, full.cameras[k].calibration, r->fits[0].dofs);
+      const Box box = ActorBox({&mask, &model});
+      sheet.push_back(CropScaled(*real, box, 480));
+      sheet.push_back(CropScaled(Tinted(*real, mask, nullptr), box, 480));
+      sheet.push_back(CropScaled(Tinted(*real, mask, &model), box, 480));
+      for (const Image* im : {rendered1.empty() ? nullptr : &rendered1[0],
+                              rendered2.empty() ? nullptr : &rendered2[0]}) {
+        if (im) sheet.push_back(CropScaled(*im, box, 480));
+      }
+    }
+  }
+
+  // The table.
+  std::printf("\nleave one camera out, frames %u..%u (pixels at full resolution)\n", first, last);
+  std::printf("%-10s %8s %9s %9s %8s %9s %9s %8s %9s %8s\n", "held out", "IoU", "joints",
+              "kp agree", "own IoU", "own jts", "II PSNR", "II SSIM", "I PSNR", "I SSIM");
+  FitScore all_held, all_own;
+  RenderScore all2, all1;
+  nlohmann::json rows = nlohmann::json::array();
+  for (uint32_t k = 0; k < n; ++k) {
+    const FitScore &h = held[k], &w = own[k];
+    const double hj = h.joint_frames ? h.joint_px / h.joint_frames : -1;
+    const double wj = w.joint_frames ? w.joint_px / w.joint_frames : -1;
+    const double agree = h.agreement_frames ? h.agreement_px / h.agreement_frames : -1;
+    const RenderScore &r2 = renderer2[k], &r1 = renderer1[k];
+    auto mean = [](double v, int count) { return count ? v / count : 0.0; };
+    std::printf("%-10s %8.3f %9.1f %9.1f %8.3f %9.1f %9.2f %8.3f %9.2f %8.3f\n",
+                full.cameras[k].calibration.name.c_str(), h.iou / h.frames, hj, agree,
+                w.iou / w.frames, wj, mean(r2.psnr, r2.frames), mean(r2.ssim, r2.frames),
+                mean(r1.psnr, r1.frames), mean(r1.ssim, r1.frames));
+    rows.push_back({{"camera", full.cameras[k].calibration.name},
+                    {"held_out_iou", h.iou / h.frames},
+                    {"held_out_joint_px", hj},
+                    {"keypoint_agreement_px", agree},
+                    {"own_iou", w.iou / w.frames},
+                    {"own_joint_px", wj},
+                    {"renderer2_psnr", mean(r2.psnr, r2.frames)},
+                    {"renderer2_ssim", mean(r2.ssim, r2.frames)},
+                    {"renderer1_psnr", mean(r1.psnr, r1.frames)},
+                    {"renderer1_ssim", mean(r1.ssim, r1.frames)},
+                    {"seconds_per_frame",
+                     {{"decode", times[k].decode},
+                      {"person_network", times[k].persons},
+                      {"masks", times[k].masks},
+                      {"fit", times[k].fit},
+                      {"first_frame_fit", times[k].initialise}}}});
+    all_held.iou += h.iou / h.frames, all_held.joint_px += hj, all_held.agreement_px += agree;
+    all_own.iou += w.iou / w.frames, all_own.joint_px += wj;
+    all2.psnr += mean(r2.psnr, r2.frames), all2.ssim += mean(r2.ssim, r2.frames);
+    all1.psnr += mean(r1.psnr, r1.frames), all1.ssim += mean(r1.ssim, r1.frames);
+  }
+  std::printf("%-10s %8.3f %9.1f %9.1f %8.3f %9.1f %9.2f %8.3f %9.2f %8.3f\n", "mean",
+              all_held.iou / n, all_held.joint_px / n, all_held.agreement_px / n, all_own.iou / n,
+              all_own.joint_px / n, all2.psnr / n, all2.ssim / n, all1.psnr / n, all1.ssim / n);
+  std::printf("\nseconds per frame, %u cameras tracking (after the first frame)\n", n - 1);
+  std::printf("%-10s %8s %8s %8s %8s %8s %12s\n", "held out", "decode", "network", "masks", "fit",
+              "total", "first frame");
+  for (uint32_t k = 0; k < n; ++k) {
+    const Times& t = times[k];
+    std::printf("%-10s %8.2f %8.2f %8.2f %8.2f %8.2f %12.1f\n",
+                full.cameras[k].calibration.name.c_str(), t.decode, t.persons, t.masks, t.fit,
+                t.decode + t.persons + t.masks + t.fit, t.initialise);
+  }
+  report["cameras"] = rows;
+  const std::string text = report.dump(1) + "\n";
+  Status s = WriteFileAtomic(a.out + "/real_bench.json",
+                             reinterpret_cast<const uint8_t*>(text.data()), text.size());
+  if (s.ok() && !sheet.empty()) {
+    s = WritePng(a.out + "/contact_sheet.png", MakeContactSheet(sheet, a.render ? 5 : 3));
+  }
+  if (!s.ok()) {
+    std::fprintf(stderr, "real_bench: %s\n", s.ToString().c_str());
+    return 1;
+  }
+  std::printf(
+      "\nfigures: %s/real_bench.json; contact sheet (per held-out camera: frame, mask, "
+      "fitted model%s): %s/contact_sheet.png\n",
+      a.out.c_str(), a.render ? ", Renderer I, Renderer II" : "", a.out.c_str());
+  return 0;
+}
+
+int Usage(const char* self, int code) {
+  std::printf(
+      "usage: %s CAPTURE [--frames A:B] [--render-frames N] [--out DIR] [--fvv PATH]\n"
+      "       [--models DIR] [--no-render] [--sync-check N]\n"
+      "Leave-one-camera-out tracking and rendering on a real capture (bench/README.md).\n"
+      "  --frames A:B         frames to track (default 0:29)\n"
+      "  --render-frames N    frames from A to encode and render per held-out camera (default 4)\n"
+      "  --out DIR            where the figures, poses, streams and renders go (out/real_bench)\n"
+      "  --fvv PATH           the fvv program (default: tools/fvv/fvv beside this build's bench/)\n"
+      "  --models DIR         the person models (default: $FVV_MODEL_DIR or ~/.cache/fvv/models)\n"
+      "  --no-render          tracking figures only\n"
+      "  --sync-check N       instead: whether the cameras' frames are in step (each camera's\n"
+      "                       keypoints against the others', its frames shifted by -N..N)\n",
+      self);
+  return code;
+}
+
+}  // namespace
+}  // namespace fvv
+
+int main(int argc, char** argv) {
+  using namespace fvv;
+  KillChildrenOnTerminatingSignals();
+  Args a;
+  for (int i = 1; i < argc; ++i) {
+    const std::string s = argv[i];
+    auto value = [&]() -> const char* { return i + 1 < argc ? argv[++i] : nullptr; };
+    if (s == "-h" || s == "--help") return Usage(argv[0], 0);
+    if (s == "--frames") {
+      const char* v = value();
+      if (!v || std::sscanf(v, "%u:%u", &a.first, &a.last) != 2) return Usage(argv[0], 2);
+    } else if (s == "--render-frames") {
+      const char* v = value();
+      if (!v || std::sscanf(v, "%u", &a.render_frames) != 1) return Usage(argv[0], 2);
+    } else if (s == "--out" || s == "--fvv" || s == "--models") {
+      const char* v = value();
+      if (!v) return Usage(argv[0], 2);
+      (s == "--out" ? a.out : s == "--fvv" ? a.fvv : a.models) = v;
+    } else if (s == "--sync-check") {
+      const char* v = value();
+      if (!v || std::sscanf(v, "%d", &a.offsets) != 1 || a.offsets < 1) return Usage(argv[0], 2);
+    } else if (s == "--no-render") {
+      a.render = false;
+    } else if (a.capture.empty() && s[0] != '-') {
+      a.capture = s;
+    } else {
+      return Usage(argv[0], 2);
+    }
+  }
+  if (a.capture.empty()) return Usage(argv[0], 2);
+  if (a.fvv.empty()) {
+    // This program lives in BUILD/bench/; the CLI in BUILD/tools/fvv/.
+    const std::string self = argv[0];
+    const size_t slash = self.rfind('/');
+    a.fvv = (slash == std::string::npos ? std::string(".") : self.substr(0, slash)) +
+            "/../tools/fvv/fvv";
+  }
+  return Run(a);
+}

@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# The real-footage benchmark (bench/README.md): imports the real capture's
+# Qualisys calibration and videos, then runs build/bench/real_bench on it
+# (leave one camera out: tracking, Renderer II and Renderer I on the held-out
+# view). Usage: bench/run_real_bench.sh [FRAMES A:B] [RENDER_FRAMES N]
+# Needs the person models (tools/setup.sh fetches them) and a Release build in build/.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+real=../shared/data/real/pose2sim_single
+if [ ! -d "$real" ]; then
+  echo "run_real_bench: no real capture at $real (see ../shared/data/README.md)" >&2
+  exit 1
+fi
+frames=${1:-0:29}
+render_frames=${2:-4}
+out=out/real_bench
+mkdir -p "$out"
+build/tools/fvv/fvv capture import-calib "$real/calibration/Calib.qca.txt" -o "$out/capture" \
+  --video "$(cd "$real/videos" && pwd)/{camera}.mp4" --up z
+build/bench/real_bench "$out/capture" --frames "$frames" --render-frames "$render_frames" \
+  --out "$out" --fvv build/tools/fvv/fvv
