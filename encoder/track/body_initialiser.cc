@@ -427,7 +427,7 @@ StatusOr<std::vector<double>> BodyInitialiser::Initialise(const std::vector<Imag
   actor_height_ = height;
   BodyShape shape;
   std::vector<double> best, placed;
-  placed_by_sightings_ = !getenv("NOPLACE") && PlaceBySightings(&placed);
+  placed_by_sightings_ = PlaceBySightings(&placed);
   const std::vector<double>* start = placed_by_sightings_ ? &placed : nullptr;
   // The generic body's proportions at the actor's size first. An actor they
   // do not fit (a cartoon character's large head and short legs) is fitted
@@ -475,15 +475,6 @@ bool BodyInitialiser::PlaceBySightings(std::vector<double>* dofs) {
   ro.fit_shape = false;
   StatusOr<Registration> reg = RegisterSkeleton(joints, InitialShape(), {}, ro);
   if (!reg.ok()) return false;
-  if (getenv("DBG")) {
-    fprintf(stderr, "reg: %d joints rms %.3f m init %.3f\n", reg->joints, reg->rms_m,
-            reg->initial_rms_m);
-    for (auto& [n, f] : joints)
-      fprintf(stderr, "  %s views %d rms %.1f px  %.3f %.3f %.3f\n", n.c_str(), f.views, f.rms_px,
-              f.position.x(), f.position.y(), f.position.z());
-    for (int d = 0; d < 6; ++d) fprintf(stderr, " root%d %.3f", d, reg->dofs[fit_.Dof(kRoot, d)]);
-    fprintf(stderr, "\n");
-  }
   *dofs = reg->dofs;
   for (size_t d = 0; d < dofs->size(); ++d)
     (*dofs)[d] = std::clamp((*dofs)[d], fit_.lo[d], fit_.hi[d]);

@@ -69,7 +69,6 @@ StatusOr<std::unique_ptr<Tracker>> Tracker::Create(std::vector<Camera> cameras,
 StatusOr<FrameFit> Tracker::Initialise(const std::vector<Image>& silhouettes,
                                        const std::vector<std::vector<JointSighting>>& sightings) {
   PoseFitter& f = impl_->fitter;
-  if (getenv("KW")) f.options.keypoint_weight = atof(getenv("KW"));
   // The working resolution from the actor's size: enough pixels across the
   // body for the XOR to place a limb, no more.
   if (silhouettes.size() == f.cameras.size()) {
