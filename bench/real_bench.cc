@@ -29,14 +29,13 @@
 #include <vector>
 
 #include "codec/base/thread_pool.h"
-#include "encoder/body/generic_body.h"
 #include "encoder/body/kinematics.h"
 #include "encoder/capture/calibration.h"
 #include "encoder/capture/capture.h"
 #include "encoder/io/child_process.h"
 #include "encoder/io/image_io.h"
+#include "encoder/track/camera_sync.h"
 #include "encoder/track/capture_frames.h"
-#include "encoder/track/features.h"
 #include "encoder/track/person_observer.h"
 #include "encoder/track/track_capture.h"
 
@@ -47,7 +46,6 @@ struct Args {
   std::string capture, out = "out/real_bench", fvv, models;
   uint32_t first = 0, last = 29;
   uint32_t render_frames = 4;
-  int offsets = 0;  // --sync-check N
   bool render = true;
 };
 
@@ -89,37 +87,6 @@ double JointDistance(const BodyModel& model, const std::vector<double>& dofs, co
     if (s.confidence < 0.5) continue;
     Eigen::Vector2d p;
     if (!ProjectPoint(cam, joints[s.joint], &p)) continue;
-    sum += (p - s.pixel).norm();
-    ++n;
-  }
-  return n ? sum / n : -1;
-}
-
-// How far the network's keypoints in camera `k` are from the others'
-// triangulated and projected into it (pixels): what any body that meets the
-// other cameras' keypoints can reach in the held-out one, calibration and
-// keypoint noise together; -1 without any.
-double KeypointAgreement(const std::vector<Camera>& cameras, uint32_t k,
-                         const std::vector<std::vector<JointSighting>>& sightings) {
-  std::map<std::string, std::map<uint32_t, Eigen::Vector2d>> points;
-  for (uint32_t c = 0; c < cameras.size(); ++c) {
-    if (c == k) continue;
-    for (const JointSighting& s : sightings[c]) {
-      if (s.confidence >= 0.5) points[GenericJointName(s.joint)][c] = s.pixel;
-    }
-  }
-  // A view off by over 20 pixels (2 % of a standing actor at 1080x1920) is
-  // left out where the others agree.
-  const auto world = TriangulateFeatures(points, cameras, 20.0);
-  double sum = 0;
-  int n = 0;
-  for (const JointSighting& s : sightings[k]) {
-    auto it = world.find(GenericJointName(s.joint));
-    Eigen::Vector2d p;
-    if (s.confidence < 0.5 || it == world.end() ||
-        !ProjectPoint(cameras[k], it->second.position, &p)) {
-      continue;
-    }
     sum += (p - s.pixel).norm();
     ++n;
   }
@@ -324,31 +291,6 @@ int Run(const Args& a) {
 
   std::vector<Camera> calibrations;
   for (const CaptureCamera& c : full.cameras) calibrations.push_back(c.calibration);
-  if (a.offsets > 0) {
-    // Whether the cameras run in step: each camera's keypoints against the
-    // others' triangulated, with its frames shifted by d.
-    std::printf("keypoint agreement (pixels) with a camera's frames shifted by d\n%-8s", "camera");
-    for (int d = -a.offsets; d <= a.offsets; ++d) std::printf(" %6d", d);
-    std::printf("\n");
-    for (uint32_t k = 0; k < n; ++k) {
-      std::printf("%-8s", full.cameras[k].calibration.name.c_str());
-      for (int d = -a.offsets; d <= a.offsets; ++d) {
-        double sum = 0;
-        int count = 0;
-        for (int i = 0; i < int(ref.sightings.size()); ++i) {
-          if (i + d < 0 || i + d >= int(ref.sightings.size())) continue;
-          std::vector<std::vector<JointSighting>> s = ref.sightings[i];
-          s[k] = ref.sightings[i + d][k];
-          const double v = KeypointAgreement(calibrations, k, s);
-          if (v >= 0) sum += v, ++count;
-        }
-        std::printf(" %6.1f", count ? sum / count : -1.0);
-      }
-      std::printf("\n");
-    }
-    return 0;
-  }
-
   nlohmann::json report;
   report["capture"] = full.directory;
   report["frames"] = {first, last};
@@ -389,7 +331,7 @@ int Run(const Args& a) {
     t.initialise = r->fits.empty() ? 0 : r->first_fit_seconds;
     t.fit = frames > 1 ? (r->fit_seconds - r->first_fit_seconds) / (frames - 1) : 0;
     for (uint32_t f = first; f <= last; ++f) {
-      const double agreement = KeypointAgreement(calibrations, k, ref.sightings[f - first]);
+      const double agreement = KeypointAgreement(calibrations, k, ref.sightings[f - first], 20.0);
       if (agreement >= 0) held[k].agreement_px += agreement, ++held[k].agreement_frames;
       const std::vector<double>& dofs = r->fits[f - first].dofs;
       for (uint32_t c = 0; c < n; ++c) {
@@ -548,16 +490,14 @@ int Run(const Args& a) {
 int Usage(const char* self, int code) {
   std::printf(
       "usage: %s CAPTURE [--frames A:B] [--render-frames N] [--out DIR] [--fvv PATH]\n"
-      "       [--models DIR] [--no-render] [--sync-check N]\n"
+      "       [--models DIR] [--no-render]\n"
       "Leave-one-camera-out tracking and rendering on a real capture (bench/README.md).\n"
       "  --frames A:B         frames to track (default 0:29)\n"
       "  --render-frames N    frames from A to encode and render per held-out camera (default 4)\n"
       "  --out DIR            where the figures, poses, streams and renders go (out/real_bench)\n"
       "  --fvv PATH           the fvv program (default: tools/fvv/fvv beside this build's bench/)\n"
       "  --models DIR         the person models (default: $FVV_MODEL_DIR or ~/.cache/fvv/models)\n"
-      "  --no-render          tracking figures only\n"
-      "  --sync-check N       instead: whether the cameras' frames are in step (each camera's\n"
-      "                       keypoints against the others', its frames shifted by -N..N)\n",
+      "  --no-render          tracking figures only\n",
       self);
   return code;
 }
@@ -583,9 +523,6 @@ int main(int argc, char** argv) {
       const char* v = value();
       if (!v) return Usage(argv[0], 2);
       (s == "--out" ? a.out : s == "--fvv" ? a.fvv : a.models) = v;
-    } else if (s == "--sync-check") {
-      const char* v = value();
-      if (!v || std::sscanf(v, "%d", &a.offsets) != 1 || a.offsets < 1) return Usage(argv[0], 2);
     } else if (s == "--no-render") {
       a.render = false;
     } else if (a.capture.empty() && s[0] != '-') {

@@ -15,6 +15,7 @@
 #include "encoder/body/generic_body.h"
 #include "encoder/capture/capture.h"
 #include "encoder/capture/video_reader.h"
+#include "encoder/track/camera_sync.h"
 #include "encoder/track/capture_frames.h"
 #include "encoder/track/features.h"
 #include "encoder/track/joint_truth.h"
@@ -261,6 +262,45 @@ TEST(PersonObserverReal, FindsThePersonOnTheTreadmill) {
   const double share = double(area) / seen->mask.pixels.size();
   EXPECT_GT(share, 0.03);
   EXPECT_LT(share, 0.3);
+}
+
+// A camera that started recording 3 frames late (its frame f is the others'
+// f + 3): fvv capture sync's estimate skips 3 frames of every other camera,
+// and the cameras then agree better than as recorded.
+TEST(CameraSync, FindsTheCameraThatStartedLate) {
+  std::string reason;
+  std::unique_ptr<PersonObserver> observer = LoadOrSkipReason(&reason);
+  if (!observer) GTEST_SKIP() << "person models unavailable: " << reason;
+  SynthOptions s;
+  s.output_dir = ::testing::TempDir() + "/camera_sync_" + std::to_string(getpid());
+  std::system(("rm -rf '" + s.output_dir + "'").c_str());
+  s.cameras = 4;
+  s.frames = 33;
+  s.held_out = 0;
+  s.texture_size = 256;
+  ASSERT_TRUE(RunSynth(s).ok());
+  StatusOr<Capture> cap = LoadCapture(s.output_dir);
+  ASSERT_TRUE(cap.ok()) << cap.status().ToString();
+  cap->cameras[2].frames.first = 3;
+  cap->frame_count = 30;
+  FrameOffsetOptions o;
+  o.first = 0;
+  o.last = 29;
+  o.max_offset = 3;
+  StatusOr<FrameOffsets> r = EstimateFrameOffsets(*cap, observer.get(), o);
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  EXPECT_EQ(r->offsets, (std::vector<int>{3, 3, 0, 3}));
+  for (size_t c = 0; c < 4; ++c) {
+    std::printf("camera %zu: offset %d, keypoints %.1f px as recorded, %.1f px in step\n", c,
+                r->offsets[c], r->before_px[c], r->after_px[c]);
+  }
+  EXPECT_LT(r->after_px[2], r->before_px[2]);
+  // Too few frames for the offsets asked: refused with a message.
+  o.last = 5;
+  StatusOr<FrameOffsets> few = EstimateFrameOffsets(*cap, observer.get(), o);
+  ASSERT_FALSE(few.ok());
+  EXPECT_NE(few.status().message().find("too few"), std::string::npos);
+  std::system(("rm -rf '" + s.output_dir + "'").c_str());
 }
 
 }  // namespace

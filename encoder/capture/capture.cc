@@ -110,7 +110,6 @@ Status ParseSource(const json& j, const Where& w, FrameSource* out) {
         j["first"].get<int64_t>() > 1000000000) {
       return w.Child("first").Bad("expected an integer in 0..1e9");
     }
-    if (!images) return w.Child("first").Bad("only image sequences have a first frame number");
     out->first = j["first"].get<int64_t>();
   }
   return Status::Ok();
@@ -123,6 +122,7 @@ json SourceToJson(const FrameSource& s) {
     j["first"] = s.first;
   } else {
     j["video"] = s.path;
+    if (s.first) j["first"] = s.first;
   }
   return j;
 }
@@ -391,7 +391,10 @@ StatusOr<Image> CaptureReader::Read(uint32_t camera, const FrameSource& source, 
   if (source.kind == FrameSource::Kind::kVideo) {
     std::unique_ptr<VideoReader>& reader =
         channels == 1 ? videos_[camera]->silhouettes : videos_[camera]->frames;
-    if (!reader || reader->next_index() > frame) {
+    // The video's own frame: `first` frames are skipped (a camera that
+    // started recording early).
+    const uint64_t wanted = uint64_t(source.first) + frame;
+    if (!reader || reader->next_index() > wanted) {
       reader.reset();
       StatusOr<std::unique_ptr<VideoReader>> opened =
           VideoReader::Open(FramePath(capture_, source, frame), cal.width, cal.height, channels);
@@ -405,7 +408,7 @@ StatusOr<Image> CaptureReader::Read(uint32_t camera, const FrameSource& source, 
         reader.reset();
         return Status(next.status().code(), label + ": " + next.status().message());
       }
-      if (reader->next_index() == frame + 1) {
+      if (reader->next_index() == wanted + 1) {
         image = std::move(*next);
         break;
       }

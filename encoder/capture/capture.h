@@ -23,7 +23,9 @@ struct FrameSource {
   enum class Kind { kImages, kVideo } kind = Kind::kImages;
   // kImages: a printf-style pattern with one integer conversion (%d, %06d),
   // relative to the capture directory; frame f is file pattern % (first + f).
-  // kVideo: a video file, decoded with ffmpeg; frame f is its f-th frame.
+  // kVideo: a video file, decoded with ffmpeg; frame f is its (first + f)-th
+  // frame (counting from 0: `first` frames are skipped, a camera that started
+  // recording early; fvv capture sync measures it).
   std::string path;
   int64_t first = 0;
 };

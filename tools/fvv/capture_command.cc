@@ -15,8 +15,10 @@
 #include "encoder/capture/video_reader.h"
 #include "encoder/io/image_io.h"
 #include "encoder/shape/visual_hull.h"
+#include "encoder/track/camera_sync.h"
 #include "encoder/track/capture_frames.h"
 #include "encoder/track/person_observer.h"
+#include "tools/fvv/frame_range.h"
 #include "tools/fvv/register_command.h"
 #include "tools/synth/synth.h"
 
@@ -271,6 +273,66 @@ int RunImportCalib(const ImportArgs& a) {
 
 }  // namespace
 
+struct SyncArgs {
+  std::string capture, frames = "0:59", models;
+  int max_offset = 8;
+  bool write = false;
+};
+
+int RunSync(const SyncArgs& a) {
+  StatusOr<Capture> cap = LoadCapture(a.capture);
+  if (!cap.ok()) return Fail(cap.status());
+  FrameOffsetOptions o;
+  if (Status s = ParseFrameRange(a.frames, &o.first, &o.last); !s.ok()) return Fail(s);
+  o.max_offset = a.max_offset;
+  o.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+  StatusOr<std::unique_ptr<PersonObserver>> observer =
+      PersonObserver::Load(a.models.empty() ? DefaultModelDirectory() : a.models);
+  if (!observer.ok()) {
+    return Fail(Status(observer.status().code(),
+                       "sync needs the person network: " + observer.status().message()));
+  }
+  StatusOr<FrameOffsets> r = EstimateFrameOffsets(*cap, observer->get(), o);
+  if (!r.ok()) return Fail(r.status());
+  std::printf(
+      "frame offsets of %s (%u frames compared; keypoints against the other cameras', "
+      "pixels):\n",
+      cap->directory.c_str(), r->frames);
+  std::printf("  %-12s %8s %12s %12s\n", "camera", "offset", "as recorded", "in step");
+  int most = 0;
+  for (size_t c = 0; c < cap->cameras.size(); ++c) {
+    std::printf("  %-12s %8d %12.1f %12.1f\n", cap->cameras[c].calibration.name.c_str(),
+                r->offsets[c], r->before_px[c], r->after_px[c]);
+    most = std::max(most, r->offsets[c]);
+  }
+  if (most == 0) {
+    std::printf("the cameras run in step\n");
+    return 0;
+  }
+  if (!a.write) {
+    std::printf(
+        "(--write skips these frames at the start of each camera's recording in "
+        "capture.json)\n");
+    return 0;
+  }
+  Capture out = *cap;
+  for (size_t c = 0; c < out.cameras.size(); ++c) {
+    out.cameras[c].frames.first += r->offsets[c];
+    if (out.cameras[c].silhouettes) out.cameras[c].silhouettes->first += r->offsets[c];
+  }
+  if (out.frame_count <= uint32_t(most)) {
+    return Fail(InvalidArgument("sync: offsets of up to " + std::to_string(most) +
+                                " frames leave no frame of the capture"));
+  }
+  out.frame_count -= uint32_t(most);
+  if (Status s = SaveCapture(out); !s.ok()) return Fail(s);
+  std::printf(
+      "wrote %s/capture.json: each camera's frames start later by its offset; %u frames "
+      "(was %u)\n",
+      out.directory.c_str(), out.frame_count, cap->frame_count);
+  return 0;
+}
+
 struct HullArgs {
   std::string capture, output;
   uint32_t frame = 0;
@@ -369,8 +431,8 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
 
   CLI::App* cap = app->add_subcommand(
       "capture",
-      "Capture directories: check, contact sheet, calibration import, visual hull, registration "
-      "from feature points");
+      "Capture directories: check, contact sheet, calibration import, frame sync, visual hull, "
+      "registration from feature points");
   cap->require_subcommand(1);
   auto check_path = std::make_shared<std::string>();
   CLI::App* check =
@@ -390,6 +452,26 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
   sh->add_option("--models", sheet->models,
                  "Directory of the person models (default: $FVV_MODEL_DIR or ~/.cache/fvv/models)");
   sh->callback([sheet, exit_code] { *exit_code = RunSheet(*sheet); });
+
+  auto sync = std::make_shared<SyncArgs>();
+  CLI::App* sy = cap->add_subcommand(
+      "sync",
+      "Whether the cameras run in step: frame offsets from the person network's body keypoints "
+      "(each camera against the others, shifted by whole frames); --write stores them");
+  sy->add_option("capture", sync->capture, "Capture directory or capture.json")->required();
+  sy->add_option("--frames", sync->frames,
+                 "Frames compared A:B (a span where the actor moves; at least 2 x "
+                 "--max-offset + 2)")
+      ->capture_default_str();
+  sy->add_option("--max-offset", sync->max_offset, "Largest offset looked for, frames")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000));
+  sy->add_flag("--write", sync->write,
+               "Write the offsets into capture.json (each camera's frames 'first'; the frame "
+               "count shrinks by the largest)");
+  sy->add_option("--models", sync->models,
+                 "Directory of the person models (default: $FVV_MODEL_DIR or ~/.cache/fvv/models)");
+  sy->callback([sync, exit_code] { *exit_code = RunSync(*sync); });
 
   auto imp = std::make_shared<ImportArgs>();
   CLI::App* ic = cap->add_subcommand(

@@ -1,0 +1,55 @@
+// Whether a capture's cameras run in step, and by how many frames each is
+// off: cameras started by hand, or by a trigger some missed, record the same
+// moment as different frame numbers, and a moving actor then lies in
+// different places in different cameras. The person network's body keypoints
+// in every camera over a span of frames are compared with the other cameras'
+// keypoints, triangulated and projected into it; each camera's frames are
+// shifted by whole frames until the cameras agree best (coordinate descent
+// over the offsets, the sum over cameras as the objective).
+#ifndef FVV_ENCODER_TRACK_CAMERA_SYNC_H_
+#define FVV_ENCODER_TRACK_CAMERA_SYNC_H_
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "codec/base/status.h"
+#include "container/cameras.h"
+#include "encoder/capture/capture.h"
+#include "encoder/track/joint_sighting.h"
+#include "encoder/track/person_observer.h"
+
+namespace fvv {
+
+// How far (pixels) camera `k`'s confident sightings lie from the other
+// cameras' sightings triangulated (a view off by more than `tolerance_px`
+// left out where the rest agree) and projected into camera k: what any body
+// meeting the other cameras' keypoints reaches in camera k, keypoint noise and
+// calibration together. -1 when nothing is seen in camera k and two others.
+double KeypointAgreement(const std::vector<Camera>& cameras, uint32_t k,
+                         const std::vector<std::vector<JointSighting>>& sightings,
+                         double tolerance_px);
+
+struct FrameOffsets {
+  // Per camera: frames to skip at the start of its recording (added to its
+  // frames' `first`), the smallest 0.
+  std::vector<int> offsets;
+  // Per camera: KeypointAgreement's median over the span, as the capture is
+  // and with the offsets.
+  std::vector<double> before_px, after_px;
+  uint32_t frames = 0;  // frames compared
+};
+
+struct FrameOffsetOptions {
+  uint32_t first = 0, last = 59;  // the span compared (clamped to the capture)
+  int max_offset = 8;             // frames either way
+  double tolerance_px = 20;       // KeypointAgreement's
+  std::function<void(const std::string&)> progress;
+};
+
+StatusOr<FrameOffsets> EstimateFrameOffsets(const Capture& capture, PersonObserver* observer,
+                                            const FrameOffsetOptions& options);
+
+}  // namespace fvv
+
+#endif  // FVV_ENCODER_TRACK_CAMERA_SYNC_H_
