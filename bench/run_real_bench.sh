@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The real-footage benchmark (bench/README.md): imports the real capture's
-# Qualisys calibration and videos, then runs build/bench/real_bench on it
+# Qualisys calibration and videos, brings the cameras in step (fvv capture
+# sync), then runs build/bench/real_bench on it
 # (leave one camera out: tracking, Renderer II and Renderer I on the held-out
 # view). Usage: bench/run_real_bench.sh [FRAMES A:B] [RENDER_FRAMES N]
 # Needs the person models (tools/setup.sh fetches them) and a Release build in build/.
@@ -17,5 +18,7 @@ out=out/real_bench
 mkdir -p "$out"
 build/tools/fvv/fvv capture import-calib "$real/calibration/Calib.qca.txt" -o "$out/capture" \
   --video "$(cd "$real/videos" && pwd)/{camera}.mp4" --up z
+# The cameras were not started together: skip each one's early frames.
+build/tools/fvv/fvv capture sync "$out/capture" --write
 build/bench/real_bench "$out/capture" --frames "$frames" --render-frames "$render_frames" \
   --out "$out" --fvv build/tools/fvv/fvv

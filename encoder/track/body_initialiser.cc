@@ -228,7 +228,7 @@ std::vector<double> BodyInitialiser::InitialiseScaled(const Vector3d& centre,
     }
     const double v = fit_.EvaluateBody(p);
     if (v < best_value) best_value = v, best = p;
-    if (fit_.options.adapt_shape) {
+    if (fit_.options.adapt_shape && k + 1 < starts.size()) {
       // The next start begins from the same shape estimate as the first.
       fit_.shape = first_guess;
       fit_.BuildModel();
