@@ -15,7 +15,7 @@ fi
 frames=${1:-0:29}
 render_frames=${2:-4}
 out=out/real_bench
-mkdir -p "$out"
+mkdir -p "$out/capture"
 build/tools/fvv/fvv capture import-calib "$real/calibration/Calib.qca.txt" -o "$out/capture" \
   --video "$(cd "$real/videos" && pwd)/{camera}.mp4" --up z
 # The cameras were not started together: skip each one's early frames.

@@ -2,10 +2,11 @@
 // off: cameras started by hand, or by a trigger some missed, record the same
 // moment as different frame numbers, and a moving actor then lies in
 // different places in different cameras. The person network's body keypoints
-// in every camera over a span of frames are compared with the other cameras'
-// keypoints, triangulated and projected into it; each camera's frames are
-// shifted by whole frames until the cameras agree best (coordinate descent
-// over the offsets, the sum over cameras as the objective).
+// in every camera over a span of frames become rays; for each pair of cameras
+// and each shift of one's frames against the other's, the median over frames
+// of how far apart the two cameras' rays to the same joint pass (in pixels).
+// The offsets are those whose pairs' shifts sum to the least (every
+// combination for up to 2 million, else coordinate descent).
 #ifndef FVV_ENCODER_TRACK_CAMERA_SYNC_H_
 #define FVV_ENCODER_TRACK_CAMERA_SYNC_H_
 
