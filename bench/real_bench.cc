@@ -15,7 +15,7 @@
 // OUT/real_bench.json.
 //
 //   build/bench/real_bench CAPTURE [--frames A:B] [--render-frames N] [--out DIR]
-//                          [--fvv PATH] [--models DIR] [--no-render]
+//                          [--fvv PATH] [--models DIR] [--held-out NAME] [--no-render]
 //
 // CAPTURE: an imported capture (bench/run_real_bench.sh imports
 // ../shared/data/real/pose2sim_single and runs this).
@@ -44,6 +44,7 @@ namespace {
 
 struct Args {
   std::string capture, out = "out/real_bench", fvv, models;
+  std::string held_out;  // one camera's name: only that one held out
   uint32_t first = 0, last = 29;
   uint32_t render_frames = 4;
   bool render = true;
@@ -301,7 +302,15 @@ int Run(const Args& a) {
     double decode = 0, persons = 0, masks = 0, initialise = 0, fit = 0;
   };
   std::vector<Times> times(n);
+  std::vector<uint32_t> scored;
   for (uint32_t k = 0; k < n; ++k) {
+    if (a.held_out.empty() || full.cameras[k].calibration.name == a.held_out) scored.push_back(k);
+  }
+  if (scored.empty()) {
+    std::fprintf(stderr, "real_bench: --held-out %s: no such camera\n", a.held_out.c_str());
+    return 1;
+  }
+  for (uint32_t k : scored) {
     const std::string name = full.cameras[k].calibration.name;
     const std::string dir = a.out + "/without_" + name;
     Capture part = WithoutCamera(full, k, dir);
@@ -425,7 +434,7 @@ int Run(const Args& a) {
   FitScore all_held, all_own;
   RenderScore all2, all1;
   nlohmann::json rows = nlohmann::json::array();
-  for (uint32_t k = 0; k < n; ++k) {
+  for (uint32_t k : scored) {
     const FitScore &h = held[k], &w = own[k];
     const double hj = h.joint_frames ? h.joint_px / h.joint_frames : -1;
     const double wj = w.joint_frames ? w.joint_px / w.joint_frames : -1;
@@ -457,13 +466,15 @@ int Run(const Args& a) {
     all2.psnr += mean(r2.psnr, r2.frames), all2.ssim += mean(r2.ssim, r2.frames);
     all1.psnr += mean(r1.psnr, r1.frames), all1.ssim += mean(r1.ssim, r1.frames);
   }
+  const double count = double(scored.size());
   std::printf("%-10s %8.3f %9.1f %9.1f %8.3f %9.1f %9.2f %8.3f %9.2f %8.3f\n", "mean",
-              all_held.iou / n, all_held.joint_px / n, all_held.agreement_px / n, all_own.iou / n,
-              all_own.joint_px / n, all2.psnr / n, all2.ssim / n, all1.psnr / n, all1.ssim / n);
+              all_held.iou / count, all_held.joint_px / count, all_held.agreement_px / count,
+              all_own.iou / count, all_own.joint_px / count, all2.psnr / count, all2.ssim / count,
+              all1.psnr / count, all1.ssim / count);
   std::printf("\nseconds per frame, %u cameras tracking (after the first frame)\n", n - 1);
   std::printf("%-10s %8s %8s %8s %8s %8s %12s\n", "held out", "decode", "network", "masks", "fit",
               "total", "first frame");
-  for (uint32_t k = 0; k < n; ++k) {
+  for (uint32_t k : scored) {
     const Times& t = times[k];
     std::printf("%-10s %8.2f %8.2f %8.2f %8.2f %8.2f %12.1f\n",
                 full.cameras[k].calibration.name.c_str(), t.decode, t.persons, t.masks, t.fit,
@@ -490,13 +501,14 @@ int Run(const Args& a) {
 int Usage(const char* self, int code) {
   std::printf(
       "usage: %s CAPTURE [--frames A:B] [--render-frames N] [--out DIR] [--fvv PATH]\n"
-      "       [--models DIR] [--no-render]\n"
+      "       [--models DIR] [--held-out NAME] [--no-render]\n"
       "Leave-one-camera-out tracking and rendering on a real capture (bench/README.md).\n"
       "  --frames A:B         frames to track (default 0:29)\n"
       "  --render-frames N    frames from A to encode and render per held-out camera (default 4)\n"
       "  --out DIR            where the figures, poses, streams and renders go (out/real_bench)\n"
       "  --fvv PATH           the fvv program (default: tools/fvv/fvv beside this build's bench/)\n"
       "  --models DIR         the person models (default: $FVV_MODEL_DIR or ~/.cache/fvv/models)\n"
+      "  --held-out NAME      hold out this camera only (default: each in turn)\n"
       "  --no-render          tracking figures only\n",
       self);
   return code;
@@ -523,6 +535,10 @@ int main(int argc, char** argv) {
       const char* v = value();
       if (!v) return Usage(argv[0], 2);
       (s == "--out" ? a.out : s == "--fvv" ? a.fvv : a.models) = v;
+    } else if (s == "--held-out") {
+      const char* v = value();
+      if (!v) return Usage(argv[0], 2);
+      a.held_out = v;
     } else if (s == "--no-render") {
       a.render = false;
     } else if (a.capture.empty() && s[0] != '-') {

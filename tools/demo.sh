@@ -6,14 +6,16 @@
 # .fvv stream (texture atlas, multi-view resampling, 4D-SPIHT textures, masks,
 # motion) and prints the encoder's summary; inspects, decodes and renders the
 # stream with Renderer II and the capture itself with Renderer I (projective
-# texturing); prints figures and outputs.
+# texturing); on the real capture in ../shared/data (where present) imports the
+# studio calibration, brings the cameras in step, and tracks, encodes and renders
+# one camera held out; prints figures and outputs.
 # Usage: tools/demo.sh [output dir, default out/demo]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-out/demo}
 ./tools/setup.sh
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build -j2 --target fvv shape_bench
+cmake --build build -j2 --target fvv shape_bench real_bench
 fvv=build/tools/fvv/fvv
 rm -rf "$out" && mkdir -p "$out"
 echo "== the sample capture: 8 cameras at 640x480, 50 frames, with ground truth"
@@ -68,8 +70,16 @@ if [ -d "$real" ]; then
   $fvv capture sheet "$out/real" --frame 50 -o "$out/real_sheet.png"
   # The person the pretrained network sees in each camera (masks and keypoints),
   # where this build has OpenCV's dnn module and tools/setup.sh fetched the models.
-  $fvv capture sheet "$out/real" --frame 50 --persons -o "$out/real_persons.png" ||
-    echo "  (no person models: fvv falls back to background subtraction)"
+  if $fvv capture sheet "$out/real" --frame 50 --persons -o "$out/real_persons.png"; then
+    echo "== the real capture in step: its cameras started a few frames apart (fvv capture sync)"
+    $fvv capture sync "$out/real" --write
+    echo "== camera cam02 held out: tracked from the other three on person masks and keypoints, encoded,"
+    echo "   and its view rendered with Renderer II and Renderer I against the real frames"
+    build/bench/real_bench "$out/real" --frames 0:11 --render-frames 2 --held-out cam02 \
+      --out "$out/real_heldout"
+  else
+    echo "  (no person models: fvv falls back to background subtraction; tracking the real take is skipped)"
+  fi
 else
   echo "== (no real capture at $real: skipping its step)"
 fi
@@ -90,4 +100,6 @@ echo "         $out/shape/capture (the bumpy actor's synthetic capture the shape
 echo "         $out/capture_predictive.fvv and $out/render_predictive (the predictive texture codec),"
 echo "         $out/real (the real capture's capture.json), $out/real_sheet.png and"
 echo "         $out/real_persons.png (the network's person masks and keypoints),"
+echo "         $out/real_heldout (camera cam02 held out: poses, stream, renders, contact_sheet.png,"
+echo "         real_bench.json),"
 echo "         $out/still_arith3.fvb and $out/still_arith4.fvb (one atlas frame, coders 3 and 4)"
