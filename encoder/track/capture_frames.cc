@@ -1,6 +1,7 @@
 #include "encoder/track/capture_frames.h"
 
 #include <chrono>
+#include <cmath>
 #include <optional>
 
 #include "encoder/track/person_selection.h"
@@ -172,15 +173,15 @@ Status CaptureFrames::ReadWithPersons(uint32_t frame, std::vector<Image>* images
       s.pixels[i] = seen[c].mask.pixels[i] > 127 ? 255 : 0;
     CleanMask(&s, SilhouetteParams());
     if (!plates_) return;
-    // With plates: background subtraction's edges, only where the person is.
+    // With plates: background subtraction's edges at full resolution, within
+    // eight of the network's mask cells (256 across its region) of its edge:
+    // the mask is off by that much in places.
     StatusOr<Image> subtracted = ExtractSilhouette(read[c], backgrounds_[c]);
     if (!subtracted.ok()) {
       errors[c] = subtracted.status();
       return;
     }
-    for (size_t i = 0; i < s.pixels.size(); ++i) {
-      s.pixels[i] = s.pixels[i] && subtracted->pixels[i] ? 255 : 0;
-    }
+    RefineMaskEdges(&s, *subtracted, int(std::ceil(8 * seen[c].region.size / 256)));
   });
   for (const Status& s : errors) FVV_RETURN_IF_ERROR(s);
   if (images) *images = std::move(read);

@@ -1,6 +1,6 @@
 // Per-frame camera images and silhouettes of a capture, for every camera at
 // once (both cores): the given silhouettes; or the person a pretrained network
-// sees (its mask, kept where background subtraction agrees when there are
+// sees (its mask, refined along its edge by background subtraction when there are
 // plates); or background subtraction against the plates (or the temporal
 // median of frames spread over the take when a camera has none). What tracking
 // and the encoder's texture resampling read.

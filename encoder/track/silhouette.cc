@@ -131,6 +131,50 @@ void CleanMask(Image* mask, const SilhouetteParams& p) {
   }
 }
 
+void RefineMaskEdges(Image* coarse, const Image& fine, int radius) {
+  const int w = int(coarse->width), h = int(coarse->height), r = std::max(1, radius);
+  // Ones of the coarse mask in each (2r + 1)^2 window, from a summed-area
+  // table over the mask's box grown by the radius (nothing changes outside).
+  int x0 = w, y0 = h, x1 = -1, y1 = -1;
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      if (!coarse->pixels[size_t(y) * w + x]) continue;
+      x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = y;
+    }
+  }
+  if (x1 < 0) return;
+  x0 = std::max(0, x0 - r), y0 = std::max(0, y0 - r);
+  x1 = std::min(w - 1, x1 + r), y1 = std::min(h - 1, y1 + r);
+  const int bw = x1 - x0 + 1, bh = y1 - y0 + 1;
+  std::vector<int32_t> sum(size_t(bw + 1) * (bh + 1), 0);
+  for (int y = 0; y < bh; ++y) {
+    int32_t row = 0;
+    for (int x = 0; x < bw; ++x) {
+      row += coarse->pixels[size_t(y0 + y) * w + x0 + x] != 0;
+      sum[size_t(y + 1) * (bw + 1) + x + 1] = sum[size_t(y) * (bw + 1) + x + 1] + row;
+    }
+  }
+  auto ones = [&](int x, int y) {  // window around box pixel (x, y), clipped to the box
+    const int ax = std::max(0, x - r), ay = std::max(0, y - r);
+    const int bx = std::min(bw - 1, x + r), by = std::min(bh - 1, y + r);
+    const size_t s = size_t(bw + 1);
+    return sum[(by + 1) * s + bx + 1] - sum[ay * s + bx + 1] - sum[(by + 1) * s + ax] +
+           sum[ay * s + ax];
+  };
+  const int32_t full = (2 * r + 1) * (2 * r + 1);
+  std::vector<uint8_t> out(size_t(bw) * bh);
+  for (int y = 0; y < bh; ++y) {
+    for (int x = 0; x < bw; ++x) {
+      const int32_t n = ones(x, y);
+      const size_t i = size_t(y0 + y) * w + x0 + x;
+      out[size_t(y) * bw + x] = n == full ? 255 : n == 0 ? 0 : (fine.pixels[i] ? 255 : 0);
+    }
+  }
+  for (int y = 0; y < bh; ++y) {
+    std::copy_n(&out[size_t(y) * bw], bw, &coarse->pixels[size_t(y0 + y) * w + x0]);
+  }
+}
+
 StatusOr<Image> ExtractSilhouette(const Image& frame, const BackgroundModel& bg,
                                   const SilhouetteParams& p) {
   const Image& b = bg.colour;

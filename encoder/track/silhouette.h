@@ -39,6 +39,13 @@ StatusOr<Image> ExtractSilhouette(const Image& frame, const BackgroundModel& bac
 // small components, fill holes that do not touch the border.
 void CleanMask(Image* mask, const SilhouetteParams& params);
 
+// A coarse mask (the person network's, 0/non-0) refined at full resolution
+// along its edge by a fine one (background subtraction's): within `radius`
+// pixels of the coarse edge the fine mask decides; deeper inside the coarse
+// mask holds (a shirt the colour of the wall behind), further out is
+// background (a chair that moved). 0/255 out.
+void RefineMaskEdges(Image* coarse, const Image& fine, int radius);
+
 // |A xor B| / |A or B| style figures of two 0/non-0 masks.
 double MaskIou(const Image& a, const Image& b);
 
