@@ -199,6 +199,19 @@ std::vector<double> BodyInitialiser::Turned(const Vector3d& centre, const std::v
   return p;
 }
 
+// Where a first frame's fit starts: the heading search's best and its
+// opposite, then the placed body where there is one (its limbs near: its
+// searches are narrow); the objective, sightings included, decides.
+std::vector<std::vector<double>> BodyInitialiser::Starts(const Vector3d& centre,
+                                                         const PoseStage& stage,
+                                                         const std::vector<double>* placed) {
+  std::vector<std::vector<double>> starts = Headings(centre, stage);
+  starts[1] = Turned(centre, starts[0], kPi, stage);
+  starts.resize(2);
+  if (placed) starts.push_back(*placed);
+  return starts;
+}
+
 // Initialisation with the generic body's proportions, scaled: stature from
 // the measured height, then stature, girth, arm and leg length with the
 // pose. The best heading and its opposite are fitted completely:
@@ -210,12 +223,7 @@ std::vector<double> BodyInitialiser::InitialiseScaled(const Vector3d& centre,
   const BodyShape first_guess = InitialShape();
   fit_.shape = first_guess;
   fit_.BuildModel();
-  // The heading search's best and its opposite, and the placed body (its
-  // limbs near: narrow searches); the objective, sightings included, decides.
-  std::vector<std::vector<double>> starts = Headings(centre, fit_.stages[kTorsoStage]);
-  starts[1] = Turned(centre, starts[0], kPi, fit_.stages[kTorsoStage]);
-  starts.resize(2);
-  if (start) starts.push_back(*start);
+  const std::vector<std::vector<double>> starts = Starts(centre, fit_.stages[kTorsoStage], start);
   double best_value = 1e300;
   std::vector<double> best;
   for (size_t k = 0; k < starts.size(); ++k) {
@@ -258,10 +266,7 @@ std::vector<double> BodyInitialiser::InitialiseProportions(const Vector3d& centr
   // The heading comes from the trunk alone: neutral limbs would turn the
   // body to cover arms swinging to the front and back with arms held out
   // to the sides.
-  std::vector<std::vector<double>> starts = Headings(centre, fit_.trunk);
-  starts[1] = Turned(centre, starts[0], kPi, fit_.trunk);
-  starts.resize(2);
-  if (start) starts.push_back(*start);
+  const std::vector<std::vector<double>> starts = Starts(centre, fit_.trunk, start);
   double best_value = 1e300;
   std::vector<double> best;
   BodyShape best_shape = first_guess;

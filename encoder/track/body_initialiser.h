@@ -51,6 +51,8 @@ class BodyInitialiser {
   std::vector<std::vector<double>> Headings(const Eigen::Vector3d& centre, const PoseStage& stage);
   std::vector<double> Turned(const Eigen::Vector3d& centre, const std::vector<double>& from,
                              double turn, const PoseStage& stage);
+  std::vector<std::vector<double>> Starts(const Eigen::Vector3d& centre, const PoseStage& stage,
+                                          const std::vector<double>* placed);
   // From `start` (the placed body) or, when null, a heading search.
   std::vector<double> InitialiseScaled(const Eigen::Vector3d& centre,
                                        const std::vector<double>* start, BodyShape* fitted);
