@@ -432,8 +432,7 @@ StatusOr<std::vector<double>> BodyInitialiser::Initialise(const std::vector<Imag
   actor_height_ = height;
   BodyShape shape;
   std::vector<double> best, placed;
-  placed_by_sightings_ = PlaceBySightings(&placed);
-  const std::vector<double>* start = placed_by_sightings_ ? &placed : nullptr;
+  const std::vector<double>* start = PlaceBySightings(&placed) ? &placed : nullptr;
   // The generic body's proportions at the actor's size first. An actor they
   // do not fit (a cartoon character's large head and short legs) is fitted
   // again with proportions of its own, and the better fit kept.

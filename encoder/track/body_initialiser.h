@@ -30,8 +30,6 @@ class BodyInitialiser {
   // Whether the actor got proportions of its own (not only the generic
   // body's, scaled).
   bool own_proportions() const { return own_proportions_; }
-  // Whether the sightings placed the body.
-  bool placed_by_sightings() const { return placed_by_sightings_; }
 
   // A tracked frame kept to fit the arms' length over several.
   struct KeptFrame {
@@ -67,7 +65,6 @@ class BodyInitialiser {
   PoseFitter& fit_;
   double actor_height_ = 0;  // measured from the silhouettes
   bool own_proportions_ = false;
-  bool placed_by_sightings_ = false;
 };
 
 }  // namespace fvv

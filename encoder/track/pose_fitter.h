@@ -117,7 +117,6 @@ struct PoseFitter {
   // error (the error in shares of the actor's height in that image).
   std::vector<double> keypoint_weight;
 
-  const PoseStage& stage(StageId id) const { return stages[id]; }
   int Dof(int bone, int kind) const { return DofIndex(model.skeleton, bone, kind); }
 
   // What SetFrame set, kept aside to fit a past frame again.
