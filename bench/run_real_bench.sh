@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The real-footage benchmark (bench/README.md): imports the real capture's
 # Qualisys calibration and videos, brings the cameras in step (fvv capture
-# sync), then runs build/bench/real_bench on it
+# sync), refines the camera poses from the keypoints of later frames (fvv
+# capture refine-calib), then runs build/bench/real_bench on it
 # (leave one camera out: tracking, Renderer II and Renderer I on the held-out
-# view). Usage: bench/run_real_bench.sh [FRAMES A:B] [RENDER_FRAMES N]
+# view). Usage: bench/run_real_bench.sh [FRAMES A:B] [RENDER_FRAMES N] [--no-refine]
 # Needs the person models (tools/setup.sh fetches them) and a Release build in build/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -12,13 +13,29 @@ if [ ! -d "$real" ]; then
   echo "run_real_bench: no real capture at $real (see ../shared/data/README.md)" >&2
   exit 1
 fi
-frames=${1:-0:29}
-render_frames=${2:-4}
+refine=1
+args=()
+for a in "$@"; do
+  case $a in
+    --no-refine) refine=0 ;;
+    *) args+=("$a") ;;
+  esac
+done
+frames=${args[0]:-0:29}
+render_frames=${args[1]:-4}
 out=out/real_bench
 mkdir -p "$out/capture"
 build/tools/fvv/fvv capture import-calib "$real/calibration/Calib.qca.txt" -o "$out/capture" \
   --video "$(cd "$real/videos" && pwd)/{camera}.mp4" --up z
 # The cameras were not started together: skip each one's early frames.
 build/tools/fvv/fvv capture sync "$out/capture" --write
+# The camera poses refined from the keypoints of the frames after the scored
+# ones (68 frames, as many as the take has), so no keypoint of a scored frame
+# shapes the calibration.
+if [ $refine = 1 ]; then
+  last=${frames#*:}
+  build/tools/fvv/fvv capture refine-calib "$out/capture" --frames "$((last + 1)):$((last + 68))" \
+    --write
+fi
 build/bench/real_bench "$out/capture" --frames "$frames" --render-frames "$render_frames" \
   --out "$out" --fvv build/tools/fvv/fvv

@@ -64,6 +64,24 @@ out=$(run render "$dir/cap" --renderer projective --poses "$dir/poses.json" --fi
 [ -s "$dir/render.mp4" ] && [ -f "$dir/render/render_f00003.png" ] || fail "render: outputs missing"
 no_children "render"
 
+# The commands that read the person network's keypoints over a span stop
+# early too. Without the models, or on frames this small, they may find too
+# little to go on: then a clear error. Either way capture.json stays as it was:
+# the synthetic calibration is true, so refine-calib finds nothing to write.
+cp "$dir/cap/capture.json" "$dir/capture.json.before"
+for cmd in "sync --max-offset 2" "refine-calib --write"; do
+  out=$(run capture $cmd "$dir/cap" --frames 0:5 2>&1)
+  rc=$?
+  if [ $rc -ne 0 ]; then
+    grep -Eq "person network|needs 20|too few" <<<"$out" || fail "capture $cmd: unclear error: $out"
+  elif [ "$cmd" = "refine-calib --write" ]; then
+    grep -q "left unchanged" <<<"$out" || fail "refine-calib rewrote a true calibration: $out"
+  fi
+  cmp -s "$dir/cap/capture.json" "$dir/capture.json.before" ||
+    fail "capture $cmd: capture.json changed"
+  no_children "capture $cmd"
+done
+
 # A video shorter than the capture says: a clear error naming the video and the
 # frame, a non-zero exit, no output, no child.
 cp -r "$dir/cap" "$dir/short"
@@ -123,4 +141,4 @@ else
   echo "SKIP (real capture part): no $real (FVV_TEST_DATA_DIR)"
 fi
 
-echo "video captures: 6 commands stop early and exit; short and missing videos fail cleanly; SIGTERM leaves no child"
+echo "video captures: 8 commands stop early and exit; short and missing videos fail cleanly; SIGTERM leaves no child"

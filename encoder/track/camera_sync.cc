@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <map>
 
-#include "codec/base/thread_pool.h"
 #include "encoder/body/generic_body.h"
 #include "encoder/capture/calibration.h"
 #include "encoder/track/capture_frames.h"
@@ -82,20 +81,12 @@ StatusOr<FrameOffsets> EstimateFrameOffsets(const Capture& capture, PersonObserv
   }
   // Sightings of every camera over the span; frame i of camera c is compared
   // at base frame i - m - offset[c], so the base frames run over the middle.
-  ThreadPool pool(2);
-  StatusOr<std::unique_ptr<CaptureFrames>> frames =
-      CaptureFrames::Open(capture, false, &pool, observer);
-  if (!frames.ok()) return frames.status();
-  std::vector<std::vector<std::vector<JointSighting>>> seen;  // [frame][camera]
-  for (uint32_t f = o.first; f <= last; ++f) {
-    std::vector<Image> sils;
-    FVV_RETURN_IF_ERROR((*frames)->Read(f, nullptr, &sils));
-    seen.push_back((*frames)->sightings());
-    if (o.progress && (f - o.first) % 10 == 9) {
-      o.progress("sync: keypoints of frame " + std::to_string(f) + " (" +
-                 std::to_string(f - o.first + 1) + "/" + std::to_string(last - o.first + 1) + ")");
-    }
-  }
+  StatusOr<CaptureSightings> read =
+      ReadSightings(capture, observer, o.first, last, [&](const std::string& line) {
+        if (o.progress) o.progress("sync: " + line);
+      });
+  if (!read.ok()) return read.status();
+  const CaptureSightings& seen = *read;
   std::vector<Camera> cameras;
   for (const CaptureCamera& c : capture.cameras) cameras.push_back(c.calibration);
   const int total = int(seen.size()), span = total - 2 * m;

@@ -188,4 +188,29 @@ Status CaptureFrames::ReadWithPersons(uint32_t frame, std::vector<Image>* images
   return Status::Ok();
 }
 
+StatusOr<CaptureSightings> ReadSightings(const Capture& capture, PersonObserver* persons,
+                                         uint32_t first, uint32_t last,
+                                         const std::function<void(const std::string&)>& progress) {
+  if (!persons) return InvalidArgument("joint sightings need the person network");
+  if (first > last || last >= capture.frame_count) {
+    return InvalidArgument("frames " + std::to_string(first) + ".." + std::to_string(last) +
+                           ": the capture has " + std::to_string(capture.frame_count));
+  }
+  ThreadPool pool(2);
+  StatusOr<std::unique_ptr<CaptureFrames>> frames =
+      CaptureFrames::Open(capture, false, &pool, persons);
+  if (!frames.ok()) return frames.status();
+  CaptureSightings seen;
+  for (uint32_t f = first; f <= last; ++f) {
+    std::vector<Image> silhouettes;
+    FVV_RETURN_IF_ERROR((*frames)->Read(f, nullptr, &silhouettes));
+    seen.push_back((*frames)->sightings());
+    if (progress && (f - first) % 10 == 9) {
+      progress("keypoints of frame " + std::to_string(f) + " (" + std::to_string(f - first + 1) +
+               "/" + std::to_string(last - first + 1) + ")");
+    }
+  }
+  return seen;
+}
+
 }  // namespace fvv

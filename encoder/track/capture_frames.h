@@ -7,6 +7,7 @@
 #ifndef FVV_ENCODER_TRACK_CAPTURE_FRAMES_H_
 #define FVV_ENCODER_TRACK_CAPTURE_FRAMES_H_
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -59,6 +60,14 @@ class CaptureFrames {
   std::vector<std::vector<JointSighting>> sightings_;
   double decode_seconds_ = 0, person_seconds_ = 0;
 };
+
+// The person network's joint sightings in frames `first`..`last` of every
+// camera, `[frame - first][camera]`; `progress` (may be empty) hears every
+// tenth frame.
+using CaptureSightings = std::vector<std::vector<std::vector<JointSighting>>>;
+StatusOr<CaptureSightings> ReadSightings(const Capture& capture, PersonObserver* persons,
+                                         uint32_t first, uint32_t last,
+                                         const std::function<void(const std::string&)>& progress);
 
 }  // namespace fvv
 

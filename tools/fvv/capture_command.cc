@@ -15,6 +15,7 @@
 #include "encoder/capture/video_reader.h"
 #include "encoder/io/image_io.h"
 #include "encoder/shape/visual_hull.h"
+#include "encoder/track/calibration_refinement.h"
 #include "encoder/track/camera_sync.h"
 #include "encoder/track/capture_frames.h"
 #include "encoder/track/person_observer.h"
@@ -333,6 +334,105 @@ int RunSync(const SyncArgs& a) {
   return 0;
 }
 
+struct RefineArgs {
+  std::string capture, frames = "0:59", models;
+  CalibrationRefinementOptions options;
+  bool write = false;
+};
+
+// Per camera, the median over frames of its sightings' mean distance from the
+// other cameras' triangulated (KeypointAgreement): -1 where never measured.
+std::vector<double> HeldOutAgreement(const std::vector<Camera>& cameras,
+                                     const CaptureSightings& seen) {
+  std::vector<double> median(cameras.size(), -1);
+  for (uint32_t k = 0; k < cameras.size(); ++k) {
+    std::vector<double> v;
+    for (const auto& frame : seen) {
+      const double a = KeypointAgreement(cameras, k, frame, 20.0);
+      if (a >= 0) v.push_back(a);
+    }
+    if (v.empty()) continue;
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    median[k] = v[v.size() / 2];
+  }
+  return median;
+}
+
+int RunRefineCalib(const RefineArgs& a) {
+  StatusOr<Capture> cap = LoadCapture(a.capture);
+  if (!cap.ok()) return Fail(cap.status());
+  uint32_t first = 0, last = 0;
+  if (Status s = ParseFrameRange(a.frames, &first, &last); !s.ok()) return Fail(s);
+  last = std::min(last, cap->frame_count - 1);
+  StatusOr<std::unique_ptr<PersonObserver>> observer =
+      PersonObserver::Load(a.models.empty() ? DefaultModelDirectory() : a.models);
+  if (!observer.ok()) {
+    return Fail(Status(observer.status().code(),
+                       "refining the calibration needs the person "
+                       "network: " +
+                           observer.status().message()));
+  }
+  StatusOr<CaptureSightings> seen = ReadSightings(
+      *cap, observer->get(), first, last,
+      [](const std::string& line) { std::fprintf(stderr, "refine-calib: %s\n", line.c_str()); });
+  if (!seen.ok()) return Fail(seen.status());
+  std::vector<Camera> cameras;
+  for (const CaptureCamera& c : cap->cameras) cameras.push_back(c.calibration);
+  StatusOr<CalibrationRefinement> r = RefineCameraPoses(cameras, *seen, a.options);
+  if (!r.ok()) return Fail(r.status());
+  const std::vector<double> before = HeldOutAgreement(cameras, *seen),
+                            after = HeldOutAgreement(r->cameras, *seen);
+  std::printf(
+      "camera poses of %s refined from the body keypoints of frames %u..%u (%u joints, %d "
+      "iterations):\n",
+      cap->directory.c_str(), first, last, r->points, r->iterations);
+  std::printf("  %-10s %9s %16s %22s %10s %8s\n", "camera", "sightings", "median px",
+              "against the others px", "turned", "moved");
+  double most_turn = 0, most_move = 0;
+  for (size_t c = 0; c < cameras.size(); ++c) {
+    std::printf("  %-10s %9u %7.1f -> %5.1f %10.1f -> %7.1f %8.3f deg %5.0f mm\n",
+                cameras[c].name.c_str(), r->sightings[c], r->before_px[c], r->after_px[c],
+                before[c], after[c], r->rotation_deg[c], 1000 * r->centre_m[c]);
+    most_turn = std::max(most_turn, r->rotation_deg[c]);
+    most_move = std::max(most_move, r->centre_m[c]);
+  }
+  if (most_turn > 5 || most_move > 0.3) {
+    return Fail(InvalidArgument(
+        "refine-calib: a camera would turn or move further (" + std::to_string(most_turn) +
+        " deg, " + std::to_string(most_move) +
+        " m) than a knocked calibration does; the calibration is wrong in another way (another "
+        "take's file, a unit, an axis convention), or the keypoints are (check with fvv capture "
+        "sheet --persons); capture.json is unchanged"));
+  }
+  // Where no camera meets the others clearly better, the turns are what the
+  // keypoints leave free, not what they say (docs/tracking.md).
+  // A gain counts from 10 % and a pixel (less is within any keypoint's noise).
+  double best_gain = 0;
+  for (size_t c = 0; c < cameras.size(); ++c) {
+    if (before[c] > 0 && after[c] >= 0 && before[c] - after[c] >= 1.0) {
+      best_gain = std::max(best_gain, 1 - after[c] / before[c]);
+    }
+  }
+  if (best_gain < 0.1) {
+    std::printf(
+        "no camera's keypoints meet the others' 10 %% and a pixel closer: the calibration "
+        "agrees with the keypoints as it is; capture.json left unchanged\n");
+    return 0;
+  }
+  if (!a.write) {
+    std::printf("(--write stores the refined poses in capture.json)\n");
+    return 0;
+  }
+  Capture out = *cap;
+  for (size_t c = 0; c < out.cameras.size(); ++c) {
+    if (Status s = ValidateCalibration(r->cameras[c], r->cameras[c].name); !s.ok()) return Fail(s);
+    out.cameras[c].calibration = r->cameras[c];
+  }
+  if (Status s = SaveCapture(out); !s.ok()) return Fail(s);
+  std::printf("wrote %s/capture.json with the refined camera poses\n", out.directory.c_str());
+  return 0;
+}
+
 struct HullArgs {
   std::string capture, output;
   uint32_t frame = 0;
@@ -472,6 +572,30 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
   sy->add_option("--models", sync->models,
                  "Directory of the person models (default: $FVV_MODEL_DIR or ~/.cache/fvv/models)");
   sy->callback([sync, exit_code] { *exit_code = RunSync(*sync); });
+
+  auto refine = std::make_shared<RefineArgs>();
+  CLI::App* rc = cap->add_subcommand(
+      "refine-calib",
+      "Refine the camera poses from the person network's body keypoints (bundle adjustment "
+      "over a span of frames; intrinsics kept); --write stores them. Bring the cameras in "
+      "step (sync) first");
+  rc->add_option("capture", refine->capture, "Capture directory or capture.json")->required();
+  rc->add_option("--frames", refine->frames,
+                 "Frames A:B whose keypoints are used (the actor in view, moving about)")
+      ->capture_default_str();
+  rc->add_option("--prior-rotation", refine->options.prior_rotation_deg,
+                 "How far (degrees, one standard deviation) the calibration's orientations are "
+                 "believed off")
+      ->capture_default_str()
+      ->check(CLI::Range(0.001, 30.0));
+  rc->add_option("--prior-centre", refine->options.prior_centre_m,
+                 "How far (metres, one standard deviation) its camera centres are believed off")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0001, 1.0));
+  rc->add_flag("--write", refine->write, "Write the refined poses into capture.json");
+  rc->add_option("--models", refine->models,
+                 "Directory of the person models (default: $FVV_MODEL_DIR or ~/.cache/fvv/models)");
+  rc->callback([refine, exit_code] { *exit_code = RunRefineCalib(*refine); });
 
   auto imp = std::make_shared<ImportArgs>();
   CLI::App* ic = cap->add_subcommand(
