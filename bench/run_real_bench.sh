@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # The real-footage benchmark (bench/README.md): imports the real capture's
 # Qualisys calibration and videos, brings the cameras in step (fvv capture
-# sync), refines the camera poses from the keypoints of later frames (fvv
-# capture refine-calib), then runs build/bench/real_bench on it
+# sync), with --refine refines the camera poses from the keypoints of later
+# frames (fvv capture refine-calib), then runs build/bench/real_bench on it
 # (leave one camera out: tracking, Renderer II and Renderer I on the held-out
-# view). Usage: bench/run_real_bench.sh [FRAMES A:B] [RENDER_FRAMES N] [--no-refine]
+# view). Usage: bench/run_real_bench.sh [FRAMES A:B] [RENDER_FRAMES N] [--refine]
 # Needs the person models (tools/setup.sh fetches them) and a Release build in build/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -13,11 +13,11 @@ if [ ! -d "$real" ]; then
   echo "run_real_bench: no real capture at $real (see ../shared/data/README.md)" >&2
   exit 1
 fi
-refine=1
+refine=0
 args=()
 for a in "$@"; do
   case $a in
-    --no-refine) refine=0 ;;
+    --refine) refine=1 ;;
     *) args+=("$a") ;;
   esac
 done
@@ -29,9 +29,10 @@ build/tools/fvv/fvv capture import-calib "$real/calibration/Calib.qca.txt" -o "$
   --video "$(cd "$real/videos" && pwd)/{camera}.mp4" --up z
 # The cameras were not started together: skip each one's early frames.
 build/tools/fvv/fvv capture sync "$out/capture" --write
-# The camera poses refined from the keypoints of the frames after the scored
-# ones (68 frames, as many as the take has), so no keypoint of a scored frame
-# shapes the calibration.
+# With --refine, the camera poses refined from the keypoints of the 68 frames
+# after the scored ones: no keypoint of a scored frame shapes the calibration,
+# but the held-out camera's keypoints of the later frames do (docs/tracking.md:
+# not a held-out figure in the strict sense).
 if [ $refine = 1 ]; then
   last=${frames#*:}
   build/tools/fvv/fvv capture refine-calib "$out/capture" --frames "$((last + 1)):$((last + 68))" \

@@ -73,8 +73,8 @@ if [ -d "$real" ]; then
   if $fvv capture sheet "$out/real" --frame 50 --persons -o "$out/real_persons.png"; then
     echo "== the real capture in step: its cameras started a few frames apart (fvv capture sync)"
     $fvv capture sync "$out/real" --write
-    echo "== its camera poses refined from the keypoints of frames 12..79 (fvv capture refine-calib)"
-    $fvv capture refine-calib "$out/real" --frames 12:79 --write
+    echo "== how far its camera poses are from agreeing with the keypoints (fvv capture refine-calib, a report)"
+    $fvv capture refine-calib "$out/real" --frames 12:79
     echo "== camera cam02 held out: tracked from the other three on person masks and keypoints, encoded,"
     echo "   and its view rendered with Renderer II and Renderer I against the real frames"
     build/bench/real_bench "$out/real" --frames 0:11 --render-frames 2 --held-out cam02 \
