@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Runs every test on a fresh Debian machine: installs dependencies, builds with
 # warnings as errors under AddressSanitizer + UndefinedBehaviorSanitizer, and runs
-# the suites in parallel (three slow tracking tests in an optimised build, below).
-# Usage: tools/test.sh   (build dirs: build-asan/, and build/ for those three)
+# the suites in parallel (three slow tracking tests in an optimised build, below);
+# then the threaded modules' tests under ThreadSanitizer.
+# Usage: tools/test.sh   (build dirs: build-asan/, build/ for those three, build-tsan/)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./tools/setup.sh
@@ -19,3 +20,22 @@ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DFVV_WERROR=ON >/dev/nu
 cmake --build build -j2 --target track_test
 ctest --test-dir build-asan -j2 --output-on-failure -E "$slow"
 ctest --test-dir build -j2 --output-on-failure -R "$slow"
+
+# ThreadSanitizer on what runs threads: the codec's pool and parallel coding,
+# the decoder's workers and its C API under threads, the encoder session (its
+# encode beside tracking). Only these targets are built; within the codec's
+# suite, the tests that run the pool (its rate comparisons run single-threaded
+# code for minutes under TSan and are left to the ASan run).
+cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFVV_TSAN=ON -DFVV_WERROR=ON \
+  -DFVV_BUILD_BENCH=OFF >/dev/null
+cmake --build build-tsan -j2 --target codec_test player_decoder_api_test \
+  player_decoder_threads_test encode_ordered_queue_test encode_session_test
+export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1"
+tsan() { echo "== ThreadSanitizer: $*"; timeout 900 "$@"; }
+tsan build-tsan/tests/codec_test \
+  --gtest_filter='ThreadPool.*:Decoder.*:Embedded.*:Prune.GainsWhereLoneCoefficientsCostMost:*LosslessRoundTrip.*'
+tsan build-tsan/tests/player_decoder_threads_test
+tsan build-tsan/tests/player_decoder_api_test
+tsan build-tsan/tests/encode_ordered_queue_test
+tsan build-tsan/tests/encode_session_test \
+  --gtest_filter='EncodeTest.RoundTripReachesTheReportedPsnr:EncodeTest.CApiEncodesAndReportsAndRefusesMisuse'

@@ -1,11 +1,13 @@
 // FVV_SIMD_CLONES marks an inner loop for an AVX2 clone beside the baseline
 // one, chosen at load time where the CPU has AVX2: the loops are written so that
-// both compute identical results. Off under AddressSanitizer (its
-// instrumentation and ifunc resolvers do not mix) and off x86-64.
+// both compute identical results. Off under AddressSanitizer and
+// ThreadSanitizer (their instrumentation and ifunc resolvers do not mix: the
+// resolver runs before the sanitizer's runtime) and off x86-64.
 #ifndef FVV_CODEC_BASE_SIMD_H_
 #define FVV_CODEC_BASE_SIMD_H_
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__SANITIZE_ADDRESS__)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__SANITIZE_ADDRESS__) && \
+    !defined(__SANITIZE_THREAD__)
 #define FVV_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
 #else
 #define FVV_SIMD_CLONES
