@@ -255,6 +255,36 @@ TEST(Coverage, EveryVersionToolLevelAndErrorHasACase) {
   }
 }
 
+// A harness picks cases by test.json's format version, profile, level and
+// tools: they are what the stream's own header says, also where the header
+// is what makes the case invalid.
+TEST(Cases, TestJsonStatesTheStreamsOwnHeader) {
+  auto dirs = FindCaseDirs(kSuite);
+  ASSERT_TRUE(dirs.ok());
+  for (const std::string& dir : *dirs) {
+    const ConformanceCase c = Load(dir);
+    std::ifstream in(dir + "/" + c.stream, std::ios::binary);
+    const std::vector<uint8_t> b(std::istreambuf_iterator<char>(in), {});
+    ASSERT_GE(b.size(), 20u) << c.name;
+    ASSERT_EQ(std::string(b.begin() + 4, b.begin() + 8), "fvvh") << c.name;
+    const auto le = [&](size_t at, int bytes) {
+      uint64_t v = 0;
+      for (int i = bytes - 1; i >= 0; --i) v = v << 8 | b[12 + at + size_t(i)];
+      return v;
+    };
+    std::vector<std::string> tools;
+    for (int n = 0; n < 32; ++n) {
+      if (!(le(4, 4) >> n & 1)) continue;
+      const std::string name = CodingToolName(1u << n);
+      tools.push_back(name == "unknown" ? "bit" + std::to_string(n) : name);
+    }
+    EXPECT_EQ(c.format_version, int(le(0, 2))) << c.name;
+    EXPECT_EQ(c.profile, int(le(2, 1))) << c.name;
+    EXPECT_EQ(c.level, int(le(3, 1))) << c.name;
+    EXPECT_EQ(c.tools, tools) << c.name;
+  }
+}
+
 // The README's table is how implementers find a case for a tool: it must name
 // every case of the suite.
 TEST(Coverage, ReadmeNamesEveryCase) {

@@ -58,10 +58,14 @@ SampleStreamOptions Tiny() {
   return o;
 }
 
+// Table 1's names; a bit it does not define as "bitN".
 std::vector<std::string> ToolNames(uint32_t tools) {
   std::vector<std::string> names;
-  for (uint32_t bit = 1; bit != 0 && bit <= tools; bit <<= 1) {
-    if (tools & bit) names.push_back(CodingToolName(bit));
+  for (int n = 0; n < 32; ++n) {
+    const uint32_t bit = 1u << n;
+    if (!(tools & bit)) continue;
+    const std::string name = CodingToolName(bit);
+    names.push_back(name == "unknown" ? "bit" + std::to_string(n) : name);
   }
   return names;
 }
@@ -138,10 +142,20 @@ Status MakeCase(const CaseSpec& spec, const std::string& dir, bool force) {
   c.dir = dir;
   c.name = spec.name;
   c.description = spec.description;
-  c.format_version = sample.info.header.format_version;
-  c.profile = 1;
-  c.level = spec.options.level;
-  c.tools = ToolNames(sample.info.header.tools);
+  // What the stream's own header says, after any edit: an invalid case's
+  // header is often the point of it.
+  const std::vector<uint8_t>& h = boxes[size_t(FindBox(boxes, box::kFileHeader))].payload;
+  c.format_version = int(LoadLe(h, fvvh::kFormatVersion, 2));
+  c.profile = int(LoadLe(h, fvvh::kProfile, 1));
+  c.level = int(LoadLe(h, fvvh::kLevel, 1));
+  c.tools = ToolNames(uint32_t(LoadLe(h, fvvh::kTools, 4)));
+  // The version that knows every tool of the case, the sample's or the
+  // edited header's (a header's version outside 1..current is the case's
+  // error, which every decoder must give).
+  c.decoder_version = sample.info.header.format_version;
+  if (c.format_version >= 1 && c.format_version <= FVV_FORMAT_VERSION) {
+    c.decoder_version = std::max(c.decoder_version, c.format_version);
+  }
   c.spec_sections = Sections(sample.info, spec);
   if (spec.error != StatusCode::kOk) {
     c.expect_error = true;
@@ -572,6 +586,44 @@ std::vector<CaseSpec> InvalidCases() {
     StoreLe(&header(boxes), fvvh::kCameraCount, 9, 2);
     return Status::Ok();
   };
+  // Header fields out of range, one case per rule of 3.1, and one with two
+  // errors: the first in 3.1's order of checks is the stream's.
+  struct Field {
+    size_t offset, bytes;
+    uint32_t value;
+  };
+  const auto set_fields = [header](std::vector<Field> fields) {
+    return [header, fields](std::vector<EditBox>* boxes) {
+      for (const Field& f : fields) StoreLe(&header(boxes), f.offset, f.value, f.bytes);
+      return Status::Ok();
+    };
+  };
+  add("header_format_version_0", "format_version 0", StatusCode::kUnsupported, {"3.1", "10"})
+      ->edit = set_fields({{fvvh::kFormatVersion, 2, 0}});
+  add("header_profile_2", "profile 2 (only 1, Main, exists)", StatusCode::kUnsupported,
+      {"3.1", "5", "10"})
+      ->edit = set_fields({{fvvh::kProfile, 1, 2}});
+  add("header_level_0", "level 0", StatusCode::kUnsupported, {"3.1", "5", "10"})->edit =
+      set_fields({{fvvh::kLevel, 1, 0}});
+  add("header_level_5", "level 5", StatusCode::kUnsupported, {"3.1", "5", "10"})->edit =
+      set_fields({{fvvh::kLevel, 1, 5}});
+  add("header_frame_rate_num_0", "frame rate 0/1", StatusCode::kCorrupt, {"3.1", "10"})->edit =
+      set_fields({{fvvh::kFrameRateNum, 4, 0}, {fvvh::kFrameRateDen, 4, 1}});
+  add("header_frame_rate_den_0", "frame rate 25/0", StatusCode::kCorrupt, {"3.1", "10"})->edit =
+      set_fields({{fvvh::kFrameRateNum, 4, 25}, {fvvh::kFrameRateDen, 4, 0}});
+  add("header_frame_rate_241", "frame rate 241/1 (above 240 fps)", StatusCode::kLimitExceeded,
+      {"3.1", "10"})
+      ->edit = set_fields({{fvvh::kFrameRateNum, 4, 241}, {fvvh::kFrameRateDen, 4, 1}});
+  add("header_camera_count_0", "camera_count 0", StatusCode::kCorrupt, {"3.1", "10"})->edit =
+      set_fields({{fvvh::kCameraCount, 2, 0}});
+  add("header_atlas_height_0", "atlas_height 0", StatusCode::kCorrupt, {"3.1", "10"})->edit =
+      set_fields({{fvvh::kAtlasHeight, 2, 0}});
+  add("header_gop_cameras_0", "gop_cameras 0", StatusCode::kCorrupt, {"3.1", "10"})->edit =
+      set_fields({{fvvh::kGopCameras, 2, 0}});
+  add("header_first_error_wins",
+      "profile 2 and camera_count 0: the profile is checked first (3.1's order)",
+      StatusCode::kUnsupported, {"3.1", "10"})
+      ->edit = set_fields({{fvvh::kProfile, 1, 2}, {fvvh::kCameraCount, 2, 0}});
   add("checksum_mismatch", "one byte of a fragment's texture payload changed",
       StatusCode::kChecksumMismatch, {"3.5", "10"})
       ->edit = [fragment](std::vector<EditBox>* boxes) {

@@ -85,6 +85,15 @@ Status DropIndex(std::vector<EditBox>* boxes) {
   return Status::Ok();
 }
 
+uint64_t LoadLe(const std::vector<uint8_t>& payload, size_t offset, int bytes) {
+  uint64_t v = 0;
+  for (int i = bytes - 1; i >= 0; --i) {
+    const size_t at = offset + size_t(i);
+    v = (v << 8) | (at < payload.size() ? payload[at] : 0);
+  }
+  return v;
+}
+
 void StoreLe(std::vector<uint8_t>* payload, size_t offset, uint64_t value, int bytes) {
   for (int i = 0; i < bytes; ++i) (*payload)[offset + i] = static_cast<uint8_t>(value >> (8 * i));
 }

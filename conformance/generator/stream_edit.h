@@ -38,12 +38,14 @@ Status DropIndex(std::vector<EditBox>* boxes);
 
 // Little-endian stores into a payload.
 void StoreLe(std::vector<uint8_t>* payload, size_t offset, uint64_t value, int bytes);
+// The little-endian value of `bytes` bytes at `offset` (0 past the end).
+uint64_t LoadLe(const std::vector<uint8_t>& payload, size_t offset, int bytes);
 
 // Field offsets in the fvvh payload (SPEC.md 3.1).
 namespace fvvh {
-constexpr size_t kFormatVersion = 0, kProfile = 2, kLevel = 3, kTools = 4, kFrameCount = 16,
-                 kCameraCount = 20, kAtlasWidth = 22, kAtlasHeight = 24, kGopFrames = 26,
-                 kGopCameras = 28, kIndexOffset = 30;
+constexpr size_t kFormatVersion = 0, kProfile = 2, kLevel = 3, kTools = 4, kFrameRateNum = 8,
+                 kFrameRateDen = 12, kFrameCount = 16, kCameraCount = 20, kAtlasWidth = 22,
+                 kAtlasHeight = 24, kGopFrames = 26, kGopCameras = 28, kIndexOffset = 30;
 }  // namespace fvvh
 
 }  // namespace fvv

@@ -92,6 +92,7 @@ StatusOr<ConformanceCase> LoadCase(const std::string& dir) {
     c.name = j.value("name", dir.substr(dir.find_last_of('/') + 1));
     c.description = j.value("description", "");
     c.format_version = j.at("format_version").get<int>();
+    c.decoder_version = j.value("decoder_version", c.format_version);
     c.profile = j.value("profile", 1);
     c.level = j.value("level", 1);
     c.tools = Strings(j.value("tools", json::array()));
@@ -143,6 +144,7 @@ Status SaveCase(const ConformanceCase& c) {
   j["profile"] = c.profile;
   j["level"] = c.level;
   j["tools"] = c.tools;
+  if (c.decoder_version != c.format_version) j["decoder_version"] = c.decoder_version;
   j["spec_sections"] = c.spec_sections;
   j["stream"] = c.stream;
   if (!c.stream_sha256.empty()) j["stream_sha256"] = c.stream_sha256;

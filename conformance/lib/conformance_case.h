@@ -22,7 +22,14 @@ struct BudgetExpectation {
 struct ConformanceCase {
   std::string dir;  // the case directory (test.json and the stream)
   std::string name, description;
+  // The stream header's own fields (also where they are what makes the case
+  // invalid).
   int format_version = 1, profile = 1, level = 1;
+  // The format version a decoder must implement to be held to the case: a
+  // decoder of an older version skips it (it cannot know the tool whose misuse
+  // the case pins). test.json's "decoder_version", when it differs from a
+  // valid format_version; else format_version.
+  int decoder_version = 1;
   std::vector<std::string> tools, spec_sections;
   std::string stream = "stream.fvv";  // relative to dir
   std::string stream_sha256;          // the released stream's bytes never change

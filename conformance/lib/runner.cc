@@ -242,8 +242,8 @@ CaseResult RunCase(const ConformanceCase& c, const RunOptions& options) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
   };
-  if (c.format_version < 1 || c.format_version > FVV_FORMAT_VERSION) {
-    return finish("format version " + std::to_string(c.format_version) +
+  if (c.decoder_version < 1 || c.decoder_version > FVV_FORMAT_VERSION) {
+    return finish("format version " + std::to_string(c.decoder_version) +
                   " is not one this build knows (1.." + std::to_string(FVV_FORMAT_VERSION) + ")");
   }
   if (!c.blessed()) return finish("test.json has no expectations (run fvv conform --bless)");
