@@ -3,6 +3,8 @@
 #include <cerrno>
 #include <cstring>
 
+#include "container/gop_grid.h"
+
 namespace fvv {
 
 Status MemorySource::Read(uint64_t offset, size_t n, uint8_t* out) {
@@ -165,8 +167,18 @@ Status FileReader::LoadIndex() {
       if (info_.index.size() >= info_.expected_fragments() && hdr.frame_count != 0) {
         return Corrupt(BoxContext(h) + "more fragments than the header's shape allows");
       }
+      if (!info_.index.empty()) {
+        const IndexEntry& before = info_.index.back();
+        FVV_RETURN_IF_ERROR(CheckSpanOrder(hdr, before.first_frame, before.frame_count,
+                                           e.first_frame, BoxContext(h)));
+      }
       info_.index.push_back(e);
-    } else if (h.type != box::kIndex && h.essential()) {
+    } else if (h.type == box::kIndex) {
+      // Walked only when the header names no index: an 'indx' is then not
+      // where the header says (the streaming reader says so too).
+      return Corrupt(BoxContext(h) + "the header's index_offset is " +
+                     std::to_string(hdr.index_offset));
+    } else if (h.essential()) {
       return Unsupported(BoxContext(h) + "essential box type unknown to this decoder");
     }
     offset += h.size;

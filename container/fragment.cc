@@ -5,6 +5,7 @@
 #include "codec/block_syntax.h"
 #include "codec/sa_wavelet.h"
 #include "container/crc32c.h"
+#include "container/gop_grid.h"
 
 namespace fvv {
 
@@ -134,16 +135,8 @@ Status ReadFragmentHeader(const BoxHeader& b, const uint8_t* payload, const File
   FVV_RETURN_IF_ERROR(CheckFullyRead(r, b));
   const uint64_t span = info->first_frame / h.gop_frames;
   const uint64_t expected_index = span * h.camera_groups() + info->first_camera / h.gop_cameras;
-  if (info->first_frame % h.gop_frames != 0 || info->first_camera % h.gop_cameras != 0 ||
-      info->frame_count == 0 || info->frame_count > h.gop_frames || info->camera_count == 0 ||
-      info->camera_count > h.gop_cameras ||
-      uint32_t{info->first_camera} + info->camera_count > h.camera_count ||
-      (h.frame_count != 0 && uint64_t{info->first_frame} + info->frame_count > h.frame_count)) {
-    return Corrupt(at + "frames " + std::to_string(info->first_frame) + "+" +
-                   std::to_string(info->frame_count) + ", cameras " +
-                   std::to_string(info->first_camera) + "+" + std::to_string(info->camera_count) +
-                   " do not fit the header's GOP grid");
-  }
+  FVV_RETURN_IF_ERROR(CheckGridCell(h, info->first_frame, info->frame_count, info->first_camera,
+                                    info->camera_count, at));
   if (expected_index != info->gop_index) {
     return Corrupt(at + "GOP index " + std::to_string(info->gop_index) + " should be " +
                    std::to_string(expected_index));

@@ -1,5 +1,7 @@
 #include "container/index_box.h"
 
+#include "container/gop_grid.h"
+
 namespace fvv {
 
 std::vector<uint8_t> WriteIndexBox(const std::vector<IndexEntry>& entries) {
@@ -41,14 +43,11 @@ Status ReadIndex(const BoxHeader& box, const uint8_t* payload, const FileHeader&
     e.offset = r.U64();
     e.size = r.U64();
     const std::string en = at + "entry " + std::to_string(i) + ": ";
-    if (e.first_frame % h.gop_frames != 0 || e.frame_count == 0 || e.frame_count > h.gop_frames ||
-        e.first_camera % h.gop_cameras != 0 || e.camera_count == 0 ||
-        e.camera_count > h.gop_cameras ||
-        uint32_t{e.first_camera} + e.camera_count > h.camera_count ||
-        (h.frame_count != 0 && uint64_t{e.first_frame} + e.frame_count > h.frame_count)) {
-      return Corrupt(en + "frames " + std::to_string(e.first_frame) + "+" +
-                     std::to_string(e.frame_count) + ", cameras " + std::to_string(e.first_camera) +
-                     "+" + std::to_string(e.camera_count) + " do not fit the header's GOP grid");
+    FVV_RETURN_IF_ERROR(
+        CheckGridCell(h, e.first_frame, e.frame_count, e.first_camera, e.camera_count, en));
+    if (i > 0) {
+      const IndexEntry& p = (*entries)[i - 1];
+      FVV_RETURN_IF_ERROR(CheckSpanOrder(h, p.first_frame, p.frame_count, e.first_frame, en));
     }
     if (e.size < kMinBoxHeaderSize || e.offset < previous_end || e.offset > UINT64_MAX - e.size) {
       return Corrupt(en + "offset " + std::to_string(e.offset) + " size " + std::to_string(e.size) +

@@ -1,5 +1,7 @@
 #include "container/stream_reader.h"
 
+#include "container/gop_grid.h"
+
 namespace fvv {
 
 const char* ReaderEventName(ReaderEvent e) {
@@ -139,8 +141,14 @@ StatusOr<ReaderEvent> StreamReader::Next() {
       IndexEntry e;
       e.offset = b.offset;
       e.size = b.size;
+      e.first_frame = fragment_.info.first_frame;
+      e.frame_count = fragment_.info.frame_count;
+      if (!seen_.empty()) {
+        s = CheckSpanOrder(info_.header, seen_.back().first_frame, seen_.back().frame_count,
+                           e.first_frame, BoxContext(b));
+      }
       seen_.push_back(e);
-      s = CheckFragmentAgainstIndex(b.offset, b.size);
+      if (s.ok()) s = CheckFragmentAgainstIndex(b.offset, b.size);
     }
     if (!s.ok()) return Fail(s);
     ++fragments_read_;

@@ -243,10 +243,19 @@ std::vector<CaseSpec> ValidCases() {
 
   o = Base(9, 2, 32, 32, 4, 2);
   o.fast_start = false;
-  add("index_end", "frame count unknown in the header (live): the index at the end", o, {});
+  add("index_end", "the index at the end, where the header (written last) points", o, {});
   auto* no_index =
       add("no_index", "no index at all: readers rebuild it by walking the boxes", o, {});
   no_index->edit = [](std::vector<EditBox>* boxes) { return DropIndex(boxes); };
+  auto* live = add("live",
+                   "a live stream: frame count 0 in the header and no index; readers count the "
+                   "frames from the fragments (9 frames: the last time span is short)",
+                   o, {}, {"3.1", "3.6"});
+  live->edit = [](std::vector<EditBox>* boxes) {
+    FVV_RETURN_IF_ERROR(DropIndex(boxes));
+    StoreLe(&(*boxes)[size_t(FindBox(*boxes, box::kFileHeader))].payload, fvvh::kFrameCount, 0, 4);
+    return Status::Ok();
+  };
 
   o = Base(5, 2, 32, 32, 4, 2);
   auto* skip = add("unknown_boxes_and_largesize",
@@ -598,6 +607,44 @@ std::vector<CaseSpec> InvalidCases() {
       return Status::Ok();
     };
   };
+  // The GOP grid: an index the header does not point at, and a time span
+  // shorter than F_g that is not the last (known frame count, and live).
+  {
+    SampleStreamOptions end = Tiny();
+    end.fast_start = false;
+    add("index_while_offset_zero",
+        "an 'indx' at the end while the header's index_offset is 0 (it must sit where the "
+        "header says)",
+        StatusCode::kCorrupt, {"3.1", "3.6", "10"})
+        ->options = end;
+    v.back().edit = [header](std::vector<EditBox>* boxes) {
+      StoreLe(&header(boxes), fvvh::kIndexOffset, 0, 8);
+      return Status::Ok();
+    };
+    const auto shorten_first_span = [fragment](bool live_stream) {
+      return [fragment, live_stream](std::vector<EditBox>* boxes) -> Status {
+        FVV_RETURN_IF_ERROR(DropIndex(boxes));
+        if (live_stream) {
+          StoreLe(&(*boxes)[size_t(FindBox(*boxes, box::kFileHeader))].payload, fvvh::kFrameCount,
+                  0, 4);
+        }
+        // fghd: gop_index u32, first_frame u32, frame_count u16.
+        return EditFragment(&fragment(boxes, 0), [](std::vector<EditBox>* subs) {
+          StoreLe(&(*subs)[size_t(FindBox(*subs, box::kFragmentHeader))].payload, 8, 1, 2);
+        });
+      };
+    };
+    add("short_span_not_last",
+        "the first fragment covers 1 frame of its 2-frame time span, in a stream of known "
+        "frame count",
+        StatusCode::kCorrupt, {"3.1", "3.5", "10"})
+        ->edit = shorten_first_span(false);
+    add("live_short_span_not_last",
+        "a live stream (frame count 0) whose first time span has 1 frame of 2 and is followed "
+        "by another",
+        StatusCode::kCorrupt, {"3.1", "3.5", "10"})
+        ->edit = shorten_first_span(true);
+  }
   add("header_format_version_0", "format_version 0", StatusCode::kUnsupported, {"3.1", "10"})
       ->edit = set_fields({{fvvh::kFormatVersion, 2, 0}});
   add("header_profile_2", "profile 2 (only 1, Main, exists)", StatusCode::kUnsupported,
