@@ -205,7 +205,7 @@ Status ReadPredictiveTexture(const BoxHeader& b, const uint8_t* payload, const F
   ByteReader r(payload, b.payload_size());
   const uint8_t kernel = r.U8();
   if (r.overrun()) return Corrupt(at + "too short");
-  if (kernel > 2) return Unsupported(at + "kernel " + std::to_string(kernel));
+  if (kernel > 2) return Corrupt(at + "unknown wavelet kernel " + std::to_string(kernel));
   texture->kernel = static_cast<WaveletKernel>(kernel);
   const uint32_t kernel_tool = kernel == 0 ? kToolHaar : kernel == 1 ? kToolLeGall53 : kToolCdf97;
   if (!(h.tools & kernel_tool)) {

@@ -198,7 +198,7 @@ TEST(PredictiveStream, BadPayloadsAndHeadersAreRefused) {
             StatusCode::kCorrupt);
   EXPECT_EQ(ReadEdited(*s, [](FragmentData* f, FileHeader*) { f->predictive = false; }).code(),
             StatusCode::kCorrupt);
-  // A kernel the header does not declare; an unknown kernel.
+  // A kernel the header does not declare; an unknown kernel (Corrupt, as in texr).
   EXPECT_EQ(
       ReadEdited(*s, [](FragmentData* f,
                         FileHeader*) { f->predictive_texture.kernel = WaveletKernel::kCdf97; })
@@ -209,7 +209,7 @@ TEST(PredictiveStream, BadPayloadsAndHeadersAreRefused) {
                          f->predictive_texture.kernel = static_cast<WaveletKernel>(7);
                        })
                 .code(),
-            StatusCode::kUnsupported);
+            StatusCode::kCorrupt);
   // Stream counts that do not follow the fragment's shape: the sizes then
   // disagree with the bytes that follow.
   EXPECT_EQ(ReadEdited(*s, [](FragmentData* f, FileHeader*) { f->predictive_texture.r.pop_back(); })

@@ -811,6 +811,9 @@ std::vector<CaseSpec> InvalidCases() {
     StoreLe(&(*boxes)[FindBox(*boxes, box::kFileHeader)].payload, fvvh::kFormatVersion, 2, 2);
     return patch_first_fragment(box::kMasks, 0, 3)(boxes);
   };
+  predictive(add("ptex_kernel_3", "a 'ptex' naming wavelet kernel 3 (checksum recomputed)",
+                 StatusCode::kCorrupt, {"9.8", "10"}))
+      ->edit = patch_first_fragment(box::kPredictiveTexture, 0, 3);
   predictive(add("ptex_top_plane",
                  "a 'ptex' stream whose top bitplane byte is 31 (checksum "
                  "recomputed)",
@@ -861,6 +864,25 @@ std::vector<CaseSpec> InvalidCases() {
   add("coder_unknown", "a 'texr' naming entropy coder 3 (checksum recomputed)",
       StatusCode::kCorrupt, {"9.1", "10"})
       ->edit = patch_first_fragment(box::kTexture, 1, 3);
+  // A value its field does not define is Corrupt in 'texr' and 'ptex' alike.
+  add("camera_focal_nan", "the first camera's fx is NaN", StatusCode::kCorrupt, {"3.2", "10"})
+      ->edit = [](std::vector<EditBox>* boxes) {
+    // cams: count u16, then the first camera: name (u16 length, bytes),
+    // width u32, height u32, fx f64.
+    std::vector<uint8_t>& c = (*boxes)[size_t(FindBox(*boxes, box::kCameras))].payload;
+    const size_t name = size_t(LoadLe(c, 2, 2)), fx = 2 + 2 + name + 8;
+    StoreLe(&c, fx, 0x7FF8000000000000ull, 8);  // a quiet NaN
+    return Status::Ok();
+  };
+  add("texr_kernel_3", "a 'texr' naming wavelet kernel 3 (checksum recomputed)",
+      StatusCode::kCorrupt, {"9.1", "10"})
+      ->edit = patch_first_fragment(box::kTexture, 0, 3);
+  add("texr_colour_2", "a 'texr' naming colour space 2 (checksum recomputed)", StatusCode::kCorrupt,
+      {"9.1", "10"})
+      ->edit = patch_first_fragment(box::kTexture, 2, 2);
+  add("texr_chroma_2", "a 'texr' naming chroma format 2 (checksum recomputed)",
+      StatusCode::kCorrupt, {"9.1", "10"})
+      ->edit = patch_first_fragment(box::kTexture, 3, 2);
 
   // A coder's three invalid cases: its tool bit in a header of the format
   // version before its own, a 'texr' naming it in a stream whose header
