@@ -34,7 +34,7 @@ Status DecodeMasks(const uint8_t* data, size_t size, const Shape4D& shape, MaskC
     mask::TraverseMasksMixing(r, shape, load, store);
   }
   if (!r.rc_.ok()) {
-    return Truncated("mask data: " + std::to_string(size) + " bytes end before the last of " +
+    return Corrupt("mask data: " + std::to_string(size) + " bytes end before the last of " +
                      std::to_string(shape.frames() * shape.cameras()) + " masks");
   }
   return Status::Ok();

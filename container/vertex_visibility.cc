@@ -42,7 +42,7 @@ Status DecodeVertexVisibility(const uint8_t* data, size_t size, uint32_t frames,
   bits->assign(size_t{frames} * cameras * vertices, 0);
   RangeDecoder rc(data, size);
   Traverse(frames, cameras, vertices, bits, [&](uint32_t, uint16_t* p) { return rc.Decode(p); });
-  if (!rc.ok()) return Truncated("vertex visibility data ends early");
+  if (!rc.ok()) return Corrupt("vertex visibility data ends early");
   return Status::Ok();
 }
 

@@ -865,6 +865,26 @@ std::vector<CaseSpec> InvalidCases() {
       StatusCode::kCorrupt, {"9.1", "10"})
       ->edit = patch_first_fragment(box::kTexture, 1, 3);
   // A value its field does not define is Corrupt in 'texr' and 'ptex' alike.
+  // Range-coded data that ends before its decisions do, in a whole box.
+  const auto halve_first = [fragment](FourCC type) {
+    return [fragment, type](std::vector<EditBox>* boxes) -> Status {
+      FVV_RETURN_IF_ERROR(DropIndex(boxes));  // the fragment shrinks
+      return EditFragment(&fragment(boxes, 0), [type](std::vector<EditBox>* subs) {
+        std::vector<uint8_t>& p = (*subs)[size_t(FindBox(*subs, type))].payload;
+        p.resize((p.size() + 1) / 2);
+      });
+    };
+  };
+  add("motion_data_short",
+      "the first fragment's 'motn' cut to half its bytes (box and checksum made whole): its "
+      "decisions need bytes beyond the payload",
+      StatusCode::kCorrupt, {"6.3", "9.4", "10"})
+      ->edit = halve_first(box::kMotion);
+  add("mask_data_short",
+      "the first fragment's 'mask' cut to half its bytes (box and checksum made whole): its "
+      "decisions need bytes beyond the payload",
+      StatusCode::kCorrupt, {"7", "9.4", "10"})
+      ->edit = halve_first(box::kMasks);
   add("camera_focal_nan", "the first camera's fx is NaN", StatusCode::kCorrupt, {"3.2", "10"})
       ->edit = [](std::vector<EditBox>* boxes) {
     // cams: count u16, then the first camera: name (u16 length, bytes),
