@@ -255,6 +255,37 @@ TEST(Coverage, EveryVersionToolLevelAndErrorHasACase) {
   }
 }
 
+// Annex B grows by new files only: a released case gains their hashes (the
+// RGB of 9.7, the model, the cameras) while every hash it had still matches,
+// and a case whose recorded hash no longer matches is refused.
+TEST(Cases, NewOutputFilesAreAddedBesideTheReleasedOnes) {
+  const std::string dir = CopyCase("chroma_420_odd", "add_outputs");
+  ConformanceCase c = Load(dir);
+  StatusOr<size_t> none = AddNewOutputs(&c);
+  ASSERT_TRUE(none.ok()) << none.status().ToString();
+  EXPECT_EQ(*none, 0u);
+  ASSERT_TRUE(c.fixed.count("model.bin") && c.fixed.count("cameras.bin"));
+  const OutputHashes rgb = c.budgets[0].rgb;
+  ASSERT_EQ(rgb.size(), c.budgets[0].yuv.size());
+  // As the case was before RGB, model and cameras were outputs.
+  ConformanceCase older = c;
+  older.fixed.erase("model.bin");
+  older.fixed.erase("cameras.bin");
+  for (BudgetExpectation& b : older.budgets) b.rgb.clear();
+  StatusOr<size_t> added = AddNewOutputs(&older);
+  ASSERT_TRUE(added.ok()) << added.status().ToString();
+  EXPECT_EQ(*added, 2 + rgb.size() * c.budgets.size());
+  EXPECT_EQ(older.budgets[0].rgb, rgb);
+  EXPECT_EQ(Load(dir).fixed, c.fixed);  // saved
+  ConformanceCase changed = c;
+  changed.fixed["motion.bin"] = std::string(64, '0');
+  changed.fixed.erase("model.bin");
+  StatusOr<size_t> refused = AddNewOutputs(&changed);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.status().message().find("motion.bin no longer matches"), std::string::npos)
+      << refused.status().message();
+}
+
 // A harness picks cases by test.json's format version, profile, level and
 // tools: they are what the stream's own header says, also where the header
 // is what makes the case invalid.

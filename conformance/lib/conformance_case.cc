@@ -119,6 +119,7 @@ StatusOr<ConformanceCase> LoadCase(const std::string& dir) {
         BudgetExpectation e;
         e.bytes_per_fragment = b.at("bytes_per_fragment").get<uint64_t>();
         FVV_RETURN_IF_ERROR(ReadHashes(b.at("yuv"), "budgets[].yuv", &e.yuv));
+        if (b.contains("rgb")) FVV_RETURN_IF_ERROR(ReadHashes(b["rgb"], "budgets[].rgb", &e.rgb));
         c.budgets.push_back(std::move(e));
       }
     } else {
@@ -156,7 +157,8 @@ Status SaveCase(const ConformanceCase& c) {
     if (!c.fixed.empty()) j["outputs"] = c.fixed;
     nlohmann::ordered_json budgets = nlohmann::ordered_json::array();
     for (const BudgetExpectation& b : c.budgets) {
-      budgets.push_back({{"bytes_per_fragment", b.bytes_per_fragment}, {"yuv", b.yuv}});
+      budgets.push_back(
+          {{"bytes_per_fragment", b.bytes_per_fragment}, {"yuv", b.yuv}, {"rgb", b.rgb}});
     }
     j["budgets"] = budgets;
   }

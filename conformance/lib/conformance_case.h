@@ -17,6 +17,7 @@ namespace fvv {
 struct BudgetExpectation {
   uint64_t bytes_per_fragment = 0;  // 0 = whole streams
   OutputHashes yuv;                 // yuv_*.bin at this budget
+  OutputHashes rgb;                 // rgb_*.bin at this budget
 };
 
 struct ConformanceCase {

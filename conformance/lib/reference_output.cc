@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 
 #include <cstdio>
+#include <cstring>
 #include <memory>
 
 #include "codec/base/thread_pool.h"
@@ -13,12 +14,56 @@
 #include "container/vertex_visibility.h"
 #include "encoder/io/image_io.h"
 #include "player/decoder/gop_decoder.h"
+#include "player/decoder/view_pixels.h"
 
 namespace fvv {
 namespace {
 
 void PutLe(uint64_t v, int bytes, std::vector<uint8_t>* out) {
   for (int i = 0; i < bytes; ++i) out->push_back(static_cast<uint8_t>(v >> (8 * i)));
+}
+void PutF32(float v, std::vector<uint8_t>* out) {
+  uint32_t bits;
+  std::memcpy(&bits, &v, 4);
+  PutLe(bits, 4, out);
+}
+void PutF64(double v, std::vector<uint8_t>* out) {
+  uint64_t bits;
+  std::memcpy(&bits, &v, 8);
+  PutLe(bits, 8, out);
+}
+
+// model.bin (Annex B.1): the decoded mesh and its skin.
+std::vector<uint8_t> ModelOutput(const Mesh& m) {
+  std::vector<uint8_t> out;
+  const size_t n = m.positions.size();
+  PutLe(n, 4, &out);
+  PutLe(m.triangles.size(), 4, &out);
+  for (size_t i = 0; i < n; ++i) {
+    for (float v : m.positions[i]) PutF32(v, &out);
+    for (float v : m.normals[i]) PutF32(v, &out);
+    for (float v : m.uvs[i]) PutF32(v, &out);
+    for (uint16_t v : m.joints[i]) PutLe(v, 2, &out);
+    for (uint16_t v : m.weights[i]) PutLe(v, 2, &out);
+  }
+  for (const auto& t : m.triangles) {
+    for (uint32_t v : t) PutLe(v, 4, &out);
+  }
+  return out;
+}
+
+// cameras.bin (Annex B.1): every camera's calibration as decoded.
+std::vector<uint8_t> CamerasOutput(const std::vector<Camera>& cameras) {
+  std::vector<uint8_t> out;
+  for (const Camera& c : cameras) {
+    PutLe(c.width, 4, &out);
+    PutLe(c.height, 4, &out);
+    for (double v : {c.fx, c.fy, c.cx, c.cy}) PutF64(v, &out);
+    for (double v : c.distortion) PutF64(v, &out);
+    for (double v : c.rotation) PutF64(v, &out);
+    for (double v : c.translation) PutF64(v, &out);
+  }
+  return out;
 }
 
 // Collects the fragments of one GOP time span (they follow each other in GOP
@@ -57,6 +102,8 @@ class SpanEmitter {
 
   Status Finish(const StreamInfo& info) {
     FVV_RETURN_IF_ERROR(Flush(info));
+    FVV_RETURN_IF_ERROR(sink_("model.bin", ModelOutput(info.model.mesh)));
+    FVV_RETURN_IF_ERROR(sink_("cameras.bin", CamerasOutput(info.cameras)));
     return sink_("motion.bin", motion_);
   }
 
@@ -85,6 +132,10 @@ class SpanEmitter {
           }
         }
         FVV_RETURN_IF_ERROR(sink_(OutputName("yuv", frame, camera), yuv));
+        std::unique_ptr<uint8_t[]> rgb;
+        ViewPixels(block, t, c, ViewFormat::kRgb8, &rgb);
+        FVV_RETURN_IF_ERROR(sink_(OutputName("rgb", frame, camera),
+                                  std::vector<uint8_t>(rgb.get(), rgb.get() + texels * 3)));
         const size_t plane_index = size_t{t} * luma.cameras() + c;
         if (!gop.masks[g].empty()) {
           const auto begin = gop.masks[g].begin() + plane_index * texels;

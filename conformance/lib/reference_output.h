@@ -8,6 +8,8 @@
 //                            at its coded size), each sample i16 LE, rows top first
 //   mask_FFFFFF_CCC.bin      streams with masks: one byte 0/1 per atlas texel
 //   vvis_FFFFFF_CCC.bin      fragments with 'vvis': one byte 0/1 per model vertex
+//   rgb_FFFFFF_CCC.bin       frame F, camera C: the RGB of 9.7, 3 bytes per texel
+//   model.bin, cameras.bin   the decoded mesh and skin, and the calibrations
 //
 // Under a budget of B bytes per fragment, each channel stream c of a fragment is
 // decoded from its first floor(size_c * B / (size_Y + size_U + size_V)) bytes

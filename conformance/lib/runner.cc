@@ -54,6 +54,7 @@ std::string Compare(const OutputHashes& expected, const OutputHashes& actual, st
 OutputHashes Expected(const ConformanceCase& c, const BudgetExpectation& b) {
   OutputHashes all = c.fixed;
   all.insert(b.yuv.begin(), b.yuv.end());
+  all.insert(b.rgb.begin(), b.rgb.end());
   return all;
 }
 
@@ -262,6 +263,45 @@ CaseResult RunCase(const ConformanceCase& c, const RunOptions& options) {
   return finish(std::move(problem));
 }
 
+StatusOr<size_t> AddNewOutputs(ConformanceCase* c) {
+  if (c->expect_error || !c->blessed()) return size_t{0};
+  FVV_ASSIGN_OR_RETURN(const std::vector<uint8_t> stream,
+                       ReadFileBytes(c->stream_path(), kMaxConformanceFileBytes));
+  if (Sha256Hex(stream) != c->stream_sha256) {
+    return Corrupt(c->name + ": the stream differs from the released one");
+  }
+  size_t added = 0;
+  for (BudgetExpectation& b : c->budgets) {
+    ReferenceDecodeOptions o;
+    o.bytes_per_fragment = b.bytes_per_fragment;
+    FVV_ASSIGN_OR_RETURN(const OutputHashes got, ReferenceDecodeHashes(stream, o));
+    const OutputHashes expected = Expected(*c, b);
+    for (const auto& [name, hash] : expected) {
+      const auto it = got.find(name);
+      if (it == got.end() || it->second != hash) {
+        return Corrupt(c->name + ", " + BudgetName(b.bytes_per_fragment) + ": " + name +
+                       " no longer matches its released hash");
+      }
+    }
+    for (const auto& h : got) {
+      if (expected.count(h.first)) continue;
+      if (StartsWith(h.first, "yuv_")) {
+        return Corrupt(c->name + ": " + h.first + " appeared (the frames are released)");
+      }
+      if (StartsWith(h.first, "rgb_")) {
+        b.rgb.insert(h);
+      } else if (b.bytes_per_fragment == 0) {
+        c->fixed.insert(h);
+      } else {
+        continue;
+      }
+      ++added;
+    }
+  }
+  if (added) FVV_RETURN_IF_ERROR(SaveCase(*c));
+  return added;
+}
+
 Status BlessCase(ConformanceCase* c, const std::vector<uint64_t>& budgets, bool force) {
   if (c->blessed() && !c->stream_sha256.empty() && !force) {
     return InvalidArgument(c->dir +
@@ -298,6 +338,8 @@ Status BlessCase(ConformanceCase* c, const std::vector<uint64_t>& budgets, bool 
     for (const auto& h : hashes) {
       if (StartsWith(h.first, "yuv_")) {
         e.yuv.insert(h);
+      } else if (StartsWith(h.first, "rgb_")) {
+        e.rgb.insert(h);
       } else if (b == 0) {
         c->fixed.insert(h);
       }

@@ -42,6 +42,10 @@ Status CheckDecoderTemplate(const std::string& decoder);
 // listed (0 = whole is always first). Refuses a case that already has
 // expectations unless `force` (released cases never change).
 Status BlessCase(ConformanceCase* c, const std::vector<uint64_t>& budgets, bool force);
+// A released valid case gains the hashes of output files Annex B added after
+// it was made (at each of its budgets), once every hash it records is
+// confirmed unchanged; saved. Returns how many it added.
+StatusOr<size_t> AddNewOutputs(ConformanceCase* c);
 
 }  // namespace fvv
 

@@ -14,7 +14,8 @@ struct ConformArgs {
   std::vector<std::string> roots{"conformance/cases"};
   std::vector<std::string> only;
   std::string decoder;
-  bool any_error = false, list = false, bless = false, force = false, quiet = false;
+  bool any_error = false, list = false, bless = false, force = false, quiet = false,
+       add_outputs = false;
   std::vector<uint64_t> budgets;
   unsigned timeout = 300, threads = 2;
 };
@@ -81,6 +82,17 @@ int RunConform(const ConformArgs& a) {
     }
     return 0;
   }
+  if (a.add_outputs) {
+    for (ConformanceCase& c : cases) {
+      StatusOr<size_t> added = AddNewOutputs(&c);
+      if (!added.ok()) {
+        std::fprintf(stderr, "fvv conform: %s\n", added.status().ToString().c_str());
+        return 1;
+      }
+      if (*added) std::printf("%-40s %zu output hashes added\n", c.name.c_str(), *added);
+    }
+    return 0;
+  }
   RunOptions options;
   options.decoder = a.decoder;
   options.any_error = a.any_error;
@@ -140,6 +152,9 @@ void AddConformCommand(CLI::App* app, int* exit_code) {
                 "streams")
       ->delimiter(',');
   c->add_flag("--force", args->force, "With --bless: overwrite existing expectations");
+  c->add_flag("--add-outputs", args->add_outputs,
+              "Add to released cases the hashes of output files the spec's Annex B added since "
+              "(every hash they record must still match)");
   c->add_flag("-q,--quiet", args->quiet, "Print only failures and the summary");
   c->callback([args, exit_code] { *exit_code = RunConform(*args); });
 }
