@@ -689,6 +689,17 @@ std::vector<CaseSpec> InvalidCases() {
     boxes->insert(boxes->begin() + FindBox(*boxes, box::kFragment), b);
     return Status::Ok();
   };
+  add("sub_box_65",
+      "a fragment of 65 sub-boxes (unknown non-essential ones added; checksum recomputed)",
+      StatusCode::kCorrupt, {"3.5", "10"})
+      ->edit = [fragment](std::vector<EditBox>* boxes) {
+    FVV_RETURN_IF_ERROR(DropIndex(boxes));
+    return EditFragment(&fragment(boxes, 0), [](std::vector<EditBox>* subs) {
+      EditBox b;
+      b.type = MakeFourCC("zzzz");
+      while (subs->size() < 65) subs->insert(subs->begin() + 1, b);
+    });
+  };
   add("unknown_essential_subbox",
       "an unknown sub-box marked essential inside a fragment "
       "(checksum recomputed)",
