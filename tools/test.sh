@@ -2,8 +2,10 @@
 # Runs every test on a fresh Debian machine: installs dependencies, builds with
 # warnings as errors under AddressSanitizer + UndefinedBehaviorSanitizer, and runs
 # the suites in parallel (three slow tracking tests in an optimised build, below);
-# then the threaded modules' tests under ThreadSanitizer.
-# Usage: tools/test.sh   (build dirs: build-asan/, build/ for those three, build-tsan/)
+# then the threaded modules' tests under ThreadSanitizer, then every fuzz target for a fixed
+# time.
+# Usage: tools/test.sh   (build dirs: build-asan/, build/ for those three, build-tsan/,
+# build-fuzz/)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./tools/setup.sh
@@ -39,3 +41,39 @@ tsan build-tsan/tests/player_decoder_api_test
 tsan build-tsan/tests/encode_ordered_queue_test
 tsan build-tsan/tests/encode_session_test \
   --gtest_filter='EncodeTest.RoundTripReachesTheReportedPsnr:EncodeTest.CApiEncodesAndReportsAndRefusesMisuse'
+
+# Fuzzing: every libFuzzer target for a fixed time (FVV_FUZZ_SECONDS, default
+# 30), two at a time, on a copy of its seed corpus and regressions, under
+# ASan+UBSan (clang; only the libraries the targets link). A crash fails the
+# run and leaves its input in build-fuzz/crashes/ (fuzz/README.md).
+fuzz_targets=(fuzz_stream_reader fuzz_motion fuzz_mask fuzz_block fuzz_decode fuzz_decoder_api
+  fuzz_bvh fuzz_capture_json fuzz_calibration)
+CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DFVV_BUILD_FUZZERS=ON -DFVV_SANITIZE=ON -DFVV_WERROR=ON -DFVV_BUILD_TESTS=OFF \
+  -DFVV_BUILD_BENCH=OFF >/dev/null
+cmake --build build-fuzz -j2 --target "${fuzz_targets[@]}"
+rm -rf build-fuzz/runs && mkdir -p build-fuzz/crashes
+fuzz_one() {
+  local t=$1 dir=build-fuzz/runs/$1
+  mkdir -p "$dir"
+  cp fuzz/corpus/"$t"/* "$dir"/
+  if [ -d fuzz/regressions/"$t" ]; then cp fuzz/regressions/"$t"/* "$dir"/; fi
+  if ! build-fuzz/fuzz/"$t" "$dir" -max_total_time="${FVV_FUZZ_SECONDS:-30}" -rss_limit_mb=4096 \
+    -artifact_prefix=build-fuzz/crashes/"$t"- >build-fuzz/runs/"$t".log 2>&1; then
+    tail -40 build-fuzz/runs/"$t".log
+    echo "FUZZ FAILED: $t (input in build-fuzz/crashes/)"
+    return 1
+  fi
+  echo "== fuzzed $t: $(grep -o 'Done [0-9]* runs in [0-9]* second(s)' build-fuzz/runs/"$t".log)," \
+    "$(grep -o 'cov: [0-9]*' build-fuzz/runs/"$t".log | tail -1)"
+}
+fuzz_failed=0
+for ((i = 0; i < ${#fuzz_targets[@]}; i += 2)); do
+  pids=()
+  for t in "${fuzz_targets[@]:i:2}"; do
+    fuzz_one "$t" &
+    pids+=($!)
+  done
+  for p in "${pids[@]}"; do wait "$p" || fuzz_failed=1; done
+done
+[ $fuzz_failed = 0 ] || exit 1

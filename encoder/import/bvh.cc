@@ -10,6 +10,7 @@ namespace {
 
 constexpr size_t kMaxJoints = 1024;
 constexpr size_t kMaxValues = size_t{1} << 28;
+constexpr size_t kMaxFrames = size_t{1} << 20;  // 4.8 hours at 60 fps
 
 class Tokens {
  public:
@@ -151,7 +152,11 @@ StatusOr<BvhMotion> ParseBvh(const std::string& text, double unit_metres) {
       !(frame_time > 0)) {
     return Error(t, "expected 'Frame Time: seconds'");
   }
-  if (frames * channels.size() > double(kMaxValues)) return Error(t, "motion too long");
+  if (channels.empty()) return Error(t, "the hierarchy has no CHANNELS");
+  // Frames count on their own too (a vector each), besides the values.
+  if (frames > double(kMaxFrames) || frames * channels.size() > double(kMaxValues)) {
+    return Error(t, "motion too long");
+  }
   m.frame_time = frame_time;
   // Map file channel order to the skeleton's DOF order.
   const std::vector<DofRef> dofs = m.skeleton.Dofs();
