@@ -47,7 +47,7 @@ tsan build-tsan/tests/encode_session_test \
 # ASan+UBSan (clang; only the libraries the targets link). A crash fails the
 # run and leaves its input in build-fuzz/crashes/ (fuzz/README.md).
 fuzz_targets=(fuzz_stream_reader fuzz_motion fuzz_mask fuzz_block fuzz_decode fuzz_decoder_api
-  fuzz_bvh fuzz_capture_json fuzz_calibration fuzz_block_round_trip)
+  fuzz_bvh fuzz_gltf fuzz_capture_json fuzz_calibration fuzz_block_round_trip)
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DFVV_BUILD_FUZZERS=ON -DFVV_SANITIZE=ON -DFVV_WERROR=ON -DFVV_BUILD_TESTS=OFF \
   -DFVV_BUILD_BENCH=OFF >/dev/null
