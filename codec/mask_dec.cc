@@ -35,7 +35,7 @@ Status DecodeMasks(const uint8_t* data, size_t size, const Shape4D& shape, MaskC
   }
   if (!r.rc_.ok()) {
     return Corrupt("mask data: " + std::to_string(size) + " bytes end before the last of " +
-                     std::to_string(shape.frames() * shape.cameras()) + " masks");
+                   std::to_string(shape.frames() * shape.cameras()) + " masks");
   }
   return Status::Ok();
 }

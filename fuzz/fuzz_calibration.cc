@@ -3,8 +3,6 @@
 // (intri.yml and extri.yml, split at the first line "==="), TOML, Qualisys
 // .qca.txt. The rest is the file(s), written to a temporary directory because
 // the importers read files.
-#include <unistd.h>
-
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -12,25 +10,19 @@
 #include <vector>
 
 #include "encoder/capture/calibration_import.h"
+#include "fuzz/temp_file.h"
 
 namespace {
 
 bool Write(const std::string& path, const std::string& bytes) {
-  FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f) return false;
-  std::fwrite(bytes.data(), 1, bytes.size(), f);
-  return std::fclose(f) == 0;
+  return fvv::WriteFuzzFile(path, bytes.data(), bytes.size());
 }
 
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1) return 0;
-  static const std::string dir = [] {
-    char tmpl[] = "/tmp/fvv_fuzz_calibration_XXXXXX";
-    const char* made = mkdtemp(tmpl);
-    return std::string(made ? made : "/tmp");
-  }();
+  const std::string& dir = fvv::FuzzTempDir();
   const std::string text(reinterpret_cast<const char*>(data + 1), size - 1);
   std::vector<std::string> paths;
   switch (data[0] % 4) {

@@ -31,6 +31,19 @@ int Fail(const Status& s) {
   return 1;
 }
 
+// The person network from `models` (empty: the default directory); `needed_by`
+// starts the error ("sync needs the person network: ...").
+StatusOr<std::unique_ptr<PersonObserver>> LoadPersons(const std::string& models,
+                                                      const std::string& needed_by) {
+  StatusOr<std::unique_ptr<PersonObserver>> o =
+      PersonObserver::Load(models.empty() ? DefaultModelDirectory() : models);
+  if (!o.ok() && !needed_by.empty()) {
+    return Status(o.status().code(),
+                  needed_by + " needs the person network: " + o.status().message());
+  }
+  return o;
+}
+
 int RunSynthCommand(SynthOptions o) {
   o.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   StatusOr<SynthSummary> s = RunSynth(o);
@@ -87,8 +100,7 @@ int RunSheet(const SheetArgs& a) {
   std::unique_ptr<PersonObserver> observer;
   if (a.persons) {
     if (a.silhouettes) return Fail(InvalidArgument("--persons draws over images, not silhouettes"));
-    StatusOr<std::unique_ptr<PersonObserver>> o =
-        PersonObserver::Load(a.models.empty() ? DefaultModelDirectory() : a.models);
+    StatusOr<std::unique_ptr<PersonObserver>> o = LoadPersons(a.models, "");
     if (!o.ok()) return Fail(o.status());
     observer = std::move(*o);
   }
@@ -287,12 +299,8 @@ int RunSync(const SyncArgs& a) {
   if (Status s = ParseFrameRange(a.frames, &o.first, &o.last); !s.ok()) return Fail(s);
   o.max_offset = a.max_offset;
   o.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
-  StatusOr<std::unique_ptr<PersonObserver>> observer =
-      PersonObserver::Load(a.models.empty() ? DefaultModelDirectory() : a.models);
-  if (!observer.ok()) {
-    return Fail(Status(observer.status().code(),
-                       "sync needs the person network: " + observer.status().message()));
-  }
+  StatusOr<std::unique_ptr<PersonObserver>> observer = LoadPersons(a.models, "sync");
+  if (!observer.ok()) return Fail(observer.status());
   StatusOr<FrameOffsets> r = EstimateFrameOffsets(*cap, observer->get(), o);
   if (!r.ok()) return Fail(r.status());
   std::printf(
@@ -365,13 +373,8 @@ int RunRefineCalib(const RefineArgs& a) {
   if (Status s = ParseFrameRange(a.frames, &first, &last); !s.ok()) return Fail(s);
   last = std::min(last, cap->frame_count - 1);
   StatusOr<std::unique_ptr<PersonObserver>> observer =
-      PersonObserver::Load(a.models.empty() ? DefaultModelDirectory() : a.models);
-  if (!observer.ok()) {
-    return Fail(Status(observer.status().code(),
-                       "refining the calibration needs the person "
-                       "network: " +
-                           observer.status().message()));
-  }
+      LoadPersons(a.models, "refining the calibration");
+  if (!observer.ok()) return Fail(observer.status());
   StatusOr<CaptureSightings> seen = ReadSightings(
       *cap, observer->get(), first, last,
       [](const std::string& line) { std::fprintf(stderr, "refine-calib: %s\n", line.c_str()); });
