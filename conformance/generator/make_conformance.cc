@@ -7,6 +7,7 @@
 // Released cases never change: existing case directories are left alone
 // unless --force. Usage: fvv_make_conformance OUT_DIR [--only NAME] [--force]
 #include <sys/stat.h>
+#include <zstd.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -896,6 +897,80 @@ std::vector<CaseSpec> InvalidCases() {
       "decisions need bytes beyond the payload",
       StatusCode::kCorrupt, {"7", "9.4", "10"})
       ->edit = halve_first(box::kMasks);
+  // The motion track's zstd form: after the key frame's residuals (one LEB128
+  // value per DOF), the first decision of frame 1 is a flag, made 2.
+  {
+    SampleStreamOptions z = Tiny();
+    z.motion_coder = MotionCoder::kZstd;
+    const size_t dofs = MakeSampleBodyModel().skeleton.Dofs().size();
+    add("motion_zstd_flag_2",
+        "a flag byte of 2 in the zstd motion form (the first flag of frame 1; recompressed, "
+        "checksum recomputed)",
+        StatusCode::kCorrupt, {"6.3", "10"})
+        ->options = z;
+    v.back().edit = [fragment, dofs](std::vector<EditBox>* boxes) -> Status {
+      FVV_RETURN_IF_ERROR(DropIndex(boxes));
+      Status inner = Status::Ok();
+      FVV_RETURN_IF_ERROR(EditFragment(&fragment(boxes, 0), [&](std::vector<EditBox>* subs) {
+        std::vector<uint8_t>& p = (*subs)[size_t(FindBox(*subs, box::kMotion))].payload;
+        const unsigned long long n = ZSTD_getFrameContentSize(p.data() + 1, p.size() - 1);
+        if (n == ZSTD_CONTENTSIZE_ERROR || n == ZSTD_CONTENTSIZE_UNKNOWN || n > (1u << 20)) {
+          inner = Internal("edit: motn is not one zstd frame with its size");
+          return;
+        }
+        std::vector<uint8_t> raw(n);
+        if (ZSTD_decompress(raw.data(), n, p.data() + 1, p.size() - 1) != n) {
+          inner = Internal("edit: motn does not decompress");
+          return;
+        }
+        size_t at = 0;
+        for (size_t d = 0; d < dofs && at < raw.size(); ++d) {
+          while (at < raw.size() && (raw[at] & 0x80)) ++at;  // LEB128 continuation
+          ++at;
+        }
+        if (at >= raw.size() || raw[at] > 1) {
+          inner = Internal("edit: no flag after the key frame");
+          return;
+        }
+        raw[at] = 2;
+        std::vector<uint8_t> packed(ZSTD_compressBound(raw.size()));
+        const size_t m = ZSTD_compress(packed.data(), packed.size(), raw.data(), raw.size(), 19);
+        packed.resize(m);
+        p.resize(1);
+        p.insert(p.end(), packed.begin(), packed.end());
+      }));
+      return inner;
+    };
+  }
+  // The body model: bone 1 names itself its parent (not an earlier bone). The
+  // model is stored uncompressed (compression 0) so the edit is visible.
+  add("model_parent_not_earlier", "bone 1 of the body model is its own parent",
+      StatusCode::kCorrupt, {"3.3", "10"})
+      ->edit = [](std::vector<EditBox>* boxes) -> Status {
+    std::vector<uint8_t>& m = (*boxes)[size_t(FindBox(*boxes, box::kModel))].payload;
+    const size_t raw_size = size_t(LoadLe(m, 1, 4));
+    std::vector<uint8_t> raw(raw_size);
+    if (m[0] == 1) {
+      if (ZSTD_decompress(raw.data(), raw_size, m.data() + 5, m.size() - 5) != raw_size) {
+        return Internal("edit: modl does not decompress");
+      }
+    } else {
+      raw.assign(m.begin() + 5, m.end());
+    }
+    // Bone 0: name (u16 length + bytes), parent i16, translation 3 x f32,
+    // rotation 4 x f32, order u8, dof_mask u8, 8 bytes of limits per DOF.
+    size_t at = 2;
+    at += 2 + size_t(LoadLe(raw, at, 2));
+    at += 2 + 12 + 16 + 1;
+    const uint8_t dof_mask = raw[at];
+    at += 1 + 8 * size_t(__builtin_popcount(dof_mask));
+    at += 2 + size_t(LoadLe(raw, at, 2));  // bone 1's name
+    StoreLe(&raw, at, 1, 2);               // its parent: itself
+    m.assign(1, 0);
+    for (int i = 0; i < 4; ++i) m.push_back(uint8_t(raw_size >> (8 * i)));
+    m.insert(m.end(), raw.begin(), raw.end());
+    return Status::Ok();
+  };
   add("camera_focal_nan", "the first camera's fx is NaN", StatusCode::kCorrupt, {"3.2", "10"})
       ->edit = [](std::vector<EditBox>* boxes) {
     // cams: count u16, then the first camera: name (u16 length, bytes),
