@@ -334,6 +334,21 @@ TEST(PersonObserverReal, FindsThePersonOnTheTreadmill) {
   EXPECT_LT(share, 0.3);
 }
 
+// A 4-camera synthetic take of `frames` frames in a fresh directory named
+// `tag` (removed first), loaded; `dir` receives the directory.
+StatusOr<Capture> FourCameraTake(const std::string& tag, uint32_t frames, std::string* dir) {
+  SynthOptions s;
+  s.output_dir = ::testing::TempDir() + "/" + tag + "_" + std::to_string(getpid());
+  std::system(("rm -rf '" + s.output_dir + "'").c_str());
+  s.cameras = 4;
+  s.frames = frames;
+  s.held_out = 0;
+  s.texture_size = 256;
+  *dir = s.output_dir;
+  FVV_RETURN_IF_ERROR(RunSynth(s).status());
+  return LoadCapture(s.output_dir);
+}
+
 // A camera that started recording 3 frames late (its frame f is the others'
 // f + 3): fvv capture sync's estimate skips 3 frames of every other camera,
 // and the cameras then agree better than as recorded.
@@ -341,15 +356,8 @@ TEST(CameraSync, FindsTheCameraThatStartedLate) {
   std::string reason;
   std::unique_ptr<PersonObserver> observer = LoadOrSkipReason(&reason);
   if (!observer) GTEST_SKIP() << "person models unavailable: " << reason;
-  SynthOptions s;
-  s.output_dir = ::testing::TempDir() + "/camera_sync_" + std::to_string(getpid());
-  std::system(("rm -rf '" + s.output_dir + "'").c_str());
-  s.cameras = 4;
-  s.frames = 33;
-  s.held_out = 0;
-  s.texture_size = 256;
-  ASSERT_TRUE(RunSynth(s).ok());
-  StatusOr<Capture> cap = LoadCapture(s.output_dir);
+  std::string dir;
+  StatusOr<Capture> cap = FourCameraTake("camera_sync", 33, &dir);
   ASSERT_TRUE(cap.ok()) << cap.status().ToString();
   cap->cameras[2].frames.first = 3;
   cap->frame_count = 30;
@@ -370,7 +378,7 @@ TEST(CameraSync, FindsTheCameraThatStartedLate) {
   StatusOr<FrameOffsets> few = EstimateFrameOffsets(*cap, observer.get(), o);
   ASSERT_FALSE(few.ok());
   EXPECT_NE(few.status().message().find("too few"), std::string::npos);
-  std::system(("rm -rf '" + s.output_dir + "'").c_str());
+  std::system(("rm -rf '" + dir + "'").c_str());
 }
 
 // A camera knocked off its calibration (turned 3 degrees, moved 1 cm): its
@@ -383,15 +391,8 @@ TEST(CalibrationRefinement, BringsAKnockedCameraBackFromTheKeypoints) {
   std::string reason;
   std::unique_ptr<PersonObserver> observer = LoadOrSkipReason(&reason);
   if (!observer) GTEST_SKIP() << "person models unavailable: " << reason;
-  SynthOptions s;
-  s.output_dir = ::testing::TempDir() + "/refine_calib_" + std::to_string(getpid());
-  std::system(("rm -rf '" + s.output_dir + "'").c_str());
-  s.cameras = 4;
-  s.frames = 20;
-  s.held_out = 0;
-  s.texture_size = 256;
-  ASSERT_TRUE(RunSynth(s).ok());
-  StatusOr<Capture> cap = LoadCapture(s.output_dir);
+  std::string dir;
+  StatusOr<Capture> cap = FourCameraTake("refine_calib", 20, &dir);
   ASSERT_TRUE(cap.ok()) << cap.status().ToString();
   StatusOr<CaptureSightings> seen = ReadSightings(*cap, observer.get(), 0, 19, nullptr);
   ASSERT_TRUE(seen.ok()) << seen.status().ToString();
@@ -433,7 +434,7 @@ TEST(CalibrationRefinement, BringsAKnockedCameraBackFromTheKeypoints) {
   EXPECT_LT(turn(r->cameras[2], truth[2]), 0.6 * turn(knocked[2], truth[2]));
   EXPECT_LT(after, 0.6 * before);
   for (size_t c : {0, 1, 3}) EXPECT_GT(r->rotation_deg[2], 1.5 * r->rotation_deg[c]) << c;
-  std::system(("rm -rf '" + s.output_dir + "'").c_str());
+  std::system(("rm -rf '" + dir + "'").c_str());
 }
 
 }  // namespace
