@@ -168,10 +168,11 @@ TEST_F(FeatureRegistrationTest, PoseAndProportionsFitTheJoints) {
     }
   }
   std::printf(
-      "  6 frames: joint rms to the features %.2f cm; all 17 joints against the truth: "
-      "mean %.2f cm, max %.2f cm\n",
-      fit_sum / 6 * 100, joint_sum / joints * 100, joint_max * 100);
+      "  6 frames: joint rms to the features %.2f cm (%.2f cm from each frame's start); all 17 "
+      "joints against the truth: mean %.2f cm, max %.2f cm\n",
+      fit_sum / 6 * 100, init_sum / 6 * 100, joint_sum / joints * 100, joint_max * 100);
   EXPECT_LT(fit_sum / 6, 0.01);
+  EXPECT_LE(fit_sum, init_sum) << "registration left the joints further than it found them";
   EXPECT_LT(joint_sum / joints, 0.012);
   EXPECT_LT(joint_max, 0.04);
   // Too few joints: a clear error.

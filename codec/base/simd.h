@@ -6,8 +6,17 @@
 #ifndef FVV_CODEC_BASE_SIMD_H_
 #define FVV_CODEC_BASE_SIMD_H_
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__SANITIZE_ADDRESS__) && \
-    !defined(__SANITIZE_THREAD__)
+// clang names its sanitizers through __has_feature only.
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
+#define FVV_SIMD_SANITIZED 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define FVV_SIMD_SANITIZED 1
+#endif
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(FVV_SIMD_SANITIZED)
 #define FVV_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
 #else
 #define FVV_SIMD_CLONES

@@ -54,7 +54,10 @@ std::vector<uint8_t> BlendSeamless(const CameraTextures& textures,
 class StaticTexture {
  public:
   explicit StaticTexture(uint32_t size);
+  uint32_t size() const { return size_; }
   void Add(const std::vector<uint8_t>& rgb, const std::vector<int16_t>& labels);
+  // Replaces it by a texture made before (Rgb() and Coverage() of another).
+  void Set(const std::vector<uint8_t>& rgb, const std::vector<uint8_t>& coverage);
   bool Has(size_t texel) const { return count_[texel] > 0; }
   // The mean colour of a texel (Has(texel) must hold).
   void Get(size_t texel, uint8_t* rgb) const;
