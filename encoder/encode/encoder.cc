@@ -1,13 +1,17 @@
 #include "encoder/encode/encoder.h"
 
+#include "container/stream_join.h"
 #include "encoder/encode/encoder_session.h"
 
 namespace fvv {
 namespace {
 
 using encoding::Clock;
+using encoding::FrameSpan;
+using encoding::FramesToEncode;
 using encoding::Session;
 using encoding::Since;
+using encoding::TakeFeatures;
 
 Status CheckSettings(const EncoderSettings& s) {
   if (s.atlas_size < 16 || s.atlas_size > 4096) {
@@ -37,6 +41,31 @@ Status CheckSettings(const EncoderSettings& s) {
     return InvalidArgument("the rate (bpp, bytes or PSNR) must be positive");
   }
   if (s.threads < 1 || s.threads > 256) return InvalidArgument("threads must be 1..256");
+  if (s.shards > 0) {
+    if (s.shard >= s.shards) {
+      return InvalidArgument("shard " + std::to_string(s.shard) + "/" + std::to_string(s.shards) +
+                             ": K counts from 0 and must be below N");
+    }
+    if (s.prepared.empty()) {
+      return InvalidArgument("--shard needs --prepared DIR (fvv encode --prepare DIR writes it)");
+    }
+    if (s.key_interval != 1) {
+      // Interpolated frames carry no values, so the join could not measure
+      // the take's motion statistics again.
+      return InvalidArgument("shards are coded with motion key interval 1");
+    }
+  }
+  if (!s.prepared.empty()) {
+    if (s.poses.empty()) {
+      return InvalidArgument("--prepared needs --poses: the poses the take was prepared with");
+    }
+    if (s.first_frame != 0 || s.last_frame != UINT32_MAX) {
+      return InvalidArgument("--frames with --prepared: the prepared take sets the frames");
+    }
+    if (s.refine_shape) {
+      return InvalidArgument("--refine-shape belongs to --prepare: the prepared model is used");
+    }
+  }
   return Status::Ok();
 }
 
@@ -45,6 +74,48 @@ void Say(const EncoderSettings& s, const std::string& line) {
 }
 
 }  // namespace
+
+namespace encoding {
+
+StatusOr<FrameSpan> FramesToEncode(const Capture& cap, const EncoderSettings& s,
+                                   const PoseSequence* given) {
+  FrameSpan r{s.first_frame, std::min(s.last_frame, cap.frame_count - 1)};
+  if (given) {
+    r.first = std::max(r.first, given->first_frame);
+    r.last = std::min<uint32_t>(r.last, given->first_frame + uint32_t(given->poses.size()) - 1);
+  }
+  if (r.first > r.last) {
+    return InvalidArgument(
+        "no frames to encode: frames " + std::to_string(s.first_frame) + ".." +
+        (s.last_frame == UINT32_MAX ? std::string("end") : std::to_string(s.last_frame)) +
+        " of a capture of " + std::to_string(cap.frame_count) +
+        (given ? " with poses for frames " + std::to_string(given->first_frame) + ".." +
+                     std::to_string(given->first_frame + given->poses.size() - 1)
+               : std::string()));
+  }
+  return r;
+}
+
+StatusOr<TakeFeatures> TakeFeatures::Load(const Capture& cap, const std::string& path) {
+  TakeFeatures t;
+  for (const auto& c : cap.cameras) t.cameras_.push_back(c.calibration);
+  if (path.empty()) return t;
+  StatusOr<FeatureSet> f = LoadFeatures(path, t.cameras_, cap.frame_count);
+  if (!f.ok()) return f.status();
+  t.features_ = std::move(*f);
+  return t;
+}
+
+std::map<std::string, Eigen::Vector3d> TakeFeatures::Of(uint32_t frame) const {
+  std::map<std::string, Eigen::Vector3d> out;
+  if (!features_.frames.count(frame)) return out;
+  for (const auto& [name, p] : TriangulateFeatures(features_.frames.at(frame), cameras_)) {
+    out[name] = p.position;
+  }
+  return out;
+}
+
+}  // namespace encoding
 
 StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std::string& output,
                                       const EncoderSettings& s_in) {
@@ -64,19 +135,41 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
     if (!p.ok()) return p.status();
     given = std::move(*p);
   }
-  uint32_t first = s.first_frame, last = std::min(s.last_frame, cap->frame_count - 1);
-  if (given) {
-    first = std::max(first, given->first_frame);
-    last = std::min<uint32_t>(last, given->first_frame + uint32_t(given->poses.size()) - 1);
-  }
-  if (first > last) {
-    return InvalidArgument(
-        "no frames to encode: frames " + std::to_string(s.first_frame) + ".." +
-        (s.last_frame == UINT32_MAX ? std::string("end") : std::to_string(s.last_frame)) +
-        " of a capture of " + std::to_string(cap->frame_count) +
-        (given ? " with poses for frames " + std::to_string(given->first_frame) + ".." +
-                     std::to_string(given->first_frame + given->poses.size() - 1)
-               : std::string()));
+  FVV_ASSIGN_OR_RETURN(const FrameSpan range, FramesToEncode(*cap, s, given ? &*given : nullptr));
+  uint32_t first = range.first, last = range.last;
+  std::optional<PreparedTake> prepared;
+  if (!s.prepared.empty()) {
+    StatusOr<PreparedTake> p = LoadPreparedTake(s.prepared);
+    if (!p.ok()) return p.status();
+    prepared = std::move(*p);
+    if (given->crc32c != prepared->poses_crc) {
+      return InvalidArgument(s.poses + " is not the poses file " + s.prepared +
+                             " was prepared with (its checksum differs)");
+    }
+    if (prepared->gop_frames != s.gop_frames) {
+      return InvalidArgument(s.prepared + " was prepared for GOPs of " +
+                             std::to_string(prepared->gop_frames) + " frames, not " +
+                             std::to_string(s.gop_frames));
+    }
+    if (prepared->first_frame < first || prepared->last_frame > last) {
+      return InvalidArgument(s.prepared + "'s frames " + std::to_string(prepared->first_frame) +
+                             ".." + std::to_string(prepared->last_frame) +
+                             " are not all in the capture and the poses");
+    }
+    first = prepared->first_frame;
+    last = prepared->last_frame;
+    if (s.shards > 0) {
+      FVV_ASSIGN_OR_RETURN(const ShardFrames part,
+                           ShardFramesOf(prepared->frames(), s.gop_frames, s.shard, s.shards));
+      ShardPosition position;
+      position.index = s.shard;
+      position.count = s.shards;
+      position.take_frames = prepared->frames();
+      position.first = part.first;
+      for (auto& kv : ShardMetadata(position)) s.metadata.push_back(kv);
+      first = prepared->first_frame + part.first;
+      last = first + part.count - 1;
+    }
   }
   if (!s.textures.empty() && given->atlas_size != s.atlas_size) {
     // The textures must have been made for this atlas.
@@ -85,24 +178,8 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
   }
 
   // Feature points for shape refinement's features term (optional).
-  std::optional<FeatureSet> features;
-  if (!s.features.empty()) {
-    std::vector<Camera> cams;
-    for (const auto& c : cap->cameras) cams.push_back(c.calibration);
-    StatusOr<FeatureSet> f = LoadFeatures(s.features, cams, cap->frame_count);
-    if (!f.ok()) return f.status();
-    features = std::move(*f);
-  }
-  const auto FeaturesOf = [&](uint32_t frame) {
-    std::map<std::string, Eigen::Vector3d> out;
-    if (!features || !features->frames.count(frame)) return out;
-    std::vector<Camera> cams;
-    for (const auto& c : cap->cameras) cams.push_back(c.calibration);
-    for (const auto& [name, p] : TriangulateFeatures(features->frames.at(frame), cams)) {
-      out[name] = p.position;
-    }
-    return out;
-  };
+  FVV_ASSIGN_OR_RETURN(const TakeFeatures features, TakeFeatures::Load(*cap, s.features));
+  const auto FeaturesOf = [&](uint32_t frame) { return features.Of(frame); };
   Session session(*cap, output, s, first, last);
   EncodeSummary& sum = session.summary();
   const uint32_t total = last - first + 1;
@@ -133,7 +210,9 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
         FVV_RETURN_IF_ERROR(frames->Read(f, &images, &sils));
         sum.read_s += Since(t0);
       }
-      if (f == first) {
+      if (f == first && prepared) {
+        FVV_RETURN_IF_ERROR(session.UsePrepared(*prepared));
+      } else if (f == first) {
         const RefinementFrame refine{given->poses[f - given->first_frame], images, sils,
                                      FeaturesOf(f)};
         FVV_RETURN_IF_ERROR(session.SetShape(given->shape, frames ? &refine : nullptr));

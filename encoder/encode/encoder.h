@@ -107,6 +107,15 @@ struct EncoderSettings {
   uint32_t threads = 2;
   Metadata metadata;
 
+  // Encoding in shards (docs/scale-out.md). `prepared`: a directory
+  // PrepareTake wrote; the take's frames, model and static texture come from
+  // it. shards > 0: only shard `shard` of `shards` (GOP-aligned; needs
+  // `prepared` and `poses`), a stream of its own that JoinShards puts together.
+  std::string prepared;
+  uint32_t shard = 0, shards = 0;
+  // PrepareTake: the static texture averages this many frames spread over the take.
+  uint32_t prepare_frames = 8;
+
   std::string save_textures;  // also write the MVV textures and masks here (PNG)
   std::function<void(const std::string&)> progress;  // one line per frame and stage
 };
@@ -144,6 +153,18 @@ struct EncodeSummary {
 
 StatusOr<EncodeSummary> EncodeCapture(const std::string& capture, const std::string& output,
                                       const EncoderSettings& settings);
+
+struct PrepareSummary {
+  std::string directory;
+  uint32_t first_frame = 0, frames = 0, gops = 0;
+  std::vector<uint32_t> texture_frames;
+  double seconds = 0;
+};
+// The shared pass before shards: the take (settings' frame range, clamped to
+// the capture and the poses, which it needs), its model and static texture,
+// written to `directory` (encoder/encode/prepared_take.h).
+StatusOr<PrepareSummary> PrepareTake(const std::string& capture, const std::string& directory,
+                                     const EncoderSettings& settings);
 
 // Texture files of a --save-textures directory.
 std::string TexturePath(const std::string& dir, const std::string& camera, uint32_t frame);

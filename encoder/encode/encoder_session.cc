@@ -38,6 +38,27 @@ Status Session::SetShape(const BodyShape& shape, const RefinementFrame* first) {
   StatusOr<Atlas> atlas = BuildAtlas(model_.mesh, ao);
   if (!atlas.ok()) return atlas.status();
   model_.mesh = std::move(atlas->mesh);
+  return AllocateForModel();
+}
+
+Status Session::UsePrepared(const PreparedTake& take) {
+  if (HasShape()) return Internal("the session's model is already set");
+  if (take.atlas_size != s_.atlas_size) {
+    return InvalidArgument("the take was prepared for a " + std::to_string(take.atlas_size) +
+                           " atlas, not " + std::to_string(s_.atlas_size) + " (pass --atlas " +
+                           std::to_string(take.atlas_size) + ")");
+  }
+  shape_ = take.shape;
+  model_ = take.model;
+  FVV_RETURN_IF_ERROR(AllocateForModel());
+  if (static_) {
+    static_->Set(take.static_rgb, take.static_coverage);
+    static_fixed_ = true;
+  }
+  return Status::Ok();
+}
+
+Status Session::AllocateForModel() {
   map_ = MapAtlasTexels(model_.mesh, s_.atlas_size);
   const size_t texels = size_t(s_.atlas_size) * s_.atlas_size;
   span_rgb_.assign(size_t(s_.gop_frames) * sum_.cameras * texels * 3, 0);
@@ -55,17 +76,39 @@ Status Session::SetShape(const BodyShape& shape, const RefinementFrame* first) {
 // atlas textures and masks themselves.
 Status Session::AddFrame(uint32_t frame, const std::vector<double>& dofs,
                          const std::vector<Image>& images, const std::vector<Image>& silhouettes) {
-  const auto t0 = Clock::now();
-  const Skeleton& skeleton = model_.skeleton;
-  const QuantisedPose q = QuantisePose(skeleton.Dofs(), motion_, dofs);
+  const QuantisedPose q = QuantisePose(model_.skeleton.Dofs(), motion_, dofs);
   poses_.push_back(q);
   raw_poses_.push_back(dofs);
-  const size_t texels = size_t(s_.atlas_size) * s_.atlas_size;
   const uint32_t slot = (frame - first_) % s_.gop_frames;
+  FVV_ASSIGN_OR_RETURN(const std::vector<Eigen::Vector3f> positions,
+                       Resample(frame, slot, q, images, silhouettes));
+  if (static_) AddToStaticTexture(slot, positions);
+  if (slot + 1 == s_.gop_frames || frame == last_) FVV_RETURN_IF_ERROR(CodeSpan(slot + 1));
+  return Status::Ok();
+}
+
+Status Session::AddStaticFrame(uint32_t frame, const std::vector<double>& dofs,
+                               const std::vector<Image>& images,
+                               const std::vector<Image>& silhouettes) {
+  if (!static_ || static_fixed_) return Internal("no static texture to add a frame to");
+  const QuantisedPose q = QuantisePose(model_.skeleton.Dofs(), motion_, dofs);
+  FVV_ASSIGN_OR_RETURN(const std::vector<Eigen::Vector3f> positions,
+                       Resample(frame, 0, q, images, silhouettes));
+  AddToStaticTexture(0, positions);
+  return Status::Ok();
+}
+
+StatusOr<std::vector<Eigen::Vector3f>> Session::Resample(uint32_t frame, uint32_t slot,
+                                                         const QuantisedPose& q,
+                                                         const std::vector<Image>& images,
+                                                         const std::vector<Image>& silhouettes) {
+  const auto t0 = Clock::now();
+  const Skeleton& skeleton = model_.skeleton;
+  const size_t texels = size_t(s_.atlas_size) * s_.atlas_size;
   const std::vector<Affine> skin =
       SkinningMatrices(skeleton, DequantisePose(skeleton.Dofs(), motion_, q));
   std::vector<Eigen::Vector3f> normals;
-  const std::vector<Eigen::Vector3f> positions = SkinPositions(model_.mesh, skin, &normals);
+  std::vector<Eigen::Vector3f> positions = SkinPositions(model_.mesh, skin, &normals);
   if (images.empty()) {
     FVV_RETURN_IF_ERROR(ReadTextures(frame, slot));
   } else {
@@ -77,9 +120,7 @@ Status Session::AddFrame(uint32_t frame, const std::vector<double>& dofs,
     });
   }
   sum_.resample_s += Since(t0);
-  if (static_) AddToStaticTexture(slot, positions);
-  if (slot + 1 == s_.gop_frames || frame == last_) FVV_RETURN_IF_ERROR(CodeSpan(slot + 1));
-  return Status::Ok();
+  return positions;
 }
 
 Status Session::Finish(const std::string& output) {
@@ -174,9 +215,11 @@ void Session::AddToStaticTexture(uint32_t slot, const std::vector<Eigen::Vector3
     facing.rgb.push_back(textures.rgb.back());
     facing.masks.push_back(all_seen_.data());
   }
-  const std::vector<int16_t> labels =
-      BestCameraLabels(map_, model_.mesh, positions, cameras_, textures);
-  static_->Add(BlendSeamless(textures, labels), labels);
+  if (!static_fixed_) {
+    const std::vector<int16_t> labels =
+        BestCameraLabels(map_, model_.mesh, positions, cameras_, textures);
+    static_->Add(BlendSeamless(textures, labels), labels);
+  }
   span_fallback_[slot] = BestCameraLabels(map_, model_.mesh, positions, cameras_, facing);
   sum_.seamless_s += Since(t0);
 }

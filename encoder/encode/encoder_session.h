@@ -26,6 +26,7 @@
 #include "encoder/encode/encoder.h"
 #include "encoder/encode/ordered_queue.h"
 #include "encoder/encode/pose_file.h"
+#include "encoder/encode/prepared_take.h"
 #include "encoder/encode/seamless_texture.h"
 #include "encoder/track/capture_frames.h"
 #include "encoder/track/features.h"
@@ -57,6 +58,26 @@ inline std::string FrameFile(const std::string& dir, const std::string& camera, 
   std::snprintf(buf, sizeof(buf), "/%s_%06u.png", kind, frame);
   return dir + "/" + camera + buf;
 }
+
+// The capture frames an encode covers: the settings' range clamped to the
+// capture and to the poses given (may be null); InvalidArgument when none is left.
+struct FrameSpan {
+  uint32_t first = 0, last = 0;
+};
+StatusOr<FrameSpan> FramesToEncode(const Capture& cap, const EncoderSettings& s,
+                                   const PoseSequence* given);
+
+// Feature points for shape refinement's features term (none without a file):
+// per frame, the points two or more cameras saw, triangulated.
+class TakeFeatures {
+ public:
+  static StatusOr<TakeFeatures> Load(const Capture& cap, const std::string& path);
+  std::map<std::string, Eigen::Vector3d> Of(uint32_t frame) const;
+
+ private:
+  std::vector<Camera> cameras_;
+  FeatureSet features_;
+};
 
 // Where the encoder is, between frames.
 class Session {
@@ -90,6 +111,17 @@ class Session {
   // refine_shape, the model refined on `first` (its pose, images and
   // silhouettes) first.
   Status SetShape(const BodyShape& shape, const RefinementFrame* first);
+  // Instead of SetShape: the prepared take's model and atlas, and its static
+  // texture, held fixed (frames no longer add to it).
+  Status UsePrepared(const PreparedTake& take);
+  const BodyShape& shape() const { return shape_; }
+  const BodyModel& model() const { return model_; }
+  // The static texture so far (fallback_texture or static_texture), or null.
+  const StaticTexture* static_texture() const { return static_.get(); }
+
+  // --prepare: one frame resampled into the static texture, nothing coded.
+  Status AddStaticFrame(uint32_t frame, const std::vector<double>& dofs,
+                        const std::vector<Image>& images, const std::vector<Image>& silhouettes);
 
   // One frame: `images` and `silhouettes` per camera, or, with `textures`, the
   // atlas textures and masks themselves.
@@ -106,6 +138,14 @@ class Session {
                : 0;
   }
   Status FillHeader(FileHeader* h) const;
+  // The atlas texel map and the span buffers, once the model is set.
+  Status AllocateForModel();
+  // The frame's pose quantised as the stream carries it, every camera
+  // resampled into `slot`; the skinned vertex positions.
+  StatusOr<std::vector<Eigen::Vector3f>> Resample(uint32_t frame, uint32_t slot,
+                                                  const QuantisedPose& q,
+                                                  const std::vector<Image>& images,
+                                                  const std::vector<Image>& silhouettes);
 
   // Codes the `frames` frames held for the current time span: one block per
   // camera group.
@@ -154,6 +194,7 @@ class Session {
   TexelMap map_;
   std::vector<uint8_t> span_rgb_, span_mask_;        // (slot, camera, y, x)
   std::unique_ptr<StaticTexture> static_;            // with fallback_texture or static_texture
+  bool static_fixed_ = false;                        // a prepared take's: frames do not add to it
   std::vector<std::vector<int16_t>> span_fallback_;  // per slot: best-facing camera per texel
   std::vector<uint8_t> all_seen_;                    // texels x 1: "every camera" masks
   std::vector<QuantisedPose> poses_;

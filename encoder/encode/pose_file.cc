@@ -5,6 +5,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "container/crc32c.h"
 #include "encoder/body/body_shape_json.h"
 #include "encoder/io/image_io.h"
 
@@ -75,7 +76,9 @@ StatusOr<PoseSequence> LoadPoseFile(const std::string& path) {
   if (stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) file = path + "/truth/truth.json";
   StatusOr<std::vector<uint8_t>> bytes = ReadFileBytes(file, 256u << 20);
   if (!bytes.ok()) return bytes.status();
-  return ParsePoseFile(std::string(bytes->begin(), bytes->end()), file);
+  StatusOr<PoseSequence> poses = ParsePoseFile(std::string(bytes->begin(), bytes->end()), file);
+  if (poses.ok()) poses->crc32c = Crc32c(bytes->data(), bytes->size());
+  return poses;
 }
 
 }  // namespace fvv

@@ -17,6 +17,7 @@ struct PoseSequence {
   uint32_t first_frame = 0;                // capture frame of poses[0]
   std::vector<std::vector<double>> poses;  // consecutive frames, generic-body DOF order
   uint32_t atlas_size = 0;  // textures.json: the atlas its textures are in; 0 otherwise
+  uint32_t crc32c = 0;      // LoadPoseFile: the file's CRC-32C (shards check they share it)
 };
 
 // Parses poses.json / truth.json text; `what` names the file in errors. The DOF

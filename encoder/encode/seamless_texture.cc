@@ -234,6 +234,14 @@ void StaticTexture::Add(const std::vector<uint8_t>& rgb, const std::vector<int16
   }
 }
 
+void StaticTexture::Set(const std::vector<uint8_t>& rgb, const std::vector<uint8_t>& coverage) {
+  for (size_t i = 0; i < count_.size(); ++i) {
+    const bool seen = i < coverage.size() && coverage[i] && (i + 1) * 3 <= rgb.size();
+    count_[i] = seen;
+    for (int k = 0; k < 3; ++k) sum_[i * 3 + k] = seen ? rgb[i * 3 + k] : 0.0f;
+  }
+}
+
 void StaticTexture::Get(size_t texel, uint8_t* rgb) const {
   for (int k = 0; k < 3; ++k) {
     rgb[k] = uint8_t(std::lround(sum_[texel * 3 + k] / float(std::max(1u, count_[texel]))));

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <memory>
+#include <stdexcept>
 
 #include "encoder/encode/encoder.h"
 #include "tools/fvv/codec_options.h"
@@ -13,7 +14,8 @@ namespace {
 
 struct EncodeArgs {
   std::string capture, output, poses, textures, save_textures, summary_json, frames, static_texture,
-      features;
+      features, prepare, prepared, shard;
+  uint32_t prepare_frames = EncoderSettings{}.prepare_frames;
   CodecOptionArgs codec;
   std::string motion_coder = "arith", texture_codec = "spiht", mask_coder = "mixing";
   bool kernel_given = false, gop_cameras_given = false;
@@ -32,6 +34,26 @@ struct EncodeArgs {
 int Fail(const Status& s) {
   std::fprintf(stderr, "fvv: %s\n", s.ToString().c_str());
   return 1;
+}
+
+// "K/N", K from 0.
+Status ParseShard(const std::string& text, uint32_t* k, uint32_t* n) {
+  const size_t slash = text.find('/');
+  try {
+    size_t used_k = 0, used_n = 0;
+    if (slash == std::string::npos) throw std::invalid_argument("no slash");
+    const unsigned long kk = std::stoul(text.substr(0, slash), &used_k);
+    const unsigned long nn = std::stoul(text.substr(slash + 1), &used_n);
+    if (used_k != slash || used_n != text.size() - slash - 1 || nn == 0 || nn > 100000 ||
+        kk >= nn) {
+      throw std::invalid_argument("range");
+    }
+    *k = uint32_t(kk);
+    *n = uint32_t(nn);
+  } catch (const std::exception&) {
+    return InvalidArgument("--shard " + text + " is not K/N with 0 <= K < N (e.g. 0/4)");
+  }
+  return Status::Ok();
 }
 
 int RunEncode(const EncodeArgs& a) {
@@ -96,6 +118,27 @@ int RunEncode(const EncodeArgs& a) {
   if (!a.quiet) {
     s.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   }
+  s.prepared = a.prepared;
+  s.prepare_frames = a.prepare_frames;
+  if (!a.shard.empty()) {
+    const Status shard = ParseShard(a.shard, &s.shard, &s.shards);
+    if (!shard.ok()) return Fail(shard);
+  }
+  if (!a.prepare.empty()) {
+    if (!a.output.empty()) return Fail(InvalidArgument("--prepare writes a directory, not -o"));
+    StatusOr<PrepareSummary> p = PrepareTake(a.capture, a.prepare, s);
+    if (!p.ok()) return Fail(p.status());
+    std::printf(
+        "prepared take: %s\n  frames %u..%u (%u), %u GOPs of %u frames\n"
+        "  static texture from %zu frames, %.1f s\n"
+        "  next: fvv encode %s --poses %s --prepared %s --shard K/N -o part_K.fvv, "
+        "then fvv join\n",
+        p->directory.c_str(), p->first_frame, p->first_frame + p->frames - 1, p->frames, p->gops,
+        unsigned(s.gop_frames), p->texture_frames.size(), p->seconds, a.capture.c_str(),
+        a.poses.c_str(), p->directory.c_str());
+    return 0;
+  }
+  if (a.output.empty()) return Fail(InvalidArgument("-o/--output is required"));
   StatusOr<EncodeSummary> r = EncodeCapture(a.capture, a.output, s);
   if (!r.ok()) return Fail(r.status());
   std::printf("%s", r->Table().c_str());
@@ -125,9 +168,12 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
       "Poses: tracked from the capture's silhouettes unless --poses gives them (fvv track's "
       "poses.json, or a synthetic capture's truth.json or directory). --textures encodes atlas "
       "textures made by --save-textures (or by a studio's own pipeline in that layout).\n"
+      "Shards (docs/scale-out.md): fvv encode cap --poses p.json --prepare prep/, then on any "
+      "machines fvv encode cap --poses p.json --prepared prep/ --shard K/N -o part_K.fvv, then "
+      "fvv join part_*.fvv -o cap.fvv.\n"
       "Example: fvv encode cap -o cap.fvv --save-textures tex/");
   e->add_option("capture", a->capture, "Capture directory or capture.json")->required();
-  e->add_option("-o,--output", a->output, "The .fvv file to write")->required();
+  e->add_option("-o,--output", a->output, "The .fvv file to write (not with --prepare)");
   e->add_option("--poses", a->poses, "Use these poses instead of tracking");
   e->add_option("--textures", a->textures,
                 "Encode these atlas textures and masks (a --save-textures directory)")
@@ -173,6 +219,17 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
   e->add_flag("--refine-shape", a->refine_shape,
               "Refine the body model's surface to the actor on the first frame (silhouettes, "
               "stereo) before resampling; the stream stores the refined model");
+  e->add_option("--prepare", a->prepare,
+                "Shards: write the take's shared model and static texture to this directory "
+                "and stop (needs --poses)");
+  e->add_option("--prepare-frames", a->prepare_frames,
+                "With --prepare: frames the static texture averages, spread over the take")
+      ->capture_default_str();
+  e->add_option("--prepared", a->prepared,
+                "Encode with a prepared take (its frames, model, static texture)");
+  e->add_option("--shard", a->shard,
+                "With --prepared: encode only shard K of N (K from 0; whole GOPs), a stream "
+                "`fvv join` puts together with the others");
   e->add_option("--threads", a->threads, "Worker threads")->capture_default_str();
   e->add_option("--meta", a->meta, "Metadata KEY=VALUE (repeatable)");
   e->add_option("--summary-json", a->summary_json, "Also write the summary as JSON here");

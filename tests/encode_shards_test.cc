@@ -1,0 +1,249 @@
+// Encoding in shards: the GOP-aligned split of a take, the prepared take
+// every shard reads, and the join, which must give byte for byte the stream of
+// one encode of the take, and refuse parts that are missing, doubled, foreign
+// or made with other settings, naming them.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+
+#include "container/file_reader.h"
+#include "container/stream_join.h"
+#include "encoder/encode/encoder.h"
+#include "encoder/encode/prepared_take.h"
+#include "tools/synth/synth.h"
+
+namespace fvv {
+namespace {
+
+std::vector<char> Bytes(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  return std::vector<char>(std::istreambuf_iterator<char>(f), {});
+}
+
+TEST(ShardFrames, WholeGopsCoverTheTakeInOrder) {
+  for (uint32_t frames : {1u, 7u, 8u, 9u, 64u, 101u}) {
+    for (uint32_t gop : {1u, 2u, 8u}) {
+      const uint32_t spans = (frames + gop - 1) / gop;
+      for (uint32_t n = 1; n <= spans + 1; ++n) {
+        uint32_t next = 0;
+        for (uint32_t k = 0; k < n; ++k) {
+          StatusOr<ShardFrames> s = ShardFramesOf(frames, gop, k, n);
+          if (n > spans) {
+            // Some shard must be empty: the first such one is refused.
+            if (!s.ok()) {
+              EXPECT_EQ(s.status().code(), StatusCode::kInvalidArgument);
+              EXPECT_NE(s.status().message().find("no GOP"), std::string::npos);
+              next = frames;
+              break;
+            }
+          } else {
+            ASSERT_TRUE(s.ok()) << s.status().ToString();
+          }
+          EXPECT_EQ(s->first, next) << frames << " " << gop << " " << k << "/" << n;
+          EXPECT_EQ(s->first % gop, 0u);
+          EXPECT_GT(s->count, 0u);
+          if (k + 1 < n) {
+            EXPECT_EQ(s->count % gop, 0u);
+          }
+          // As even as whole spans allow.
+          EXPECT_LE(s->count, (spans + n - 1) / n * gop);
+          next += s->count;
+        }
+        EXPECT_EQ(next, frames) << frames << " " << gop << " " << n;
+      }
+    }
+  }
+  EXPECT_FALSE(ShardFramesOf(10, 2, 3, 3).ok());
+  EXPECT_FALSE(ShardFramesOf(10, 2, 0, 0).ok());
+}
+
+// A small synthetic take: 7 frames in GOPs of 2 (the last span short), 3
+// cameras in groups of 2 (two fragments per span).
+class ShardTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = ::testing::TempDir() + "/shard_test_" + std::to_string(getpid());
+    std::system(("rm -rf '" + dir_ + "'").c_str());
+    SynthOptions o;
+    o.output_dir = dir_ + "/cap";
+    o.cameras = 3;
+    o.frames = 7;
+    o.held_out = 0;
+    o.noise = 0;
+    o.unlit = true;
+    o.seed = 9;
+    synth_ = RunSynth(o).status();
+    if (!synth_.ok()) return;
+    EncoderSettings s = Settings();
+    s.prepare_frames = 3;
+    StatusOr<PrepareSummary> p = PrepareTake(dir_ + "/cap", dir_ + "/prep", s);
+    synth_ = p.status();
+  }
+  static void TearDownTestSuite() { std::system(("rm -rf '" + dir_ + "'").c_str()); }
+  void SetUp() override { ASSERT_TRUE(synth_.ok()) << synth_.ToString(); }
+
+  static EncoderSettings Settings() {
+    EncoderSettings s;
+    s.poses = dir_ + "/cap";  // the generator's true poses: one pose source for every shard
+    s.atlas_size = 128;
+    s.gop_frames = 2;
+    s.gop_cameras = 2;
+    s.threads = 1;
+    return s;
+  }
+  static EncoderSettings Shard(uint32_t k, uint32_t n) {
+    EncoderSettings s = Settings();
+    s.prepared = dir_ + "/prep";
+    s.shard = k;
+    s.shards = n;
+    return s;
+  }
+  static std::string Encode(const EncoderSettings& s, const std::string& name) {
+    const std::string out = dir_ + "/" + name;
+    StatusOr<EncodeSummary> r = EncodeCapture(dir_ + "/cap", out, s);
+    EXPECT_TRUE(r.ok()) << name << ": " << r.status().ToString();
+    return out;
+  }
+
+  static std::string dir_;
+  static Status synth_;
+};
+std::string ShardTest::dir_;
+Status ShardTest::synth_;
+
+TEST_F(ShardTest, JoinedShardsAreTheWholeTakeByteForByte) {
+  StatusOr<PreparedTake> prep = LoadPreparedTake(dir_ + "/prep");
+  ASSERT_TRUE(prep.ok()) << prep.status().ToString();
+  EXPECT_EQ(prep->frames(), 7u);
+  EXPECT_EQ(prep->texture_frames, (std::vector<uint32_t>{0, 3, 6}));
+
+  EncoderSettings whole = Settings();
+  whole.prepared = dir_ + "/prep";
+  const std::string single = Encode(whole, "whole.fvv");
+  std::vector<std::string> parts;
+  for (uint32_t k = 0; k < 3; ++k) {
+    parts.push_back(Encode(Shard(k, 3), "part_" + std::to_string(k) + ".fvv"));
+  }
+  // Each part is a stream of its own: its frames, whole GOPs, its own index.
+  uint32_t frames = 0;
+  for (const std::string& p : parts) {
+    StatusOr<std::unique_ptr<FileSource>> src = FileSource::Open(p);
+    ASSERT_TRUE(src.ok());
+    StatusOr<std::unique_ptr<FileReader>> r = FileReader::Open(src->get());
+    ASSERT_TRUE(r.ok()) << p << ": " << r.status().ToString();
+    EXPECT_TRUE((*r)->index_in_stream());
+    StatusOr<ShardPosition> pos = ReadShardPosition((*r)->info().metadata, p);
+    ASSERT_TRUE(pos.ok()) << pos.status().ToString();
+    EXPECT_EQ(pos->first, frames);
+    frames += (*r)->info().header.frame_count;
+    for (size_t i = 0; i < (*r)->fragment_count(); ++i) EXPECT_TRUE((*r)->ReadFragment(i).ok());
+  }
+  EXPECT_EQ(frames, 7u);
+
+  // Any order in; the whole take's bytes out.
+  StatusOr<JoinSummary> j = JoinShards({parts[2], parts[0], parts[1]}, dir_ + "/joined.fvv");
+  ASSERT_TRUE(j.ok()) << j.status().ToString();
+  EXPECT_EQ(j->parts, 3u);
+  EXPECT_EQ(j->frames, 7u);
+  EXPECT_EQ(j->fragments, 8u);  // 4 spans x 2 camera groups
+  EXPECT_TRUE(j->motion_recoded);
+  const std::vector<char> a = Bytes(single), b = Bytes(dir_ + "/joined.fvv");
+  ASSERT_FALSE(a.empty());
+  EXPECT_EQ(a.size(), b.size());
+  EXPECT_TRUE(a == b) << "the joined stream differs from one encode of the take";
+
+  // Without the prepared take, each shard would build its own static texture
+  // from its own frames: the prepared one is what makes them agree. The whole
+  // take encoded without it differs from the one with it.
+  const std::vector<char> unprepared = Bytes(Encode(Settings(), "unprepared.fvv"));
+  EXPECT_FALSE(unprepared == a);
+}
+
+TEST_F(ShardTest, JoinNamesMissingDoubledForeignAndMismatchedParts) {
+  std::vector<std::string> parts;
+  for (uint32_t k = 0; k < 2; ++k) {
+    parts.push_back(Encode(Shard(k, 2), "half_" + std::to_string(k) + ".fvv"));
+  }
+  const std::string out = dir_ + "/bad_join.fvv";
+  auto Refused = [&](const std::vector<std::string>& in, const std::string& says) {
+    StatusOr<JoinSummary> j = JoinShards(in, out);
+    ASSERT_FALSE(j.ok()) << "joined " << in.size() << " parts; expected: " << says;
+    EXPECT_NE(j.status().message().find(says), std::string::npos) << j.status().ToString();
+    EXPECT_NE(access(out.c_str(), F_OK), 0) << "a refused join left an output";
+  };
+  Refused({parts[1]}, "part 0 of 2 is missing");
+  Refused({parts[0], parts[0], parts[1]}, "are both part 0");
+  Refused({parts[0], parts[1], parts[0]}, "are both part 0");
+  // A part of another split of the same take.
+  const std::string third = Encode(Shard(2, 3), "third_2.fvv");
+  Refused({parts[0], third}, "a part of 3 shards");
+  // A stream that is no shard.
+  EncoderSettings whole = Settings();
+  whole.prepared = dir_ + "/prep";
+  Refused({parts[0], Encode(whole, "whole_for_join.fvv")}, "is not a shard");
+  // A part coded with other tools (no masks).
+  EncoderSettings no_masks = Shard(1, 2);
+  no_masks.masks = false;
+  Refused({parts[0], Encode(no_masks, "half_1_no_masks.fvv")}, "coding tools differs");
+  // Other metadata (another generator's note).
+  EncoderSettings meta = Shard(1, 2);
+  meta.metadata = {{"take", "another"}};
+  Refused({parts[0], Encode(meta, "half_1_meta.fvv")}, "metadata differs");
+  // The output may not be one of the inputs.
+  StatusOr<JoinSummary> j = JoinShards(parts, parts[0]);
+  ASSERT_FALSE(j.ok());
+  EXPECT_NE(j.status().message().find("both a part and the output"), std::string::npos);
+  // The two good halves still join.
+  EXPECT_TRUE(JoinShards(parts, out).ok());
+}
+
+TEST_F(ShardTest, EncodeRefusesShardsWithoutTheirPreparedTake) {
+  auto Refused = [&](const EncoderSettings& s, const std::string& says) {
+    StatusOr<EncodeSummary> r = EncodeCapture(dir_ + "/cap", dir_ + "/refused.fvv", s);
+    ASSERT_FALSE(r.ok()) << "expected: " << says;
+    EXPECT_NE(r.status().message().find(says), std::string::npos) << r.status().ToString();
+  };
+  EncoderSettings s = Shard(0, 2);
+  s.prepared.clear();
+  Refused(s, "--shard needs --prepared");
+  s = Shard(2, 2);
+  Refused(s, "below N");
+  s = Shard(0, 5);  // 4 time spans
+  Refused(s, "no GOP");
+  s = Shard(0, 2);
+  s.gop_frames = 4;
+  Refused(s, "prepared for GOPs of 2");
+  s = Shard(0, 2);
+  s.atlas_size = 64;
+  Refused(s, "prepared for a 128 atlas");
+  s = Shard(0, 2);
+  s.key_interval = 2;
+  Refused(s, "key interval 1");
+  s = Shard(0, 2);
+  s.first_frame = 2;
+  Refused(s, "the prepared take sets the frames");
+  // Poses other than the ones the take was prepared with.
+  std::ifstream in(dir_ + "/cap/truth/truth.json");
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  text += " ";
+  std::ofstream(dir_ + "/other_poses.json") << text;
+  s = Shard(0, 2);
+  s.poses = dir_ + "/other_poses.json";
+  Refused(s, "not the poses file");
+  // A directory that is not a prepared take.
+  s = Shard(0, 2);
+  s.prepared = dir_ + "/cap";
+  Refused(s, "prepared.json");
+  // --prepare needs poses.
+  EncoderSettings p = Settings();
+  p.poses.clear();
+  StatusOr<PrepareSummary> prep = PrepareTake(dir_ + "/cap", dir_ + "/prep2", p);
+  ASSERT_FALSE(prep.ok());
+  EXPECT_NE(prep.status().message().find("--prepare needs --poses"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace fvv
