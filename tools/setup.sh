@@ -18,6 +18,8 @@ packages=(
   libyaml-cpp-dev libtomlplusplus-dev libtinyxml2-dev  # calibration files (fvv capture import-calib)
   libssl-dev  # SHA-256 of decoded output (fvv conform)
   libopencv-dev python3-numpy python3-onnx  # person masks and keypoints (OpenCV dnn; the model converter)
+  python3-yaml  # tests/cli_shards_test.sh: the Kubernetes manifest parsed
+  parallel  # GNU parallel: shards of an encode side by side (bench/run_shard_bench.sh, docs/scale-out.md)
 )
 
 missing=()

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "encoder/encode/encoder.h"
+#include "encoder/encode/prepared_take.h"
 #include "tools/fvv/codec_options.h"
 #include "tools/fvv/frame_range.h"
 #include "tools/fvv/smooth_option.h"
@@ -18,7 +19,8 @@ struct EncodeArgs {
   uint32_t prepare_frames = EncoderSettings{}.prepare_frames;
   CodecOptionArgs codec;
   std::string motion_coder = "arith", texture_codec = "spiht", mask_coder = "mixing";
-  bool kernel_given = false, gop_cameras_given = false;
+  bool kernel_given = false, gop_cameras_given = false, atlas_given = false,
+       gop_frames_given = false;
   double bpp = 0, psnr = 0;
   uint64_t bytes = 0;
   uint32_t atlas = 512, threads = 2;
@@ -120,6 +122,13 @@ int RunEncode(const EncodeArgs& a) {
   }
   s.prepared = a.prepared;
   s.prepare_frames = a.prepare_frames;
+  if (!a.prepared.empty() && (!a.atlas_given || !a.gop_frames_given)) {
+    // The atlas and GOP length the take was prepared for, unless given.
+    StatusOr<PreparedTake> take = LoadPreparedTake(a.prepared);
+    if (!take.ok()) return Fail(take.status());
+    if (!a.atlas_given) s.atlas_size = take->atlas_size;
+    if (!a.gop_frames_given) s.gop_frames = uint16_t(take->gop_frames);
+  }
   if (!a.shard.empty()) {
     const Status shard = ParseShard(a.shard, &s.shard, &s.shards);
     if (!shard.ok()) return Fail(shard);
@@ -226,7 +235,8 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
                 "With --prepare: frames the static texture averages, spread over the take")
       ->capture_default_str();
   e->add_option("--prepared", a->prepared,
-                "Encode with a prepared take (its frames, model, static texture)");
+                "Encode with a prepared take (its frames, model, static texture; its atlas size "
+                "and GOP frames unless given)");
   e->add_option("--shard", a->shard,
                 "With --prepared: encode only shard K of N (K from 0; whole GOPs), a stream "
                 "`fvv join` puts together with the others");
@@ -237,6 +247,8 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
   e->callback([a, e, exit_code] {
     a->kernel_given = e->count("--kernel") > 0;
     a->gop_cameras_given = e->count("--gop-cameras") > 0;
+    a->atlas_given = e->count("--atlas") > 0;
+    a->gop_frames_given = e->count("--gop-frames") > 0;
     *exit_code = RunEncode(*a);
   });
 }
