@@ -53,5 +53,16 @@ else
   echo "joined != single run"
   exit 1
 fi
+# What the prepared take's fixed fallback texture costs or gains against the
+# running one of an encode without it (bytes and PSNR over visible texels).
+"$fvv" encode "$work/cap" "${common[@]}" -o "$work/unprepared.fvv" \
+  --summary-json "$work/unprepared.json" >/dev/null
+figures() {
+  python3 -c 'import json, sys
+j = json.load(open(sys.argv[1]))
+print("%d bytes, %.2f dB" % (j["bytes"]["file"], j["psnr"]["rgb"]))' "$1"
+}
+echo "file, RGB PSNR over visible texels: prepared $(figures "$work/single.json"); without" \
+  "--prepared $(figures "$work/unprepared.json")"
 echo "speed-up: $(ratio "$single" "$sharded")x (encode only; prepare and join are the serial part)"
-echo "per frame, one thread: $(ratio "$single" "$frames") s (8 cameras x 512^2 atlas)"
+echo "per frame, one thread: $(ratio "$single" "$frames") s ($cameras cameras, 512^2 atlas)"

@@ -17,7 +17,17 @@ if(FVV_TSAN)
   add_compile_options(-fsanitize=thread -fno-omit-frame-pointer)
   add_link_options(-fsanitize=thread)
 endif()
-if(FVV_BUILD_FUZZERS)
-  # Coverage instrumentation for every library the fuzz targets link.
-  add_compile_options(-fsanitize=fuzzer-no-link)
-endif()
+# libFuzzer's coverage instrumentation where the fuzz targets' inputs go: the
+# parsers' libraries and files (fvv_fuzz_coverage), not the tracker and shape
+# code around them, whose tests it would slow down several times over.
+function(fvv_fuzz_coverage target)
+  if(FVV_BUILD_FUZZERS)
+    target_compile_options(${target} PRIVATE -fsanitize=fuzzer-no-link)
+  endif()
+endfunction()
+function(fvv_fuzz_coverage_sources)
+  if(FVV_BUILD_FUZZERS)
+    set_source_files_properties(${ARGN} DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}
+                                PROPERTIES COMPILE_OPTIONS -fsanitize=fuzzer-no-link)
+  endif()
+endfunction()
