@@ -192,8 +192,14 @@ StatusOr<GltfCharacter> LoadGltf(const std::string& path) {
         w = sum > 0 ? Eigen::Vector4f(w / sum) : Eigen::Vector4f(1, 0, 0, 0);
         c.weights.push_back(w);
         std::array<uint16_t, 4> j;
-        for (int k = 0; k < 4; ++k)
-          j[k] = static_cast<uint16_t>(std::min(jnt[4 * v + k], 65535.0f));
+        for (int k = 0; k < 4; ++k) {
+          const float index = jnt[4 * v + k];
+          if (!(index >= 0 && index <= 65535 && index == std::floor(index))) {
+            return Corrupt("glTF " + path + ": JOINTS_0 of vertex " + std::to_string(v) +
+                           " is not a joint index");
+          }
+          j[k] = static_cast<uint16_t>(index);
+        }
         c.joints.push_back(j);
       }
       if (prim.indices >= 0) {
