@@ -39,7 +39,8 @@ echo "single process, 1 thread: $single s"
 # {#} is GNU parallel's job number, from 1.
 parallel --sshlogin "$shards/:" --halt now,fail=1 \
   "$fvv" encode "$work/cap" "${common[@]}" --prepared "$work/prep" \
-  --shard '$(( {#} - 1 ))'/"$shards" -o "$work/part_{#}.fvv" ::: $(seq "$shards")
+  --shard '$(( {#} - 1 ))'/"$shards" -o "$work"/'part_$(( {#} - 1 )).fvv' ::: $(seq "$shards") \
+  >/dev/null
 t3=$(now)
 sharded=$(secs "$t2" "$t3")
 echo "$shards shards side by side (GNU parallel), 1 thread each: $sharded s"

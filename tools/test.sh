@@ -51,33 +51,6 @@ tsan build-tsan/tests/encode_session_test \
   --gtest_filter='EncodeTest.RoundTripReachesTheReportedPsnr:EncodeTest.CApiEncodesAndReportsAndRefusesMisuse'
 
 # Fuzzing: every libFuzzer target for a fixed time (FVV_FUZZ_SECONDS, default
-# 30), two at a time, on a copy of its seed corpus and regressions, under
-# ASan+UBSan (the build above). A crash fails the run and leaves its input in
-# build-asan/fuzz-crashes/ (fuzz/README.md).
-fuzz_targets=(fuzz_stream_reader fuzz_motion fuzz_mask fuzz_block fuzz_decode fuzz_decoder_api
-  fuzz_bvh fuzz_gltf fuzz_capture_json fuzz_calibration fuzz_block_round_trip fuzz_poses fuzz_features)
-rm -rf build-asan/fuzz-runs && mkdir -p build-asan/fuzz-crashes
-fuzz_one() {
-  local t=$1 dir=build-asan/fuzz-runs/$1
-  mkdir -p "$dir"
-  cp fuzz/corpus/"$t"/* "$dir"/
-  if [ -d fuzz/regressions/"$t" ]; then cp fuzz/regressions/"$t"/* "$dir"/; fi
-  if ! build-asan/fuzz/"$t" "$dir" -max_total_time="${FVV_FUZZ_SECONDS:-30}" -rss_limit_mb=4096 \
-    -artifact_prefix=build-asan/fuzz-crashes/"$t"- >build-asan/fuzz-runs/"$t".log 2>&1; then
-    tail -40 build-asan/fuzz-runs/"$t".log
-    echo "FUZZ FAILED: $t (input in build-asan/fuzz-crashes/)"
-    return 1
-  fi
-  echo "== fuzzed $t: $(grep -o 'Done [0-9]* runs in [0-9]* second(s)' build-asan/fuzz-runs/"$t".log)," \
-    "$(grep -o 'cov: [0-9]*' build-asan/fuzz-runs/"$t".log | tail -1)"
-}
-fuzz_failed=0
-for ((i = 0; i < ${#fuzz_targets[@]}; i += 2)); do
-  pids=()
-  for t in "${fuzz_targets[@]:i:2}"; do
-    fuzz_one "$t" &
-    pids+=($!)
-  done
-  for p in "${pids[@]}"; do wait "$p" || fuzz_failed=1; done
-done
-[ $fuzz_failed = 0 ] || exit 1
+# 30), two at a time, under ASan+UBSan (the build above). A crash fails the run
+# and leaves its input in build-asan/fuzz-crashes/ (fuzz/README.md).
+fuzz/run_all.sh build-asan "${FVV_FUZZ_SECONDS:-30}"
