@@ -4,7 +4,8 @@
 # cameras, ground truth), shows it as a contact sheet, tracks the actor's motion
 # from silhouettes and reports the joint errors; encodes the capture into a
 # .fvv stream (texture atlas, multi-view resampling, 4D-SPIHT textures, masks,
-# motion) and prints the encoder's summary; inspects, decodes and renders the
+# motion) and prints the encoder's summary; encodes it again in two shards side
+# by side and joins them into the same bytes; inspects, decodes and renders the
 # stream with Renderer II and the capture itself with Renderer I (projective
 # texturing); on the real capture in ../shared/data (where present) imports the
 # studio calibration, brings the cameras in step, and tracks, encodes and renders
@@ -32,6 +33,18 @@ echo "== encode: atlas, resampling of every camera into it, 4D-SPIHT textures (8
 $fvv encode "$out/capture" -o "$out/capture.fvv" --poses "$out/poses.json" \
   --save-textures "$out/textures" --summary-json "$out/encode_summary.json" -q
 $fvv info "$out/capture.fvv"
+echo "== the same take in shards (docs/scale-out.md): prepare once, 2 shards side by side (GNU parallel), join"
+$fvv encode "$out/capture" --poses "$out/poses.json" --prepare "$out/prepared" -q
+FVV=$fvv tools/scale-out/parallel_shards.sh 2 2/: "$out/capture" "$out/poses.json" "$out/prepared" \
+  "$out/shards" "$out/capture_joined.fvv" >/dev/null
+$fvv encode "$out/capture" --poses "$out/poses.json" --prepared "$out/prepared" -q \
+  -o "$out/capture_prepared.fvv" >/dev/null
+if cmp -s "$out/capture_joined.fvv" "$out/capture_prepared.fvv"; then
+  echo "  joined shards == one encode with the same prepared take: $(stat -c %s "$out/capture_joined.fvv") bytes, identical"
+else
+  echo "  joined shards differ from one encode" >&2
+  exit 1
+fi
 echo "== decode it with the decoder library, in full and at 20000 bytes per GOP"
 $fvv decode "$out/capture.fvv" -o "$out/decoded" --frames 0:7
 $fvv decode "$out/capture.fvv" -o "$out/decoded_cut" --frames 0:7 --bytes 20000
@@ -93,6 +106,7 @@ echo "         joints, silhouettes, texture, held-out views), $out/capture_sheet
 echo "         $out/poses.json (tracked poses, fit quality), $out/track_overlays (fit drawn over frames),"
 echo "         $out/capture.fvv (the stream; fvv info $out/capture.fvv --json),"
 echo "         $out/textures (atlas textures and masks before coding, per camera),"
+echo "         $out/prepared, $out/shards and $out/capture_joined.fvv (the take in two shards, joined),"
 echo "         $out/encode_summary.json, $out/decoded and $out/decoded_cut (tex_/mask_fFFFFF_cCC.png,"
 echo "         poses.json), $out/render_orbit and $out/render_camera2 (render_fFFFFF.png),"
 echo "         $out/render_orbit/contact_sheet.png (12 novel views of frame 30),"
