@@ -117,9 +117,9 @@ StatusOr<std::vector<QuantisedPose>> TakePoses(std::vector<Part>& parts) {
   for (Part& p : parts) {
     const StreamInfo& info = p.reader->info();
     for (size_t k = 0; k < p.reader->fragment_count(); ++k) {
+      if (info.index[k].first_camera != 0) continue;  // the motion is in camera group 0's
       StatusOr<FragmentData> f = p.reader->ReadFragment(k);
       if (!f.ok()) return Status(f.status().code(), p.path + ": " + f.status().message());
-      if (f->info.first_camera != 0) continue;
       if (f->motion.empty()) return Corrupt(p.path + ": a fragment without its motion track");
       std::vector<DecodedFrame> frames;
       const Status s = DecodeMotion(MotionBoxHeader(*f), f->motion.data(), info.model.skeleton,

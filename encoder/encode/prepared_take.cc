@@ -62,7 +62,7 @@ Status WritePreparedTake(const std::string& dir, const PreparedTake& t) {
   return WriteText(dir + "/prepared.json", j.dump(1) + "\n");
 }
 
-StatusOr<PreparedTake> LoadPreparedTake(const std::string& dir) {
+StatusOr<PreparedTake> LoadPreparedTakeDescription(const std::string& dir) {
   const std::string json_path = dir + "/prepared.json";
   StatusOr<std::vector<uint8_t>> text = ReadFileBytes(json_path, kMaxJsonBytes);
   if (!text.ok()) {
@@ -72,7 +72,6 @@ StatusOr<PreparedTake> LoadPreparedTake(const std::string& dir) {
   const nlohmann::json j = nlohmann::json::parse(text->begin(), text->end(), nullptr, false);
   if (j.is_discarded() || !j.is_object()) return Corrupt(json_path + ": not a JSON object");
   PreparedTake t;
-  uint32_t model_crc = 0;
   try {
     if (j.at("format").get<std::string>() != kFormat) {
       return Corrupt(json_path + ": not a prepared take (format is not \"" + kFormat + "\")");
@@ -88,7 +87,7 @@ StatusOr<PreparedTake> LoadPreparedTake(const std::string& dir) {
     t.refined = j.at("refined").get<bool>();
     t.poses_crc = j.at("poses_crc32c").get<uint32_t>();
     t.texture_frames = j.at("texture_frames").get<std::vector<uint32_t>>();
-    model_crc = j.at("model_crc32c").get<uint32_t>();
+    t.model_crc = j.at("model_crc32c").get<uint32_t>();
     StatusOr<BodyShape> shape = BodyShapeFromJson(j.at("body_shape"), json_path);
     if (!shape.ok()) return shape.status();
     t.shape = *shape;
@@ -99,10 +98,17 @@ StatusOr<PreparedTake> LoadPreparedTake(const std::string& dir) {
       t.gop_frames == 0 || t.gop_frames > 65535) {
     return Corrupt(json_path + ": frames, atlas size or GOP frames out of range");
   }
+  return t;
+}
+
+StatusOr<PreparedTake> LoadPreparedTake(const std::string& dir) {
+  StatusOr<PreparedTake> described = LoadPreparedTakeDescription(dir);
+  if (!described.ok()) return described.status();
+  PreparedTake t = std::move(*described);
   const std::string model_path = dir + "/model.bin";
   StatusOr<std::vector<uint8_t>> model = ReadFileBytes(model_path, kMaxModelBytes);
   if (!model.ok()) return model.status();
-  if (Crc32c(model->data(), model->size()) != model_crc) {
+  if (Crc32c(model->data(), model->size()) != t.model_crc) {
     return Corrupt(model_path + ": its checksum is not the one prepared.json gives");
   }
   StatusOr<BoxHeader> box = ParseBoxHeader(model->data(), model->size(), 0, "model.bin");

@@ -26,6 +26,7 @@ struct PreparedTake {
   uint32_t atlas_size = 0, gop_frames = 0;
   bool refined = false;                  // the model was refined to the actor (--refine-shape)
   uint32_t poses_crc = 0;                // CRC-32C of the poses file the take was prepared with
+  uint32_t model_crc = 0;                // CRC-32C of model.bin
   std::vector<uint32_t> texture_frames;  // frames the static texture averages
   BodyShape shape;
   BodyModel model;                       // the stream's model: its mesh carries the atlas UVs
@@ -38,6 +39,8 @@ struct PreparedTake {
 Status WritePreparedTake(const std::string& dir, const PreparedTake& take);
 // Errors name the file and what is wrong with it.
 StatusOr<PreparedTake> LoadPreparedTake(const std::string& dir);
+// prepared.json alone: the frames and settings, without the model and texture.
+StatusOr<PreparedTake> LoadPreparedTakeDescription(const std::string& dir);
 
 // The frames of shard `index` of `count` of a take of `frames` frames in GOPs
 // of `gop_frames`: whole time spans, as evenly shared as they divide. Offsets

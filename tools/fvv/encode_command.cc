@@ -124,7 +124,7 @@ int RunEncode(const EncodeArgs& a) {
   s.prepare_frames = a.prepare_frames;
   if (!a.prepared.empty() && (!a.atlas_given || !a.gop_frames_given)) {
     // The atlas and GOP length the take was prepared for, unless given.
-    StatusOr<PreparedTake> take = LoadPreparedTake(a.prepared);
+    StatusOr<PreparedTake> take = LoadPreparedTakeDescription(a.prepared);
     if (!take.ok()) return Fail(take.status());
     if (!a.atlas_given) s.atlas_size = take->atlas_size;
     if (!a.gop_frames_given) s.gop_frames = uint16_t(take->gop_frames);
