@@ -8,6 +8,7 @@
 #include "container/crc32c.h"
 #include "encoder/body/body_shape_json.h"
 #include "encoder/io/image_io.h"
+#include "encoder/io/json_number.h"
 
 namespace fvv {
 
@@ -39,13 +40,14 @@ StatusOr<PoseSequence> ParsePoseFile(const std::string& text, const std::string&
     } else if (j.contains("stature")) {
       out.shape.stature = j["stature"].get<double>();
     }
-    if (j.contains("atlas_size")) out.atlas_size = j["atlas_size"].get<uint32_t>();
+    if (j.contains("atlas_size"))
+      out.atlas_size = JsonWhole<uint32_t>(j["atlas_size"], "atlas_size");
     const Status shape_ok = ValidateBodyShape(out.shape);
     if (!shape_ok.ok()) return Corrupt(what + ": " + shape_ok.message());
     const auto& frames = j.at("frames");
     if (!frames.is_array() || frames.empty()) return Corrupt(what + ": no frames");
     for (size_t i = 0; i < frames.size(); ++i) {
-      const uint32_t frame = frames[i].at("frame").get<uint32_t>();
+      const uint32_t frame = JsonWhole<uint32_t>(frames[i].at("frame"), "frame");
       if (i == 0) out.first_frame = frame;
       if (frame != out.first_frame + i) {
         return Corrupt(what + ": frames[" + std::to_string(i) + "] is frame " +
@@ -64,7 +66,7 @@ StatusOr<PoseSequence> ParsePoseFile(const std::string& text, const std::string&
       }
       out.poses.push_back(std::move(dofs));
     }
-  } catch (const nlohmann::json::exception& e) {
+  } catch (const std::exception& e) {  // nlohmann's, or JsonWhole's range
     return Corrupt(what + ": " + e.what());
   }
   return out;

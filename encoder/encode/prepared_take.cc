@@ -7,6 +7,7 @@
 #include "container/file_header.h"
 #include "encoder/body/body_shape_json.h"
 #include "encoder/io/image_io.h"
+#include "encoder/io/json_number.h"
 
 namespace fvv {
 namespace {
@@ -76,22 +77,28 @@ StatusOr<PreparedTake> LoadPreparedTakeDescription(const std::string& dir) {
     if (j.at("format").get<std::string>() != kFormat) {
       return Corrupt(json_path + ": not a prepared take (format is not \"" + kFormat + "\")");
     }
-    if (j.at("version").get<int>() != kVersion) {
+    if (JsonWhole<int>(j.at("version"), "version") != kVersion) {
       return Unsupported(json_path + ": version " + j.at("version").dump() + " (this fvv reads " +
                          std::to_string(kVersion) + ")");
     }
-    t.first_frame = j.at("first_frame").get<uint32_t>();
-    t.last_frame = j.at("last_frame").get<uint32_t>();
-    t.atlas_size = j.at("atlas_size").get<uint32_t>();
-    t.gop_frames = j.at("gop_frames").get<uint32_t>();
+    t.first_frame = JsonWhole<uint32_t>(j.at("first_frame"), "first_frame");
+    t.last_frame = JsonWhole<uint32_t>(j.at("last_frame"), "last_frame");
+    t.atlas_size = JsonWhole<uint32_t>(j.at("atlas_size"), "atlas_size");
+    t.gop_frames = JsonWhole<uint32_t>(j.at("gop_frames"), "gop_frames");
     t.refined = j.at("refined").get<bool>();
-    t.poses_crc = j.at("poses_crc32c").get<uint32_t>();
-    t.texture_frames = j.at("texture_frames").get<std::vector<uint32_t>>();
-    t.model_crc = j.at("model_crc32c").get<uint32_t>();
+    t.poses_crc = JsonWhole<uint32_t>(j.at("poses_crc32c"), "poses_crc32c");
+    const nlohmann::json& frames = j.at("texture_frames");
+    if (!frames.is_array() || frames.size() > 65536) {
+      return Corrupt(json_path + ": texture_frames is not a list of frames");
+    }
+    for (const nlohmann::json& f : frames) {
+      t.texture_frames.push_back(JsonWhole<uint32_t>(f, "texture_frames"));
+    }
+    t.model_crc = JsonWhole<uint32_t>(j.at("model_crc32c"), "model_crc32c");
     StatusOr<BodyShape> shape = BodyShapeFromJson(j.at("body_shape"), json_path);
     if (!shape.ok()) return shape.status();
     t.shape = *shape;
-  } catch (const nlohmann::json::exception& e) {
+  } catch (const std::exception& e) {  // nlohmann's, or JsonWhole's range
     return Corrupt(json_path + ": " + e.what());
   }
   if (t.last_frame < t.first_frame || t.atlas_size < 16 || t.atlas_size > 4096 ||
