@@ -4,14 +4,7 @@
 #include "encoder/encode/encoder_session.h"
 
 namespace fvv {
-namespace {
-
-using encoding::Clock;
-using encoding::FrameSpan;
-using encoding::FramesToEncode;
-using encoding::Session;
-using encoding::Since;
-using encoding::TakeFeatures;
+namespace encoding {
 
 Status CheckSettings(const EncoderSettings& s) {
   if (s.atlas_size < 16 || s.atlas_size > 4096) {
@@ -68,6 +61,18 @@ Status CheckSettings(const EncoderSettings& s) {
   }
   return Status::Ok();
 }
+
+}  // namespace encoding
+
+namespace {
+
+using encoding::CheckSettings;
+using encoding::Clock;
+using encoding::FrameSpan;
+using encoding::FramesToEncode;
+using encoding::Session;
+using encoding::Since;
+using encoding::TakeFeatures;
 
 void Say(const EncoderSettings& s, const std::string& line) {
   if (s.progress) s.progress(line);
@@ -179,7 +184,6 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
 
   // Feature points for shape refinement's features term (optional).
   FVV_ASSIGN_OR_RETURN(const TakeFeatures features, TakeFeatures::Load(*cap, s.features));
-  const auto FeaturesOf = [&](uint32_t frame) { return features.Of(frame); };
   Session session(*cap, output, s, first, last);
   EncodeSummary& sum = session.summary();
   const uint32_t total = last - first + 1;
@@ -214,7 +218,7 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
         FVV_RETURN_IF_ERROR(session.UsePrepared(*prepared));
       } else if (f == first) {
         const RefinementFrame refine{given->poses[f - given->first_frame], images, sils,
-                                     FeaturesOf(f)};
+                                     features.Of(f)};
         FVV_RETURN_IF_ERROR(session.SetShape(given->shape, frames ? &refine : nullptr));
       }
       FVV_RETURN_IF_ERROR(session.AddFrame(f, given->poses[f - given->first_frame], images, sils));
@@ -235,7 +239,7 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
     to.on_frame = [&](uint32_t f, const FrameFit& fit, const Tracker& tracker,
                       const std::vector<Image>& images, const std::vector<Image>& sils) -> Status {
       if (!session.HasShape()) {  // the shape: once, before any frame is resampled
-        const RefinementFrame refine{fit.dofs, images, sils, FeaturesOf(f)};
+        const RefinementFrame refine{fit.dofs, images, sils, features.Of(f)};
         FVV_RETURN_IF_ERROR(session.SetShape(tracker.shape(), &refine));
       }
       char extra[96];

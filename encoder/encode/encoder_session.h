@@ -59,6 +59,9 @@ inline std::string FrameFile(const std::string& dir, const std::string& camera, 
   return dir + "/" + camera + buf;
 }
 
+// The settings' own consistency (ranges, combinations), before any file is read.
+Status CheckSettings(const EncoderSettings& s);
+
 // The capture frames an encode covers: the settings' range clamped to the
 // capture and to the poses given (may be null); InvalidArgument when none is left.
 struct FrameSpan {

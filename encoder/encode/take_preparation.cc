@@ -18,9 +18,7 @@ StatusOr<PrepareSummary> PrepareTake(const std::string& capture_path, const std:
   if (!s_in.prepared.empty() || s_in.shards > 0) {
     return InvalidArgument("--prepare writes a prepared take: not with --prepared or --shard");
   }
-  if (s_in.atlas_size < 16 || s_in.atlas_size > 4096 || s_in.gop_frames < 1) {
-    return InvalidArgument("atlas size 16..4096 and GOP frames >= 1");
-  }
+  FVV_RETURN_IF_ERROR(encoding::CheckSettings(s_in));
   if (s_in.prepare_frames < 1) return InvalidArgument("the static texture needs a frame");
   StatusOr<Capture> cap = LoadCapture(capture_path);
   if (!cap.ok()) return cap.status();
