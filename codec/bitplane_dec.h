@@ -23,6 +23,7 @@ class BitplaneDecoder {
   BitplaneDecoder(const SpihtTree& tree, const uint8_t* data, size_t budget, EntropyCoder coder,
                   const SpihtDecodeLimits& limits, std::vector<int32_t>* magnitudes)
       : coder_(coder),
+        min_bytes_(limits.min_bytes),
         bits_(data, budget),
         range_(data, budget),
         deadline_(std::chrono::steady_clock::time_point::max()),
@@ -99,8 +100,9 @@ class BitplaneDecoder {
 
  private:
   bool Get(int ctx, uint32_t* bit) {
+    // Past the deadline, decoding goes on until the floor's bytes are read.
     if (++decisions_ % kDeadlineCheckInterval == 0 &&
-        std::chrono::steady_clock::now() >= deadline_) {
+        std::chrono::steady_clock::now() >= deadline_ && bytes_used() >= min_bytes_) {
       hit_deadline_ = true;
     }
     if (hit_deadline_) return Stop();
@@ -133,6 +135,7 @@ class BitplaneDecoder {
   }
 
   EntropyCoder coder_;
+  uint64_t min_bytes_;
   BitReader bits_;
   RangeDecoder range_;
   std::chrono::steady_clock::time_point deadline_;

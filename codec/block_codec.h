@@ -113,6 +113,9 @@ struct DecodeBudget {
   uint64_t max_bytes =
       0;              // all channels together; 0 = no limit. Split in proportion to stream sizes.
   double max_ms = 0;  // 0 = no limit; each channel's SPIHT decoding stops this long after it starts
+  // The share of each channel's stream that a time budget never cuts (0 to 1):
+  // decoding past max_ms goes on until this much is read.
+  double floor_share = 0;
   // Runs the three channels' SPIHT decodes (empty: the main runner). Under a time
   // budget, a runner that runs all three at once keeps them equally far along
   // when the deadline comes; a pool with fewer threads would start the last

@@ -2,6 +2,7 @@
 // transform, output scaling. Integer-only and bit-exact (SPEC.md 9).
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 #include "codec/base/simd.h"
 #include "codec/block_codec.h"
@@ -48,6 +49,11 @@ Status BlockDecode::Start(const EncodedBlock& encoded, const DecodeBudget& budge
       using Wide = unsigned __int128;
       limits_[c].max_bytes =
           static_cast<uint64_t>(Wide{encoded.channels[c].data.size()} * budget.max_bytes / total);
+    }
+    if (budget.floor_share > 0) {
+      const double share = std::min(1.0, budget.floor_share);
+      limits_[c].min_bytes =
+          static_cast<uint64_t>(std::ceil(share * double(encoded.channels[c].data.size())));
     }
     if (budget.sample_pool) coeffs_[c] = budget.sample_pool->Take();
   }

@@ -34,6 +34,10 @@ struct SpihtDecodeLimits {
   // Decoding stops this long after its first decision (set-up and the
   // coefficient buffer are not counted); 0 = no limit.
   double max_ms = 0;
+  // The floor of a time budget: the deadline does not stop decoding before this
+  // many bytes are read (the first bitplanes, which cost little time and carry
+  // most of the quality).
+  uint64_t min_bytes = 0;
 };
 
 struct SpihtDecodeResult {

@@ -1,5 +1,6 @@
 // The player's quality control against a simulated decoder whose time is a
-// fixed part plus SPIHT work cut at the budget.
+// fixed part plus SPIHT work cut at the budget, above a floor it cannot cut,
+// and a simulated playhead that waits when a GOP is later than its play time.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,59 +10,142 @@
 namespace fvv {
 namespace {
 
+constexpr double kGopMs = 320;  // 8 frames at 25 fps
+
 struct SimDecoder {
   double fixed_ms, spiht_ms;
-  // (decode ms, complete)
-  std::pair<double, bool> Decode(double max_ms) const {
-    if (max_ms <= 0 || max_ms >= spiht_ms) return {fixed_ms + spiht_ms, true};
-    return {fixed_ms + max_ms, false};
+  double floor_share = 0.1;
+  double slowdown = 1;  // another process on the cores: everything takes longer
+  // A GOP decoded under max_ms, as the player reports it (with the wait its
+  // lateness cost the playhead).
+  GopOutcome Decode(double max_ms, double play_ms = kGopMs) const {
+    GopOutcome g;
+    g.budget_ms = max_ms;
+    g.frame_ms = 5;
+    const double spiht = spiht_ms * slowdown, floor_ms = floor_share * spiht;
+    if (max_ms <= 0 || max_ms >= spiht) {
+      g.decode_ms = fixed_ms * slowdown + spiht;
+      g.complete = true;
+    } else {
+      g.decode_ms = fixed_ms * slowdown + std::max(max_ms, floor_ms);
+      g.complete = false;
+    }
+    g.wait_ms = std::max(0.0, g.decode_ms - play_ms);
+    return g;
+  }
+  // The share of the streams' bytes decoded under max_ms.
+  double Share(double max_ms) const {
+    const double spiht = spiht_ms * slowdown;
+    if (max_ms <= 0 || max_ms >= spiht) return 1;
+    return std::max(floor_share, max_ms / spiht);
   }
 };
 
 TEST(PlaybackController, CutsDecodingToKeepUpAndRestoresQuality) {
-  // 25 fps, 8-frame GOPs: 320 ms of play per GOP, minus 8 frames x 4 ms
-  // rendering, 80% of that for decoding: 230.4 ms.
-  PlaybackController pc(25, 8, 0.8);
-  const double render_ms = 4;
-  SimDecoder slow{120, 300};  // a full decode takes 420 ms: too slow
-  double decode = 0;
+  PlaybackController pc(25, 8);
+  SimDecoder slow{120, 300};  // a full decode takes 420 ms of a GOP's 320
+  GopOutcome g;
   for (int gop = 0; gop < 12; ++gop) {
-    const auto r = slow.Decode(pc.NextMaxMs());
-    decode = r.first;
-    pc.Report(r.first, render_ms, r.second);
+    g = slow.Decode(pc.NextMaxMs());
+    pc.Report(g);
   }
-  EXPECT_NEAR(pc.target_ms(), 230.4, 1e-9);
-  EXPECT_LE(decode, pc.target_ms());        // keeps up
-  EXPECT_GT(decode, 0.6 * pc.target_ms());  // without wasting the budget
+  EXPECT_EQ(g.wait_ms, 0);               // keeps up
+  EXPECT_GT(g.decode_ms, 0.8 * kGopMs);  // without wasting the time it has
   EXPECT_GT(pc.NextMaxMs(), 0.0);
-  // Decoding gets cheap (smaller GOPs, a faster machine): back to full quality.
+  EXPECT_FALSE(pc.below_real_time());
+  // Decoding gets cheap (the load went, a faster machine): a whole decode
+  // again within two GOPs.
   SimDecoder fast{20, 60};
-  for (int gop = 0; gop < 20 && pc.NextMaxMs() != 0; ++gop) {
-    const auto r = fast.Decode(pc.NextMaxMs());
-    pc.Report(r.first, render_ms, r.second);
-  }
-  EXPECT_EQ(pc.NextMaxMs(), 0.0);
+  for (int gop = 0; gop < 2; ++gop) pc.Report(fast.Decode(pc.NextMaxMs()));
+  EXPECT_TRUE(fast.Decode(pc.NextMaxMs()).complete);
 }
 
-// When the fixed part alone misses the target (a slow machine, a software GL
-// renderer sharing the cores), cutting the streams cannot help: the budget
-// stops at its floor instead of decoding nothing.
-TEST(PlaybackController, NeverCutsBelowTheFloorWhenFixedCostsMissTheTarget) {
-  PlaybackController pc(25, 8, 0.8);
-  SimDecoder heavy{300, 150};  // the fixed 300 ms alone exceed the 230 ms target
+// A load that makes even the fixed part slower than the play time: the budget
+// goes to its minimum, the floor's bytes are still decoded, and the controller
+// says playback is below real time.
+TEST(PlaybackController, KeepsTheFloorAndSaysSoWhenEvenItIsTooSlow) {
+  PlaybackController pc(25, 8, 0.1);
+  EXPECT_EQ(pc.floor_share(), 0.1);
+  SimDecoder heavy{360, 150};  // the fixed 360 ms alone exceed the 320 ms of play
+  double share = 1;
   for (int gop = 0; gop < 30; ++gop) {
-    const auto r = heavy.Decode(pc.NextMaxMs());
-    pc.Report(r.first, 4, r.second);
+    share = heavy.Share(pc.NextMaxMs());
+    pc.Report(heavy.Decode(pc.NextMaxMs()));
   }
-  EXPECT_NEAR(pc.NextMaxMs(), PlaybackController::kFloorShare * pc.target_ms(), 1e-9);
+  EXPECT_GE(share, 0.1);
+  EXPECT_LE(pc.NextMaxMs(), 2.0);
+  EXPECT_TRUE(pc.below_real_time());
+}
+
+// A load step: the share decoded falls while the cores are busy, never below the
+// floor, and is back to 90 % of the idle share within 2 s (6 GOPs) of the
+// load's end.
+TEST(PlaybackController, RecoversQualitySoonAfterALoadStep) {
+  PlaybackController pc(25, 8);
+  SimDecoder dec{60, 200};
+  double idle = 0, loaded = 1;
+  for (int gop = 0; gop < 10; ++gop) {
+    idle = dec.Share(pc.NextMaxMs());
+    pc.Report(dec.Decode(pc.NextMaxMs()));
+  }
+  dec.slowdown = 3;
+  for (int gop = 0; gop < 20; ++gop) {
+    loaded = std::min(loaded, dec.Share(pc.NextMaxMs()));
+    pc.Report(dec.Decode(pc.NextMaxMs()));
+  }
+  EXPECT_LT(loaded, 0.8 * idle);
+  EXPECT_GE(loaded, dec.floor_share);
+  dec.slowdown = 1;
+  int back = -1;
+  for (int gop = 0; gop < 12 && back < 0; ++gop) {
+    if (dec.Share(pc.NextMaxMs()) >= 0.9 * idle) back = gop;
+    pc.Report(dec.Decode(pc.NextMaxMs()));
+  }
+  EXPECT_GE(back, 0);
+  EXPECT_LE(back, 6);
+}
+
+// The reserve comes from measured waits: a GOP that was late grows it by the
+// wait; GOPs in time shrink it back towards two frame times.
+TEST(PlaybackController, ReserveFollowsMeasuredWaits) {
+  PlaybackController pc(25, 8);
+  GopOutcome late;
+  late.decode_ms = 400;
+  late.wait_ms = 80;
+  late.frame_ms = 5;
+  pc.Report(late);
+  EXPECT_NEAR(pc.reserve_ms(), 80, 1e-9);
+  EXPECT_NEAR(pc.target_ms(), kGopMs - 80, 1e-9);
+  GopOutcome in_time;
+  in_time.decode_ms = 100;
+  in_time.frame_ms = 5;
+  for (int gop = 0; gop < 20; ++gop) pc.Report(in_time);
+  EXPECT_NEAR(pc.reserve_ms(), 5, 1e-9);
+  // A wait while the budget is at its smallest came from the floor, which no
+  // reserve shortens: the reserve does not grow.
+  GopOutcome floor_late;
+  floor_late.budget_ms = 1;
+  floor_late.complete = false;
+  floor_late.decode_ms = 500;
+  floor_late.wait_ms = 180;
+  floor_late.frame_ms = 5;
+  pc.Report(floor_late);
+  EXPECT_NEAR(pc.reserve_ms(), 5, 1e-9);
+  EXPECT_TRUE(pc.below_real_time());
 }
 
 TEST(PlaybackController, FasterPlaybackTightensTheBudget) {
-  PlaybackController pc(25, 8, 0.8);
+  PlaybackController pc(25, 8);
   pc.set_speed(2.0);
-  pc.Report(200, 2, true);  // 200 ms > (160 - 16) ms * 0.8 at double speed
-  EXPECT_GT(pc.NextMaxMs(), 0.0);
-  EXPECT_NEAR(pc.target_ms(), 115.2, 1e-9);
+  GopOutcome g;
+  g.budget_ms = 100;
+  g.complete = false;
+  g.decode_ms = 200;  // 100 ms beyond its budget: the fixed part
+  g.frame_ms = 2;
+  pc.Report(g);
+  EXPECT_NEAR(pc.target_ms(), 160 - 2, 1e-9);
+  EXPECT_NEAR(pc.fixed_ms(), 100, 1e-9);
+  EXPECT_NEAR(pc.NextMaxMs(), 58, 1e-9);
 }
 
 }  // namespace

@@ -19,6 +19,7 @@ packages=(
   libssl-dev  # SHA-256 of decoded output (fvv conform)
   libopencv-dev python3-numpy python3-onnx  # person masks and keypoints (OpenCV dnn; the model converter)
   python3-yaml  # tests/cli_shards_test.sh: the Kubernetes manifest parsed
+  stress-ng gnuplot-nox  # bench/run_playback_load_bench.sh: the load on the cores, the plot
   parallel  # GNU parallel: shards of an encode side by side (bench/run_shard_bench.sh, docs/scale-out.md)
 )
 

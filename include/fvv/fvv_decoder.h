@@ -145,7 +145,15 @@ typedef struct {
                                  camera per GOP fragment (the encoder's default) the others are
                                  not decoded at all. Views of cameras left out have NULL pixels
                                  and mask. A camera group is decoded whole when any of its
-                                 cameras is asked for. */
+                                 cameras is asked for. Under a time budget (a real-time
+                                 player), a GOP already decoded, or decoding ahead, under
+                                 another time budget or camera set is used as it is: the
+                                 next GOP gets the new set. */
+  double floor_share;         /* the quality floor of a time budget, 0 to 1: the share of each
+                                 texture stream's bytes that is decoded even when
+                                 max_ms_per_gop has run out (its first bitplanes; fvv play
+                                 keeps 0.15). 0 = none: the time budget alone cuts.
+                                 Ignored without a time budget */
 } fvv_decode_budget;
 
 typedef struct {
@@ -163,6 +171,8 @@ typedef struct {
   uint32_t bitplanes[3];    /* fewest complete bitplanes over the GOP's fragments, Y U V */
   double decode_ms;         /* time spent decoding the GOP */
   int complete;             /* every stream decoded to its end */
+  double max_ms_per_gop;    /* the time budget the GOP was decoded under (a GOP decoded ahead
+                               has the budget of the request that started it); 0 = none */
 } fvv_decode_report;
 
 typedef struct {

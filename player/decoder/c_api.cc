@@ -83,6 +83,7 @@ fvv::GopBudget ToGopBudget(const fvv_decode_budget* budget) {
     gb.max_bytes = budget->max_bytes_per_gop;
     gb.max_ms = budget->max_ms_per_gop > 0 ? budget->max_ms_per_gop : 0;
     gb.cameras = budget->camera_mask;
+    gb.floor_share = gb.max_ms > 0 && budget->floor_share > 0 ? budget->floor_share : 0;
   }
   return gb;
 }
@@ -203,6 +204,9 @@ fvv_status fvv_decoder_decode_frame(fvv_decoder* d, uint32_t index, const fvv_de
     return Misuse(d, "decode_frame: unknown pixel format");
   }
   if (!(b.max_ms_per_gop >= 0)) return Misuse(d, "decode_frame: negative time budget");
+  if (!(b.floor_share >= 0 && b.floor_share <= 1)) {
+    return Misuse(d, "decode_frame: floor_share outside 0..1");
+  }
   if (d->impl.ready() && b.camera_mask != 0 && d->impl.info().header.camera_count < 64 &&
       (b.camera_mask >> d->impl.info().header.camera_count) != 0) {
     return Misuse(d, "decode_frame: camera_mask names cameras the stream does not have");
@@ -265,6 +269,7 @@ fvv_status fvv_decoder_decode_frame(fvv_decoder* d, uint32_t index, const fvv_de
   for (int c = 0; c < 3; ++c) f.report.bitplanes[c] = static_cast<uint32_t>(g.bitplanes[c]);
   f.report.decode_ms = g.ms;
   f.report.complete = g.complete;
+  f.report.max_ms_per_gop = g.budget.max_ms;
   *frame = &impl->frame;
   return Report(d, fvv::Status::Ok());
 }

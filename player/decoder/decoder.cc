@@ -157,10 +157,12 @@ void Decoder::WaitDecodeAhead() {
 }
 
 // Budgets match when equal, or when both are time budgets: a player in
-// real-time mode retunes its time budget every GOP, and a GOP decoded ahead under
-// the previous one is what it wants (decoding it again would cost the very time
-// the budget protects).
+// real-time mode retunes its time budget every GOP and picks the cameras from a
+// view that moves, and a GOP decoded ahead under the previous budget and camera
+// set is what it wants (decoding it again would cost the very time the budget
+// protects; the GOP after it is decoded with the new set).
 bool Decoder::SameBudget(const GopBudget& cached, const GopBudget& wanted) {
+  if (cached.max_ms > 0 && wanted.max_ms > 0) return true;
   // A GOP holding more cameras than asked for serves the request: a player's
   // view-dependent camera set changes with the view, and a superset decoded
   // ahead must not be decoded again.
@@ -168,7 +170,7 @@ bool Decoder::SameBudget(const GopBudget& cached, const GopBudget& wanted) {
       cached.cameras == 0 || (wanted.cameras != 0 && (wanted.cameras & ~cached.cameras) == 0);
   GopBudget a = cached, b = wanted;
   a.cameras = b.cameras = 0;
-  return cameras && ((a.Covers(b) && b.Covers(a)) || (a.max_ms > 0 && b.max_ms > 0));
+  return cameras && a.Covers(b) && b.Covers(a);
 }
 
 GopBudget Decoder::Normalised(GopBudget b) const {
@@ -200,8 +202,11 @@ Status Decoder::Prefetch(uint32_t frame, const GopBudget& asked) {
     if (ahead_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
       return Status::Ok();  // one background decode at a time; ask again later
     }
-    auto dropped = ahead_.get();
-    (void)dropped;
+    auto done = ahead_.get();
+    if (done.ok()) parked_ = std::move(done).value();
+  }
+  if (parked_ && parked_->span == span && SameBudget(parked_->budget, budget)) {
+    return Status::Ok();
   }
   StartBackgroundDecode(span, budget, /*requested=*/true);
   return Status::Ok();
@@ -212,6 +217,7 @@ bool Decoder::Ready(uint32_t frame, const GopBudget& asked) {
   const GopBudget budget = Normalised(asked);
   const uint32_t span = frame / info().header.gop_frames;
   if (cache_ && cache_->span == span && SameBudget(cache_->budget, budget)) return true;
+  if (parked_ && parked_->span == span && SameBudget(parked_->budget, budget)) return true;
   return ahead_.valid() && ahead_span_ == span && SameBudget(ahead_budget_, budget) &&
          ahead_.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
 }
@@ -225,6 +231,12 @@ StatusOr<std::shared_ptr<const DecodedGop>> Decoder::Gop(uint32_t frame, const G
   }
   const uint32_t span = frame / info().header.gop_frames;
   if (cache_ && cache_->span == span && SameBudget(cache_->budget, budget)) return cache_;
+  if (parked_ && parked_->span == span && SameBudget(parked_->budget, budget)) {
+    // The decode under way (if any) is for a later span: it goes on.
+    cache_ = std::move(parked_);
+    StartBackgroundDecode(span + 1, budget, /*requested=*/false);
+    return cache_;
+  }
   std::shared_ptr<DecodedGop> gop;
   if (ahead_.valid() && ahead_span_ == span && SameBudget(ahead_budget_, budget)) {
     auto result = ahead_.get();

@@ -70,6 +70,10 @@ class Decoder {
   uint64_t buffered_bytes_ = 0;
 
   std::shared_ptr<const DecodedGop> cache_;
+  // A GOP decoded ahead that a prefetch of another span displaced once it was
+  // done (a looping player asks for the first GOP while the last one waits):
+  // kept until it is asked for or another one is parked.
+  std::shared_ptr<const DecodedGop> parked_;
   std::future<StatusOr<std::shared_ptr<DecodedGop>>> ahead_;
   uint32_t ahead_span_ = 0;
   GopBudget ahead_budget_;

@@ -122,6 +122,7 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
     if (!gop->decoded[i]) return;  // a camera the player does not blend now
     DecodeBudget b;
     b.max_bytes = budget.max_bytes;
+    b.floor_share = budget.floor_share;
     b.sample_pool = gop->sample_pool.get();
     if (budget.max_ms > 0 && parallel) {
       b.channel_runner = SerialRunner;

@@ -19,6 +19,7 @@ struct GopBudget {
   uint64_t max_bytes = 0;  // texture bytes per fragment; 0 = all
   double max_ms = 0;       // for the whole span; 0 = no limit
   uint64_t cameras = 0;    // bit c: decode camera c's group; 0 = every camera
+  double floor_share = 0;  // of each stream, decoded even past max_ms
 
   // A GOP decoded under `this` is at least as good as one decoded under `other`
   // (and holds every camera `other` asks for).

@@ -3,46 +3,58 @@
 #include <algorithm>
 
 namespace fvv {
+namespace {
 
-PlaybackController::PlaybackController(double fps, uint32_t gop_frames, double decode_share)
+// The smallest time budget: below it the floor decides what is decoded anyway.
+constexpr double kMinBudgetMs = 1;
+// Without waits the reserve shrinks by this factor a GOP, so that quality comes
+// back within a few GOPs of a load going away.
+constexpr double kReserveDecay = 0.5;
+
+}  // namespace
+
+PlaybackController::PlaybackController(double fps, uint32_t gop_frames, double floor_share)
     : gop_ms_(1000.0 * gop_frames / fps),
-      gop_frames_(gop_frames),
-      share_(decode_share),
-      target_ms_(gop_ms_ * decode_share) {}
+      floor_share_(std::min(1.0, std::max(0.0, floor_share))),
+      target_ms_(gop_ms_),
+      reserve_ms_(0),
+      max_ms_(gop_ms_) {}
 
 void PlaybackController::set_speed(double speed) { speed_ = std::max(0.05, speed); }
 
-void PlaybackController::Report(double decode_ms, double render_ms_per_frame, bool complete) {
-  // What is left for decoding once this GOP's frames are rendered, with headroom.
+void PlaybackController::Report(const GopOutcome& gop) {
+  // The next GOP is decoded while this one plays, so it has this one's play
+  // time, less what shares the cores with it. That share is measured: a GOP the
+  // playhead waited for was late by the wait, so the reserve grows by it; while
+  // none is late it shrinks towards the frame that shows a new GOP (which also
+  // uploads its textures).
   const double play_ms = gop_ms_ / speed_;
-  target_ms_ = std::max(1.0, (play_ms - render_ms_per_frame * gop_frames_) * share_);
-  // Cutting the embedded streams only shortens their decoding; the transform
-  // and the output take what they take. Below this floor, a cut costs much
-  // quality (the first bitplanes are the cheap ones) and saves little time, so
-  // when even the floor is too slow, playback slows down instead.
-  const double floor_ms = std::max(0.5, kFloorShare * target_ms_);
-  if (decode_ms > target_ms_) {
-    double next;
-    if (max_ms_ > 0 && !complete) {
-      // Under a budget that cut the decode, the part outside it is fixed:
-      // give the streams what is left of the target after it.
-      const double fixed_ms = std::max(0.0, decode_ms - max_ms_);
-      next = std::min(max_ms_ * 0.95, target_ms_ - fixed_ms);
-    } else {
-      // First cut: scale by how far off the whole decode was; converges from
-      // above over a few GOPs.
-      next = (max_ms_ > 0 ? max_ms_ : decode_ms) * target_ms_ / decode_ms * 0.95;
-    }
-    max_ms_ = std::max(floor_ms, next);
-  } else if (max_ms_ > 0) {
-    // Keeping up: give quality back; drop the limit once a decode under it
-    // completes with room to spare.
-    if (complete && decode_ms < 0.8 * target_ms_) {
-      max_ms_ = 0;
-    } else if (decode_ms < 0.9 * target_ms_) {  // a dead band keeps it from oscillating
-      max_ms_ = std::min(max_ms_ * 1.1, target_ms_);
-    }
+  const double min_reserve = gop.frame_ms;
+  // A wait under the smallest budget came from the floor, which no reserve
+  // shortens: it slows playback instead.
+  const bool at_floor = gop.budget_ms > 0 && gop.budget_ms <= 2 * kMinBudgetMs;
+  if (gop.wait_ms > 0 && !at_floor) {
+    reserve_ms_ += gop.wait_ms;
+  } else if (gop.wait_ms == 0) {
+    reserve_ms_ *= kReserveDecay;
   }
+  reserve_ms_ = std::min(0.9 * play_ms, std::max(min_reserve, reserve_ms_));
+  target_ms_ = std::max(kMinBudgetMs, play_ms - reserve_ms_);
+
+  // What a budget does not shorten: the decode's time beyond the budget when
+  // the deadline cut it (set-up, the floor's bytes, transform, masks, output).
+  if (gop.budget_ms > 0 && !gop.complete) {
+    // Down at once (a load went away: quality comes back with the next GOP),
+    // up smoothed (one slow GOP is not yet a load).
+    const double fixed = std::max(0.0, gop.decode_ms - gop.budget_ms);
+    fixed_ms_ = fixed_ms_ < 0 || fixed < fixed_ms_ ? fixed : 0.5 * fixed_ms_ + 0.5 * fixed;
+  }
+  below_real_time_ = gop.decode_ms > play_ms || gop.wait_ms > 0.5 * play_ms;
+
+  // The budget is wall time, so the streams' decoding gets what is left of the
+  // target whatever the load: more bytes as soon as the cores are free again,
+  // the whole GOP when it fits.
+  max_ms_ = std::max(kMinBudgetMs, target_ms_ - std::max(0.0, fixed_ms_));
 }
 
 }  // namespace fvv

@@ -1,7 +1,13 @@
-// Real-time quality control of the player: when decoding a GOP takes longer than
-// the share of its play time the player can give it, the next GOPs are decoded
-// under a time budget (progressive SPIHT truncation) instead of dropping frames;
-// when decoding gets cheap again the budget grows back to a full decode.
+// Real-time quality control of the player: each GOP's textures are decoded
+// under a time budget (progressive SPIHT truncation) sized from what was
+// measured while the previous GOPs played, above a quality floor that no load
+// cuts through. When even the floor takes longer than a GOP plays, playback
+// slows down (the player holds the playhead) instead of showing untextured
+// frames; when decoding gets cheap again the budget grows back within a GOP.
+//
+// One policy for every player (the native one, the web one): it sees times and
+// byte counts only, no decoder and no GL. docs/player.md explains it with a
+// plot of a load step.
 #ifndef FVV_PLAYER_PLAYBACK_PLAYBACK_CONTROLLER_H_
 #define FVV_PLAYER_PLAYBACK_PLAYBACK_CONTROLLER_H_
 
@@ -9,32 +15,52 @@
 
 namespace fvv {
 
+// What happened to one GOP, as the player measured it.
+struct GopOutcome {
+  double decode_ms = 0;  // wall time of its decode (under the budget it was given)
+  double budget_ms = 0;  // the time budget it was decoded under; 0 = none
+  bool complete = true;  // every stream decoded to its end
+  double wait_ms = 0;    // how long the playhead waited for it (0: it was ready in time)
+  double frame_ms = 0;   // the player's own time per frame (upload, draw), smoothed
+};
+
 class PlaybackController {
  public:
-  // decode_share: the part of the time a GOP plays, less its frames' render
-  // time, that decoding may use (the rest is headroom for uploads, the display
-  // and timing noise).
-  PlaybackController(double fps, uint32_t gop_frames, double decode_share = 0.8);
+  // The share of each texture stream decoded under any load: the first
+  // bitplanes of luma and chroma (docs/player.md: why 0.15).
+  static constexpr double kDefaultFloorShare = 0.15;
 
-  // Time budget (ms) for the next GOP's texture decoding; 0 = decode everything.
+  PlaybackController(double fps, uint32_t gop_frames, double floor_share = kDefaultFloorShare);
+
+  // Time budget (ms) for the next GOP's texture decoding. Always a time budget
+  // (a real-time player's mode, SPEC.md B.2): a GOP that fits is decoded whole.
   double NextMaxMs() const { return max_ms_; }
-  // After each GOP: how long its decode took, the render time per frame, and
-  // whether the decode was complete (not cut by the budget).
-  void Report(double decode_ms, double render_ms_per_frame, bool complete);
+  // The floor to pass with it (fvv_decode_budget.floor_share).
+  double floor_share() const { return floor_share_; }
+  void Report(const GopOutcome& gop);
 
+  // What a GOP's decode may take: its play time less the reserve.
   double target_ms() const { return target_ms_; }
-  // The smallest time budget, as a share of the target: never cut the streams
-  // to nothing when the fixed costs alone miss the target.
-  static constexpr double kFloorShare = 0.2;
+  // Kept back from each GOP's play time for what shares the cores with the
+  // decode, grown by every wait the player measured and shrunk while none come.
+  double reserve_ms() const { return reserve_ms_; }
+  // The decode's share that no budget shortens (transform, masks, output),
+  // measured from decodes the deadline cut.
+  double fixed_ms() const { return fixed_ms_; }
+  // Even the floor did not keep up with the last GOP: playback is slower than
+  // real time (the HUD says so).
+  bool below_real_time() const { return below_real_time_; }
   void set_speed(double speed);  // playback speed factor: GOPs come faster
 
  private:
   double gop_ms_;
-  uint32_t gop_frames_;
-  double share_;
+  double floor_share_;
   double speed_ = 1.0;
   double target_ms_;
-  double max_ms_ = 0;  // 0: unlimited
+  double reserve_ms_;
+  double fixed_ms_ = -1;  // < 0: not measured yet
+  double max_ms_;
+  bool below_real_time_ = false;
 };
 
 }  // namespace fvv

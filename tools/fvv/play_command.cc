@@ -19,10 +19,11 @@ void AddPlayCommand(CLI::App* app, int* exit_code) {
   p->add_option("--width", o->width, "Window width")->capture_default_str();
   p->add_option("--height", o->height, "Window height")->capture_default_str();
   p->add_option("--exponent", o->exponent, "Initial blend exponent")->capture_default_str();
-  p->add_option("--decode-share", o->decode_share,
-                "Part of each GOP's play time decoding may use before quality is reduced")
+  p->add_option("--floor", o->floor_share,
+                "Quality floor: the share of each GOP's texture bytes decoded under any load "
+                "(below it playback slows down instead)")
       ->capture_default_str()
-      ->check(CLI::Range(0.05, 1.0));
+      ->check(CLI::Range(0.0, 1.0));
   p->add_option("--seconds", o->seconds,
                 "Play this many seconds, print a summary and exit (benchmarks, tests)")
       ->check(CLI::PositiveNumber);

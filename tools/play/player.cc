@@ -13,9 +13,9 @@
 
 #include "encoder/io/image_io.h"
 #include "fvv/fvv_decoder.hpp"
-#include "player/playback/playback_controller.h"
 #include "player/render/hud.h"
 #include "player/render/renderer.h"
+#include "tools/play/playback_loop.h"
 
 namespace fvv {
 namespace {
@@ -35,15 +35,13 @@ const char kControls[] =
     "up, fewer bytes of each GOP are decoded.\n";
 
 struct State {
-  double playhead = 0;
-  bool playing = true, loop = true;
-  double speed = 1;
+  Transport* t = nullptr;  // the playback loop's playhead, play/pause, loop, speed
   float yaw = 0, pitch = 0.15f, distance = 3.5f;
   glm::vec3 pan{0.0f};
   float exponent = 4;
   int camera = -1;
   bool hud = true;
-  bool all_cameras = false;
+  bool* all_cameras = nullptr;
   bool dragging_left = false, dragging_right = false;
   double last_x = 0, last_y = 0;
   uint32_t frames = 1;
@@ -52,22 +50,30 @@ struct State {
 
 // The on-screen HUD: playback, decoding against its budget, and the quality
 // reached (bytes and bitplanes of the embedded streams).
-std::vector<std::string> HudLines(uint32_t frame, uint32_t frames, double fps,
-                                  const fvv_decode_report& r, double budget_ms, const State& s,
-                                  int cameras_decoded, int cameras) {
-  char line[4][128];
-  std::snprintf(line[0], sizeof(line[0]), "frame %u/%u  %.0f fps  x%.2g%s", frame + 1, frames, fps,
-                s.speed, s.playing ? "" : "  [paused]");
-  std::snprintf(line[1], sizeof(line[1]), "decode %.0f ms/GOP  budget %s", r.decode_ms,
-                budget_ms > 0 ? (std::to_string(int(budget_ms)) + " ms").c_str() : "full");
+std::vector<std::string> HudLines(const PlaybackLoop& loop, uint32_t frames, double fps,
+                                  const State& s, int cameras_decoded, int cameras) {
+  const Transport& t = *s.t;
+  const fvv_decode_report& r = loop.report();
+  const double budget_ms = loop.controller().NextMaxMs();
+  char line[5][128];
+  std::snprintf(line[0], sizeof(line[0]), "frame %u/%u  %.0f fps  x%.2g%s", loop.frame_index() + 1,
+                frames, fps, t.speed, t.playing ? "" : "  [paused]");
+  std::snprintf(
+      line[1], sizeof(line[1]), "decode %.0f ms/GOP  budget %s  floor %.0f%%", r.decode_ms,
+      budget_ms > 0 ? (std::to_string(int(std::lround(budget_ms))) + " ms").c_str() : "full",
+      100 * loop.controller().floor_share());
   std::snprintf(line[2], sizeof(line[2]), "bytes %.0f/%.0f KB (%.0f%%)  planes Y%u U%u V%u",
                 r.bytes_decoded / 1024.0, r.bytes_available / 1024.0,
                 r.bytes_available ? 100.0 * r.bytes_decoded / r.bytes_available : 100.0,
                 r.bitplanes[0], r.bitplanes[1], r.bitplanes[2]);
   std::snprintf(line[3], sizeof(line[3]), "exponent %.1f  %s  cameras %d/%d%s", s.exponent,
                 s.camera >= 0 ? ("camera " + std::to_string(s.camera + 1)).c_str() : "orbit",
-                cameras_decoded, cameras, s.all_cameras ? " (all)" : "");
-  return {line[0], line[1], line[2], line[3]};
+                cameras_decoded, cameras, *s.all_cameras ? " (all)" : "");
+  std::vector<std::string> lines = {line[0], line[1], line[2], line[3]};
+  if (loop.controller().below_real_time()) {
+    lines.push_back("slower than real time: decoding at the quality floor");
+  }
+  return lines;
 }
 
 int CountViews(const fvv_frame& frame) {
@@ -81,50 +87,51 @@ State* StateOf(GLFWwindow* w) { return static_cast<State*>(glfwGetWindowUserPoin
 void OnKey(GLFWwindow* w, int key, int, int action, int) {
   if (action != GLFW_PRESS && action != GLFW_REPEAT) return;
   State& s = *StateOf(w);
+  Transport& t = *s.t;
   switch (key) {
     case GLFW_KEY_H:
       s.hud = !s.hud;
       break;
     case GLFW_KEY_A:
-      s.all_cameras = !s.all_cameras;
+      *s.all_cameras = !*s.all_cameras;
       break;
     case GLFW_KEY_ESCAPE:
     case GLFW_KEY_Q:
       glfwSetWindowShouldClose(w, 1);
       break;
     case GLFW_KEY_SPACE:
-      s.playing = !s.playing;
+      t.playing = !t.playing;
       break;
     case GLFW_KEY_RIGHT:
-      s.playing = false;
-      s.playhead = std::floor(s.playhead) + 1;
+      t.playing = false;
+      t.playhead = std::floor(t.playhead) + 1;
       break;
     case GLFW_KEY_LEFT:
-      s.playing = false;
-      s.playhead = std::floor(s.playhead) - 1;
+      t.playing = false;
+      t.playhead = std::floor(t.playhead) - 1;
       break;
     case GLFW_KEY_HOME:
-      s.playhead = 0;
+      t.playhead = 0;
       break;
     case GLFW_KEY_END:
-      s.playhead = s.frames - 1;
+      t.playhead = s.frames - 1;
       break;
     case GLFW_KEY_PAGE_UP:
-      s.playhead += s.fps;
+      t.playhead += s.fps;
       break;
     case GLFW_KEY_PAGE_DOWN:
-      s.playhead -= s.fps;
+      t.playhead -= s.fps;
       break;
     case GLFW_KEY_L:
-      s.loop = !s.loop;
+      t.loop = !t.loop;
       break;
     case GLFW_KEY_EQUAL:
     case GLFW_KEY_KP_ADD:
-      s.speed = std::min(8.0, s.speed * 2);
+      t.speed = std::min(8.0, t.speed * 2);
       break;
     case GLFW_KEY_MINUS:
     case GLFW_KEY_KP_SUBTRACT:
-      s.speed = std::max(0.125, s.speed / 2);
+      t.speed = std::max(0.125, t.speed / 2);
       break;
     case GLFW_KEY_E:
       s.exponent = std::min(64.0f, s.exponent * 1.5f);
@@ -135,8 +142,8 @@ void OnKey(GLFWwindow* w, int key, int, int action, int) {
     default:
       if (key >= GLFW_KEY_0 && key <= GLFW_KEY_9) s.camera = key - GLFW_KEY_0 - 1;
   }
-  if (s.playhead < 0) s.playhead = 0;
-  if (s.playhead > s.frames - 1) s.playhead = s.frames - 1;
+  if (t.playhead < 0) t.playhead = 0;
+  if (t.playhead > s.frames - 1) t.playhead = s.frames - 1;
 }
 
 void OnButton(GLFWwindow* w, int button, int action, int) {
@@ -219,9 +226,12 @@ int RunPlayer(const PlayerOptions& o) {
     glfwTerminate();
     return Fail((!s.ok() ? s : !renderer.ok() ? renderer.status() : hud.status()).ToString());
   }
+  PlaybackLoop loop(dec.get(), info, centres, o.floor_share);
+  loop.all_cameras = o.all_cameras;
+  loop.transport().loop = o.loop;
   State state;
-  state.loop = o.loop;
-  state.all_cameras = o.all_cameras;
+  state.t = &loop.transport();
+  state.all_cameras = &loop.all_cameras;
   state.exponent = o.exponent;
   state.frames = info.frame_count;
   state.fps = double(info.frame_rate_num) / info.frame_rate_den;
@@ -232,63 +242,24 @@ int RunPlayer(const PlayerOptions& o) {
   glfwSetScrollCallback(window, OnScroll);
   std::printf("%s", kControls);
 
-  PlaybackController control(state.fps, info.gop_frames, o.decode_share);
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   auto last = start, title_time = last;
-  uint64_t total_drawn = 0, gops_shown = 0, bytes_decoded = 0, bytes_available = 0;
-  double decode_ms_total = 0;
-  uint32_t shown = UINT32_MAX, last_gop = UINT32_MAX, frames_drawn = 0;
-  double render_ms = 0, shown_fps = 0;
-  FramePtr frame;
-  uint32_t mask_gop = UINT32_MAX;
-  uint64_t gop_mask = 0;
+  uint32_t frames_drawn = 0;
+  double shown_fps = 0;
   glm::vec3 last_eye(0.0f, 1.0f, 3.5f), last_target(0.0f, 1.0f, 0.0f);  // until the first view
   while (!glfwWindowShouldClose(window)) {
     const auto now = Clock::now();
     const double dt = std::chrono::duration<double>(now - last).count();
     last = now;
-    if (state.playing) {
-      state.playhead += dt * state.fps * state.speed;
-      if (state.playhead >= state.frames) {
-        state.playhead = state.loop ? 0 : state.frames - 1;
-        if (!state.loop) state.playing = false;
-      }
+    StatusOr<const fvv_frame*> next = loop.Advance(dt, last_eye, last_target);
+    if (!next.ok()) {
+      s = next.status();
+      break;
     }
-    control.set_speed(state.speed);
-    uint32_t f = static_cast<uint32_t>(state.playhead);
-    fvv_decode_budget budget{};
-    budget.max_ms_per_gop = control.NextMaxMs();
-    // The cameras to decode come from the view when a GOP is first asked for,
-    // and stay for its frames (a different set would mean decoding it again).
-    if (f / info.gop_frames != mask_gop) {
-      mask_gop = f / info.gop_frames;
-      gop_mask = state.all_cameras ? 0 : ViewCameras(centres, last_eye, last_target);
-    }
-    budget.camera_mask = gop_mask;
-    if (f != shown && frame && !fvv_decoder_frame_ready(dec.get(), f, &budget)) {
-      // Its GOP is still decoding: keep drawing the current frame (the view stays
-      // interactive), and hold the playhead so no frame is skipped.
-      fvv_decoder_prefetch(dec.get(), f, &budget);
-      f = shown;
-      state.playhead = shown + 0.999;
-    }
-    if (f != shown) {
-      frame = DecodeFrame(dec.get(), f, &budget);
-      if (!frame) {
-        std::fprintf(stderr, "fvv: frame %u: %s\n", f, fvv_decoder_error(dec.get()));
-        break;
-      }
-      const uint32_t gop = f / info.gop_frames;
-      if (gop != last_gop) {
-        last_gop = gop;
-        control.Report(frame->report.decode_ms, render_ms, frame->report.complete != 0);
-        ++gops_shown;
-        decode_ms_total += frame->report.decode_ms;
-        bytes_decoded += frame->report.bytes_decoded;
-        bytes_available += frame->report.bytes_available;
-      }
-      shown = f;
+    const fvv_frame* frame = *next;
+    const auto r0 = Clock::now();
+    if (loop.frame_changed()) {
       s = (*renderer)->SetFrame(*frame);
       if (!s.ok()) break;
     }
@@ -320,12 +291,11 @@ int RunPlayer(const PlayerOptions& o) {
     last_target = state.camera >= 0 && state.camera < static_cast<int>(info.camera_count)
                       ? root
                       : root + state.pan;
-    const auto r0 = Clock::now();
     s = (*renderer)->Draw(view, fb_w, fb_h);
     if (!s.ok()) break;
     if (state.hud) {
-      s = (*hud)->Draw(HudLines(f, info.frame_count, shown_fps, frame->report, control.NextMaxMs(),
-                                state, CountViews(*frame), static_cast<int>(info.camera_count)),
+      s = (*hud)->Draw(HudLines(loop, info.frame_count, shown_fps, state, CountViews(*frame),
+                                static_cast<int>(info.camera_count)),
                        fb_w, fb_h, fb_w >= 1600 ? 3 : 2);
       if (!s.ok()) break;
     }
@@ -338,28 +308,26 @@ int RunPlayer(const PlayerOptions& o) {
       if (s.ok()) s = WriteImage(o.screenshot, shot);
       if (!s.ok()) break;
     }
-    gl.Finish();  // render time without the wait for the display's refresh
-    render_ms = 0.9 * render_ms +
-                0.1 * std::chrono::duration<double, std::milli>(Clock::now() - r0).count();
+    gl.Finish();  // upload and draw time, without the wait for the display's refresh
+    loop.FrameDrawn(std::chrono::duration<double, std::milli>(Clock::now() - r0).count());
     glfwSwapBuffers(window);
     ++frames_drawn;
-    ++total_drawn;
     if (last_frame) glfwSetWindowShouldClose(window, 1);
     const double since = std::chrono::duration<double>(now - title_time).count();
     if (since > 0.5) {
       char title[256];
       const fvv_decode_report& r = frame->report;
-      std::snprintf(title, sizeof(title),
-                    "fvv  frame %u/%u  %.0f fps  decode %.0f ms/GOP (budget %s)  %.0f of %.0f KB "
-                    "(%.0f%%)  bitplanes Y%u U%u V%u  exp %.1f  x%.2g%s",
-                    f + 1, info.frame_count, frames_drawn / since, r.decode_ms,
-                    control.NextMaxMs() > 0
-                        ? (std::to_string(int(control.NextMaxMs())) + " ms").c_str()
-                        : "full",
-                    r.bytes_decoded / 1024.0, r.bytes_available / 1024.0,
-                    r.bytes_available ? 100.0 * r.bytes_decoded / r.bytes_available : 100.0,
-                    r.bitplanes[0], r.bitplanes[1], r.bitplanes[2], state.exponent, state.speed,
-                    state.playing ? "" : "  [paused]");
+      const double budget_ms = loop.controller().NextMaxMs();
+      std::snprintf(
+          title, sizeof(title),
+          "fvv  frame %u/%u  %.0f fps  decode %.0f ms/GOP (budget %s)  %.0f of %.0f KB "
+          "(%.0f%%)  bitplanes Y%u U%u V%u  exp %.1f  x%.2g%s",
+          loop.frame_index() + 1, info.frame_count, frames_drawn / since, r.decode_ms,
+          budget_ms > 0 ? (std::to_string(int(std::lround(budget_ms))) + " ms").c_str() : "full",
+          r.bytes_decoded / 1024.0, r.bytes_available / 1024.0,
+          r.bytes_available ? 100.0 * r.bytes_decoded / r.bytes_available : 100.0, r.bitplanes[0],
+          r.bitplanes[1], r.bitplanes[2], state.exponent, state.t->speed,
+          state.t->playing ? "" : "  [paused]");
       glfwSetWindowTitle(window, title);
       shown_fps = frames_drawn / since;
       title_time = now;
@@ -369,14 +337,16 @@ int RunPlayer(const PlayerOptions& o) {
   }
   if (o.seconds > 0 && s.ok()) {
     const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
+    const PlaybackStats& st = loop.stats();
     std::printf(
-        "played %.1f s: %.1f fps drawn, %llu GOPs, decode %.0f ms per GOP, %.0f%% of "
-        "texture bytes decoded\n",
-        elapsed, total_drawn / elapsed, static_cast<unsigned long long>(gops_shown),
-        gops_shown ? decode_ms_total / gops_shown : 0.0,
-        bytes_available ? 100.0 * bytes_decoded / bytes_available : 100.0);
+        "played %.1f s: %.1f fps drawn, %.2fx real-time speed, %llu GOPs, decode %.0f ms per "
+        "GOP, %.0f%% of texture bytes decoded, %llu stalls, %llu frames without texture\n",
+        elapsed, st.frames_drawn / elapsed, st.frames_advanced / (elapsed * state.fps),
+        static_cast<unsigned long long>(st.gops), st.gops ? st.decode_ms / st.gops : 0.0,
+        st.bytes_available ? 100.0 * st.bytes_decoded / st.bytes_available : 100.0,
+        static_cast<unsigned long long>(st.stalls),
+        static_cast<unsigned long long>(st.frames_without_texture));
   }
-  frame.reset();
   hud->reset();
   renderer->reset();
   glfwDestroyWindow(window);

@@ -5,13 +5,15 @@
 
 #include <string>
 
+#include "player/playback/playback_controller.h"
+
 namespace fvv {
 
 struct PlayerOptions {
   std::string input;
   int width = 1280, height = 720;
   float exponent = 4.0f;
-  double decode_share = 0.8;  // of each GOP's play time less its render time
+  double floor_share = PlaybackController::kDefaultFloorShare;  // decoded under any load
   bool loop = true;
   bool all_cameras = false;  // decode every camera, not only those the view blends
   double seconds = 0;        // > 0: play this long, print a summary and exit (benchmarks, tests)

@@ -1,0 +1,141 @@
+#include "tools/play/playback_loop.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <utility>
+
+#include "player/render/renderer.h"
+
+namespace fvv {
+
+PlaybackLoop::PlaybackLoop(fvv_decoder* decoder, const fvv_stream_info& info,
+                           std::vector<glm::vec3> centres, double floor_share)
+    : dec_(decoder),
+      info_(info),
+      centres_(std::move(centres)),
+      fps_(double(info.frame_rate_num) / info.frame_rate_den),
+      control_(fps_, info.gop_frames, floor_share) {}
+
+const fvv_decode_report& PlaybackLoop::report() const {
+  static const fvv_decode_report kNone{};
+  return frame_ ? frame_->report : kNone;
+}
+
+uint64_t PlaybackLoop::ViewMask(const glm::vec3& eye, const glm::vec3& target) {
+  if (all_cameras) return 0;
+  // The GOP asked for now is shown one to two GOPs later (it is decoded ahead),
+  // so the cameras reach further round the actor by twice the angle the view
+  // turned since the last GOP's cameras were picked.
+  const glm::vec3 direction = glm::normalize(eye - target);
+  float turned_deg = 0;
+  if (glm::length(last_direction_) > 0) {
+    const float cosine = std::clamp(glm::dot(direction, last_direction_), -1.0f, 1.0f);
+    turned_deg = glm::degrees(std::acos(cosine));
+  }
+  last_direction_ = direction;
+  return ViewCameras(centres_, eye, target, std::min(180.0f, 90.0f + 2 * turned_deg));
+}
+
+uint32_t PlaybackLoop::LastGop() const { return (info_.frame_count - 1) / info_.gop_frames; }
+
+void PlaybackLoop::PrefetchFirstGop(const glm::vec3& eye, const glm::vec3& target) {
+  if (!transport_.loop || wrap_asked_ || LastGop() == 0) return;
+  wrap_asked_ = true;
+  wrap_mask_ = ViewMask(eye, target);
+  wrap_mask_set_ = true;
+  fvv_decode_budget first = Budget();
+  first.camera_mask = wrap_mask_;
+  fvv_decoder_prefetch(dec_, 0, &first);
+}
+
+fvv_decode_budget PlaybackLoop::Budget() const {
+  fvv_decode_budget budget{};
+  budget.max_ms_per_gop = control_.NextMaxMs();
+  budget.floor_share = control_.floor_share();
+  budget.camera_mask = gop_mask_;
+  return budget;
+}
+
+StatusOr<const fvv_frame*> PlaybackLoop::Advance(double dt, const glm::vec3& eye,
+                                                 const glm::vec3& target) {
+  Transport& t = transport_;
+  const uint32_t frames = info_.frame_count;
+  if (t.playing) {
+    t.playhead += dt * fps_ * t.speed;
+    if (t.playhead >= frames) {
+      t.playhead = t.loop ? std::fmod(t.playhead, double(frames)) : frames - 1;
+      if (!t.loop) t.playing = false;
+    }
+  }
+  if (t.playhead < 0) t.playhead = 0;
+  if (t.playhead > frames - 1 + 0.999) t.playhead = frames - 1 + 0.999;
+  control_.set_speed(t.speed);
+  uint32_t f = static_cast<uint32_t>(t.playhead);
+  // The cameras to decode come from the view when a GOP is first asked for,
+  // and stay for its frames (a different set would mean decoding it again).
+  if (f / info_.gop_frames != mask_gop_) {
+    mask_gop_ = f / info_.gop_frames;
+    gop_mask_ = mask_gop_ == 0 && wrap_mask_set_ ? wrap_mask_ : ViewMask(eye, target);
+    wrap_mask_set_ = false;
+  }
+  fvv_decode_budget budget = Budget();
+  on_screen_s_ += dt;
+  if (f != shown_ && frame_ && !fvv_decoder_frame_ready(dec_, f, &budget)) {
+    // Its GOP is still decoding: keep showing the current frame (the view
+    // stays interactive) and hold the playhead, so that playback slows down
+    // rather than skipping frames or showing them untextured.
+    fvv_decoder_prefetch(dec_, f, &budget);
+    if (t.playing) wait_ms_ += 1000 * dt;
+    f = shown_;
+    t.playhead = shown_ + 0.999;
+  }
+  // Looping: the first GOP is decoded ahead as soon as the last one is, so that
+  // it has more time than a short last GOP's few frames (decoding ahead itself
+  // stops at the stream's end).
+  if (frame_ && shown_ / info_.gop_frames + 1 == LastGop() &&
+      fvv_decoder_frame_ready(dec_, LastGop() * info_.gop_frames, &budget)) {
+    PrefetchFirstGop(eye, target);
+  }
+  changed_ = f != shown_;
+  if (!changed_) return frame_.get();
+  FramePtr next = DecodeFrame(dec_, f, &budget);
+  if (!next) {
+    return Internal("frame " + std::to_string(f) + ": " + fvv_decoder_error(dec_));
+  }
+  if (shown_ != UINT32_MAX && t.playing) {
+    stats_.frames_advanced += f > shown_ ? f - shown_ : f + frames - shown_;
+    if (on_screen_s_ > 2.0 / (fps_ * t.speed)) ++stats_.stalls;
+  }
+  on_screen_s_ = 0;
+  frame_ = std::move(next);
+  const fvv_decode_report& r = frame_->report;
+  const uint32_t gop = f / info_.gop_frames;
+  if (gop != last_gop_) {
+    last_gop_ = gop;
+    GopOutcome outcome;
+    outcome.decode_ms = r.decode_ms;
+    outcome.budget_ms = r.max_ms_per_gop;
+    outcome.complete = r.complete != 0;
+    outcome.wait_ms = wait_ms_;
+    outcome.frame_ms = frame_ms_;
+    control_.Report(outcome);
+    wait_ms_ = 0;
+    ++stats_.gops;
+    stats_.decode_ms += r.decode_ms;
+    stats_.bytes_decoded += r.bytes_decoded;
+    stats_.bytes_available += r.bytes_available;
+    if (gop == 0) wrap_asked_ = false;
+    if (gop == LastGop()) PrefetchFirstGop(eye, target);
+  }
+  if (r.bytes_available > 0 && r.bytes_decoded == 0) ++stats_.frames_without_texture;
+  shown_ = f;
+  return frame_.get();
+}
+
+void PlaybackLoop::FrameDrawn(double draw_ms) {
+  frame_ms_ = frame_ms_ == 0 ? draw_ms : 0.9 * frame_ms_ + 0.1 * draw_ms;
+  ++stats_.frames_drawn;
+}
+
+}  // namespace fvv

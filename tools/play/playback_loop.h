@@ -1,0 +1,92 @@
+// Real-time playback of a stream, shared by `fvv play`'s window and the headless
+// benchmarks: the playhead on the wall clock, the GOP time budgets from the
+// PlaybackController, the cameras the view blends, the wait when a GOP is not
+// decoded in time (playback slows instead of skipping), and what it measured.
+// It draws nothing: the caller renders the frame it returns.
+#ifndef FVV_TOOLS_PLAY_PLAYBACK_LOOP_H_
+#define FVV_TOOLS_PLAY_PLAYBACK_LOOP_H_
+
+#include <glm/glm.hpp>
+#include <vector>
+
+#include "codec/base/status.h"
+#include "fvv/fvv_decoder.hpp"
+#include "player/playback/playback_controller.h"
+
+namespace fvv {
+
+struct Transport {
+  double playhead = 0;  // in frames
+  bool playing = true, loop = true;
+  double speed = 1;
+};
+
+// Totals since the loop started (or since ResetStats).
+struct PlaybackStats {
+  uint64_t frames_drawn = 0;
+  uint64_t frames_advanced = 0;  // content frames the playhead moved forward over
+  uint64_t gops = 0;
+  uint64_t bytes_decoded = 0, bytes_available = 0;
+  uint64_t frames_without_texture = 0;  // shown with no texture byte decoded
+  uint64_t stalls = 0;                  // frames on screen for more than 2 frame times
+  double decode_ms = 0;
+};
+
+class PlaybackLoop {
+ public:
+  PlaybackLoop(fvv_decoder* decoder, const fvv_stream_info& info, std::vector<glm::vec3> centres,
+               double floor_share = PlaybackController::kDefaultFloorShare);
+
+  // Moves the playhead on by dt seconds of wall time and returns the frame to
+  // show: a new one when its GOP is decoded, else the one shown (the playhead
+  // waits). The first call decodes frame 0 whatever it takes. eye and target
+  // are the view's last, for the cameras the next GOP decodes.
+  StatusOr<const fvv_frame*> Advance(double dt, const glm::vec3& eye, const glm::vec3& target);
+  // Whether the frame Advance returned differs from the one before.
+  bool frame_changed() const { return changed_; }
+  uint32_t frame_index() const { return shown_; }
+  // After the caller has drawn the frame: its upload and draw time.
+  void FrameDrawn(double draw_ms);
+
+  Transport& transport() { return transport_; }
+  bool all_cameras = false;  // decode every camera, not only those the view blends
+  const PlaybackController& controller() const { return control_; }
+  const PlaybackStats& stats() const { return stats_; }
+  void ResetStats() { stats_ = PlaybackStats{}; }
+  // The last GOP's decode report, for the HUD.
+  const fvv_decode_report& report() const;
+  double frame_ms() const { return frame_ms_; }
+
+ private:
+  fvv_decode_budget Budget() const;
+  // The cameras to decode for the view (eye, target), reaching further round
+  // the actor while the view turns.
+  uint64_t ViewMask(const glm::vec3& eye, const glm::vec3& target);
+  uint32_t LastGop() const;
+  // Looping: asks for the first GOP ahead (once per pass).
+  void PrefetchFirstGop(const glm::vec3& eye, const glm::vec3& target);
+
+  fvv_decoder* dec_;
+  fvv_stream_info info_;
+  std::vector<glm::vec3> centres_;
+  double fps_;
+  Transport transport_;
+  PlaybackController control_;
+  PlaybackStats stats_;
+  FramePtr frame_;
+  uint32_t shown_ = UINT32_MAX, last_gop_ = UINT32_MAX;
+  uint32_t mask_gop_ = UINT32_MAX;
+  uint64_t gop_mask_ = 0;
+  uint64_t wrap_mask_ = 0;  // the cameras of the first GOP, decoded ahead of a loop
+  bool wrap_mask_set_ = false;
+  bool wrap_asked_ = false;
+  glm::vec3 last_direction_{0.0f};  // from the actor to the eye, when cameras were last picked
+  bool changed_ = false;
+  double frame_ms_ = 0;     // smoothed upload + draw time
+  double wait_ms_ = 0;      // the playhead's wait for the GOP being waited for
+  double on_screen_s_ = 0;  // how long the shown frame has been on screen
+};
+
+}  // namespace fvv
+
+#endif  // FVV_TOOLS_PLAY_PLAYBACK_LOOP_H_
