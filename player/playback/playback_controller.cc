@@ -20,6 +20,8 @@ PlaybackController::PlaybackController(double fps, uint32_t gop_frames, double f
       reserve_ms_(0),
       max_ms_(gop_ms_) {}
 
+bool PlaybackController::at_floor() const { return max_ms_ <= 2 * kMinBudgetMs; }
+
 void PlaybackController::set_speed(double speed) { speed_ = std::max(0.05, speed); }
 
 void PlaybackController::Report(const GopOutcome& gop) {
@@ -32,8 +34,8 @@ void PlaybackController::Report(const GopOutcome& gop) {
   const double min_reserve = gop.frame_ms;
   // A wait under the smallest budget came from the floor, which no reserve
   // shortens: it slows playback instead.
-  const bool at_floor = gop.budget_ms > 0 && gop.budget_ms <= 2 * kMinBudgetMs;
-  if (gop.wait_ms > 0 && !at_floor) {
+  const bool floor_only = gop.budget_ms > 0 && gop.budget_ms <= 2 * kMinBudgetMs;
+  if (gop.wait_ms > 0 && !floor_only) {
     reserve_ms_ += gop.wait_ms;
   } else if (gop.wait_ms == 0) {
     reserve_ms_ *= kReserveDecay;

@@ -50,6 +50,8 @@ class PlaybackController {
   // Even the floor did not keep up with the last GOP: playback is slower than
   // real time (the HUD says so).
   bool below_real_time() const { return below_real_time_; }
+  // The next budget is the smallest: the floor alone decides what is decoded.
+  bool at_floor() const;
   void set_speed(double speed);  // playback speed factor: GOPs come faster
 
  private:

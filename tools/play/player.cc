@@ -32,7 +32,8 @@ const char kControls[] =
     "  esc, Q      quit\n"
     "The HUD (and the title bar) shows fps, decode ms per GOP and its budget, bytes decoded of\n"
     "bytes available and the bitplanes reached (the quality level); when decoding cannot keep\n"
-    "up, fewer bytes of each GOP are decoded.\n";
+    "up, fewer bytes of each GOP are decoded, never fewer than the quality floor (--floor);\n"
+    "when even the floor takes longer than a GOP plays, playback slows down and the HUD says so.\n";
 
 struct State {
   Transport* t = nullptr;  // the playback loop's playhead, play/pause, loop, speed
@@ -43,6 +44,7 @@ struct State {
   bool hud = true;
   bool* all_cameras = nullptr;
   bool dragging_left = false, dragging_right = false;
+  bool dirty = true;  // the view or the controls changed: draw again
   double last_x = 0, last_y = 0;
   uint32_t frames = 1;
   double fps = 25;
@@ -54,7 +56,7 @@ std::vector<std::string> HudLines(const PlaybackLoop& loop, uint32_t frames, dou
                                   const State& s, int cameras_decoded, int cameras) {
   const Transport& t = *s.t;
   const fvv_decode_report& r = loop.report();
-  const double budget_ms = loop.controller().NextMaxMs();
+  const double budget_ms = r.max_ms_per_gop;  // what the GOP on screen was decoded under
   char line[5][128];
   std::snprintf(line[0], sizeof(line[0]), "frame %u/%u  %.0f fps  x%.2g%s", loop.frame_index() + 1,
                 frames, fps, t.speed, t.playing ? "" : "  [paused]");
@@ -71,7 +73,9 @@ std::vector<std::string> HudLines(const PlaybackLoop& loop, uint32_t frames, dou
                 cameras_decoded, cameras, *s.all_cameras ? " (all)" : "");
   std::vector<std::string> lines = {line[0], line[1], line[2], line[3]};
   if (loop.controller().below_real_time()) {
-    lines.push_back("slower than real time: decoding at the quality floor");
+    lines.push_back(loop.controller().at_floor()
+                        ? "slower than real time: decoding only the quality floor"
+                        : "slower than real time: cutting the budget");
   }
   return lines;
 }
@@ -87,6 +91,7 @@ State* StateOf(GLFWwindow* w) { return static_cast<State*>(glfwGetWindowUserPoin
 void OnKey(GLFWwindow* w, int key, int, int action, int) {
   if (action != GLFW_PRESS && action != GLFW_REPEAT) return;
   State& s = *StateOf(w);
+  s.dirty = true;
   Transport& t = *s.t;
   switch (key) {
     case GLFW_KEY_H:
@@ -158,6 +163,7 @@ void OnCursor(GLFWwindow* w, double x, double y) {
   const float dx = static_cast<float>(x - s.last_x), dy = static_cast<float>(y - s.last_y);
   s.last_x = x;
   s.last_y = y;
+  s.dirty = s.dirty || s.dragging_left || s.dragging_right;
   if (s.dragging_left) {
     s.camera = -1;
     s.yaw -= dx * 0.01f;
@@ -172,6 +178,7 @@ void OnCursor(GLFWwindow* w, double x, double y) {
 void OnScroll(GLFWwindow* w, double, double dy) {
   State& s = *StateOf(w);
   s.distance = std::max(0.3f, std::min(30.0f, s.distance * static_cast<float>(std::pow(0.9, dy))));
+  s.dirty = true;
 }
 
 int Fail(const std::string& m) {
@@ -247,6 +254,9 @@ int RunPlayer(const PlayerOptions& o) {
   auto last = start, title_time = last;
   uint32_t frames_drawn = 0;
   double shown_fps = 0;
+  std::vector<std::string> drawn_hud;  // what is on screen: drawn again when it differs
+  int drawn_w = 0, drawn_h = 0;
+  bool frame_uploaded = false;
   glm::vec3 last_eye(0.0f, 1.0f, 3.5f), last_target(0.0f, 1.0f, 0.0f);  // until the first view
   while (!glfwWindowShouldClose(window)) {
     const auto now = Clock::now();
@@ -258,13 +268,33 @@ int RunPlayer(const PlayerOptions& o) {
       break;
     }
     const fvv_frame* frame = *next;
-    const auto r0 = Clock::now();
-    if (loop.frame_changed()) {
-      s = (*renderer)->SetFrame(*frame);
-      if (!s.ok()) break;
-    }
     int fb_w, fb_h;
     glfwGetFramebufferSize(window, &fb_w, &fb_h);
+    const bool last_frame =
+        o.seconds > 0 && std::chrono::duration<double>(now - start).count() >= o.seconds;
+    std::vector<std::string> hud_lines;
+    if (state.hud) {
+      hud_lines = HudLines(loop, info.frame_count, shown_fps, state, CountViews(*frame),
+                           static_cast<int>(info.camera_count));
+    }
+    // Draw only when something changed: a still view of a frame already on
+    // screen would cost the cores that decoding needs (a software GL renderer
+    // takes tens of ms a frame).
+    if (!loop.frame_changed() && !state.dirty && hud_lines == drawn_hud && fb_w == drawn_w &&
+        fb_h == drawn_h && !last_frame) {
+      glfwWaitEventsTimeout(0.004);
+      continue;
+    }
+    state.dirty = false;
+    drawn_hud = hud_lines;
+    drawn_w = fb_w;
+    drawn_h = fb_h;
+    const auto r0 = Clock::now();
+    if (loop.frame_changed() || !frame_uploaded) {
+      s = (*renderer)->SetFrame(*frame);
+      if (!s.ok()) break;
+      frame_uploaded = true;
+    }
     RenderView view;
     view.exponent = state.exponent;
     const glm::vec3 root(frame->bone_world[12], frame->bone_world[13], frame->bone_world[14]);
@@ -285,8 +315,6 @@ int RunPlayer(const PlayerOptions& o) {
       view.view = glm::lookAt(view.eye, target, glm::vec3(0, 1, 0));
       view.projection = glm::perspective(glm::radians(40.0f), aspect, 0.05f, 50.0f);
     }
-    const bool last_frame =
-        o.seconds > 0 && std::chrono::duration<double>(now - start).count() >= o.seconds;
     last_eye = view.eye;
     last_target = state.camera >= 0 && state.camera < static_cast<int>(info.camera_count)
                       ? root
@@ -294,9 +322,7 @@ int RunPlayer(const PlayerOptions& o) {
     s = (*renderer)->Draw(view, fb_w, fb_h);
     if (!s.ok()) break;
     if (state.hud) {
-      s = (*hud)->Draw(HudLines(loop, info.frame_count, shown_fps, state, CountViews(*frame),
-                                static_cast<int>(info.camera_count)),
-                       fb_w, fb_h, fb_w >= 1600 ? 3 : 2);
+      s = (*hud)->Draw(hud_lines, fb_w, fb_h, fb_w >= 1600 ? 3 : 2);
       if (!s.ok()) break;
     }
     if (last_frame && !o.screenshot.empty()) {
@@ -317,7 +343,7 @@ int RunPlayer(const PlayerOptions& o) {
     if (since > 0.5) {
       char title[256];
       const fvv_decode_report& r = frame->report;
-      const double budget_ms = loop.controller().NextMaxMs();
+      const double budget_ms = r.max_ms_per_gop;
       std::snprintf(
           title, sizeof(title),
           "fvv  frame %u/%u  %.0f fps  decode %.0f ms/GOP (budget %s)  %.0f of %.0f KB "
