@@ -10,7 +10,7 @@
 // goes to a CSV (bench/run_playback_load_bench.sh plots it).
 //
 //   build/bench/playback_load_bench STREAM [--seconds S] [--floor F] [--csv FILE]
-//                                   [--only floors|idle|1|2|step]
+//                                   [--only floors|idle|1|2|2nofloor|step]
 #include <signal.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
@@ -307,7 +307,8 @@ int main(int argc, char** argv) {
       path = a;
     } else {
       std::printf(
-          "usage: %s STREAM [--seconds S] [--floor F] [--csv FILE] [--only floors|idle|1|2|step]\n",
+          "usage: %s STREAM [--seconds S] [--floor F] [--csv FILE] [--only "
+          "floors|idle|1|2|2nofloor|step]\n",
           argv[0]);
       return a == "-h" || a == "--help" ? 0 : 2;
     }
@@ -341,24 +342,33 @@ int main(int argc, char** argv) {
       "condition; load from stress-ng --cpu N\n",
       kWidth, kHeight, kDisplayHz, path.c_str(), info.frame_count, info.camera_count,
       info.atlas_width, info.atlas_height, info.gop_frames, 100 * floor_share, seconds);
-  std::printf("%-22s %6s %8s %8s %9s %9s %7s %10s\n", "condition", "fps", "speed", "bytes",
-              "min dB", "mean dB", "stalls", "untextured");
   if (only.empty() || only == "floors") {
     std::printf("%-11s %8s %9s %9s %9s\n", "floor only", "bytes", "min dB", "mean dB", "ms/GOP");
     for (double share : {0.05, 0.1, 0.15, 0.2, 0.3}) {
       if (!FloorRow(path, share, renderer->get(), ref)) return 1;
     }
   }
-  for (int cores : {0, 1, 2}) {
-    const std::string name = cores == 0 ? "idle" : std::to_string(cores);
-    if (!only.empty() && only != name) continue;
+  std::printf("%-22s %6s %8s %8s %9s %9s %7s %10s\n", "condition", "fps", "speed", "bytes",
+              "min dB", "mean dB", "stalls", "untextured");
+  // The last row is the peer: the same controller without a floor, under the
+  // heaviest load.
+  const struct {
+    int cores;
+    double floor;
+    const char *name, *label;
+  } conditions[] = {{0, floor_share, "idle", "idle"},
+                    {1, floor_share, "1", "1 core busy"},
+                    {2, floor_share, "2", "2 cores busy"},
+                    {2, 0.0, "2nofloor", "2 busy, no floor"}};
+  for (const auto& c : conditions) {
+    if (!only.empty() && only != c.name) continue;
     Result r;
+    const int cores = c.cores;
     if (!Play(
-            path, floor_share, seconds, [cores](double) { return cores; }, renderer->get(), ref,
-            &r)) {
+            path, c.floor, seconds, [cores](double) { return cores; }, renderer->get(), ref, &r)) {
       return 1;
     }
-    PrintRow(cores == 0 ? "idle" : std::to_string(cores) + " cores busy", r);
+    PrintRow(c.label, r);
   }
   if (only.empty() || only == "step") {
     const double on = 0.25 * seconds, off = 0.75 * seconds;

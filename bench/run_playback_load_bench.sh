@@ -35,6 +35,7 @@ set xrange [0:*]
 set ylabel "budget (ms)"
 plot "$out/step.csv" every ::2 using 1:4 with steps lw 2 lc rgb "#1f5fa0" title "time budget per GOP"
 set ylabel "bytes decoded (%)"
+set key bottom left
 set yrange [0:105]
 plot "$out/step.csv" every ::2 using 1:(100*\$5) with steps lw 2 lc rgb "#207020" title "share of the GOP's texture bytes"
 set yrange [0:*]

@@ -70,6 +70,7 @@ if command -v xvfb-run >/dev/null; then
         xvfb-run -a -s "-screen 0 640x480x24" "$fvv" play "$dir/s.fvv" --width 320 --height 240 \
         --seconds 1.5 --screenshot "$dir/play.png" 2>&1) || fail "play: $out"
   grep -q "played 1.[5-9] s" <<<"$out" || fail "play summary: $out"
+  grep -q " 0 frames without texture" <<<"$out" || fail "play showed untextured frames: $out"
   [ "$(ffprobe -v error -show_entries stream=width,height -of csv=p=0 "$dir/play.png")" = "320,240" ] ||
     fail "play --screenshot did not save the 320x240 window"
 else
@@ -77,6 +78,8 @@ else
 fi
 out=$(DISPLAY= WAYLAND_DISPLAY= "$fvv" play "$dir/s.fvv" 2>&1) && fail "play without a display succeeded"
 grep -q "needs a display" <<<"$out" || fail "play without display: $out"
+out=$("$fvv" play "$dir/s.fvv" --floor 1.5 2>&1) && fail "play --floor 1.5 accepted"
+grep -q -- "--floor" <<<"$out" || fail "play --floor 1.5: $out"
 
 # A damaged byte inside the last fragment: an error naming the fragment (decode exits 6).
 cp "$dir/s.fvv" "$dir/bad.fvv"

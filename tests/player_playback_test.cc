@@ -134,6 +134,26 @@ TEST(PlaybackController, ReserveFollowsMeasuredWaits) {
   EXPECT_TRUE(pc.below_real_time());
 }
 
+// One cheap GOP under a steady load does not swing the next from the floor to a
+// whole decode: the budget rises at most fourfold (and 20 ms) a GOP, and falls
+// at once.
+TEST(PlaybackController, BudgetRisesInStepsAndFallsAtOnce) {
+  PlaybackController pc(25, 8);
+  SimDecoder loaded{330, 200};  // the fixed part alone is longer than the GOP plays
+  for (int gop = 0; gop < 10; ++gop) pc.Report(loaded.Decode(pc.NextMaxMs()));
+  const double at_floor = pc.NextMaxMs();
+  EXPECT_LE(at_floor, 2.0);
+  SimDecoder idle{40, 150};
+  pc.Report(idle.Decode(pc.NextMaxMs()));
+  EXPECT_LE(pc.NextMaxMs(), 4 * at_floor + 20 + 1e-9);
+  EXPECT_GT(pc.NextMaxMs(), at_floor);
+  for (int gop = 0; gop < 3; ++gop) pc.Report(idle.Decode(pc.NextMaxMs()));
+  const double recovered = pc.NextMaxMs();
+  EXPECT_GE(recovered, 150.0);  // a whole decode again
+  pc.Report(loaded.Decode(recovered));
+  EXPECT_LT(pc.NextMaxMs(), 0.5 * recovered);
+}
+
 TEST(PlaybackController, FasterPlaybackTightensTheBudget) {
   PlaybackController pc(25, 8);
   pc.set_speed(2.0);

@@ -10,6 +10,9 @@ constexpr double kMinBudgetMs = 1;
 // Without waits the reserve shrinks by this factor a GOP, so that quality comes
 // back within a few GOPs of a load going away.
 constexpr double kReserveDecay = 0.5;
+// The budget's largest rise from one GOP to the next.
+constexpr double kMaxRise = 4;
+constexpr double kRiseStepMs = 20;
 
 }  // namespace
 
@@ -56,7 +59,11 @@ void PlaybackController::Report(const GopOutcome& gop) {
   // The budget is wall time, so the streams' decoding gets what is left of the
   // target whatever the load: more bytes as soon as the cores are free again,
   // the whole GOP when it fits.
-  max_ms_ = std::max(kMinBudgetMs, target_ms_ - std::max(0.0, fixed_ms_));
+  // It falls at once but rises at most to twice what it was (and a little):
+  // one cheap GOP under load would otherwise swing quality from the floor to
+  // whole decodes and back.
+  const double wanted = std::max(kMinBudgetMs, target_ms_ - std::max(0.0, fixed_ms_));
+  max_ms_ = std::min(wanted, kMaxRise * max_ms_ + kRiseStepMs);
 }
 
 }  // namespace fvv
