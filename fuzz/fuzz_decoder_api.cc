@@ -1,6 +1,8 @@
 // Fuzz target: the decoder library as players use it, through its C API:
 // bytes pushed in chunks (size from byte 0), events processed, every available
-// frame decoded (in RGB8, under a byte budget from byte 1 when non-zero).
+// frame decoded in RGB8. Byte 1 sets the budget: below 128, a byte budget of
+// 16 bytes a step (0: none); from 128, a time budget that runs out at once with
+// a quality floor of (byte - 128) / 127 of each stream.
 #include <cstddef>
 #include <cstdint>
 
@@ -10,7 +12,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 2) return 0;
   const size_t chunk = 1 + data[0] % 251;
   fvv_decode_budget budget{};
-  budget.max_bytes_per_gop = data[1] * 16u;
+  if (data[1] < 128) {
+    budget.max_bytes_per_gop = data[1] * 16u;
+  } else {
+    budget.max_ms_per_gop = 1e-3;
+    budget.floor_share = (data[1] - 128) / 127.0;
+  }
   data += 2;
   size -= 2;
   fvv_decoder_settings settings;

@@ -64,6 +64,13 @@ echo "== render it headless with Renderer II: an orbit, capture camera 2's view,
 $fvv render "$out/capture.fvv" -o "$out/render_orbit" --size 640x480
 $fvv render "$out/capture.fvv" -o "$out/render_camera2" --size 640x480 --camera 2 --last 7
 $fvv render "$out/capture.fvv" -o "$out/render_orbit" --size 320x240 --first 30 --contact-sheet 12
+echo "== the real-time player, 4 s in a virtual display while stress-ng keeps both cores busy (docs/player.md)"
+stress-ng --cpu 2 --timeout 8s --quiet &
+load=$!
+xvfb-run -a -s "-screen 0 1280x720x24" $fvv play "$out/capture.fvv" --seconds 4 \
+  --screenshot "$out/play_loaded.png" | tail -1 || { kill "$load"; exit 1; }
+kill "$load" 2>/dev/null || true
+wait "$load" 2>/dev/null || true
 echo "== Renderer I: the capture itself, projectively textured from its camera images with the tracked poses"
 $fvv render "$out/capture" --renderer projective --poses "$out/poses.json" -o "$out/render_projective" \
   --size 320x240 --first 30 --contact-sheet 12
@@ -110,6 +117,7 @@ echo "         $out/prepared, $out/shards and $out/capture_joined.fvv (the take 
 echo "         $out/encode_summary.json, $out/decoded and $out/decoded_cut (tex_/mask_fFFFFF_cCC.png,"
 echo "         poses.json), $out/render_orbit and $out/render_camera2 (render_fFFFFF.png),"
 echo "         $out/render_orbit/contact_sheet.png (12 novel views of frame 30),"
+echo "         $out/play_loaded.png (fvv play's last frame and HUD with both cores busy),"
 echo "         $out/render_projective (Renderer I: contact sheet, held-out camera 0's view of frames 30-33;"
 echo "         $out/render_heldout is Renderer II's, $out/capture/truth/heldout/held00 the truth),"
 echo "         $out/shape/capture (the bumpy actor's synthetic capture the shape table measured),"
