@@ -26,6 +26,13 @@ install(TARGETS fvv_encoder fvv_encode fvv_shape fvv_track fvv_capture fvv_atlas
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(EXPORT fvvEncoderTargets NAMESPACE fvv:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/fvv)
+# The exporter (fvv::export, C API in fvv_export.h: glTF and BVH from an open
+# decoder) is the optional component "export" (it needs libpng and nlohmann-json).
+set_target_properties(fvv_export PROPERTIES EXPORT_NAME export)
+install(TARGETS fvv_export EXPORT fvvExportTargets
+        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+        INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+install(EXPORT fvvExportTargets NAMESPACE fvv:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/fvv)
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/fvvConfig.cmake.in [=[
 @PACKAGE_INIT@
 include(CMakeFindDependencyMacro)
@@ -47,6 +54,11 @@ foreach(component IN LISTS fvv_FIND_COMPONENTS)
     endif()
     include("${CMAKE_CURRENT_LIST_DIR}/fvvEncoderTargets.cmake")
     set(fvv_encoder_FOUND TRUE)
+  elseif(component STREQUAL "export")
+    find_dependency(PNG)
+    find_dependency(nlohmann_json)
+    include("${CMAKE_CURRENT_LIST_DIR}/fvvExportTargets.cmake")
+    set(fvv_export_FOUND TRUE)
   else()
     set(fvv_${component}_FOUND FALSE)
   endif()

@@ -23,6 +23,7 @@ BELOW = {
     "player/decoder": ["container"],
     "player/render": ["player/decoder"],
     "player/playback": ["codec/base"],
+    "player/export": ["player/decoder"],
     "encoder/io": ["codec/base"],
     "encoder/body": ["container", "encoder/io"],
     "encoder/import": ["encoder/body"],
@@ -36,7 +37,7 @@ BELOW = {
     "conformance/generator": ["conformance/lib", "conformance/sample"],
     "tools/synth": ["encoder/encode", "player/render", "conformance/sample"],
     "tools/play": ["player/render", "player/playback", "encoder/io"],
-    "tools/fvv": ["tools/synth", "tools/play", "conformance/generator"],
+    "tools/fvv": ["tools/synth", "tools/play", "conformance/generator", "player/export"],
     "tests": ["tools/fvv", "fuzz"],  # the robustness tests share fuzz/decode_all
     "bench": ["tools/fvv"],
     "fuzz": ["tools/fvv"],
@@ -48,6 +49,7 @@ PUBLIC = {
     "fvv/fvv_types.h": "codec/base",
     "fvv/fvv_decoder.h": "player/decoder",
     "fvv/fvv_decoder.hpp": "player/decoder",
+    "fvv/fvv_export.h": "player/export",
     "fvv/fvv_encoder.h": "encoder/encode",
     "fvv/fvv_encoder.hpp": "encoder/encode",
 }

@@ -42,6 +42,13 @@ else
   $sudo apt-get update -qq
   $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
+# The npm client installs the web tools (tools/web/package-lock.json): the
+# Khronos glTF validator that tests/cli_export_test.sh runs on exported files.
+web="$(dirname "$0")/web"
+if [ ! -d "$web/node_modules/gltf-validator" ]; then
+  echo "setup: installing tools/web (npm ci)"
+  npm ci --prefix "$web" --no-audit --no-fund --loglevel=error
+fi
 # Not fatal: without the models fvv falls back to background subtraction, and
 # the tests that need them say so and skip.
 "$(dirname "$0")/models/fetch_models.sh" || echo "setup: WARNING: person models not fetched" >&2

@@ -160,10 +160,13 @@ StatusOr<std::vector<std::vector<double>>> RetargetToGenericBody(const BvhMotion
   if (!(o.fps > 0) || !(o.start_seconds >= 0)) return InvalidArgument("retarget: bad fps or start");
   std::vector<int> map(kGenericJointCount);
   for (int g = 0; g < kGenericJointCount; ++g) {
-    map[g] = FindBone(bvh.skeleton, Candidates()[g]);
+    // The generic body's own joint names first: motion fvv exported (fvv export
+    // -o motion.bvh) comes back onto the same joints.
+    map[g] = FindBone(bvh.skeleton, {GenericJointName(g)});
+    if (map[g] < 0) map[g] = FindBone(bvh.skeleton, Candidates()[g]);
     if (map[g] < 0) {
-      std::string tried;
-      for (const std::string& n : Candidates()[g]) tried += (tried.empty() ? "" : ", ") + n;
+      std::string tried = GenericJointName(g);
+      for (const std::string& n : Candidates()[g]) tried += ", " + n;
       return InvalidArgument(std::string("retarget: the BVH skeleton has no joint for ") +
                              GenericJointName(g) + " (looked for " + tried + ")");
     }

@@ -29,19 +29,6 @@ bool EndsWith(const std::string& s, const char* suffix) {
   return tail == suffix;
 }
 
-std::string TempNameFor(const std::string& path) {
-  return path + ".tmp" + std::to_string(::getpid());
-}
-
-Status Commit(const std::string& tmp, const std::string& path) {
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const std::string why = std::strerror(errno);
-    std::remove(tmp.c_str());
-    return IoError("cannot rename " + tmp + " to " + path + ": " + why);
-  }
-  return Status::Ok();
-}
-
 struct FileCloser {
   void operator()(FILE* f) const {
     if (f) std::fclose(f);
@@ -140,7 +127,7 @@ Status WritePng(const std::string& path, const Image& image) {
     std::remove(tmp.c_str());
     return IoError(path + ": cannot write PNG (" + png.message + ")");
   }
-  return Commit(tmp, path);
+  return CommitTempFile(tmp, path);
 }
 
 Status WriteExr(const std::string& path, const Image& image) {
@@ -168,7 +155,7 @@ Status WriteExr(const std::string& path, const Image& image) {
     std::remove(tmp.c_str());
     return IoError(path + ": cannot write EXR (" + e.what() + ")");
   }
-  return Commit(tmp, path);
+  return CommitTempFile(tmp, path);
 }
 
 Status WriteImage(const std::string& path, const Image& image) {
@@ -189,23 +176,6 @@ StatusOr<std::vector<uint8_t>> ReadFileBytes(const std::string& path, uint64_t m
   if (size > 0 && std::fread(data.data(), 1, data.size(), f.get()) != data.size())
     return IoError(path + ": short read");
   return data;
-}
-
-Status WriteFileAtomic(const std::string& path, const uint8_t* data, size_t size) {
-  const std::string tmp = TempNameFor(path);
-  {
-    FilePtr f(std::fopen(tmp.c_str(), "wb"));
-    if (!f) return IoError(path + ": cannot create (" + std::strerror(errno) + ")");
-    if (size > 0 && std::fwrite(data, 1, size, f.get()) != size) {
-      std::remove(tmp.c_str());
-      return IoError(path + ": write failed");
-    }
-    if (std::fflush(f.get()) != 0) {
-      std::remove(tmp.c_str());
-      return IoError(path + ": write failed");
-    }
-  }
-  return Commit(tmp, path);
 }
 
 Image MakeContactSheet(const std::vector<Image>& tiles, uint32_t columns) {

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "codec/base/atomic_file.h"
 #include "codec/base/status.h"
 
 namespace fvv {
@@ -36,7 +37,6 @@ Status MakeDirectories(const std::string& path);
 
 // Whole-file helpers with the same atomic-write rule.
 StatusOr<std::vector<uint8_t>> ReadFileBytes(const std::string& path, uint64_t max_bytes);
-Status WriteFileAtomic(const std::string& path, const uint8_t* data, size_t size);
 
 }  // namespace fvv
 

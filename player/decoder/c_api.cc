@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "fvv/fvv_decoder.h"
+#include "player/decoder/c_api_internal.h"
 #include "player/decoder/decoder.h"
 
 static_assert(FVV_FORMAT_VERSION == fvv::kFormatVersion,
@@ -89,6 +90,18 @@ fvv::GopBudget ToGopBudget(const fvv_decode_budget* budget) {
 }
 
 }  // namespace
+
+namespace fvv {
+
+const StreamInfo* DecoderStreamInfo(const fvv_decoder* decoder) {
+  return decoder && decoder->impl.ready() ? &decoder->impl.info() : nullptr;
+}
+
+fvv_status ReportDecoderStatus(fvv_decoder* decoder, const Status& status) {
+  return Report(decoder, status);
+}
+
+}  // namespace fvv
 
 extern "C" {
 

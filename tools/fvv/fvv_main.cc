@@ -11,6 +11,7 @@
 #include "tools/fvv/conform_command.h"
 #include "tools/fvv/decode_command.h"
 #include "tools/fvv/encode_command.h"
+#include "tools/fvv/export_command.h"
 #include "tools/fvv/join_command.h"
 #include "tools/fvv/play_command.h"
 #include "tools/fvv/render_command.h"
@@ -38,6 +39,7 @@ int main(int argc, char** argv) {
   fvv::AddTrackCommand(&app, &exit_code);
   fvv::AddEncodeCommand(&app, &exit_code);
   fvv::AddJoinCommand(&app, &exit_code);
+  fvv::AddExportCommand(&app, &exit_code);
   fvv::AddStreamCommands(&app, &exit_code);
   fvv::AddDecodeCommand(&app, &exit_code);
   fvv::AddConformCommand(&app, &exit_code);

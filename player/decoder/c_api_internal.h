@@ -1,0 +1,20 @@
+// For libraries over the decoder's C API (the exporter): what an open
+// fvv_decoder holds beyond the public arrays, and its error message.
+#ifndef FVV_PLAYER_DECODER_C_API_INTERNAL_H_
+#define FVV_PLAYER_DECODER_C_API_INTERNAL_H_
+
+#include "codec/base/status.h"
+#include "container/stream_info.h"
+#include "fvv/fvv_decoder.h"
+
+namespace fvv {
+
+// The stream's header boxes (model, skeleton, motion steps); null before
+// FVV_EVENT_READY.
+const StreamInfo* DecoderStreamInfo(const fvv_decoder* decoder);
+// Sets the message fvv_decoder_error returns and gives the status code.
+fvv_status ReportDecoderStatus(fvv_decoder* decoder, const Status& status);
+
+}  // namespace fvv
+
+#endif  // FVV_PLAYER_DECODER_C_API_INTERNAL_H_
