@@ -64,6 +64,13 @@ echo "== render it headless with Renderer II: an orbit, capture camera 2's view,
 $fvv render "$out/capture.fvv" -o "$out/render_orbit" --size 640x480
 $fvv render "$out/capture.fvv" -o "$out/render_camera2" --size 640x480 --camera 2 --last 7
 $fvv render "$out/capture.fvv" -o "$out/render_orbit" --size 320x240 --first 30 --contact-sheet 12
+echo "== interchange: the actor as glTF 2.0 and BVH (fvv export), checked by the Khronos validator, drawn by three.js in headless Chromium"
+mkdir -p "$out/export"
+$fvv export "$out/capture.fvv" -o "$out/export/actor.glb"
+$fvv export "$out/capture.fvv" -o "$out/export/motion.bvh"
+node tools/web/validate_gltf.mjs "$out/export/actor.glb"
+node tools/web/screenshot_gltf.mjs "$out/export/actor.glb" "$out/export/three.png" --frame 20 \
+  --size 640x480 --eye 0.5,1.2,3.2 --target 0,0.95,0 | grep -v "^page: "
 echo "== the real-time player, 4 s in a virtual display while stress-ng keeps both cores busy (docs/player.md)"
 stress-ng --cpu 2 --timeout 8s --quiet &
 load=$!
@@ -117,6 +124,7 @@ echo "         $out/prepared, $out/shards and $out/capture_joined.fvv (the take 
 echo "         $out/encode_summary.json, $out/decoded and $out/decoded_cut (tex_/mask_fFFFFF_cCC.png,"
 echo "         poses.json), $out/render_orbit and $out/render_camera2 (render_fFFFFF.png),"
 echo "         $out/render_orbit/contact_sheet.png (12 novel views of frame 30),"
+echo "         $out/export (actor.glb for Blender, three.js, Unity; motion.bvh; three.png: three.js's view),"
 echo "         $out/play_loaded.png (fvv play's last frame and HUD with both cores busy),"
 echo "         $out/render_projective (Renderer I: contact sheet, held-out camera 0's view of frames 30-33;"
 echo "         $out/render_heldout is Renderer II's, $out/capture/truth/heldout/held00 the truth),"

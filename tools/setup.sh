@@ -20,6 +20,7 @@ packages=(
   libopencv-dev python3-numpy python3-onnx  # person masks and keypoints (OpenCV dnn; the model converter)
   python3-yaml  # tests/cli_shards_test.sh: the Kubernetes manifest parsed
   stress-ng gnuplot-nox  # bench/run_playback_load_bench.sh: the load on the cores, the plot
+  chromium  # headless browser tests (tools/web/browser_harness.mjs): three.js on exported glTF
   parallel  # GNU parallel: shards of an encode side by side (bench/run_shard_bench.sh, docs/scale-out.md)
 )
 
@@ -43,9 +44,11 @@ else
   $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 # The npm client installs the web tools (tools/web/package-lock.json): the
-# Khronos glTF validator that tests/cli_export_test.sh runs on exported files.
+# Khronos glTF validator, three.js and puppeteer-core (which drives the chromium
+# above; it downloads no browser of its own).
 web="$(dirname "$0")/web"
-if [ ! -d "$web/node_modules/gltf-validator" ]; then
+if [ ! -d "$web/node_modules/gltf-validator" ] || [ ! -d "$web/node_modules/three" ] ||
+   [ ! -d "$web/node_modules/puppeteer-core" ]; then
   echo "setup: installing tools/web (npm ci)"
   npm ci --prefix "$web" --no-audit --no-fund --loglevel=error
 fi

@@ -41,6 +41,7 @@ struct RenderArgs {
   int expand_px = 3;
   uint64_t bytes = 0;
   double max_ms = 0;
+  std::string texture;
 };
 
 int Fail(const std::string& m) {
@@ -248,6 +249,7 @@ int RunRender(const RenderArgs& a) {
     StreamRenderOptions o;
     o.bytes = a.bytes;
     o.max_ms = a.max_ms;
+    o.texture = a.texture;
     opened = OpenStreamFrames(a.input, o);
   }
   if (!opened.ok()) return Fail(opened.status().ToString());
@@ -433,8 +435,15 @@ void AddRenderCommand(CLI::App* app, int* exit_code) {
       ->check(CLI::Range(0.0f, 64.0f));
   auto* bytes = r->add_option("--bytes", args->bytes,
                               "Renderer II: texture bytes per GOP fragment to decode");
-  r->add_option("--max-ms", args->max_ms, "Renderer II: texture decoding time per GOP")
+  auto* max_ms = r->add_option("--max-ms", args->max_ms, "Renderer II: texture decoding time per GOP")
       ->excludes(bytes);
+  r->add_option("--texture", args->texture,
+                "Renderer II with one texture (a PNG of the atlas's size, e.g. what fvv export "
+                "wrote) for every camera: the decoded poses without view-dependent blending, as "
+                "other tools draw an exported glTF")
+      ->check(CLI::ExistingFile)
+      ->excludes(bytes)
+      ->excludes(max_ms);
   r->add_option("--format", args->format, "Image format")
       ->check(CLI::IsMember({"png", "exr"}))
       ->capture_default_str();

@@ -8,6 +8,7 @@
 #include "encoder/body/generic_body.h"
 #include "encoder/capture/capture.h"
 #include "encoder/encode/pose_file.h"
+#include "encoder/io/image_io.h"
 #include "encoder/track/capture_frames.h"
 #include "encoder/track/track_capture.h"
 #include "fvv/fvv_decoder.hpp"
@@ -55,6 +56,21 @@ class StreamFrames : public FramesDrawnBy<Renderer> {
     }
     budget_.max_bytes_per_gop = o.bytes;
     budget_.max_ms_per_gop = o.max_ms;
+    if (!o.texture.empty()) {
+      FVV_ASSIGN_OR_RETURN(Image image, ReadImage(o.texture));
+      if (image.width != info_.atlas_width || image.height != info_.atlas_height ||
+          image.channels != 3) {
+        return InvalidArgument(o.texture + ": " + std::to_string(image.width) + "x" +
+                               std::to_string(image.height) + " with " +
+                               std::to_string(image.channels) +
+                               " channels; --texture needs RGB at the atlas's size, " +
+                               std::to_string(info_.atlas_width) + "x" +
+                               std::to_string(info_.atlas_height));
+      }
+      texture_ = std::move(image.pixels);
+      seen_.assign(size_t{info_.atlas_width} * info_.atlas_height, 1);
+      budget_.max_bytes_per_gop = 1;  // the poses are what is needed
+    }
     return Status::Ok();
   }
   Status CreateRenderer(const GlApi& gl) override {
@@ -73,7 +89,17 @@ class StreamFrames : public FramesDrawnBy<Renderer> {
       return Corrupt("frame " + std::to_string(f) + ": " + fvv_decoder_error(decoder_.get()));
     decode_s_ += Since(t0);
     const auto t1 = Clock::now();
-    FVV_RETURN_IF_ERROR(renderer_->SetFrame(*frame));
+    if (!texture_.empty()) {
+      // Every camera carries the one texture and sees every texel: whatever
+      // the blend's weights, each fragment shows the texture's colour.
+      std::vector<fvv_view> views(frame->camera_count);
+      for (fvv_view& v : views) v = {texture_.data(), frame->views[0].mask ? seen_.data() : nullptr};
+      fvv_frame single = *frame;
+      single.views = views.data();
+      FVV_RETURN_IF_ERROR(renderer_->SetFrame(single));
+    } else {
+      FVV_RETURN_IF_ERROR(renderer_->SetFrame(*frame));
+    }
     upload_s_ += Since(t1);
     *root = glm::vec3(frame->bone_world[12], frame->bone_world[13], frame->bone_world[14]);
     return Status::Ok();
@@ -91,6 +117,7 @@ class StreamFrames : public FramesDrawnBy<Renderer> {
   DecoderPtr decoder_;
   fvv_stream_info info_{};
   fvv_decode_budget budget_{};
+  std::vector<uint8_t> texture_, seen_;  // --texture: the image, and a mask of ones
   double decode_s_ = 0, upload_s_ = 0;
 };
 

@@ -48,6 +48,10 @@ class RenderFrames {
 struct StreamRenderOptions {
   uint64_t bytes = 0;  // texture bytes per GOP fragment (0: all)
   double max_ms = 0;   // or a decoding time per GOP
+  // An RGB image of the atlas's size drawn as every camera's texture (an
+  // exported glTF's single texture): the model in its decoded poses, with no
+  // view-dependent blending; the stream's textures are not decoded.
+  std::string texture;
 };
 StatusOr<std::unique_ptr<RenderFrames>> OpenStreamFrames(const std::string& path,
                                                          const StreamRenderOptions& options);
