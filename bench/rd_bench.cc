@@ -9,6 +9,9 @@
 //   x264     each camera's atlas sequence as one H.264 video (yuv444p, preset
 //            medium, two-pass at fvv's bitrate)
 //   x265     the same with H.265
+//   AV1      libaom (yuv444p, -cpu-used 6, two-pass) and SVT-AV1 (yuv420p only,
+//            preset 8, one-pass VBR), against fvv with its masks counted in its
+//            bytes, and SVT-AV1 against fvv coding 4:2:0
 // Every codec gets the same input: the peers see the textures with their
 // unused texels filled, so no codec spends bits on edges between black and
 // content, and each peer runs with two fills (`--peer-fill` picks one): fvv's
@@ -165,9 +168,10 @@ struct Result {
 
 Result RunFvv(const Sequence& seq, const std::string& capture, const std::string& textures,
               const std::string& work, double ratio, const FillOptions& fill, uint16_t gop_frames,
-              uint64_t* mask_bytes) {
+              uint64_t* mask_bytes, ChromaFormat chroma = ChromaFormat::k444) {
   Result r;
   EncoderSettings s;
+  s.chroma = chroma;
   s.gop_frames = gop_frames;
   s.textures = textures;
   s.first_frame = seq.first;
@@ -307,29 +311,43 @@ Result RunVideo(const Sequence& seq, const std::string& work, uint64_t target, c
     const std::string gop = keyint > 0 ? " -g " + std::to_string(keyint) : "";
     char cmd[1024];
     auto t0 = Clock::now();
+    const std::string coder = codec;
     for (int pass = 1; pass <= 2; ++pass) {
-      if (std::string(codec) == "libx264") {
-        std::snprintf(cmd, sizeof(cmd),
-                      "cd '%s' && ffmpeg -v error -y -framerate %.3f -i video_in/%%06d.ppm -c:v "
-                      "libx264 -preset medium -pix_fmt yuv444p -b:v %.1fk%s -pass %d -passlogfile "
-                      "pass %s",
-                      work.c_str(), fps, kbps, gop.c_str(), pass,
-                      pass == 1 ? "-f null /dev/null" : "video.mkv");
-      } else {
-        std::snprintf(cmd, sizeof(cmd),
-                      "cd '%s' && ffmpeg -v error -y -framerate %.3f -i video_in/%%06d.ppm -c:v "
-                      "libx265 -preset medium -pix_fmt yuv444p -b:v %.1fk%s -x265-params "
-                      "log-level=error:pass=%d:stats=pass.log %s",
-                      work.c_str(), fps, kbps, gop.c_str(), pass,
-                      pass == 1 ? "-f null /dev/null" : "video.mkv");
+      // Two-pass rate control at the bitrate for every codec; the AV1
+      // encoders at presets of x265 medium's speed class (rd_bench prints
+      // each codec's seconds per frame to check).
+      std::string args;
+      if (coder == "libx264") {
+        args = "libx264 -preset medium -pix_fmt yuv444p -pass " + std::to_string(pass) +
+               " -passlogfile pass";
+      } else if (coder == "libx265") {
+        args = "libx265 -preset medium -pix_fmt yuv444p -x265-params log-level=error:pass=" +
+               std::to_string(pass) + ":stats=pass.log";
+      } else if (coder == "libaom-av1") {
+        args = "libaom-av1 -cpu-used 6 -row-mt 1 -pix_fmt yuv444p -pass " + std::to_string(pass) +
+               " -passlogfile pass";
+      } else {  // libsvtav1: 4:2:0 only; one pass (VBR): its two passes crash in this ffmpeg
+        if (pass == 1) continue;
+        args = "libsvtav1 -preset 8 -pix_fmt yuv420p -svtav1-params rc=1";
       }
+      std::snprintf(
+          cmd, sizeof(cmd),
+          "cd '%s' && SVT_LOG=1 ffmpeg -v error -y -framerate %.3f -i video_in/%%06d.ppm -c:v %s "
+          "-b:v %.1fk%s %s",
+          work.c_str(), fps, args.c_str(), kbps, gop.c_str(),
+          pass == 1 ? "-f null /dev/null" : "video.mkv");
       if (!Run(cmd)) return r;
     }
     r.encode_s += Since(t0);
     // Bytes: the elementary stream (container overhead left out).
-    const std::string es = work + (std::string(codec) == "libx264" ? "/video.264" : "/video.265");
+    const std::string es = work + (coder == "libx264"   ? "/video.264"
+                                   : coder == "libx265" ? "/video.265"
+                                                        : "/video.obu");
     if (!Run("ffmpeg -v error -y -i '" + mp4 + "' -c:v copy -f " +
-             (std::string(codec) == "libx264" ? "h264" : "hevc") + " '" + es + "'"))
+             (coder == "libx264"   ? "h264"
+              : coder == "libx265" ? "hevc"
+                                   : "obu") +
+             " '" + es + "'"))
       return r;
     r.bytes += FileSize(es);
     const std::string outdir = work + "/video_out";
@@ -433,13 +451,13 @@ int Main(int argc, char** argv) {
       100.0 * seq.visible / (double(seq.size) * seq.size * seq.textures.size()), raw / 1e6);
   std::printf(
       "RGB PSNR over visible texels; bytes = texture payload; encode/decode = seconds per "
-      "frame (all cameras); fvv 2 threads, OpenJPEG 1 thread, x264/x265 ffmpeg defaults\n");
+      "frame (all cameras); fvv 2 threads, OpenJPEG 1 thread, x264/x265/AV1 ffmpeg defaults\n");
   std::printf("Random access: fvv GOPs of %u frames; x264/x265 keyframe interval %s\n\n",
               unsigned{gop_frames},
               keyint > 0 ? (std::to_string(keyint) + " frames").c_str() : "ffmpeg's default (250)");
   std::printf("%7s | %-22s %10s %8s %8s %8s | %s\n", "target", "codec", "bytes", "ratio", "PSNR",
               "enc s/f", "dec s/f");
-  int wins_j2k = 0, wins_x264 = 0;
+  int wins_j2k = 0, wins_x264 = 0, wins_x265 = 0, wins_aom = 0, wins_svt = 0;
   for (double ratio : ratios) {
     uint64_t mask_bytes = 0, unused = 0;
     const Result f = RunFvv(seq, capture, textures, work, ratio, fill, gop_frames, &mask_bytes);
@@ -459,36 +477,62 @@ int Main(int argc, char** argv) {
     // few per cent off the target (x264 often well under it), so fvv codes
     // again at each peer's own bytes (its allocation is exact to the GOP); a
     // win needs fvv above the peer with every fill.
-    bool beats_j2k = true, beats_x264 = true;
+    bool beats_j2k = true, beats_x264 = true, beats_x265 = true, beats_aom = true, beats_svt = true;
     for (const PeerFill& pf : peer_fills) {
       seq.filled = pf.filled;
       const std::string tag = " (" + pf.name + " fill)";
       const Result jp = RunOpenJpeg(seq, work, f.bytes);
       const Result h4 = RunVideo(seq, work, f.bytes, "libx264", fps, keyint);
       const Result h5 = RunVideo(seq, work, f.bytes, "libx265", fps, keyint);
-      auto at_bytes = [&](const Result& peer) {
+      const Result aom = RunVideo(seq, work, f.bytes, "libaom-av1", fps, keyint);
+      const Result svt = RunVideo(seq, work, f.bytes, "libsvtav1", fps, keyint);
+      auto at_bytes = [&](const Result& peer, ChromaFormat chroma = ChromaFormat::k444) {
         return peer.ok ? RunFvv(seq, capture, textures, work, raw / peer.bytes, fill, gop_frames,
-                                &unused)
+                                &unused, chroma)
                        : Result{};
       };
+      // Equal total bytes: fvv's masks counted, its textures get the rest.
+      auto at_total = [&](const Result& peer, ChromaFormat chroma = ChromaFormat::k444) {
+        if (!peer.ok || peer.bytes <= mask_bytes) return Result{};
+        Result r = RunFvv(seq, capture, textures, work, raw / double(peer.bytes - mask_bytes), fill,
+                          gop_frames, &unused, chroma);
+        r.bytes += mask_bytes;
+        return r;
+      };
       const Result fj = at_bytes(jp), f4 = at_bytes(h4);
+      const Result t5 = at_total(h5), ta = at_total(aom), ts = at_total(svt, ChromaFormat::k420);
       row("OpenJPEG" + tag, jp);
       row("  fvv at its bytes", fj);
       row("x264" + tag, h4);
       row("  fvv at its bytes", f4);
       row("x265" + tag, h5);
+      row("  fvv, masks counted", t5);
+      row("AV1 libaom 4:4:4" + tag, aom);
+      row("  fvv, masks counted", ta);
+      row("AV1 SVT 4:2:0" + tag, svt);
+      row("  fvv 4:2:0, masks cntd", ts);
       beats_j2k = beats_j2k && jp.ok && fj.ok && fj.psnr > jp.psnr;
       beats_x264 = beats_x264 && h4.ok && f4.ok && f4.psnr > h4.psnr;
+      beats_x265 = beats_x265 && h5.ok && t5.ok && t5.psnr > h5.psnr;
+      beats_aom = beats_aom && aom.ok && ta.ok && ta.psnr > aom.psnr;
+      beats_svt = beats_svt && svt.ok && ts.ok && ts.psnr > svt.psnr;
     }
     std::printf("%7s | (fvv masks: %llu bytes more)\n", "", (unsigned long long)mask_bytes);
     wins_j2k += beats_j2k;
     wins_x264 += beats_x264;
+    wins_x265 += beats_x265;
+    wins_aom += beats_aom;
+    wins_svt += beats_svt;
     std::fflush(stdout);
   }
   std::printf(
       "\nfvv above OpenJPEG at %d of %zu rates (target: all); above x264 at %d of %zu "
       "(target: 3 of 4), each at the peer's own bytes (the \"fvv at its bytes\" rows).\n",
       wins_j2k, ratios.size(), wins_x264, ratios.size());
+  std::printf(
+      "At equal total bytes (fvv's masks counted): above x265 at %d of %zu, above AV1 libaom "
+      "(4:4:4) at %d, above AV1 SVT (4:2:0, against fvv 4:2:0) at %d (target: 3 of 4 each).\n",
+      wins_x265, ratios.size(), wins_aom, wins_svt);
   return 0;
 }
 

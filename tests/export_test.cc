@@ -15,14 +15,13 @@
 #include <string>
 #include <vector>
 
-#include "conformance/sample/sample_stream.h"
-#include "container/writer.h"
 #include "encoder/body/kinematics.h"
 #include "encoder/import/bvh.h"
 #include "fvv/fvv_decoder.hpp"
 #include "fvv/fvv_export.h"
 #include "player/export/bvh_writer.h"
 #include "player/export/texture_blend.h"
+#include "tests/sample_stream_file.h"
 
 namespace fvv {
 namespace {
@@ -38,14 +37,7 @@ const std::string& StreamPath() {
     o.gop_frames = 4;
     o.gop_cameras = 1;
     o.bpp = 2.0;
-    auto s = MakeSampleStream(o);
-    EXPECT_TRUE(s.ok());
-    auto* p = new std::string(::testing::TempDir() + "/fvv_export_test.fvv");
-    auto w = FileWriter::Create(*p, s->info);
-    EXPECT_TRUE(w.ok());
-    for (const auto& frag : s->fragments) EXPECT_TRUE((*w)->AddFragment(frag).ok());
-    EXPECT_TRUE((*w)->Close().ok());
-    return p;
+    return new std::string(WriteSampleStreamFile(o, "fvv_export_test.fvv"));
   }();
   return *path;
 }

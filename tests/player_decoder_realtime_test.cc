@@ -8,9 +8,8 @@
 #include <limits>
 #include <thread>
 
-#include "conformance/sample/sample_stream.h"
-#include "container/writer.h"
 #include "fvv/fvv_decoder.hpp"
+#include "tests/sample_stream_file.h"
 
 namespace fvv {
 namespace {
@@ -28,14 +27,7 @@ const std::string& StreamPath() {
     o.gop_frames = 4;
     o.gop_cameras = 1;
     o.bpp = 1.0;
-    auto s = MakeSampleStream(o);
-    EXPECT_TRUE(s.ok());
-    auto* p = new std::string(::testing::TempDir() + "/fvv_decoder_realtime_test.fvv");
-    auto w = FileWriter::Create(*p, s->info);
-    EXPECT_TRUE(w.ok());
-    for (const auto& frag : s->fragments) EXPECT_TRUE((*w)->AddFragment(frag).ok());
-    EXPECT_TRUE((*w)->Close().ok());
-    return p;
+    return new std::string(WriteSampleStreamFile(o, "fvv_decoder_realtime_test.fvv"));
   }();
   return *path;
 }
