@@ -7,7 +7,8 @@
 # motion) and prints the encoder's summary; encodes it again in two shards side
 # by side and joins them into the same bytes; inspects, decodes and renders the
 # stream with Renderer II and the capture itself with Renderer I (projective
-# texturing); on the real capture in ../shared/data (where present) imports the
+# texturing); plays it for 4 s with both cores busy; exports the actor as glTF
+# and BVH and shows it with three.js in headless Chromium; on the real capture in ../shared/data (where present) imports the
 # studio calibration, brings the cameras in step, and tracks, encodes and renders
 # one camera held out; prints figures and outputs.
 # Usage: tools/demo.sh [output dir, default out/demo]
