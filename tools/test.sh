@@ -39,13 +39,15 @@ ctest --test-dir build -j2 --output-on-failure -R "$slow"
 cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFVV_TSAN=ON -DFVV_WERROR=ON \
   -DFVV_BUILD_BENCH=OFF >/dev/null
 cmake --build build-tsan -j2 --target codec_test player_decoder_api_test \
-  player_decoder_threads_test encode_ordered_queue_test encode_session_test
+  player_decoder_threads_test player_decoder_realtime_test encode_ordered_queue_test \
+  encode_session_test
 export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1"
 tsan() { echo "== ThreadSanitizer: $*"; timeout 900 "$@"; }
 tsan build-tsan/tests/codec_test \
   --gtest_filter='ThreadPool.*:Decoder.*:Embedded.*:Prune.GainsWhereLoneCoefficientsCostMost:*LosslessRoundTrip.*'
 tsan build-tsan/tests/player_decoder_threads_test
 tsan build-tsan/tests/player_decoder_api_test
+tsan build-tsan/tests/player_decoder_realtime_test
 tsan build-tsan/tests/encode_ordered_queue_test
 tsan build-tsan/tests/encode_session_test \
   --gtest_filter='EncodeTest.RoundTripReachesTheReportedPsnr:EncodeTest.CApiEncodesAndReportsAndRefusesMisuse'
