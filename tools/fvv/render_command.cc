@@ -435,8 +435,9 @@ void AddRenderCommand(CLI::App* app, int* exit_code) {
       ->check(CLI::Range(0.0f, 64.0f));
   auto* bytes = r->add_option("--bytes", args->bytes,
                               "Renderer II: texture bytes per GOP fragment to decode");
-  auto* max_ms = r->add_option("--max-ms", args->max_ms, "Renderer II: texture decoding time per GOP")
-      ->excludes(bytes);
+  auto* max_ms =
+      r->add_option("--max-ms", args->max_ms, "Renderer II: texture decoding time per GOP")
+          ->excludes(bytes);
   r->add_option("--texture", args->texture,
                 "Renderer II with one texture (a PNG of the atlas's size, e.g. what fvv export "
                 "wrote) for every camera: the decoded poses without view-dependent blending, as "

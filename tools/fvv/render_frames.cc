@@ -60,12 +60,11 @@ class StreamFrames : public FramesDrawnBy<Renderer> {
       FVV_ASSIGN_OR_RETURN(Image image, ReadImage(o.texture));
       if (image.width != info_.atlas_width || image.height != info_.atlas_height ||
           image.channels != 3) {
-        return InvalidArgument(o.texture + ": " + std::to_string(image.width) + "x" +
-                               std::to_string(image.height) + " with " +
-                               std::to_string(image.channels) +
-                               " channels; --texture needs RGB at the atlas's size, " +
-                               std::to_string(info_.atlas_width) + "x" +
-                               std::to_string(info_.atlas_height));
+        return InvalidArgument(
+            o.texture + ": " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+            " with " + std::to_string(image.channels) +
+            " channels; --texture needs RGB at the atlas's size, " +
+            std::to_string(info_.atlas_width) + "x" + std::to_string(info_.atlas_height));
       }
       texture_ = std::move(image.pixels);
       seen_.assign(size_t{info_.atlas_width} * info_.atlas_height, 1);
@@ -93,7 +92,8 @@ class StreamFrames : public FramesDrawnBy<Renderer> {
       // Every camera carries the one texture and sees every texel: whatever
       // the blend's weights, each fragment shows the texture's colour.
       std::vector<fvv_view> views(frame->camera_count);
-      for (fvv_view& v : views) v = {texture_.data(), frame->views[0].mask ? seen_.data() : nullptr};
+      for (fvv_view& v : views)
+        v = {texture_.data(), frame->views[0].mask ? seen_.data() : nullptr};
       fvv_frame single = *frame;
       single.views = views.data();
       FVV_RETURN_IF_ERROR(renderer_->SetFrame(single));
