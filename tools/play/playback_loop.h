@@ -21,7 +21,7 @@ struct Transport {
   double speed = 1;
 };
 
-// Totals since the loop started (or since ResetStats).
+// Totals since the loop started.
 struct PlaybackStats {
   uint64_t frames_drawn = 0;
   uint64_t frames_advanced = 0;  // content frames the playhead moved forward over
@@ -52,10 +52,8 @@ class PlaybackLoop {
   bool all_cameras = false;  // decode every camera, not only those the view blends
   const PlaybackController& controller() const { return control_; }
   const PlaybackStats& stats() const { return stats_; }
-  void ResetStats() { stats_ = PlaybackStats{}; }
   // The last GOP's decode report, for the HUD.
   const fvv_decode_report& report() const;
-  double frame_ms() const { return frame_ms_; }
 
  private:
   fvv_decode_budget Budget() const;
