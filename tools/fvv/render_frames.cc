@@ -68,7 +68,10 @@ class StreamFrames : public FramesDrawnBy<Renderer> {
       }
       texture_ = std::move(image.pixels);
       seen_.assign(size_t{info_.atlas_width} * info_.atlas_height, 1);
-      budget_.max_bytes_per_gop = 1;  // the poses are what is needed
+      // The poses are what is needed: one byte of the first camera group only
+      // (no inverse transforms of the other cameras' textures).
+      budget_.max_bytes_per_gop = 1;
+      budget_.camera_mask = 1;
     }
     return Status::Ok();
   }
