@@ -5,6 +5,7 @@
 # the variables Slurm sets; the Kubernetes Indexed Job's own command line with
 # the index Kubernetes sets), fvv join, each joined stream byte for byte the
 # single run's. A missing part is named; a failed shard rerun alone joins.
+# Then shards that track their own frames (a take prepared without poses).
 set -u
 fvv=$(readlink -f "$1")
 dir=$2
@@ -103,4 +104,34 @@ grep -q -- "--shard needs --prepared" <<<"$out" || fail "message: $out"
 out=$("$fvv" encode "$dir/cap" --poses "$poses" --prepared "$dir/prep" --shard 2of3 -o "$dir/x.fvv" 2>&1) &&
   fail "--shard 2of3"
 grep -q "is not K/N" <<<"$out" || fail "message: $out"
+
+# Shards that track their own frames: a take prepared without poses, the
+# shards through the GNU parallel script with POSES "-", the join.
+out=$("$fvv" encode "$dir/cap" --atlas 128 --gop-frames 2 --prepare "$dir/tprep" --prepare-frames 2 \
+  --warm-up 2 2>&1) || fail "prepare without poses: $out"
+grep -q "shards track their own frames, with 2 frames' warm-up" <<<"$out" || fail "prepare: $out"
+grep -q '"shards_track": true' "$dir/tprep/prepared.json" || fail "prepared.json: shards_track"
+out=$(FVV="$fvv" "$src/tools/scale-out/parallel_shards.sh" 3 2/: "$dir/cap" - "$dir/tprep" \
+  "$dir/tracked_parts" "$dir/tracked.fvv" 2>&1) || fail "parallel_shards.sh, tracking: $out"
+out=$("$fvv" info "$dir/tracked.fvv" 2>&1) || fail "the tracked shards' joined stream: $out"
+grep -Eq "frames: 5\b|5 frames" <<<"$out" || fail "joined stream's frames: $out"
+# fvv track shows what a shard tracks: its frames, reported, and the warm-up around them.
+out=$("$fvv" track "$dir/cap" --prepared "$dir/tprep" --shard 1/3 -q -o "$dir/shard1.json" 2>&1) ||
+  fail "fvv track --prepared --shard: $out"
+grep -q "tracked frames 2..3" <<<"$out" && grep -q "warm-up: 3 frames" <<<"$out" ||
+  fail "fvv track --shard 1/3: $out"
+[ "$($py -c 'import json,sys; print([f["frame"] for f in json.load(open(sys.argv[1]))["frames"]])' \
+  "$dir/shard1.json")" = "[2, 3]" ] || fail "shard1.json frames"
+refused() {  # refused "what it says" command...
+  local says=$1
+  shift
+  out=$("$@" 2>&1) && fail "accepted: $*"
+  grep -q -- "$says" <<<"$out" || fail "message of $*: $out"
+}
+refused "leave out --poses" "$fvv" encode "$dir/cap" --poses "$poses" --prepared "$dir/tprep" \
+  --shard 0/3 -o "$dir/x.fvv"
+refused "--warm-up belongs to --prepare without --poses" "$fvv" encode "$dir/cap" --poses "$poses" \
+  --prepare "$dir/x_prep" --warm-up 4
+refused "--shard needs --prepared" "$fvv" track "$dir/cap" --shard 0/2 -o "$dir/x.json"
+refused "was prepared with poses" "$fvv" track "$dir/cap" --prepared "$dir/prep" -o "$dir/x.json"
 echo "PASS"

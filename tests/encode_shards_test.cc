@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
@@ -13,6 +14,8 @@
 #include "container/stream_join.h"
 #include "encoder/encode/encoder.h"
 #include "encoder/encode/prepared_take.h"
+#include "encoder/track/joint_truth.h"
+#include "encoder/track/track_capture.h"
 #include "tools/synth/synth.h"
 
 namespace fvv {
@@ -237,12 +240,142 @@ TEST_F(ShardTest, EncodeRefusesShardsWithoutTheirPreparedTake) {
   s = Shard(0, 2);
   s.prepared = dir_ + "/cap";
   Refused(s, "prepared.json");
-  // --prepare needs poses.
-  EncoderSettings p = Settings();
-  p.poses.clear();
-  StatusOr<PrepareSummary> prep = PrepareTake(dir_ + "/cap", dir_ + "/prep2", p);
-  ASSERT_FALSE(prep.ok());
-  EXPECT_NE(prep.status().message().find("--prepare needs --poses"), std::string::npos);
+  // A take prepared with poses is encoded with them, not tracked.
+  s = Shard(0, 2);
+  s.poses.clear();
+  Refused(s, "needs --poses");
+}
+
+// Shards that track their own frames: the take's shared pass settles the
+// actor's shape; each shard tracks its frames with warm-up frames on both
+// sides, so that its poses near a border are those of one run over the
+// whole take. 4 cameras at 320x240, 24 frames in GOPs of 4, 3 shards.
+class TrackedShardTest : public ::testing::Test {
+ protected:
+  static constexpr uint32_t kFrames = 24, kShards = 3, kWarmUp = 8;
+  static void SetUpTestSuite() {
+    dir_ = ::testing::TempDir() + "/tracked_shard_test_" + std::to_string(getpid());
+    std::system(("rm -rf '" + dir_ + "'").c_str());
+    SynthOptions o;
+    o.output_dir = dir_ + "/cap";
+    o.cameras = 4;
+    o.width = 320;
+    o.height = 240;
+    o.frames = kFrames;
+    o.held_out = 0;
+    o.seed = 5;
+    status_ = RunSynth(o).status();
+    if (!status_.ok()) return;
+    EncoderSettings s = Settings();
+    s.prepare_frames = 3;
+    s.track_warm_up = kWarmUp;
+    StatusOr<PrepareSummary> p = PrepareTake(dir_ + "/cap", dir_ + "/prep", s);
+    status_ = p.status();
+  }
+  static void TearDownTestSuite() { std::system(("rm -rf '" + dir_ + "'").c_str()); }
+  void SetUp() override { ASSERT_TRUE(status_.ok()) << status_.ToString(); }
+
+  static EncoderSettings Settings() {
+    EncoderSettings s;
+    s.atlas_size = 128;
+    s.gop_frames = 4;
+    s.threads = 2;
+    return s;
+  }
+  // The mean joint error against the truth per frame of `tracked`.
+  static std::vector<double> Errors(const TrackCaptureResult& tracked) {
+    StatusOr<JointErrors> e =
+        CompareWithTruth(dir_ + "/cap", tracked.model.skeleton, tracked.Poses(), tracked.first);
+    EXPECT_TRUE(e.ok()) << e.status().ToString();
+    return e.ok() ? e->per_frame : std::vector<double>(tracked.fits.size(), 1.0);
+  }
+
+  static std::string dir_;
+  static Status status_;
+};
+std::string TrackedShardTest::dir_;
+Status TrackedShardTest::status_;
+
+TEST_F(TrackedShardTest, ShardsTrackTheirFramesAsTheWholeTakeDoesAtTheBorders) {
+  StatusOr<PreparedTake> prep = LoadPreparedTake(dir_ + "/prep");
+  ASSERT_TRUE(prep.ok()) << prep.status().ToString();
+  EXPECT_TRUE(prep->shards_track);
+  EXPECT_EQ(prep->warm_up, kWarmUp);
+  EXPECT_EQ(prep->poses_crc, 0u);
+  EXPECT_FALSE(prep->texture_frames.empty());
+
+  // One run over the whole take, as fvv track does it.
+  TrackCaptureOptions whole;
+  StatusOr<TrackCaptureResult> all = TrackCapture(dir_ + "/cap", whole);
+  ASSERT_TRUE(all.ok()) << all.status().ToString();
+  ASSERT_EQ(all->fits.size(), kFrames);
+  // The prepared shape is the one the whole run settles on.
+  for (int s = 0; s < kGenericSegmentCount; ++s) {
+    EXPECT_NEAR(prep->shape.length[s], all->shape.length[s], 1e-9) << s;
+    EXPECT_NEAR(prep->shape.girth[s], all->shape.girth[s], 1e-9) << s;
+  }
+  const std::vector<double> reference = Errors(*all);
+
+  std::vector<double> sharded;
+  for (uint32_t k = 0; k < kShards; ++k) {
+    StatusOr<ShardFrames> part = ShardFramesOf(kFrames, 4, k, kShards);
+    ASSERT_TRUE(part.ok());
+    TrackCaptureOptions o;
+    UsePreparedTracking(*prep, part->first, part->first + part->count - 1, &o);
+    StatusOr<TrackCaptureResult> r = TrackCapture(dir_ + "/cap", o);
+    ASSERT_TRUE(r.ok()) << r.status().ToString();
+    // Only the shard's own frames are reported; the warm-up is counted.
+    ASSERT_EQ(r->fits.size(), part->count);
+    EXPECT_EQ(r->first, part->first);
+    EXPECT_EQ(r->frames.front(), part->first);
+    EXPECT_EQ(r->frames.back(), part->first + part->count - 1);
+    const uint32_t before = std::min(kWarmUp, part->first);
+    const uint32_t after = std::min(kWarmUp, kFrames - part->first - part->count);
+    EXPECT_EQ(r->warm_up_frames, before + after);
+    // The shape is the prepared one, never fitted again.
+    EXPECT_EQ(r->shape.stature, prep->shape.stature);
+    for (double e : Errors(*r)) sharded.push_back(e);
+  }
+  ASSERT_EQ(sharded.size(), reference.size());
+  // Near each border (8 frames on each side), the error is the whole run's
+  // within half a centimetre.
+  for (uint32_t border : {8u, 16u}) {
+    double mine = 0, theirs = 0;
+    for (uint32_t f = border - 8; f < border + 8; ++f) mine += sharded[f], theirs += reference[f];
+    std::string both;
+    for (uint32_t f = border - 8; f < border + 8; ++f) {
+      both += " " + std::to_string(f) + ": " + std::to_string(sharded[f]) + "/" +
+              std::to_string(reference[f]);
+    }
+    EXPECT_LT((mine - theirs) / 16, 0.005)
+        << "border before frame " << border << "; shard / whole run (m):" << both;
+  }
+}
+
+TEST_F(TrackedShardTest, ShardsTrackAndJoin) {
+  std::vector<std::string> parts;
+  for (uint32_t k = 0; k < kShards; ++k) {
+    EncoderSettings s = Settings();
+    s.prepared = dir_ + "/prep";
+    s.shard = k;
+    s.shards = kShards;
+    parts.push_back(dir_ + "/part_" + std::to_string(k) + ".fvv");
+    StatusOr<EncodeSummary> r = EncodeCapture(dir_ + "/cap", parts.back(), s);
+    ASSERT_TRUE(r.ok()) << r.status().ToString();
+    EXPECT_NE(r->pose_source.find("tracked"), std::string::npos) << r->pose_source;
+  }
+  StatusOr<JoinSummary> j = JoinShards(parts, dir_ + "/joined.fvv");
+  ASSERT_TRUE(j.ok()) << j.status().ToString();
+  EXPECT_EQ(j->frames, kFrames);
+
+  // The take was prepared without poses: a poses file is refused.
+  EncoderSettings s = Settings();
+  s.prepared = dir_ + "/prep";
+  s.poses = dir_ + "/cap";
+  StatusOr<EncodeSummary> r = EncodeCapture(dir_ + "/cap", dir_ + "/refused.fvv", s);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.status().message().find("leave out --poses"), std::string::npos)
+      << r.status().ToString();
 }
 
 }  // namespace

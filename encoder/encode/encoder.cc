@@ -49,8 +49,8 @@ Status CheckSettings(const EncoderSettings& s) {
     }
   }
   if (!s.prepared.empty()) {
-    if (s.poses.empty()) {
-      return InvalidArgument("--prepared needs --poses: the poses the take was prepared with");
+    if (!s.textures.empty()) {
+      return InvalidArgument("--prepared with --textures: the prepared take resamples its frames");
     }
     if (s.first_frame != 0 || s.last_frame != UINT32_MAX) {
       return InvalidArgument("--frames with --prepared: the prepared take sets the frames");
@@ -147,7 +147,16 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
     StatusOr<PreparedTake> p = LoadPreparedTake(s.prepared);
     if (!p.ok()) return p.status();
     prepared = std::move(*p);
-    if (given->crc32c != prepared->poses_crc) {
+    if (prepared->shards_track && given) {
+      return InvalidArgument(s.prepared +
+                             " was prepared without poses, for shards that track: "
+                             "leave out --poses");
+    }
+    if (!prepared->shards_track && !given) {
+      return InvalidArgument("--prepared " + s.prepared +
+                             " needs --poses: the poses the take was prepared with");
+    }
+    if (given && given->crc32c != prepared->poses_crc) {
       return InvalidArgument(s.poses + " is not the poses file " + s.prepared +
                              " was prepared with (its checksum differs)");
     }
@@ -229,8 +238,14 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
     TrackCaptureOptions to;
     to.first = first;
     to.last = last;
-    to.extract = s.extract_silhouettes;
     to.tracker = s.tracker;
+    if (prepared) {
+      // A shard's warm-up frames and the take's shape, as every shard tracks.
+      UsePreparedTracking(*prepared, first, last, &to);
+      sum.pose_source =
+          "tracked (prepared take, " + std::to_string(prepared->warm_up) + " frames' warm-up)";
+    }
+    to.extract = s.extract_silhouettes;
     to.smoothing = s.pose_smoothing;
     // Resampling and coding a frame run on a thread of their own, beside the
     // tracking of the next frames (at most one GOP and a frame queued), in
@@ -238,7 +253,9 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
     OrderedQueue behind_tracking(s.gop_frames + 1);
     to.on_frame = [&](uint32_t f, const FrameFit& fit, const Tracker& tracker,
                       const std::vector<Image>& images, const std::vector<Image>& sils) -> Status {
-      if (!session.HasShape()) {  // the shape: once, before any frame is resampled
+      if (!session.HasShape() && prepared) {
+        FVV_RETURN_IF_ERROR(session.UsePrepared(*prepared));
+      } else if (!session.HasShape()) {  // the shape: once, before any frame is resampled
         const RefinementFrame refine{fit.dofs, images, sils, features.Of(f)};
         FVV_RETURN_IF_ERROR(session.SetShape(tracker.shape(), &refine));
       }

@@ -110,11 +110,15 @@ struct EncoderSettings {
   // Encoding in shards (docs/scale-out.md). `prepared`: a directory
   // PrepareTake wrote; the take's frames, model and static texture come from
   // it. shards > 0: only shard `shard` of `shards` (GOP-aligned; needs
-  // `prepared` and `poses`), a stream of its own that JoinShards puts together.
+  // `prepared`, and `poses` when the take was prepared with them, else the
+  // shard tracks), a stream of its own that JoinShards puts together.
   std::string prepared;
   uint32_t shard = 0, shards = 0;
   // PrepareTake: the static texture averages this many frames spread over the take.
   uint32_t prepare_frames = 8;
+  // PrepareTake without poses: every shard tracks its own frames, and this
+  // many frames on each side of them (docs/scale-out.md, "Tracking in shards").
+  uint32_t track_warm_up = 8;
 
   std::string save_textures;  // also write the MVV textures and masks here (PNG)
   std::function<void(const std::string&)> progress;  // one line per frame and stage
@@ -161,8 +165,10 @@ struct PrepareSummary {
   double seconds = 0;
 };
 // The shared pass before shards: the take (settings' frame range, clamped to
-// the capture and the poses, which it needs), its model and static texture,
-// written to `directory` (encoder/encode/prepared_take.h).
+// the capture and the poses), its model and static texture, written to
+// `directory` (encoder/encode/prepared_take.h). Without poses, the shape is
+// tracked on the take's first frames and the static texture's frames are
+// fitted each on its own; the shards then track.
 StatusOr<PrepareSummary> PrepareTake(const std::string& capture, const std::string& directory,
                                      const EncoderSettings& settings);
 

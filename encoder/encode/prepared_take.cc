@@ -56,6 +56,8 @@ Status WritePreparedTake(const std::string& dir, const PreparedTake& t) {
   j["gop_frames"] = t.gop_frames;
   j["refined"] = t.refined;
   j["poses_crc32c"] = t.poses_crc;
+  j["shards_track"] = t.shards_track;
+  j["track_warm_up"] = t.warm_up;
   j["texture_frames"] = t.texture_frames;
   j["body_shape"] = BodyShapeToJson(t.shape);
   j["model_crc32c"] = Crc32c(model.data(), model.size());
@@ -87,6 +89,11 @@ StatusOr<PreparedTake> LoadPreparedTakeDescription(const std::string& dir) {
     t.gop_frames = JsonWhole<uint32_t>(j.at("gop_frames"), "gop_frames");
     t.refined = j.at("refined").get<bool>();
     t.poses_crc = JsonWhole<uint32_t>(j.at("poses_crc32c"), "poses_crc32c");
+    // Absent in takes prepared before shards could track.
+    t.shards_track = j.value("shards_track", false);
+    if (j.contains("track_warm_up")) {
+      t.warm_up = JsonWhole<uint32_t>(j.at("track_warm_up"), "track_warm_up");
+    }
     const nlohmann::json& frames = j.at("texture_frames");
     if (!frames.is_array() || frames.size() > 65536) {
       return Corrupt(json_path + ": texture_frames is not a list of frames");
@@ -102,8 +109,8 @@ StatusOr<PreparedTake> LoadPreparedTakeDescription(const std::string& dir) {
     return Corrupt(json_path + ": " + e.what());
   }
   if (t.last_frame < t.first_frame || t.atlas_size < 16 || t.atlas_size > 4096 ||
-      t.gop_frames == 0 || t.gop_frames > 65535) {
-    return Corrupt(json_path + ": frames, atlas size or GOP frames out of range");
+      t.gop_frames == 0 || t.gop_frames > 65535 || t.warm_up > 100000) {
+    return Corrupt(json_path + ": frames, atlas size, GOP frames or warm-up out of range");
   }
   return t;
 }
@@ -133,6 +140,16 @@ StatusOr<PreparedTake> LoadPreparedTake(const std::string& dir) {
   t.static_rgb = std::move(rgb->pixels);
   for (uint8_t c : coverage->pixels) t.static_coverage.push_back(c >= 128);
   return t;
+}
+
+void UsePreparedTracking(const PreparedTake& take, uint32_t first, uint32_t last,
+                         TrackCaptureOptions* o) {
+  o->first = first;
+  o->last = last;
+  o->take_first = take.first_frame;
+  o->take_last = take.last_frame;
+  o->warm_up = take.warm_up;
+  o->tracker.fixed_shape = take.shape;
 }
 
 StatusOr<ShardFrames> ShardFramesOf(uint32_t frames, uint32_t gop_frames, uint32_t index,

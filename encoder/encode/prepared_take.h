@@ -18,14 +18,19 @@
 #include "codec/base/status.h"
 #include "container/body_model.h"
 #include "encoder/body/generic_body.h"
+#include "encoder/track/track_capture.h"
 
 namespace fvv {
 
 struct PreparedTake {
   uint32_t first_frame = 0, last_frame = 0;  // the take's frames in the capture
   uint32_t atlas_size = 0, gop_frames = 0;
-  bool refined = false;                  // the model was refined to the actor (--refine-shape)
-  uint32_t poses_crc = 0;                // CRC-32C of the poses file the take was prepared with
+  bool refined = false;    // the model was refined to the actor (--refine-shape)
+  uint32_t poses_crc = 0;  // CRC-32C of the poses file the take was prepared with
+  // No poses file: every shard tracks its own frames, with the shape here
+  // fixed and `warm_up` frames tracked on each side of its range.
+  bool shards_track = false;
+  uint32_t warm_up = 0;
   uint32_t model_crc = 0;                // CRC-32C of model.bin
   std::vector<uint32_t> texture_frames;  // frames the static texture averages
   BodyShape shape;
@@ -41,6 +46,12 @@ Status WritePreparedTake(const std::string& dir, const PreparedTake& take);
 StatusOr<PreparedTake> LoadPreparedTake(const std::string& dir);
 // prepared.json alone: the frames and settings, without the model and texture.
 StatusOr<PreparedTake> LoadPreparedTakeDescription(const std::string& dir);
+
+// Tracking frames first..last of a take prepared to be tracked in shards, as
+// every shard and a whole-take encode with it do: the prepared shape, fixed;
+// the take's bounds; its warm-up.
+void UsePreparedTracking(const PreparedTake& take, uint32_t first, uint32_t last,
+                         TrackCaptureOptions* options);
 
 // The frames of shard `index` of `count` of a take of `frames` frames in GOPs
 // of `gop_frames`: whole time spans, as evenly shared as they divide. Offsets

@@ -1,4 +1,8 @@
 // PrepareTake: the shared pass before a take is encoded in shards.
+#include <algorithm>
+#include <map>
+#include <optional>
+
 #include "encoder/encode/encoder.h"
 #include "encoder/encode/encoder_session.h"
 
@@ -7,14 +11,20 @@ namespace fvv {
 using encoding::Clock;
 using encoding::Since;
 
+namespace {
+
+// Frames tracked from the take's first for the actor's shape: initialisation,
+// then as many as an actor with proportions of its own needs to have its
+// arms' length fitted again.
+uint32_t ShapeFrames(const TrackerOptions& t) {
+  return 1 + uint32_t(std::max(0, t.arm_refit_frames) * std::max(1, t.arm_refit_spacing));
+}
+
+}  // namespace
+
 StatusOr<PrepareSummary> PrepareTake(const std::string& capture_path, const std::string& directory,
                                      const EncoderSettings& s_in) {
   const auto start = Clock::now();
-  if (s_in.poses.empty()) {
-    return InvalidArgument(
-        "--prepare needs --poses: the take's poses, from one tracking pass shared by all "
-        "shards (fvv track)");
-  }
   if (!s_in.prepared.empty() || s_in.shards > 0) {
     return InvalidArgument("--prepare writes a prepared take: not with --prepared or --shard");
   }
@@ -22,23 +32,22 @@ StatusOr<PrepareSummary> PrepareTake(const std::string& capture_path, const std:
   if (s_in.prepare_frames < 1) return InvalidArgument("the static texture needs a frame");
   StatusOr<Capture> cap = LoadCapture(capture_path);
   if (!cap.ok()) return cap.status();
-  StatusOr<PoseSequence> given = LoadPoseFile(s_in.poses);
-  if (!given.ok()) return given.status();
   EncoderSettings s = s_in;
   s.fallback_texture = true;  // the session keeps a static texture
   if (s.gop_cameras == 0) s.gop_cameras = uint16_t(cap->cameras.size());
-  FVV_ASSIGN_OR_RETURN(const encoding::FrameSpan range, encoding::FramesToEncode(*cap, s, &*given));
-  FVV_ASSIGN_OR_RETURN(const encoding::TakeFeatures features,
-                       encoding::TakeFeatures::Load(*cap, s.features));
-  encoding::Session session(*cap, "", s, range.first, range.last);
-  StatusOr<std::unique_ptr<CaptureFrames>> frames =
-      CaptureFrames::Open(*cap, s.extract_silhouettes, &session.pool());
-  if (!frames.ok()) return frames.status();
-  const auto PoseOf = [&](uint32_t f) { return given->poses[f - given->first_frame]; };
   const auto Say = [&](const std::string& line) {
     if (s.progress) s.progress(line);
   };
-
+  // The poses: given, or (shards that track) the shape from the take's first
+  // frames and each texture frame fitted on its own with it.
+  std::optional<PoseSequence> given;
+  if (!s.poses.empty()) {
+    StatusOr<PoseSequence> p = LoadPoseFile(s.poses);
+    if (!p.ok()) return p.status();
+    given = std::move(*p);
+  }
+  FVV_ASSIGN_OR_RETURN(const encoding::FrameSpan range,
+                       encoding::FramesToEncode(*cap, s, given ? &*given : nullptr));
   PrepareSummary sum;
   sum.directory = directory;
   sum.first_frame = range.first;
@@ -50,6 +59,45 @@ StatusOr<PrepareSummary> PrepareTake(const std::string& capture_path, const std:
     const uint64_t offset = count == 1 ? 0 : uint64_t(i) * (sum.frames - 1) / (count - 1);
     sum.texture_frames.push_back(range.first + uint32_t(offset));
   }
+  BodyShape shape;
+  std::map<uint32_t, std::vector<double>> poses;
+  if (given) {
+    shape = given->shape;
+    for (uint32_t f : sum.texture_frames) poses[f] = given->poses[f - given->first_frame];
+  } else {
+    TrackCaptureOptions to;
+    to.first = range.first;
+    to.last = std::min(range.last, range.first + ShapeFrames(s.tracker) - 1);
+    to.extract = s.extract_silhouettes;
+    to.tracker = s.tracker;
+    to.smoothing = s.pose_smoothing;
+    Say("prepare: the actor's shape, tracking frames " + std::to_string(to.first) + ".." +
+        std::to_string(to.last));
+    FVV_ASSIGN_OR_RETURN(const TrackCaptureResult first_frames, TrackCapture(capture_path, to));
+    shape = first_frames.shape;
+    to.tracker.fixed_shape = shape;
+    to.separate_frames = sum.texture_frames;
+    Say("prepare: fitting the static texture's " + std::to_string(count) + " frames");
+    FVV_ASSIGN_OR_RETURN(const TrackCaptureResult spread, TrackCapture(capture_path, to));
+    for (size_t i = 0; i < spread.fits.size(); ++i) {
+      // A fit too poor to trust would paint the actor's colours elsewhere.
+      if (!spread.fits[i].poor) poses[spread.frames[i]] = spread.fits[i].dofs;
+    }
+    if (poses.empty()) {
+      return InvalidArgument("prepare: no frame of the static texture fits well enough (" +
+                             spread.fits[0].note + ")");
+    }
+    sum.texture_frames.clear();
+    for (const auto& kv : poses) sum.texture_frames.push_back(kv.first);
+  }
+  FVV_ASSIGN_OR_RETURN(const encoding::TakeFeatures features,
+                       encoding::TakeFeatures::Load(*cap, s.features));
+  encoding::Session session(*cap, "", s, range.first, range.last);
+  StatusOr<std::unique_ptr<CaptureFrames>> frames =
+      CaptureFrames::Open(*cap, s.extract_silhouettes, &session.pool());
+  if (!frames.ok()) return frames.status();
+  const auto PoseOf = [&](uint32_t f) { return poses.at(f); };
+
   for (uint32_t f : sum.texture_frames) {
     std::vector<Image> images, sils;
     FVV_RETURN_IF_ERROR((*frames)->Read(f, &images, &sils));
@@ -57,7 +105,7 @@ StatusOr<PrepareSummary> PrepareTake(const std::string& capture_path, const std:
       Say(std::string("prepare: the body model") +
           (s.refine_shape ? ", refined on frame " + std::to_string(f) : std::string()));
       const RefinementFrame refine{PoseOf(f), images, sils, features.Of(f)};
-      FVV_RETURN_IF_ERROR(session.SetShape(given->shape, &refine));
+      FVV_RETURN_IF_ERROR(session.SetShape(shape, &refine));
     }
     FVV_RETURN_IF_ERROR(session.AddStaticFrame(f, PoseOf(f), images, sils));
     Say("prepare: static texture, frame " + std::to_string(f));
@@ -69,7 +117,9 @@ StatusOr<PrepareSummary> PrepareTake(const std::string& capture_path, const std:
   take.atlas_size = s.atlas_size;
   take.gop_frames = s.gop_frames;
   take.refined = s.refine_shape;
-  take.poses_crc = given->crc32c;
+  take.poses_crc = given ? given->crc32c : 0;
+  take.shards_track = !given;
+  take.warm_up = given ? 0 : s.track_warm_up;
   take.texture_frames = sum.texture_frames;
   take.shape = session.shape();
   take.model = session.model();

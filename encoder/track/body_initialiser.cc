@@ -450,6 +450,17 @@ StatusOr<std::vector<double>> BodyInitialiser::Initialise(const std::vector<Imag
       }
     }
   }
+  if (fit_.options.fixed_shape) {
+    // A shape settled elsewhere: the heading and pose come from the same
+    // search a run that fits the shape makes (with a shape held from the
+    // start, silhouettes alone chose the back for the front on a walking
+    // actor), then the pose is fitted again with the settled shape.
+    shape = *fit_.options.fixed_shape;
+    own_proportions_ = false;
+    fit_.shape = shape;
+    fit_.BuildModel();
+    fit_.FitAll(&best, 0.35, Grid::kNarrow);
+  }
   fit_.shape = shape;
   fit_.BuildModel();
   fit_.TryLegsExchanged(&best);

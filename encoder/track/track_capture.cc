@@ -1,5 +1,6 @@
 #include "encoder/track/track_capture.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <deque>
@@ -31,19 +32,19 @@ std::string TrackCaptureResult::ToJson() const {
   out["dof_names"] = names;
   out["body_shape"] = BodyShapeToJson(shape);
   out["frame_rate"] = capture.frame_rate;
-  nlohmann::json frames = nlohmann::json::array();
+  nlohmann::json list = nlohmann::json::array();
   for (size_t i = 0; i < fits.size(); ++i) {
     const FrameFit& f = fits[i];
-    nlohmann::json frame = {{"frame", first + i},
+    nlohmann::json frame = {{"frame", frames[i]},
                             {"dofs", f.dofs},
                             {"xor_ratio", f.xor_ratio},
                             {"iou", f.iou},
                             {"cameras_used", f.cameras_used},
                             {"flag", f.poor ? f.note : "ok"}};
     if (f.keypoint_distance >= 0) frame["keypoint_distance"] = f.keypoint_distance;
-    frames.push_back(std::move(frame));
+    list.push_back(std::move(frame));
   }
-  out["frames"] = frames;
+  out["frames"] = list;
   return out.dump(1) + "\n";
 }
 
@@ -54,14 +55,46 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
   TrackCaptureResult r;
   r.capture = *loaded;
   const Capture& cap = r.capture;
-  r.first = o.first;
-  r.last = std::min(o.last, cap.frame_count - 1);
-  if (r.first > r.last) {
-    return InvalidArgument("frames " + std::to_string(o.first) + ".." + std::to_string(o.last) +
-                           " are not within 0.." + std::to_string(cap.frame_count - 1));
+  // What is tracked: the frames to fit, which of them start from scratch,
+  // and which are reported.
+  std::vector<uint32_t> plan;
+  std::vector<bool> fresh, reported;
+  if (!o.separate_frames.empty()) {
+    for (size_t i = 0; i < o.separate_frames.size(); ++i) {
+      const uint32_t f = o.separate_frames[i];
+      if (f >= cap.frame_count || (i > 0 && f <= o.separate_frames[i - 1])) {
+        return InvalidArgument("frame " + std::to_string(f) + " is not within 0.." +
+                               std::to_string(cap.frame_count - 1) +
+                               " or not after the frame before it");
+      }
+      plan.push_back(f), fresh.push_back(true), reported.push_back(true);
+    }
+    r.first = plan.front();
+    r.last = plan.back();
+  } else {
+    r.first = o.first;
+    r.last = std::min(o.last, cap.frame_count - 1);
+    if (r.first > r.last) {
+      return InvalidArgument("frames " + std::to_string(o.first) + ".." + std::to_string(o.last) +
+                             " are not within 0.." + std::to_string(cap.frame_count - 1));
+    }
+    const uint32_t take_last = std::min(o.take_last, cap.frame_count - 1);
+    if (r.first < o.take_first || r.last > take_last) {
+      return InvalidArgument("frames " + std::to_string(r.first) + ".." + std::to_string(r.last) +
+                             " are not within the take's " + std::to_string(o.take_first) + ".." +
+                             std::to_string(take_last));
+    }
+    const uint32_t from = r.first - std::min(o.warm_up, r.first - o.take_first);
+    const uint32_t to = r.last + std::min(o.warm_up, take_last - r.last);
+    for (uint32_t f = from; f <= to; ++f) {
+      plan.push_back(f), fresh.push_back(f == from);
+      reported.push_back(f >= r.first && f <= r.last);
+    }
   }
+  // Separate frames are not smoothed across each other.
+  const PoseSmoothing smoothing = o.separate_frames.empty() ? o.smoothing : PoseSmoothing{0};
   const size_t n = cap.cameras.size();
-  ThreadPool pool(2);
+  ThreadPool pool(std::max(1u, o.tracker.threads));
   std::unique_ptr<PersonObserver> persons;
   const bool listed = CaptureReader(cap).HasSilhouettes() && !o.extract;
   const bool plates = CaptureReader(cap).HasBackgrounds();
@@ -98,22 +131,23 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
   std::deque<Waiting> waiting;
   std::vector<std::vector<double>> raw;  // the fits' own poses
   std::vector<bool> trusted, angular;
+  std::vector<FrameFit> fits;  // every fit, warm-up included
   auto report = [&](size_t i) -> Status {
-    r.fits[i].dofs = SmoothPose(raw, trusted, angular, i, o.smoothing);
+    fits[i].dofs = SmoothPose(raw, trusted, angular, i, smoothing);
     Waiting w = std::move(waiting.front());
     waiting.pop_front();
-    if (!o.on_frame) return Status::Ok();
+    if (!o.on_frame || !reported[i]) return Status::Ok();
     const auto t3 = Clock::now();
-    FVV_RETURN_IF_ERROR(
-        o.on_frame(r.first + uint32_t(i), r.fits[i], **tracker, w.images, w.silhouettes));
+    FVV_RETURN_IF_ERROR(o.on_frame(plan[i], fits[i], **tracker, w.images, w.silhouettes));
     r.callback_seconds += std::chrono::duration<double>(Clock::now() - t3).count();
     return Status::Ok();
   };
-  for (uint32_t f = r.first; f <= r.last; ++f) {
+  for (size_t step = 0; step < plan.size(); ++step) {
+    const uint32_t f = plan[step];
     const auto t0 = Clock::now();
     std::vector<Image> sils, images;
     FVV_RETURN_IF_ERROR((*frames)->Read(f, want_images ? &images : nullptr, &sils));
-    if (!o.save_silhouettes.empty()) {
+    if (!o.save_silhouettes.empty() && reported[step]) {
       for (uint32_t c = 0; c < n; ++c) {
         char name[64];
         std::snprintf(name, sizeof(name), "_%06u.png", f);
@@ -125,7 +159,7 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
     const std::vector<std::vector<JointSighting>> none;
     const auto& sightings = o.keypoints ? (*frames)->sightings() : none;
     StatusOr<FrameFit> fit =
-        f == r.first ? (*tracker)->Initialise(sils, sightings) : (*tracker)->Track(sils, sightings);
+        fresh[step] ? (*tracker)->Initialise(sils, sightings) : (*tracker)->Track(sils, sightings);
     if (!fit.ok()) {
       return Status(fit.status().code(),
                     "frame " + std::to_string(f) + ": " + fit.status().message());
@@ -133,10 +167,14 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
     const auto t2 = Clock::now();
     r.silhouette_seconds += std::chrono::duration<double>(t1 - t0).count();
     r.fit_seconds += std::chrono::duration<double>(t2 - t1).count();
-    if (f == r.first) r.first_fit_seconds = r.fit_seconds;
-    r.flagged += fit->poor;
-    r.mean_iou += fit->iou;
-    if (!o.overlays.empty()) {
+    if (step == 0) r.first_fit_seconds = r.fit_seconds;
+    if (reported[step]) {
+      r.flagged += fit->poor;
+      r.mean_iou += fit->iou;
+    } else {
+      ++r.warm_up_frames;
+    }
+    if (!o.overlays.empty() && reported[step]) {
       // The camera images with the fit drawn over them: model only in red,
       // silhouette only in blue, agreement unchanged.
       std::vector<Image> tiles;
@@ -157,7 +195,7 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
     }
     if (o.progress) {
       const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
-      const uint32_t done = f - r.first + 1, total = r.last - r.first + 1;
+      const size_t done = step + 1, total = plan.size();
       char keypoints[48] = "";
       if (fit->keypoint_distance >= 0) {
         std::snprintf(keypoints, sizeof(keypoints), "  keypoints %.1f%% off",
@@ -165,9 +203,10 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
       }
       char line[320];
       std::snprintf(line, sizeof(line),
-                    "track: frame %u (%u/%u)  IoU %.3f  XOR %.1f%%%s  %d evaluations  %s  %.2f "
-                    "s/frame, ETA %.0f s",
-                    f, done, total, fit->iou, 100 * fit->xor_ratio, keypoints, fit->evaluations,
+                    "track: frame %u (%zu/%zu)%s  IoU %.3f  XOR %.1f%%%s  %d evaluations  %s  "
+                    "%.2f s/frame, ETA %.0f s",
+                    f, done, total, reported[step] ? "" : " warm-up", fit->iou,
+                    100 * fit->xor_ratio, keypoints, fit->evaluations,
                     fit->poor ? fit->note.c_str() : "ok", elapsed / done,
                     elapsed / done * (total - done));
       o.progress(line);
@@ -177,14 +216,17 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
     }
     raw.push_back(fit->dofs);
     trusted.push_back(!fit->poor);
-    r.fits.push_back(std::move(*fit));
+    fits.push_back(std::move(*fit));
     waiting.push_back({std::move(images), std::move(sils)});
-    const size_t reported = r.fits.size() - waiting.size();
-    if (r.fits.size() > reported + size_t(o.smoothing.Radius())) {
-      FVV_RETURN_IF_ERROR(report(reported));
-    }
+    const size_t next = fits.size() - waiting.size();
+    if (fits.size() > next + size_t(smoothing.Radius())) FVV_RETURN_IF_ERROR(report(next));
   }
-  while (!waiting.empty()) FVV_RETURN_IF_ERROR(report(r.fits.size() - waiting.size()));
+  while (!waiting.empty()) FVV_RETURN_IF_ERROR(report(fits.size() - waiting.size()));
+  for (size_t i = 0; i < plan.size(); ++i) {
+    if (!reported[i]) continue;
+    r.frames.push_back(plan[i]);
+    r.fits.push_back(std::move(fits[i]));
+  }
   r.mean_iou /= r.fits.size();
   r.decode_seconds = (*frames)->decode_seconds();
   r.person_seconds = (*frames)->person_seconds();

@@ -18,9 +18,21 @@
 namespace fvv {
 
 struct TrackCaptureOptions {
+  // The frames reported (fits, on_frame).
   uint32_t first = 0;
   uint32_t last = UINT32_MAX;  // clamped to the last frame
-  bool extract = false;        // background subtraction even when silhouettes are given
+  // Frames tracked before `first` and after `last` but not reported, within
+  // the take's bounds (clamped to the capture): a part of a take tracked on
+  // its own (a shard) starts far enough ahead of its first frame for the fit
+  // to settle where a run over the whole take would be, and smooths its last
+  // frames with the frames after them.
+  uint32_t warm_up = 0;
+  uint32_t take_first = 0, take_last = UINT32_MAX;
+  // Instead of a range: these frames (ascending), each fitted from scratch
+  // (initialisation, no smoothing). A take's shared pass fits frames spread
+  // over it this way, with the shape fixed.
+  std::vector<uint32_t> separate_frames;
+  bool extract = false;  // background subtraction even when silhouettes are given
   // Silhouettes from the person network (encoder/track/person_observer.h):
   // kAuto where the capture has neither silhouettes nor plates and the models
   // load (else background subtraction, saying why through `progress`).
@@ -48,10 +60,12 @@ struct TrackCaptureOptions {
 
 struct TrackCaptureResult {
   Capture capture;
-  uint32_t first = 0, last = 0;
+  uint32_t first = 0, last = 0;  // the frames reported (separate frames: the first and last)
+  std::vector<uint32_t> frames;  // the frame of each fit
+  uint32_t warm_up_frames = 0;   // tracked but not reported
   bool given_silhouettes = false;
   std::string silhouette_source;  // CaptureFrames::silhouette_source()
-  std::vector<FrameFit> fits;     // per frame first..last
+  std::vector<FrameFit> fits;     // per reported frame
   BodyShape shape;
   BodyModel model;  // the generic body with the fitted shape
   double silhouette_seconds = 0, fit_seconds = 0;

@@ -63,7 +63,9 @@ StatusOr<std::unique_ptr<Tracker>> Tracker::Create(std::vector<Camera> cameras,
     FVV_RETURN_IF_ERROR(ValidateCalibration(c, "tracker: camera \"" + c.name + "\""));
     if (c.width < 16 || c.height < 16) return InvalidArgument("tracker: camera images under 16x16");
   }
-  return std::unique_ptr<Tracker>(new Tracker(std::make_unique<Impl>(std::move(cameras), options)));
+  TrackerOptions o = options;
+  if (o.fixed_shape) o.adapt_shape = true;  // the search that fits it, then the fixed shape
+  return std::unique_ptr<Tracker>(new Tracker(std::make_unique<Impl>(std::move(cameras), o)));
 }
 
 StatusOr<FrameFit> Tracker::Initialise(const std::vector<Image>& silhouettes,

@@ -14,6 +14,7 @@
 #define FVV_ENCODER_TRACK_TRACKER_H_
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,10 @@ namespace fvv {
 struct TrackerOptions {
   unsigned threads = 2;
   bool adapt_shape = true;  // fit stature, girth and limb lengths at initialisation
+  // The actor's shape, settled elsewhere (a take's shared pass before it is
+  // tracked in shards): the first frame is searched as with adapt_shape, then
+  // its pose fitted with this shape, which is never changed after.
+  std::optional<BodyShape> fixed_shape;
   // Below this IoU with the generic body's proportions at initialisation, the
   // actor is fitted again with proportions of its own (head, trunk, arms and
   // legs: length and girth each) and the better fit kept.

@@ -8,6 +8,7 @@
 #include "encoder/encode/prepared_take.h"
 #include "tools/fvv/codec_options.h"
 #include "tools/fvv/frame_range.h"
+#include "tools/fvv/shard_option.h"
 #include "tools/fvv/smooth_option.h"
 
 namespace fvv {
@@ -17,10 +18,11 @@ struct EncodeArgs {
   std::string capture, output, poses, textures, save_textures, summary_json, frames, static_texture,
       features, prepare, prepared, shard;
   uint32_t prepare_frames = EncoderSettings{}.prepare_frames;
+  uint32_t warm_up = EncoderSettings{}.track_warm_up;
   CodecOptionArgs codec;
   std::string motion_coder = "arith", texture_codec = "spiht", mask_coder = "mixing";
   bool kernel_given = false, gop_cameras_given = false, atlas_given = false,
-       gop_frames_given = false;
+       gop_frames_given = false, warm_up_given = false;
   double bpp = 0, psnr = 0;
   uint64_t bytes = 0;
   uint32_t atlas = 512, threads = 2;
@@ -36,26 +38,6 @@ struct EncodeArgs {
 int Fail(const Status& s) {
   std::fprintf(stderr, "fvv: %s\n", s.ToString().c_str());
   return 1;
-}
-
-// "K/N", K from 0.
-Status ParseShard(const std::string& text, uint32_t* k, uint32_t* n) {
-  const size_t slash = text.find('/');
-  try {
-    size_t used_k = 0, used_n = 0;
-    if (slash == std::string::npos) throw std::invalid_argument("no slash");
-    const unsigned long kk = std::stoul(text.substr(0, slash), &used_k);
-    const unsigned long nn = std::stoul(text.substr(slash + 1), &used_n);
-    if (used_k != slash || used_n != text.size() - slash - 1 || nn == 0 || nn > 100000 ||
-        kk >= nn) {
-      throw std::invalid_argument("range");
-    }
-    *k = uint32_t(kk);
-    *n = uint32_t(nn);
-  } catch (const std::exception&) {
-    return InvalidArgument("--shard " + text + " is not K/N with 0 <= K < N (e.g. 0/4)");
-  }
-  return Status::Ok();
 }
 
 int RunEncode(const EncodeArgs& a) {
@@ -109,6 +91,7 @@ int RunEncode(const EncodeArgs& a) {
   s.motion_coder = a.motion_coder == "zstd" ? MotionCoder::kZstd : MotionCoder::kArith;
   s.key_interval = a.key_interval;
   s.threads = a.threads;
+  s.tracker.threads = a.threads;  // tracking too: a shard of one thread uses one core
   s.metadata = {{"generator", "fvv encode"}, {"capture", a.capture}};
   for (const std::string& kv : a.meta) {
     const size_t eq = kv.find('=');
@@ -122,6 +105,11 @@ int RunEncode(const EncodeArgs& a) {
   }
   s.prepared = a.prepared;
   s.prepare_frames = a.prepare_frames;
+  s.track_warm_up = a.warm_up;
+  if (a.warm_up_given && (a.prepare.empty() || !a.poses.empty())) {
+    return Fail(InvalidArgument(
+        "--warm-up belongs to --prepare without --poses (shards that track their own frames)"));
+  }
   if (!a.prepared.empty() && (!a.atlas_given || !a.gop_frames_given)) {
     // The atlas and GOP length the take was prepared for, unless given.
     StatusOr<PreparedTake> take = LoadPreparedTakeDescription(a.prepared);
@@ -139,12 +127,20 @@ int RunEncode(const EncodeArgs& a) {
     if (!p.ok()) return Fail(p.status());
     std::printf(
         "prepared take: %s\n  frames %u..%u (%u), %u GOPs of %u frames\n"
-        "  static texture from %zu frames, %.1f s\n"
-        "  next: fvv encode %s --poses %s --prepared %s --shard K/N -o part_K.fvv, "
-        "then fvv join\n",
+        "  static texture from %zu frames, %.1f s\n",
         p->directory.c_str(), p->first_frame, p->first_frame + p->frames - 1, p->frames, p->gops,
-        unsigned(s.gop_frames), p->texture_frames.size(), p->seconds, a.capture.c_str(),
-        a.poses.c_str(), p->directory.c_str());
+        unsigned(s.gop_frames), p->texture_frames.size(), p->seconds);
+    if (a.poses.empty()) {
+      std::printf(
+          "  shards track their own frames, with %u frames' warm-up on each side\n"
+          "  next: fvv encode %s --prepared %s --shard K/N -o part_K.fvv, then fvv join\n",
+          s.track_warm_up, a.capture.c_str(), p->directory.c_str());
+    } else {
+      std::printf(
+          "  next: fvv encode %s --poses %s --prepared %s --shard K/N -o part_K.fvv, "
+          "then fvv join\n",
+          a.capture.c_str(), a.poses.c_str(), p->directory.c_str());
+    }
     return 0;
   }
   if (a.output.empty()) return Fail(InvalidArgument("-o/--output is required"));
@@ -179,7 +175,8 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
       "textures made by --save-textures (or by a studio's own pipeline in that layout).\n"
       "Shards (docs/scale-out.md): fvv encode cap --poses p.json --prepare prep/, then on any "
       "machines fvv encode cap --poses p.json --prepared prep/ --shard K/N -o part_K.fvv, then "
-      "fvv join part_*.fvv -o cap.fvv.\n"
+      "fvv join part_*.fvv -o cap.fvv. Without --poses, --prepare tracks the actor's shape and "
+      "every shard tracks its own frames.\n"
       "Example: fvv encode cap -o cap.fvv --save-textures tex/");
   e->add_option("capture", a->capture, "Capture directory or capture.json")->required();
   e->add_option("-o,--output", a->output, "The .fvv file to write (not with --prepare)");
@@ -230,7 +227,11 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
               "stereo) before resampling; the stream stores the refined model");
   e->add_option("--prepare", a->prepare,
                 "Shards: write the take's shared model and static texture to this directory "
-                "and stop (needs --poses)");
+                "and stop (with --poses, the shards use them; without, each shard tracks)");
+  e->add_option("--warm-up", a->warm_up,
+                "With --prepare and no --poses: frames each shard tracks before and after its "
+                "own, so that its poses at the borders are a whole-take run's")
+      ->capture_default_str();
   e->add_option("--prepare-frames", a->prepare_frames,
                 "With --prepare: frames the static texture averages, spread over the take")
       ->capture_default_str();
@@ -249,6 +250,7 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
     a->gop_cameras_given = e->count("--gop-cameras") > 0;
     a->atlas_given = e->count("--atlas") > 0;
     a->gop_frames_given = e->count("--gop-frames") > 0;
+    a->warm_up_given = e->count("--warm-up") > 0;
     *exit_code = RunEncode(*a);
   });
 }

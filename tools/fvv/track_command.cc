@@ -4,10 +4,12 @@
 #include <cstdio>
 #include <memory>
 
+#include "encoder/encode/prepared_take.h"
 #include "encoder/io/image_io.h"
 #include "encoder/track/joint_truth.h"
 #include "encoder/track/track_capture.h"
 #include "tools/fvv/frame_range.h"
+#include "tools/fvv/shard_option.h"
 #include "tools/fvv/smooth_option.h"
 
 namespace fvv {
@@ -16,11 +18,13 @@ namespace {
 struct TrackArgs {
   std::string capture, output, truth, save_silhouettes, overlays;
   std::string frames;  // "A:B"
+  std::string prepared, shard;
   bool extract = false;
   std::string persons = "auto", models;
   bool no_shape = false;
   bool no_keypoints = false;
   bool quiet = false;
+  unsigned threads = 2;
   double smooth = TrackCaptureOptions{}.smoothing.sigma_frames;
 };
 
@@ -33,13 +37,42 @@ int RunTrack(const TrackArgs& a) {
   TrackCaptureOptions o;
   const Status range = ParseFrameRange(a.frames, &o.first, &o.last);
   if (!range.ok()) return Fail(range);
+  if (!a.prepared.empty()) {
+    // The frames a shard (or a whole-take encode) of a prepared take tracks,
+    // with its shape and warm-up.
+    if (!a.frames.empty()) {
+      return Fail(InvalidArgument("--frames with --prepared: the prepared take sets the frames"));
+    }
+    StatusOr<PreparedTake> take = LoadPreparedTakeDescription(a.prepared);
+    if (!take.ok()) return Fail(take.status());
+    if (!take->shards_track) {
+      return Fail(InvalidArgument(a.prepared +
+                                  " was prepared with poses: its shards use them, they do not "
+                                  "track (fvv encode --prepare without --poses)"));
+    }
+    uint32_t first = take->first_frame, last = take->last_frame;
+    if (!a.shard.empty()) {
+      uint32_t k = 0, n = 0;
+      const Status parsed = ParseShard(a.shard, &k, &n);
+      if (!parsed.ok()) return Fail(parsed);
+      StatusOr<ShardFrames> part = ShardFramesOf(take->frames(), take->gop_frames, k, n);
+      if (!part.ok()) return Fail(part.status());
+      first = take->first_frame + part->first;
+      last = first + part->count - 1;
+    }
+    UsePreparedTracking(*take, first, last, &o);
+  } else if (!a.shard.empty()) {
+    return Fail(
+        InvalidArgument("--shard needs --prepared DIR (fvv encode --prepare DIR writes it)"));
+  }
   o.extract = a.extract;
+  o.tracker.threads = a.threads;
   o.persons = a.persons == "on"    ? TrackCaptureOptions::Persons::kOn
               : a.persons == "off" ? TrackCaptureOptions::Persons::kOff
                                    : TrackCaptureOptions::Persons::kAuto;
   o.person_models = a.models;
   o.keypoints = !a.no_keypoints;
-  o.tracker.adapt_shape = !a.no_shape;
+  if (a.no_shape && !o.tracker.fixed_shape) o.tracker.adapt_shape = false;
   o.smoothing.sigma_frames = a.smooth;
   o.save_silhouettes = a.save_silhouettes;
   o.overlays = a.overlays;
@@ -58,6 +91,9 @@ int RunTrack(const TrackArgs& a) {
   const size_t count = r->fits.size();
   std::printf("tracked frames %u..%u of %s: %zu frames, %d flagged\n", r->first, r->last,
               a.capture.c_str(), count, r->flagged);
+  if (r->warm_up_frames > 0) {
+    std::printf("  warm-up: %u frames tracked around them, not reported\n", r->warm_up_frames);
+  }
   {
     // Height standing, and each proportion against the generic body's.
     double bottom = 1e30, top = -1e30;
@@ -129,6 +165,10 @@ void AddTrackCommand(CLI::App* app, int* exit_code) {
   t->add_option("--truth", a->truth,
                 "Ground truth (fvv synth's truth.json or its directory): joint errors");
   t->add_option("--frames", a->frames, "Frame range A:B (default all)");
+  t->add_option("--prepared", a->prepared,
+                "Track as the shards of this prepared take do (fvv encode --prepare without "
+                "--poses): its frames, its shape fixed, its warm-up frames around them");
+  t->add_option("--shard", a->shard, "With --prepared: only the frames of shard K of N");
   t->add_flag("--extract", a->extract,
               "Background subtraction even when the capture lists silhouettes");
   t->add_option("--persons", a->persons,
@@ -148,6 +188,9 @@ void AddTrackCommand(CLI::App* app, int* exit_code) {
   t->add_option("--overlays", a->overlays,
                 "Write each frame's cameras with the fit drawn over them (PNG) here (created if "
                 "missing)");
+  t->add_option("--threads", a->threads, "Worker threads")
+      ->check(CLI::Range(1u, 256u))
+      ->capture_default_str();
   t->add_flag("-q,--quiet", a->quiet, "No per-frame progress");
   t->callback([a, exit_code] { *exit_code = RunTrack(*a); });
 }
