@@ -111,14 +111,16 @@ int RunTrack(const TrackArgs& a) {
         b.length[kSegLeftThigh], b.girth[kSegLeftThigh], b.neck_ratio);
   }
   std::printf("  silhouettes: %s, mean IoU %.3f\n", r->silhouette_source.c_str(), r->mean_iou);
+  // Per frame tracked, warm-up included.
+  const size_t tracked = count + r->warm_up_frames;
   std::printf("  time: %.3f s per frame (silhouettes %.3f, fitting %.3f)\n",
-              (r->silhouette_seconds + r->fit_seconds) / count, r->silhouette_seconds / count,
-              r->fit_seconds / count);
-  if (count > 1) {
+              (r->silhouette_seconds + r->fit_seconds) / tracked, r->silhouette_seconds / tracked,
+              r->fit_seconds / tracked);
+  if (tracked > 1) {
     // The first frame (initialisation) is a one-off: what a longer take costs per frame.
     const double later = (r->silhouette_seconds + r->fit_seconds - r->first_fit_seconds -
-                          r->silhouette_seconds / count) /
-                         (count - 1);
+                          r->silhouette_seconds / tracked) /
+                         (tracked - 1);
     std::printf("        the first frame's fit %.1f s, every later frame %.3f s\n",
                 r->first_fit_seconds, later);
   }
