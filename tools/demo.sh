@@ -29,7 +29,8 @@ $fvv capture check "$out/capture"
 $fvv capture sheet "$out/capture" --frame 30 -o "$out/capture_sheet.png"
 echo "== marker-free motion capture: silhouettes, initialisation, tracking; errors against the truth"
 mkdir -p "$out/track_overlays"
-$fvv track "$out/capture" -o "$out/poses.json" --truth "$out/capture" --overlays "$out/track_overlays" -q
+$fvv track "$out/capture" -o "$out/poses.json" --truth "$out/capture" --overlays "$out/track_overlays" -q |
+  tee "$out/track.txt"
 echo "== encode: atlas, resampling of every camera into it, 4D-SPIHT textures (8-frame GOPs per camera), masks, motion"
 $fvv encode "$out/capture" -o "$out/capture.fvv" --poses "$out/poses.json" \
   --save-textures "$out/textures" --summary-json "$out/encode_summary.json" -q
@@ -46,6 +47,13 @@ else
   echo "  joined shards differ from one encode" >&2
   exit 1
 fi
+echo "== shards that track their own frames: the actor's shape once, then 2 shards each tracking its frames and 8 more on each side"
+$fvv encode "$out/capture" --prepare "$out/prepared_tracking" -q
+FVV=$fvv tools/scale-out/parallel_shards.sh 2 2/: "$out/capture" - "$out/prepared_tracking" \
+  "$out/tracked_shards" "$out/capture_tracked_shards.fvv" >/dev/null
+$fvv track "$out/capture" --prepared "$out/prepared_tracking" --shard 1/2 --truth "$out/capture" -q \
+  -o "$out/poses_shard_1.json" | grep -E "tracked frames|warm-up|joint error" | sed 's/ (17 joints.*//'
+echo "  (one tracking pass over the take: $(grep -o 'mean [0-9.]* cm' "$out/track.txt" | head -1))"
 echo "== decode it with the decoder library, in full and at 20000 bytes per GOP"
 $fvv decode "$out/capture.fvv" -o "$out/decoded" --frames 0:7
 $fvv decode "$out/capture.fvv" -o "$out/decoded_cut" --frames 0:7 --bytes 20000
