@@ -1,14 +1,20 @@
 #include "container/stream_join.h"
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <map>
 #include <memory>
+#include <sstream>
 
 #include "container/body_model.h"
 #include "container/cameras.h"
 #include "container/file_reader.h"
+#include "container/fixed_rotation.h"
+#include "container/motion_track.h"
 #include "container/writer.h"
 
 namespace fvv {
@@ -26,7 +32,8 @@ bool ParseU32(const std::string& text, uint32_t* out) {
 }
 
 bool IsShardKey(const std::string& key) {
-  return key == kShardKey || key == kShardTakeFramesKey || key == kShardFirstFrameKey;
+  return key == kShardKey || key == kShardTakeFramesKey || key == kShardFirstFrameKey ||
+         key == kShardPosesAfterKey;
 }
 
 struct Part {
@@ -111,24 +118,151 @@ Status CheckAgreement(const std::vector<Part>& parts) {
   return Status::Ok();
 }
 
-// Every part's decoded poses, in take order (key interval 1: every frame carries its values).
+// A part's decoded poses, in frame order (key interval 1: every frame carries its values).
+Status AppendPartPoses(Part& p, std::vector<QuantisedPose>* poses) {
+  const StreamInfo& info = p.reader->info();
+  for (size_t k = 0; k < p.reader->fragment_count(); ++k) {
+    if (info.index[k].first_camera != 0) continue;  // the motion is in camera group 0's
+    StatusOr<FragmentData> f = p.reader->ReadFragment(k);
+    if (!f.ok()) return Status(f.status().code(), p.path + ": " + f.status().message());
+    if (f->motion.empty()) return Corrupt(p.path + ": a fragment without its motion track");
+    std::vector<DecodedFrame> frames;
+    const Status s = DecodeMotion(MotionBoxHeader(*f), f->motion.data(), info.model.skeleton,
+                                  info.motion, f->info.frame_count, &frames);
+    if (!s.ok()) return Status(s.code(), p.path + ": " + s.message());
+    for (const DecodedFrame& d : frames) poses->push_back(d.values);
+  }
+  return Status::Ok();
+}
+
+// Every part's decoded poses, in take order.
 StatusOr<std::vector<QuantisedPose>> TakePoses(std::vector<Part>& parts) {
   std::vector<QuantisedPose> poses;
-  for (Part& p : parts) {
-    const StreamInfo& info = p.reader->info();
-    for (size_t k = 0; k < p.reader->fragment_count(); ++k) {
-      if (info.index[k].first_camera != 0) continue;  // the motion is in camera group 0's
-      StatusOr<FragmentData> f = p.reader->ReadFragment(k);
-      if (!f.ok()) return Status(f.status().code(), p.path + ": " + f.status().message());
-      if (f->motion.empty()) return Corrupt(p.path + ": a fragment without its motion track");
-      std::vector<DecodedFrame> frames;
-      const Status s = DecodeMotion(MotionBoxHeader(*f), f->motion.data(), info.model.skeleton,
-                                    info.motion, f->info.frame_count, &frames);
-      if (!s.ok()) return Status(s.code(), p.path + ": " + s.message());
-      for (const DecodedFrame& d : frames) poses.push_back(d.values);
+  for (Part& p : parts) FVV_RETURN_IF_ERROR(AppendPartPoses(p, &poses));
+  return poses;
+}
+
+// Parses kShardPosesAfterKey's value; false when malformed.
+bool ParseShardPoses(const std::string& text, size_t dofs,
+                     std::vector<std::pair<uint32_t, std::vector<double>>>* out) {
+  std::istringstream frames(text);
+  std::string item;
+  while (std::getline(frames, item, ';')) {
+    std::istringstream values(item);
+    std::string frame;
+    if (!(values >> frame)) return false;
+    std::pair<uint32_t, std::vector<double>> pose;
+    if (!ParseU32(frame, &pose.first)) return false;
+    double v = 0;
+    while (values >> v) {
+      if (!std::isfinite(v) || pose.second.size() >= dofs) return false;
+      pose.second.push_back(v);
+    }
+    if (!values.eof() || pose.second.size() != dofs) return false;
+    out->push_back(std::move(pose));
+  }
+  return true;
+}
+
+// Where each bone's joint is (metres) with the bones' motions, as SPEC.md's
+// chain composes them: a bone's rest translation plus its motion's, turned by
+// its parent's world rotation; its rotation the rest's times the motion's.
+std::vector<std::array<double, 3>> JointPositions(const Skeleton& skeleton,
+                                                  const std::vector<BoneMotion>& motion) {
+  struct Quat {
+    double w, x, y, z;
+  };
+  const auto multiply = [](const Quat& a, const Quat& b) {
+    return Quat{a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z,
+                a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
+                a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x,
+                a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
+  };
+  const size_t n = skeleton.bones.size();
+  std::vector<Quat> rotation(n);
+  std::vector<std::array<double, 3>> position(n);
+  for (size_t b = 0; b < n; ++b) {
+    const Bone& bone = skeleton.bones[b];
+    std::array<double, 3> t{};
+    for (int a = 0; a < 3; ++a) {
+      t[a] =
+          bone.rest_translation[a] + (b < motion.size() ? motion[b].translation_um[a] * 1e-6 : 0);
+    }
+    const Quat rest{bone.rest_rotation[0], bone.rest_rotation[1], bone.rest_rotation[2],
+                    bone.rest_rotation[3]};
+    Quat dof{1, 0, 0, 0};
+    if (b < motion.size()) {
+      const auto& c = motion[b].rotation.c;
+      const double one = double(kQ30One);
+      dof = Quat{c[0] / one, c[1] / one, c[2] / one, c[3] / one};
+    }
+    Quat local = multiply(rest, dof);
+    const double norm =
+        std::sqrt(local.w * local.w + local.x * local.x + local.y * local.y + local.z * local.z);
+    if (norm > 0) local = Quat{local.w / norm, local.x / norm, local.y / norm, local.z / norm};
+    if (bone.parent < 0 || size_t(bone.parent) >= b) {
+      position[b] = t, rotation[b] = local;
+      continue;
+    }
+    // t turned by the parent's rotation: q t q*.
+    const Quat& q = rotation[bone.parent];
+    const Quat turned =
+        multiply(multiply(q, Quat{0, t[0], t[1], t[2]}), Quat{q.w, -q.x, -q.y, -q.z});
+    const auto& origin = position[bone.parent];
+    position[b] = {origin[0] + turned.x, origin[1] + turned.y, origin[2] + turned.z};
+    rotation[b] = multiply(q, local);
+  }
+  return position;
+}
+
+// Neighbouring parts that tracked their own frames: the poses a part tracked
+// as warm-up after its range against the next part's own (decoded) poses,
+// joint by joint (a twist about a limb's axis that moves no joint is not a
+// disagreement).
+Status CheckBorders(std::vector<Part>& parts) {
+  const Skeleton& skeleton = parts[0].reader->info().model.skeleton;
+  const std::vector<DofRef> dofs = skeleton.Dofs();
+  for (size_t k = 0; k + 1 < parts.size(); ++k) {
+    const Metadata& meta = parts[k].reader->info().metadata;
+    const auto kv = std::find_if(meta.begin(), meta.end(),
+                                 [](const auto& e) { return e.first == kShardPosesAfterKey; });
+    if (kv == meta.end()) continue;
+    std::vector<std::pair<uint32_t, std::vector<double>>> mine;
+    if (!ParseShardPoses(kv->second, dofs.size(), &mine)) {
+      return InvalidArgument(parts[k].path + ": malformed " + kShardPosesAfterKey);
+    }
+    Part& next = parts[k + 1];
+    std::vector<QuantisedPose> theirs;
+    FVV_RETURN_IF_ERROR(AppendPartPoses(next, &theirs));
+    const MotionParams& motion = next.reader->info().motion;
+    double worst = 0;
+    uint32_t worst_frame = 0;
+    size_t worst_bone = 0;
+    for (const auto& [frame, values] : mine) {
+      if (frame < next.position.first || frame - next.position.first >= theirs.size()) continue;
+      const auto a = JointPositions(
+          skeleton, BoneMotionsFromPose(skeleton, motion, QuantisePose(dofs, motion, values)));
+      const auto b = JointPositions(
+          skeleton, BoneMotionsFromPose(skeleton, motion, theirs[frame - next.position.first]));
+      for (size_t j = 0; j < a.size(); ++j) {
+        const double d = std::hypot(a[j][0] - b[j][0], a[j][1] - b[j][1], a[j][2] - b[j][2]);
+        if (d > worst) worst = d, worst_frame = frame, worst_bone = j;
+      }
+    }
+    if (worst > kBorderJointTolerance) {
+      char amount[32];
+      std::snprintf(amount, sizeof(amount), "%.1f cm", worst * 100);
+      return InvalidArgument(
+          parts[k].path + " and " + next.path + " disagree at their border: at frame " +
+          std::to_string(worst_frame) + " of the take, the " + skeleton.bones[worst_bone].name +
+          " joint is " + amount + " apart between the first's warm-up and the second's own " +
+          "poses, so one of them lost the actor (docs/scale-out.md, \"Tracking in shards\"): " +
+          "encode shard " + std::to_string(next.position.index) + " again with --after " +
+          parts[k].path + ", which goes on from that part's poses, or track the take in one " +
+          "pass and encode its shards with --poses");
     }
   }
-  return poses;
+  return Status::Ok();
 }
 
 }  // namespace
@@ -158,6 +292,42 @@ StatusOr<ShardPosition> ReadShardPosition(const Metadata& metadata, const std::s
     return InvalidArgument(what + ": malformed shard metadata (" + kShardKey + " \"" + kn + "\")");
   }
   return p;
+}
+
+std::string FormatShardPoses(const std::vector<uint32_t>& take_frames,
+                             const std::vector<std::vector<double>>& poses) {
+  std::string out;
+  char number[32];
+  for (size_t i = 0; i < take_frames.size() && i < poses.size(); ++i) {
+    if (i > 0) out += ';';
+    out += std::to_string(take_frames[i]);
+    for (double v : poses[i]) {
+      std::snprintf(number, sizeof(number), " %.9g", v);
+      out += number;
+    }
+  }
+  return out;
+}
+
+StatusOr<PartPoses> ReadPartPoses(const std::string& path) {
+  Part p;
+  p.path = path;
+  FVV_ASSIGN_OR_RETURN(p.source, FileSource::Open(path));
+  StatusOr<std::unique_ptr<FileReader>> reader = FileReader::Open(p.source.get());
+  if (!reader.ok()) return Status(reader.status().code(), path + ": " + reader.status().message());
+  p.reader = std::move(reader).value();
+  PartPoses out;
+  FVV_ASSIGN_OR_RETURN(out.position, ReadShardPosition(p.reader->info().metadata, path));
+  const StreamInfo& info = p.reader->info();
+  if (info.motion.key_interval != 1) {
+    return InvalidArgument(path + ": motion key interval " +
+                           std::to_string(info.motion.key_interval) + ", not 1");
+  }
+  std::vector<QuantisedPose> poses;
+  FVV_RETURN_IF_ERROR(AppendPartPoses(p, &poses));
+  const std::vector<DofRef> dofs = info.model.skeleton.Dofs();
+  for (const QuantisedPose& q : poses) out.poses.push_back(DequantisePose(dofs, info.motion, q));
+  return out;
 }
 
 Metadata WithoutShardKeys(const Metadata& metadata) {
@@ -208,6 +378,7 @@ StatusOr<JoinSummary> JoinShards(const std::vector<std::string>& paths, const st
     }
   }
   FVV_RETURN_IF_ERROR(CheckAgreement(parts));
+  FVV_RETURN_IF_ERROR(CheckBorders(parts));
 
   const StreamInfo& first = parts[0].reader->info();
   StreamInfo info;

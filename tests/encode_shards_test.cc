@@ -9,9 +9,11 @@
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 
 #include "container/file_reader.h"
 #include "container/stream_join.h"
+#include "container/writer.h"
 #include "encoder/encode/encoder.h"
 #include "encoder/encode/prepared_take.h"
 #include "encoder/track/joint_truth.h"
@@ -367,6 +369,87 @@ TEST_F(TrackedShardTest, ShardsTrackAndJoin) {
   StatusOr<JoinSummary> j = JoinShards(parts, dir_ + "/joined.fvv");
   ASSERT_TRUE(j.ok()) << j.status().ToString();
   EXPECT_EQ(j->frames, kFrames);
+  // The joined stream drops the parts' border poses with the other shard keys.
+  {
+    StatusOr<std::unique_ptr<FileSource>> src = FileSource::Open(dir_ + "/joined.fvv");
+    ASSERT_TRUE(src.ok());
+    StatusOr<std::unique_ptr<FileReader>> r = FileReader::Open(src->get());
+    ASSERT_TRUE(r.ok());
+    for (const auto& kv : (*r)->info().metadata) EXPECT_NE(kv.first, kShardPosesAfterKey);
+  }
+
+  // Part 0 as if its tracking had lost an arm in its warm-up frames: the
+  // join names both parts and where they disagree; a malformed record too.
+  StatusOr<std::unique_ptr<FileSource>> src = FileSource::Open(parts[0]);
+  ASSERT_TRUE(src.ok());
+  StatusOr<std::unique_ptr<FileReader>> part0 = FileReader::Open(src->get());
+  ASSERT_TRUE(part0.ok());
+  auto Rewritten = [&](const std::string& name, const std::string& value) {
+    StreamInfo info = (*part0)->info();
+    bool found = false;
+    for (auto& kv : info.metadata) {
+      if (kv.first == kShardPosesAfterKey) kv.second = value, found = true;
+    }
+    EXPECT_TRUE(found) << "part 0 carries no " << kShardPosesAfterKey;
+    info.header.index_offset = 0;
+    const std::string out = dir_ + "/" + name;
+    StatusOr<std::unique_ptr<FileWriter>> w = FileWriter::Create(out, info);
+    EXPECT_TRUE(w.ok());
+    for (size_t i = 0; i < (*part0)->fragment_count(); ++i) {
+      StatusOr<FragmentData> f = (*part0)->ReadFragment(i);
+      EXPECT_TRUE(f.ok());
+      EXPECT_TRUE((*w)->AddFragment(*f).ok());
+    }
+    EXPECT_TRUE((*w)->Close().ok());
+    return out;
+  };
+  std::string value;
+  for (const auto& kv : (*part0)->info().metadata) {
+    if (kv.first == kShardPosesAfterKey) value = kv.second;
+  }
+  // The first frame's root.tx (its 4th value) 30 cm off: the whole body elsewhere.
+  std::istringstream in(value.substr(0, value.find(';')));
+  std::vector<std::string> fields{std::istream_iterator<std::string>(in), {}};
+  ASSERT_GT(fields.size(), 12u);
+  fields[4] = std::to_string(std::stod(fields[4]) + 0.3);
+  std::string turned;
+  for (const std::string& f : fields) turned += (turned.empty() ? "" : " ") + f;
+  turned += value.substr(value.find(';'));
+  const std::string bad = Rewritten("part_0_turned.fvv", turned);
+  StatusOr<JoinSummary> refused = JoinShards({bad, parts[1], parts[2]}, dir_ + "/refused.fvv");
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.status().message().find("disagree at their border"), std::string::npos)
+      << refused.status().ToString();
+  EXPECT_NE(refused.status().message().find(" cm apart"), std::string::npos)
+      << refused.status().ToString();
+  const std::string malformed = Rewritten("part_0_malformed.fvv", "8 1 2 3");
+  refused = JoinShards({malformed, parts[1], parts[2]}, dir_ + "/refused.fvv");
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.status().message().find("malformed"), std::string::npos)
+      << refused.status().ToString();
+
+  // A shard encoded again going on from the part before it (where a join
+  // found the two disagreeing): no first-frame search, and it joins.
+  EncoderSettings again = Settings();
+  again.prepared = dir_ + "/prep";
+  again.shard = 2;
+  again.shards = kShards;
+  again.after = parts[1];
+  const std::string rerun = dir_ + "/part_2_after.fvv";
+  StatusOr<EncodeSummary> r2 = EncodeCapture(dir_ + "/cap", rerun, again);
+  ASSERT_TRUE(r2.ok()) << r2.status().ToString();
+  EXPECT_TRUE(JoinShards({parts[0], parts[1], rerun}, dir_ + "/joined_after.fvv").ok());
+  // Only the part just before it will do.
+  again.after = parts[0];
+  r2 = EncodeCapture(dir_ + "/cap", dir_ + "/refused.fvv", again);
+  ASSERT_FALSE(r2.ok());
+  EXPECT_NE(r2.status().message().find("is part 0 of 3"), std::string::npos)
+      << r2.status().ToString();
+  again.shard = 0;
+  r2 = EncodeCapture(dir_ + "/cap", dir_ + "/refused.fvv", again);
+  ASSERT_FALSE(r2.ok());
+  EXPECT_NE(r2.status().message().find("--after goes with --shard"), std::string::npos)
+      << r2.status().ToString();
 
   // The take was prepared without poses: a poses file is refused.
   EncoderSettings s = Settings();

@@ -48,6 +48,10 @@ Status CheckSettings(const EncoderSettings& s) {
       return InvalidArgument("shards are coded with motion key interval 1");
     }
   }
+  if (!s.after.empty() && (s.shards == 0 || s.shard == 0 || !s.poses.empty())) {
+    return InvalidArgument(
+        "--after goes with --shard K/N (K above 0) of a take prepared without poses");
+  }
   if (!s.prepared.empty()) {
     if (!s.textures.empty()) {
       return InvalidArgument("--prepared with --textures: the prepared take resamples its frames");
@@ -242,6 +246,10 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
     if (prepared) {
       // A shard's warm-up frames and the take's shape, as every shard tracks.
       UsePreparedTracking(*prepared, first, last, &to);
+      if (!s.after.empty()) {
+        to.smoothing = s.pose_smoothing;
+        FVV_RETURN_IF_ERROR(GoOnAfter(s.after, s.shard, s.shards, &to));
+      }
       sum.pose_source =
           "tracked (prepared take, " + std::to_string(prepared->warm_up) + " frames' warm-up)";
     }
@@ -272,6 +280,11 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
     StatusOr<TrackCaptureResult> tracked = TrackCapture(capture_path, to);
     FVV_RETURN_IF_ERROR(behind_tracking.Finish());
     if (!tracked.ok()) return tracked.status();
+    if (prepared && s.shards > 0 && !tracked->after_frames.empty()) {
+      std::vector<uint32_t> take_frames;
+      for (uint32_t f : tracked->after_frames) take_frames.push_back(f - prepared->first_frame);
+      session.AddMetadata(kShardPosesAfterKey, FormatShardPoses(take_frames, tracked->after_poses));
+    }
     sum.read_s = tracked->silhouette_seconds;
     sum.track_s = tracked->fit_seconds;
     sum.flagged_frames = tracked->flagged;

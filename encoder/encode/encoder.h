@@ -114,6 +114,10 @@ struct EncoderSettings {
   // shard tracks), a stream of its own that JoinShards puts together.
   std::string prepared;
   uint32_t shard = 0, shards = 0;
+  // A shard that tracks: instead of a first-frame search and warm-up before
+  // its frames, go on from the poses of this part (shard - 1 of the same
+  // split), where a join found the first-frame search wrong.
+  std::string after;
   // PrepareTake: the static texture averages this many frames spread over the take.
   uint32_t prepare_frames = 8;
   // PrepareTake without poses: every shard tracks its own frames, and this

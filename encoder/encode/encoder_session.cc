@@ -132,6 +132,7 @@ Status Session::Finish(const std::string& output) {
   info.model = model_;
   info.motion = motion_;
   info.metadata = s_.metadata;
+  info.metadata.insert(info.metadata.end(), extra_metadata_.begin(), extra_metadata_.end());
   // An offline encoder knows the whole take: motion statistics up front.
   TrainMotionParams(model_.skeleton, poses_, s_.gop_frames, &info.motion);
   for (FragmentData& f : fragments_) {

@@ -131,6 +131,10 @@ class Session {
   Status AddFrame(uint32_t frame, const std::vector<double>& dofs, const std::vector<Image>& images,
                   const std::vector<Image>& silhouettes);
 
+  // Metadata known only once the frames are in (written by Finish).
+  void AddMetadata(std::string key, std::string value) {
+    extra_metadata_.emplace_back(std::move(key), std::move(value));
+  }
   Status Finish(const std::string& output);
 
  private:
@@ -201,6 +205,7 @@ class Session {
   std::vector<std::vector<int16_t>> span_fallback_;  // per slot: best-facing camera per texel
   std::vector<uint8_t> all_seen_;                    // texels x 1: "every camera" masks
   std::vector<QuantisedPose> poses_;
+  Metadata extra_metadata_;
   std::vector<std::vector<double>> raw_poses_;
   std::vector<FragmentData> fragments_;
   std::array<double, 3> sse_{};

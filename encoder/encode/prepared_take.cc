@@ -1,10 +1,12 @@
 #include "encoder/encode/prepared_take.h"
 
+#include <algorithm>
 #include <nlohmann/json.hpp>
 
 #include "container/box.h"
 #include "container/crc32c.h"
 #include "container/file_header.h"
+#include "container/stream_join.h"
 #include "encoder/body/body_shape_json.h"
 #include "encoder/io/image_io.h"
 #include "encoder/io/json_number.h"
@@ -150,6 +152,21 @@ void UsePreparedTracking(const PreparedTake& take, uint32_t first, uint32_t last
   o->take_last = take.last_frame;
   o->warm_up = take.warm_up;
   o->tracker.fixed_shape = take.shape;
+}
+
+Status GoOnAfter(const std::string& after, uint32_t index, uint32_t count, TrackCaptureOptions* o) {
+  if (index == 0) return InvalidArgument("--after: shard 0 has no part before it");
+  FVV_ASSIGN_OR_RETURN(const PartPoses before, ReadPartPoses(after));
+  if (before.position.count != count || before.position.index + 1 != index) {
+    return InvalidArgument(
+        "--after " + after + " is part " + std::to_string(before.position.index) + " of " +
+        std::to_string(before.position.count) + ", not part " + std::to_string(index - 1) + " of " +
+        std::to_string(count) + " (the part just before shard " + std::to_string(index) + ")");
+  }
+  if (before.poses.size() < 2) return InvalidArgument("--after " + after + ": under 2 frames");
+  const size_t keep = std::min(before.poses.size(), size_t(std::max(2, o->smoothing.Radius())));
+  o->lead_in.assign(before.poses.end() - keep, before.poses.end());
+  return Status::Ok();
 }
 
 StatusOr<ShardFrames> ShardFramesOf(uint32_t frames, uint32_t gop_frames, uint32_t index,

@@ -53,6 +53,13 @@ StatusOr<PreparedTake> LoadPreparedTakeDescription(const std::string& dir);
 void UsePreparedTracking(const PreparedTake& take, uint32_t first, uint32_t last,
                          TrackCaptureOptions* options);
 
+// A shard `index` of `count` that goes on from the poses of the part before
+// it (`after`, part index - 1 of the same split) instead of a first-frame
+// search: its last poses become options->lead_in (as many as
+// options->smoothing reads across the border, two at least).
+Status GoOnAfter(const std::string& after, uint32_t index, uint32_t count,
+                 TrackCaptureOptions* options);
+
 // The frames of shard `index` of `count` of a take of `frames` frames in GOPs
 // of `gop_frames`: whole time spans, as evenly shared as they divide. Offsets
 // are from the take's first frame; InvalidArgument when a shard has no GOP.

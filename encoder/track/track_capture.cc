@@ -84,7 +84,11 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
                              " are not within the take's " + std::to_string(o.take_first) + ".." +
                              std::to_string(take_last));
     }
-    const uint32_t from = r.first - std::min(o.warm_up, r.first - o.take_first);
+    if (!o.lead_in.empty() && (o.lead_in.size() < 2 || !o.tracker.fixed_shape)) {
+      return InvalidArgument("tracking on from earlier poses needs two of them and the shape");
+    }
+    const uint32_t before = o.lead_in.empty() ? o.warm_up : 0;
+    const uint32_t from = r.first - std::min(before, r.first - o.take_first);
     const uint32_t to = r.last + std::min(o.warm_up, take_last - r.last);
     for (uint32_t f = from; f <= to; ++f) {
       plan.push_back(f), fresh.push_back(f == from);
@@ -132,8 +136,15 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
   std::vector<std::vector<double>> raw;  // the fits' own poses
   std::vector<bool> trusted, angular;
   std::vector<FrameFit> fits;  // every fit, warm-up included
+  // The lead-in's poses come first in `raw`: smoothing reads them.
+  const size_t lead = o.separate_frames.empty() ? o.lead_in.size() : 0;
+  for (size_t i = 0; i < lead; ++i) {
+    raw.push_back(o.lead_in[i]);
+    trusted.push_back(true);
+  }
+  for (const DofRef& d : (*tracker)->Model().skeleton.Dofs()) angular.push_back(d.kind < 3);
   auto report = [&](size_t i) -> Status {
-    fits[i].dofs = SmoothPose(raw, trusted, angular, i, smoothing);
+    fits[i].dofs = SmoothPose(raw, trusted, angular, lead + i, smoothing);
     Waiting w = std::move(waiting.front());
     waiting.pop_front();
     if (!o.on_frame || !reported[i]) return Status::Ok();
@@ -158,8 +169,11 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
     const auto t1 = Clock::now();
     const std::vector<std::vector<JointSighting>> none;
     const auto& sightings = o.keypoints ? (*frames)->sightings() : none;
-    StatusOr<FrameFit> fit =
-        fresh[step] ? (*tracker)->Initialise(sils, sightings) : (*tracker)->Track(sils, sightings);
+    if (step == 0 && lead > 0) {
+      FVV_RETURN_IF_ERROR((*tracker)->Resume(o.lead_in[lead - 2], o.lead_in[lead - 1], sils));
+    }
+    StatusOr<FrameFit> fit = fresh[step] && lead == 0 ? (*tracker)->Initialise(sils, sightings)
+                                                      : (*tracker)->Track(sils, sightings);
     if (!fit.ok()) {
       return Status(fit.status().code(),
                     "frame " + std::to_string(f) + ": " + fit.status().message());
@@ -211,9 +225,6 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
                     elapsed / done * (total - done));
       o.progress(line);
     }
-    if (angular.empty()) {
-      for (const DofRef& d : (*tracker)->Model().skeleton.Dofs()) angular.push_back(d.kind < 3);
-    }
     raw.push_back(fit->dofs);
     trusted.push_back(!fit->poor);
     fits.push_back(std::move(*fit));
@@ -223,9 +234,13 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
   }
   while (!waiting.empty()) FVV_RETURN_IF_ERROR(report(fits.size() - waiting.size()));
   for (size_t i = 0; i < plan.size(); ++i) {
-    if (!reported[i]) continue;
-    r.frames.push_back(plan[i]);
-    r.fits.push_back(std::move(fits[i]));
+    if (reported[i]) {
+      r.frames.push_back(plan[i]);
+      r.fits.push_back(std::move(fits[i]));
+    } else if (plan[i] > r.last) {
+      r.after_frames.push_back(plan[i]);
+      r.after_poses.push_back(fits[i].dofs);
+    }
   }
   r.mean_iou /= r.fits.size();
   r.decode_seconds = (*frames)->decode_seconds();

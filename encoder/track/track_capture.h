@@ -28,6 +28,11 @@ struct TrackCaptureOptions {
   // frames with the frames after them.
   uint32_t warm_up = 0;
   uint32_t take_first = 0, take_last = UINT32_MAX;
+  // Poses of the frames just before `first` (oldest first, two at least), from
+  // another run (the part before a shard's): tracking goes on from them
+  // instead of a first-frame search, and smoothing reads them; no warm-up
+  // before `first`. Needs tracker.fixed_shape.
+  std::vector<std::vector<double>> lead_in;
   // Instead of a range: these frames (ascending), each fitted from scratch
   // (initialisation, no smoothing). A take's shared pass fits frames spread
   // over it this way, with the shape fixed.
@@ -63,6 +68,10 @@ struct TrackCaptureResult {
   uint32_t first = 0, last = 0;  // the frames reported (separate frames: the first and last)
   std::vector<uint32_t> frames;  // the frame of each fit
   uint32_t warm_up_frames = 0;   // tracked but not reported
+  // The warm-up frames after `last` and their poses (smoothed): the next
+  // shard reports them, and the join compares the two.
+  std::vector<uint32_t> after_frames;
+  std::vector<std::vector<double>> after_poses;
   bool given_silhouettes = false;
   std::string silhouette_source;  // CaptureFrames::silhouette_source()
   std::vector<FrameFit> fits;     // per reported frame

@@ -96,6 +96,27 @@ StatusOr<FrameFit> Tracker::Initialise(const std::vector<Image>& silhouettes,
   return fit;
 }
 
+Status Tracker::Resume(const std::vector<double>& previous, const std::vector<double>& last,
+                       const std::vector<Image>& silhouettes) {
+  PoseFitter& f = impl_->fitter;
+  if (!f.options.fixed_shape) return InvalidArgument("tracker: resuming needs the actor's shape");
+  const size_t n = f.model.skeleton.Dofs().size();
+  if (previous.size() != n || last.size() != n) {
+    return InvalidArgument("tracker: resuming from poses of " + std::to_string(last.size()) +
+                           " DOFs, the body has " + std::to_string(n));
+  }
+  if (silhouettes.size() == f.cameras.size()) {
+    const int target = std::max(16, f.options.fine_height);
+    f.fine_factor = std::max(2, ActorPixels(silhouettes) / target);
+  }
+  f.shape = *f.options.fixed_shape;
+  f.BuildModel();
+  impl_->previous = previous;
+  impl_->last = last;
+  impl_->initialised = true;
+  return Status::Ok();
+}
+
 StatusOr<FrameFit> Tracker::Track(const std::vector<Image>& silhouettes,
                                   const std::vector<std::vector<JointSighting>>& sightings) {
   Impl& m = *impl_;

@@ -93,6 +93,12 @@ class Tracker {
   // camera, or none at all.
   StatusOr<FrameFit> Initialise(const std::vector<Image>& silhouettes,
                                 const std::vector<std::vector<JointSighting>>& sightings = {});
+  // Instead of Initialise: tracking goes on from poses another run fitted to
+  // the two frames before (a shard after its neighbour's part), with
+  // options.fixed_shape (required). `silhouettes` (the next frame's) set the
+  // working resolution as Initialise's do.
+  Status Resume(const std::vector<double>& previous, const std::vector<double>& last,
+                const std::vector<Image>& silhouettes);
   // Every later frame, from the prediction.
   StatusOr<FrameFit> Track(const std::vector<Image>& silhouettes,
                            const std::vector<std::vector<JointSighting>>& sightings = {});

@@ -16,7 +16,7 @@ namespace {
 
 struct EncodeArgs {
   std::string capture, output, poses, textures, save_textures, summary_json, frames, static_texture,
-      features, prepare, prepared, shard;
+      features, prepare, prepared, shard, after;
   uint32_t prepare_frames = EncoderSettings{}.prepare_frames;
   uint32_t warm_up = EncoderSettings{}.track_warm_up;
   CodecOptionArgs codec;
@@ -106,6 +106,7 @@ int RunEncode(const EncodeArgs& a) {
   s.prepared = a.prepared;
   s.prepare_frames = a.prepare_frames;
   s.track_warm_up = a.warm_up;
+  s.after = a.after;
   if (a.warm_up_given && (a.prepare.empty() || !a.poses.empty())) {
     return Fail(InvalidArgument(
         "--warm-up belongs to --prepare without --poses (shards that track their own frames)"));
@@ -241,6 +242,11 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
   e->add_option("--shard", a->shard,
                 "With --prepared: encode only shard K of N (K from 0; whole GOPs), a stream "
                 "`fvv join` puts together with the others");
+  e->add_option("--after", a->after,
+                "With --shard K/N of a take prepared without poses: go on from the poses of "
+                "this part (K-1) instead of a first-frame search, where fvv join found the two "
+                "disagreeing at their border")
+      ->check(CLI::ExistingFile);
   e->add_option("--threads", a->threads, "Worker threads")->capture_default_str();
   e->add_option("--meta", a->meta, "Metadata KEY=VALUE (repeatable)");
   e->add_option("--summary-json", a->summary_json, "Also write the summary as JSON here");

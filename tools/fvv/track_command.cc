@@ -18,7 +18,7 @@ namespace {
 struct TrackArgs {
   std::string capture, output, truth, save_silhouettes, overlays;
   std::string frames;  // "A:B"
-  std::string prepared, shard;
+  std::string prepared, shard, after;
   bool extract = false;
   std::string persons = "auto", models;
   bool no_shape = false;
@@ -61,7 +61,16 @@ int RunTrack(const TrackArgs& a) {
       last = first + part->count - 1;
     }
     UsePreparedTracking(*take, first, last, &o);
-  } else if (!a.shard.empty()) {
+    if (!a.after.empty()) {
+      uint32_t k = 0, n = 0;
+      if (a.shard.empty() || !ParseShard(a.shard, &k, &n).ok() || k == 0) {
+        return Fail(InvalidArgument("--after goes with --shard K/N, K above 0"));
+      }
+      o.smoothing.sigma_frames = a.smooth;
+      const Status after = GoOnAfter(a.after, k, n, &o);
+      if (!after.ok()) return Fail(after);
+    }
+  } else if (!a.shard.empty() || !a.after.empty()) {
     return Fail(
         InvalidArgument("--shard needs --prepared DIR (fvv encode --prepare DIR writes it)"));
   }
@@ -171,6 +180,10 @@ void AddTrackCommand(CLI::App* app, int* exit_code) {
                 "Track as the shards of this prepared take do (fvv encode --prepare without "
                 "--poses): its frames, its shape fixed, its warm-up frames around them");
   t->add_option("--shard", a->shard, "With --prepared: only the frames of shard K of N");
+  t->add_option("--after", a->after,
+                "With --shard K/N: go on from the poses of this part (K-1), as fvv encode "
+                "--after does")
+      ->check(CLI::ExistingFile);
   t->add_flag("--extract", a->extract,
               "Background subtraction even when the capture lists silhouettes");
   t->add_option("--persons", a->persons,
