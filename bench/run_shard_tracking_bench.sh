@@ -84,7 +84,11 @@ parallel --sshlogin "$timed/:" --halt now,fail=1 \
   --shard '$(( {#} - 1 ))'/"$timed" -o "$work"/'tracked_part_$(( {#} - 1 )).fvv' \
   --summary-json "$work"/'tracked_part_$(( {#} - 1 )).json' ::: $(seq "$timed") >/dev/null
 t4=$(now)
-"$fvv" join "$work"/tracked_part_*.fvv -o "$work/joined.fvv" -q
+mkdir -p "$work/tracked_parts"
+for f in "$work"/tracked_part_*.fvv; do mv "$f" "$work/tracked_parts/part_${f##*_}"; done
+# A part that lost the actor is encoded again after its neighbour (join_parts.sh says so).
+FVV=$fvv tools/scale-out/join_parts.sh "$work/cap" "$prep" "$work/tracked_parts" "$work/joined.fvv" \
+  --threads 1 >/dev/null
 t5=$(now)
 sharded=$(secs "$t3" "$t4")
 echo "prepare (shape from the first 16 frames, 8 texture frames fitted): $(secs "$t2" "$t3") s"

@@ -111,22 +111,16 @@ out=$("$fvv" encode "$dir/cap" --atlas 128 --gop-frames 2 --prepare "$dir/tprep"
   --warm-up 2 2>&1) || fail "prepare without poses: $out"
 grep -q "shards track their own frames, with 2 frames' warm-up" <<<"$out" || fail "prepare: $out"
 grep -q '"shards_track": true' "$dir/tprep/prepared.json" || fail "prepared.json: shards_track"
-# On this small take (2 cameras at 160x120) a shard's first-frame search may
-# lose the actor: the join then names the shard to encode again with --after
-# the part before it, until the parts agree at every border.
+# On this small take (2 cameras at 160x120) a shard's first-frame search loses
+# the actor: the join names the shard, and the script's join step encodes it
+# again going on from the part before it (--after), then joins.
 out=$(FVV="$fvv" "$src/tools/scale-out/parallel_shards.sh" 3 2/: "$dir/cap" - "$dir/tprep" \
-  "$dir/tracked_parts" "$dir/tracked.fvv" 2>&1)
-reruns=0
-while ! [ -f "$dir/tracked.fvv" ]; do
-  grep -q "disagree at their border" <<<"$out" || fail "parallel_shards.sh, tracking: $out"
-  [ $reruns -lt 2 ] || fail "the parts still disagree after $reruns reruns: $out"
-  k=$(grep -o 'encode shard [0-9]* again' <<<"$out" | grep -o '[0-9]*')
-  part=$(grep -o 'again with --after [^,]*' <<<"$out" | sed 's/again with --after //')
-  "$fvv" encode "$dir/cap" --prepared "$dir/tprep" --shard "$k/3" --after "$part" -q \
-    -o "$dir/tracked_parts/part_$k.fvv" >/dev/null 2>&1 || fail "shard $k --after $part"
-  out=$("$fvv" join "$dir"/tracked_parts/part_*.fvv -o "$dir/tracked.fvv" 2>&1)
-  reruns=$((reruns + 1))
-done
+  "$dir/tracked_parts" "$dir/tracked.fvv" 2>&1) || fail "parallel_shards.sh, tracking: $out"
+# (Here it is shard 2, whose search starts at frame 2; the join below passing is what counts.)
+if grep -q "join_parts: shard" <<<"$out"; then
+  grep -Eq "join_parts: shard [12] disagrees with the part before it; encoding it again after" \
+    <<<"$out" || fail "join_parts' message: $out"
+fi
 # --after goes on from the part just before, no other.
 out=$("$fvv" encode "$dir/cap" --prepared "$dir/tprep" --shard 2/3 --after \
   "$dir/tracked_parts/part_0.fvv" -o "$dir/x.fvv" 2>&1) && fail "--after a part not just before"

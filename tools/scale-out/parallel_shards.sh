@@ -24,4 +24,10 @@ parallel --sshlogin "$hosts" --halt now,fail=1 \
   "$fvv" encode "$capture" "${pose_options[@]}" --prepared "$prepared" \
   --shard '$(( {#} - 1 ))'/"$shards" --threads "${FVV_SHARD_THREADS:-1}" -q \
   -o "$parts"/'part_$(( {#} - 1 )).fvv' "$@" ::: $(seq "$shards")
-"$fvv" join "$parts"/part_*.fvv -o "$output"
+if [ "$poses" = - ]; then
+  # Shards that tracked: a part that lost the actor is encoded again after its neighbour.
+  FVV=$fvv "$(dirname "$0")/join_parts.sh" "$capture" "$prepared" "$parts" "$output" \
+    --threads "${FVV_SHARD_THREADS:-1}" "$@"
+else
+  "$fvv" join "$parts"/part_*.fvv -o "$output"
+fi

@@ -3,6 +3,7 @@
 #   jid=$(sbatch --parsable --array=0-15 tools/scale-out/slurm_array.sh CAPTURE POSES PREPARED PARTS \
 #         [ENCODE OPTIONS, e.g. --psnr 38])
 #   sbatch --dependency=afterok:$jid --wrap "fvv join PARTS/part_*.fvv -o take.fvv"
+# (shards that tracked, POSES "-": --wrap "join_parts.sh CAPTURE PREPARED PARTS take.fvv")
 # The shard count is the array's size; the task's place in it is its shard
 # (SLURM_ARRAY_TASK_ID, counted from the array's first index). POSES "-": the
 # take was prepared without poses, and each shard tracks its own frames.
