@@ -43,6 +43,18 @@ struct Part {
   ShardPosition position;
 };
 
+// A part opened, with its place in the take from its metadata.
+StatusOr<Part> OpenPart(const std::string& path) {
+  Part p;
+  p.path = path;
+  FVV_ASSIGN_OR_RETURN(p.source, FileSource::Open(path));
+  StatusOr<std::unique_ptr<FileReader>> reader = FileReader::Open(p.source.get());
+  if (!reader.ok()) return Status(reader.status().code(), path + ": " + reader.status().message());
+  p.reader = std::move(reader).value();
+  FVV_ASSIGN_OR_RETURN(p.position, ReadShardPosition(p.reader->info().metadata, path));
+  return p;
+}
+
 std::string FrameRange(uint32_t first, uint32_t count) {
   return "frames " + std::to_string(first) + ".." + std::to_string(first + count - 1);
 }
@@ -310,14 +322,11 @@ std::string FormatShardPoses(const std::vector<uint32_t>& take_frames,
 }
 
 StatusOr<PartPoses> ReadPartPoses(const std::string& path) {
-  Part p;
-  p.path = path;
-  FVV_ASSIGN_OR_RETURN(p.source, FileSource::Open(path));
-  StatusOr<std::unique_ptr<FileReader>> reader = FileReader::Open(p.source.get());
-  if (!reader.ok()) return Status(reader.status().code(), path + ": " + reader.status().message());
-  p.reader = std::move(reader).value();
+  StatusOr<Part> opened = OpenPart(path);
+  if (!opened.ok()) return opened.status();
+  Part& p = *opened;
   PartPoses out;
-  FVV_ASSIGN_OR_RETURN(out.position, ReadShardPosition(p.reader->info().metadata, path));
+  out.position = p.position;
   const StreamInfo& info = p.reader->info();
   if (info.motion.key_interval != 1) {
     return InvalidArgument(path + ": motion key interval " +
@@ -344,16 +353,9 @@ StatusOr<JoinSummary> JoinShards(const std::vector<std::string>& paths, const st
   std::vector<Part> parts;
   for (const std::string& path : paths) {
     if (path == output) return InvalidArgument(path + " is both a part and the output");
-    Part p;
-    p.path = path;
-    FVV_ASSIGN_OR_RETURN(p.source, FileSource::Open(path));
-    StatusOr<std::unique_ptr<FileReader>> reader = FileReader::Open(p.source.get());
-    if (!reader.ok()) {
-      return Status(reader.status().code(), path + ": " + reader.status().message());
-    }
-    p.reader = std::move(reader).value();
-    FVV_ASSIGN_OR_RETURN(p.position, ReadShardPosition(p.reader->info().metadata, path));
-    parts.push_back(std::move(p));
+    StatusOr<Part> p = OpenPart(path);
+    if (!p.ok()) return p.status();
+    parts.push_back(std::move(p).value());
   }
   std::sort(parts.begin(), parts.end(),
             [](const Part& a, const Part& b) { return a.position.index < b.position.index; });
