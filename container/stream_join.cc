@@ -167,7 +167,8 @@ bool ParseShardPoses(const std::string& text, size_t dofs,
     if (!ParseU32(frame, &pose.first)) return false;
     double v = 0;
     while (values >> v) {
-      if (!std::isfinite(v) || pose.second.size() >= dofs) return false;
+      // Radians and metres: anything larger is not a pose.
+      if (!(std::abs(v) <= 1e4) || pose.second.size() >= dofs) return false;
       pose.second.push_back(v);
     }
     if (!values.eof() || pose.second.size() != dofs) return false;
