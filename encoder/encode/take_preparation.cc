@@ -75,17 +75,35 @@ StatusOr<PrepareSummary> PrepareTake(const std::string& capture_path, const std:
         std::to_string(to.last));
     FVV_ASSIGN_OR_RETURN(const TrackCaptureResult first_frames, TrackCapture(capture_path, to));
     shape = first_frames.shape;
+    // Texture frames among those just tracked keep their tracked poses (a fit
+    // too poor to trust would paint the actor's colours elsewhere); the others
+    // are fitted each on its own with the shape.
+    std::string note;
+    const auto Take = [&](const TrackCaptureResult& r) {
+      for (size_t i = 0; i < r.fits.size(); ++i) {
+        const uint32_t f = r.frames[i];
+        if (!std::binary_search(sum.texture_frames.begin(), sum.texture_frames.end(), f)) continue;
+        if (r.fits[i].poor) {
+          note = r.fits[i].note;
+        } else {
+          poses[f] = r.fits[i].dofs;
+        }
+      }
+    };
+    Take(first_frames);
     to.tracker.fixed_shape = shape;
-    to.separate_frames = sum.texture_frames;
-    Say("prepare: fitting the static texture's " + std::to_string(count) + " frames");
-    FVV_ASSIGN_OR_RETURN(const TrackCaptureResult spread, TrackCapture(capture_path, to));
-    for (size_t i = 0; i < spread.fits.size(); ++i) {
-      // A fit too poor to trust would paint the actor's colours elsewhere.
-      if (!spread.fits[i].poor) poses[spread.frames[i]] = spread.fits[i].dofs;
+    for (uint32_t f : sum.texture_frames) {
+      if (f > first_frames.last) to.separate_frames.push_back(f);
+    }
+    if (!to.separate_frames.empty()) {
+      Say("prepare: fitting " + std::to_string(to.separate_frames.size()) +
+          " of the static texture's frames, each on its own");
+      FVV_ASSIGN_OR_RETURN(const TrackCaptureResult spread, TrackCapture(capture_path, to));
+      Take(spread);
     }
     if (poses.empty()) {
-      return InvalidArgument("prepare: no frame of the static texture fits well enough (" +
-                             spread.fits[0].note + ")");
+      return InvalidArgument("prepare: no frame of the static texture fits well enough (" + note +
+                             ")");
     }
     sum.texture_frames.clear();
     for (const auto& kv : poses) sum.texture_frames.push_back(kv.first);
