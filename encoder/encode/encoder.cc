@@ -243,18 +243,15 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
     to.first = first;
     to.last = last;
     to.tracker = s.tracker;
+    to.extract = s.extract_silhouettes;
+    to.smoothing = s.pose_smoothing;  // before GoOnAfter, which keeps what it reads
     if (prepared) {
       // A shard's warm-up frames and the take's shape, as every shard tracks.
       UsePreparedTracking(*prepared, first, last, &to);
-      if (!s.after.empty()) {
-        to.smoothing = s.pose_smoothing;
-        FVV_RETURN_IF_ERROR(GoOnAfter(s.after, s.shard, s.shards, &to));
-      }
+      if (!s.after.empty()) FVV_RETURN_IF_ERROR(GoOnAfter(s.after, s.shard, s.shards, &to));
       sum.pose_source =
           "tracked (prepared take, " + std::to_string(prepared->warm_up) + " frames' warm-up)";
     }
-    to.extract = s.extract_silhouettes;
-    to.smoothing = s.pose_smoothing;
     // Resampling and coding a frame run on a thread of their own, beside the
     // tracking of the next frames (at most one GOP and a frame queued), in
     // frame order, so the output is what a sequential run writes.

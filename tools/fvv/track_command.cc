@@ -37,6 +37,12 @@ int RunTrack(const TrackArgs& a) {
   TrackCaptureOptions o;
   const Status range = ParseFrameRange(a.frames, &o.first, &o.last);
   if (!range.ok()) return Fail(range);
+  o.smoothing.sigma_frames = a.smooth;  // before GoOnAfter, which keeps what it reads
+  uint32_t shard_k = 0, shard_n = 0;    // --shard K/N
+  if (!a.shard.empty()) {
+    const Status parsed = ParseShard(a.shard, &shard_k, &shard_n);
+    if (!parsed.ok()) return Fail(parsed);
+  }
   if (!a.prepared.empty()) {
     // The frames a shard (or a whole-take encode) of a prepared take tracks,
     // with its shape and warm-up.
@@ -52,22 +58,18 @@ int RunTrack(const TrackArgs& a) {
     }
     uint32_t first = take->first_frame, last = take->last_frame;
     if (!a.shard.empty()) {
-      uint32_t k = 0, n = 0;
-      const Status parsed = ParseShard(a.shard, &k, &n);
-      if (!parsed.ok()) return Fail(parsed);
-      StatusOr<ShardFrames> part = ShardFramesOf(take->frames(), take->gop_frames, k, n);
+      StatusOr<ShardFrames> part =
+          ShardFramesOf(take->frames(), take->gop_frames, shard_k, shard_n);
       if (!part.ok()) return Fail(part.status());
       first = take->first_frame + part->first;
       last = first + part->count - 1;
     }
     UsePreparedTracking(*take, first, last, &o);
     if (!a.after.empty()) {
-      uint32_t k = 0, n = 0;
-      if (a.shard.empty() || !ParseShard(a.shard, &k, &n).ok() || k == 0) {
+      if (a.shard.empty() || shard_k == 0) {
         return Fail(InvalidArgument("--after goes with --shard K/N, K above 0"));
       }
-      o.smoothing.sigma_frames = a.smooth;
-      const Status after = GoOnAfter(a.after, k, n, &o);
+      const Status after = GoOnAfter(a.after, shard_k, shard_n, &o);
       if (!after.ok()) return Fail(after);
     }
   } else if (!a.shard.empty() || !a.after.empty()) {
@@ -82,7 +84,6 @@ int RunTrack(const TrackArgs& a) {
   o.person_models = a.models;
   o.keypoints = !a.no_keypoints;
   if (a.no_shape && !o.tracker.fixed_shape) o.tracker.adapt_shape = false;
-  o.smoothing.sigma_frames = a.smooth;
   o.save_silhouettes = a.save_silhouettes;
   o.overlays = a.overlays;
   for (const std::string& dir : {a.save_silhouettes, a.overlays}) {
