@@ -331,7 +331,7 @@ int main(int argc, char** argv) {
   fvv_decoder_get_info(dec.get(), &info);
   fvv_model model;
   fvv_decoder_get_model(dec.get(), &model);
-  auto renderer = fvv::Renderer::Create((*ctx)->gl(), model, fvv::CameraCentres(dec.get()),
+  auto renderer = fvv::Renderer::Create((*ctx)->gl(), model, fvv::DecoderCameras(dec.get()),
                                         info.atlas_width, info.atlas_height);
   if (!renderer.ok()) return 1;
   Reference ref;

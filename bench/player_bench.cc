@@ -48,8 +48,8 @@ bool Play(const std::string& path, const fvv::SampleStream& src, double max_ms, 
   fvv_model model;
   fvv_decoder_get_model(dec.get(), &model);
   const std::vector<glm::vec3> centres = fvv::CameraCentres(dec.get());
-  auto renderer =
-      fvv::Renderer::Create((*ctx)->gl(), model, centres, info.atlas_width, info.atlas_height);
+  auto renderer = fvv::Renderer::Create((*ctx)->gl(), model, fvv::DecoderCameras(dec.get()),
+                                        info.atlas_width, info.atlas_height);
   if (!renderer.ok()) return false;
   fvv_decode_budget budget{};
   budget.max_ms_per_gop = max_ms;

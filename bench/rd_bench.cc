@@ -431,7 +431,12 @@ int Main(int argc, char** argv) {
       StatusOr<Image> m = ReadImage(TextureMaskPath(textures, c, seq.first + f));
       if (!t.ok()) return Fail(t.status().ToString());
       if (!m.ok()) return Fail(m.status().ToString());
-      for (uint8_t v : m->pixels) seq.visible += v != 0;
+      // What the cameras saw; not what a player of a stream without masks may
+      // take from a camera that did not (fvv::kUsableTexel).
+      for (uint8_t& v : m->pixels) {
+        if (v == fvv::kUsableTexel) v = 0;
+        seq.visible += v != 0;
+      }
       seq.textures.push_back(std::move(*t));
       seq.masks.push_back(std::move(*m));
     }

@@ -42,6 +42,17 @@
 namespace fvv {
 namespace {
 
+// A JSON file this bench had fvv write (an encode's --summary-json).
+StatusOr<nlohmann::json> ReadJson(const std::string& path) {
+  StatusOr<std::vector<uint8_t>> bytes = ReadFileBytes(path, 1 << 20);
+  if (!bytes.ok()) return bytes.status();
+  nlohmann::json j = nlohmann::json::parse(bytes->begin(), bytes->end(), nullptr, false);
+  if (j.is_discarded() || !j.contains("bytes") || !j.contains("gops")) {
+    return Corrupt(path + ": not an encode summary");
+  }
+  return j;
+}
+
 struct Args {
   std::string capture, out = "out/real_bench", fvv, models;
   std::string held_out;  // one camera's name: only that one held out
@@ -297,7 +308,7 @@ int Run(const Args& a) {
   report["frames"] = {first, last};
   std::vector<Image> sheet;
   std::vector<FitScore> held(n), own(n);
-  std::vector<RenderScore> renderer2(n), renderer1(n);
+  std::vector<RenderScore> renderer2(n), renderer2_masks(n), renderer1(n);
   struct Times {
     double decode = 0, persons = 0, masks = 0, initialise = 0, fit = 0;
   };
@@ -367,12 +378,29 @@ int Run(const Args& a) {
       std::printf("  encoding frames %s from the other cameras, rendering camera %s's view\n",
                   range.c_str(), name.c_str());
       std::fflush(stdout);
-      Status s =
-          RunFvv(a, {"encode", dir, "-o", stream, "--poses", poses, "--frames", range, "-q"});
-      const std::string out2 = dir + "/renderer2", out1 = dir + "/renderer1";
+      // The default stream, and beside it one with shape masks at the same
+      // total bytes (docs/encoder.md, "Streams without masks").
+      const std::string masked = dir + "/stream_masks.fvv", masked_json = masked + ".json";
+      Status s = RunFvv(a, {"encode", dir, "-o", masked, "--poses", poses, "--frames", range,
+                            "--masks", "-q", "--summary-json", masked_json});
+      StatusOr<nlohmann::json> masked_summary = ReadJson(masked_json);
+      if (s.ok() && !masked_summary.ok()) s = masked_summary.status();
+      if (s.ok()) {
+        const nlohmann::json& b = (*masked_summary)["bytes"];
+        const uint64_t per_gop = (b["texture"].get<uint64_t>() + b["masks"].get<uint64_t>()) /
+                                 std::max<uint64_t>(1, (*masked_summary)["gops"].get<uint64_t>());
+        s = RunFvv(a, {"encode", dir, "-o", stream, "--poses", poses, "--frames", range, "--bytes",
+                       std::to_string(per_gop), "-q"});
+      }
+      const std::string out2 = dir + "/renderer2", out2m = dir + "/renderer2_masks",
+                        out1 = dir + "/renderer1";
       if (s.ok()) {
         s = RunFvv(a, {"render", stream, "--cameras-from", full.directory, "--camera",
                        std::to_string(k), "-o", out2});
+      }
+      if (s.ok()) {
+        s = RunFvv(a, {"render", masked, "--cameras-from", full.directory, "--camera",
+                       std::to_string(k), "-o", out2m});
       }
       if (s.ok()) {
         s = RunFvv(a, {"render", dir, "--renderer", "projective", "--poses", poses,
@@ -390,25 +418,32 @@ int Run(const Args& a) {
         // The stream numbers its frames from 0; Renderer I keeps the capture's.
         std::snprintf(file, sizeof(file), "/render_f%05u.png", f - first);
         StatusOr<Image> two = ReadImage(out2 + file);
+        StatusOr<Image> two_masks = ReadImage(out2m + file);
         std::snprintf(file, sizeof(file), "/render_f%05u.png", f);
         StatusOr<Image> one = ReadImage(out1 + file);
-        if (!real.ok() || !two.ok() || !one.ok()) {
+        if (!real.ok() || !two.ok() || !one.ok() || !two_masks.ok()) {
           std::fprintf(stderr, "real_bench: frame %u of camera %s: %s\n", f, name.c_str(),
-                       (!real.ok()  ? real.status()
-                        : !two.ok() ? two.status()
-                                    : one.status())
+                       (!real.ok()        ? real.status()
+                        : !two.ok()       ? two.status()
+                        : !two_masks.ok() ? two_masks.status()
+                                          : one.status())
                            .ToString()
                            .c_str());
           return 1;
         }
         const Image& region = ref.masks[f - first][k];
         ScoreRender(*real, *two, region, &renderer2[k]);
+        ScoreRender(*real, *two_masks, region, &renderer2_masks[k]);
         ScoreRender(*real, *one, region, &renderer1[k]);
         if (f == first) rendered2.push_back(*two), rendered1.push_back(*one);
       }
-      std::printf("  Renderer II: PSNR %.2f dB, SSIM %.3f; Renderer I: PSNR %.2f dB, SSIM %.3f\n",
-                  renderer2[k].psnr / renderer2[k].frames, renderer2[k].ssim / renderer2[k].frames,
-                  renderer1[k].psnr / renderer1[k].frames, renderer1[k].ssim / renderer1[k].frames);
+      std::printf(
+          "  Renderer II: PSNR %.2f dB, SSIM %.3f (with masks, same bytes: %.2f dB, %.3f); "
+          "Renderer I: PSNR %.2f dB, SSIM %.3f\n",
+          renderer2[k].psnr / renderer2[k].frames, renderer2[k].ssim / renderer2[k].frames,
+          renderer2_masks[k].psnr / renderer2_masks[k].frames,
+          renderer2_masks[k].ssim / renderer2_masks[k].frames,
+          renderer1[k].psnr / renderer1[k].frames, renderer1[k].ssim / renderer1[k].frames);
     }
     // Contact sheet row: the real frame, the network's mask, the fitted
     // model against it, Renderer I and Renderer II.
@@ -445,22 +480,25 @@ int Run(const Args& a) {
                 full.cameras[k].calibration.name.c_str(), h.iou / h.frames, hj, agree,
                 w.iou / w.frames, wj, mean(r2.psnr, r2.frames), mean(r2.ssim, r2.frames),
                 mean(r1.psnr, r1.frames), mean(r1.ssim, r1.frames));
-    rows.push_back({{"camera", full.cameras[k].calibration.name},
-                    {"held_out_iou", h.iou / h.frames},
-                    {"held_out_joint_px", hj},
-                    {"keypoint_agreement_px", agree},
-                    {"own_iou", w.iou / w.frames},
-                    {"own_joint_px", wj},
-                    {"renderer2_psnr", mean(r2.psnr, r2.frames)},
-                    {"renderer2_ssim", mean(r2.ssim, r2.frames)},
-                    {"renderer1_psnr", mean(r1.psnr, r1.frames)},
-                    {"renderer1_ssim", mean(r1.ssim, r1.frames)},
-                    {"seconds_per_frame",
-                     {{"decode", times[k].decode},
-                      {"person_network", times[k].persons},
-                      {"masks", times[k].masks},
-                      {"fit", times[k].fit},
-                      {"first_frame_fit", times[k].initialise}}}});
+    rows.push_back(
+        {{"camera", full.cameras[k].calibration.name},
+         {"held_out_iou", h.iou / h.frames},
+         {"held_out_joint_px", hj},
+         {"keypoint_agreement_px", agree},
+         {"own_iou", w.iou / w.frames},
+         {"own_joint_px", wj},
+         {"renderer2_psnr", mean(r2.psnr, r2.frames)},
+         {"renderer2_ssim", mean(r2.ssim, r2.frames)},
+         {"renderer2_masks_psnr", mean(renderer2_masks[k].psnr, renderer2_masks[k].frames)},
+         {"renderer2_masks_ssim", mean(renderer2_masks[k].ssim, renderer2_masks[k].frames)},
+         {"renderer1_psnr", mean(r1.psnr, r1.frames)},
+         {"renderer1_ssim", mean(r1.ssim, r1.frames)},
+         {"seconds_per_frame",
+          {{"decode", times[k].decode},
+           {"person_network", times[k].persons},
+           {"masks", times[k].masks},
+           {"fit", times[k].fit},
+           {"first_frame_fit", times[k].initialise}}}});
     all_held.iou += h.iou / h.frames, all_held.joint_px += hj, all_held.agreement_px += agree;
     all_own.iou += w.iou / w.frames, all_own.joint_px += wj;
     all2.psnr += mean(r2.psnr, r2.frames), all2.ssim += mean(r2.ssim, r2.frames);

@@ -16,6 +16,6 @@ if [ ! -f "$out/textures/textures.json" ]; then
   # The demo capture (CMU 01_01 on the built-in actor, 8 cameras at 640x480),
   # tracked and resampled as `fvv encode` does it.
   $fvv synth -o "$out/capture" --frames "$frames" --motion /usr/share/assimp/models/BVH/01_01.bvh
-  $fvv encode "$out/capture" -o "$out/capture.fvv" --save-textures "$out/textures" -q
+  $fvv encode "$out/capture" -o "$out/capture.fvv" --masks --save-textures "$out/textures" -q
 fi
 build/bench/rd_bench "$out/textures" "$out/capture" "$out/work" --frames "$frames"

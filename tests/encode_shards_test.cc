@@ -189,10 +189,10 @@ TEST_F(ShardTest, JoinNamesMissingDoubledForeignAndMismatchedParts) {
   EncoderSettings whole = Settings();
   whole.prepared = dir_ + "/prep";
   Refused({parts[0], Encode(whole, "whole_for_join.fvv")}, "is not a shard");
-  // A part coded with other tools (no masks).
-  EncoderSettings no_masks = Shard(1, 2);
-  no_masks.masks = false;
-  Refused({parts[0], Encode(no_masks, "half_1_no_masks.fvv")}, "coding tools differs");
+  // A part coded with other tools (masks).
+  EncoderSettings masks = Shard(1, 2);
+  masks.masks = true;
+  Refused({parts[0], Encode(masks, "half_1_masks.fvv")}, "coding tools differs");
   // Other metadata (another generator's note).
   EncoderSettings meta = Shard(1, 2);
   meta.metadata = {{"take", "another"}};

@@ -4,8 +4,12 @@
 
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_precision.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <glm/vec3.hpp>
 
 #include "conformance/sample/sample_stream.h"
+#include "container/geometric_visibility.h"
 #include "container/writer.h"
 #include "encoder/io/image_io.h"
 #include "fvv/fvv_decoder.hpp"
@@ -47,13 +51,11 @@ void MakeScene(Scene* s, uint16_t gop_cameras = 4, bool predictive = false, doub
   s->ctx = std::move(ctx).value();
   fvv_model model;
   ASSERT_EQ(fvv_decoder_get_model(s->dec.get(), &model), FVV_OK);
-  std::vector<glm::vec3> centres;
   s->cameras.resize(4);
   for (uint32_t c = 0; c < 4; ++c) {
     ASSERT_EQ(fvv_decoder_get_camera(s->dec.get(), c, &s->cameras[c]), FVV_OK);
-    centres.emplace_back(s->cameras[c].centre[0], s->cameras[c].centre[1], s->cameras[c].centre[2]);
   }
-  auto r = Renderer::Create(s->ctx->gl(), model, centres, 32, 32);
+  auto r = Renderer::Create(s->ctx->gl(), model, s->cameras, 32, 32);
   ASSERT_TRUE(r.ok()) << r.status().ToString();
   s->renderer = std::move(r).value();
 }
@@ -185,6 +187,142 @@ TEST(Renderer, FramesWithOnlyTheViewsCamerasRenderLikeFullOnes) {
   std::vector<fvv_view> none(part->camera_count, fvv_view{nullptr, nullptr});
   empty.views = none.data();
   EXPECT_EQ(s.renderer->SetFrame(empty).code(), StatusCode::kInvalidArgument);
+}
+
+// A frame of the scene's stream as a stream without masks would decode it;
+// with `colours`, camera k's texture is one colour (colours[k]).
+struct MasklessFrame {
+  FramePtr decoded;
+  fvv_frame frame{};
+  std::vector<fvv_view> views;
+  std::vector<std::vector<uint8_t>> solid;
+};
+void MakeMaskless(Scene* s, uint32_t index, const std::vector<glm::u8vec3>* colours,
+                  MasklessFrame* m) {
+  m->decoded = DecodeFrame(s->dec.get(), index, nullptr);
+  ASSERT_TRUE(m->decoded);
+  m->frame = *m->decoded;
+  m->views.assign(m->frame.views, m->frame.views + m->frame.camera_count);
+  m->solid.resize(m->views.size());
+  for (size_t c = 0; c < m->views.size(); ++c) {
+    m->views[c].mask = nullptr;
+    if (!colours) continue;
+    m->solid[c].resize(size_t(m->frame.width) * m->frame.height * 3);
+    for (size_t i = 0; i < m->solid[c].size(); ++i) m->solid[c][i] = (*colours)[c][int(i % 3)];
+    m->views[c].pixels = m->solid[c].data();
+  }
+  m->frame.views = m->views.data();
+}
+
+// Without masks the renderer draws each camera's depth map of the posed
+// model on the GPU: the same surface at the same depth as a CPU rasterisation
+// of the frame's skinned mesh through the camera's pinhole, row 0 at the top.
+TEST(Renderer, WithoutMasksTheDepthMapsAreTheCamerasViewsOfThePosedModel) {
+  Scene s;
+  MakeScene(&s);
+  if (HasFatalFailure()) return;
+  MasklessFrame m;
+  MakeMaskless(&s, 1, nullptr, &m);
+  if (HasFatalFailure()) return;
+  ASSERT_TRUE(s.renderer->SetFrame(m.frame).ok());
+  for (uint32_t k = 0; k < 4; ++k) {  // each view draws the maps of the cameras it blends
+    RenderView view;
+    CameraViewProjection(s.cameras[k], 0.05f, 50.0f, &view.view, &view.projection);
+    view.eye = glm::vec3(s.cameras[k].centre[0], s.cameras[k].centre[1], s.cameras[k].centre[2]);
+    ASSERT_TRUE(s.renderer->Draw(view, kW, kH).ok());
+  }
+  ASSERT_NE(s.renderer->depth_maps(), nullptr);
+  EXPECT_EQ(s.renderer->depth_map_layers(), 4u);  // each camera's map once for the frame
+  fvv_model model;
+  ASSERT_EQ(fvv_decoder_get_model(s.dec.get(), &model), FVV_OK);
+  std::vector<glm::vec3> posed(model.vertex_count);
+  for (uint32_t v = 0; v < model.vertex_count; ++v) {
+    glm::mat4 skin(0.0f);
+    for (int j = 0; j < 4; ++j) {
+      skin += model.weights[4 * v + j] *
+              glm::make_mat4(m.frame.bone_skin + 16 * size_t(model.joints[4 * v + j]));
+    }
+    posed[v] = glm::vec3(skin * glm::vec4(glm::make_vec3(model.positions + 3 * size_t(v)), 1));
+  }
+  CameraDepthMaps& maps = *s.renderer->depth_maps();
+  for (uint32_t k = 0; k < 4; ++k) {
+    std::vector<float> gpu;
+    ASSERT_TRUE(maps.ReadLayer(k, &gpu).ok());
+    const fvv_camera& c = s.cameras[k];
+    const double sx = double(maps.width()) / c.width, sy = double(maps.height()) / c.height;
+    std::vector<double> px(2 * posed.size());
+    std::vector<float> inv_z(posed.size());
+    for (size_t v = 0; v < posed.size(); ++v) {
+      double q[3];
+      for (int r = 0; r < 3; ++r) {
+        q[r] = c.rotation[3 * r] * posed[v].x + c.rotation[3 * r + 1] * posed[v].y +
+               c.rotation[3 * r + 2] * posed[v].z + c.translation[r];
+      }
+      inv_z[v] = q[2] > 1e-6 ? float(1 / q[2]) : 0.0f;
+      px[2 * v] = (c.fx * q[0] / q[2] + c.cx + 0.5) * sx - 0.5;
+      px[2 * v + 1] = (c.fy * q[1] / q[2] + c.cy + 0.5) * sy - 0.5;
+    }
+    const std::vector<float> cpu = RasterizeDepth(model.triangles, model.triangle_count, px.data(),
+                                                  inv_z.data(), maps.width(), maps.height());
+    size_t both = 0, either = 0, close = 0;
+    for (size_t i = 0; i < cpu.size(); ++i) {
+      const bool a = gpu[i] < 1e8f, b = std::isfinite(cpu[i]);
+      either += a || b;
+      if (!(a && b)) continue;
+      ++both;
+      close += std::abs(gpu[i] - cpu[i]) < 0.01f;
+    }
+    std::printf("  camera %u: %zu texels covered by both, %zu by one only; %zu within 1 cm\n", k,
+                both, either - both, close);
+    EXPECT_GT(both, size_t{200});
+    EXPECT_GT(double(both), 0.9 * double(either));  // outlines differ by rasterisation only
+    EXPECT_GT(double(close), 0.98 * double(both));
+  }
+}
+
+// Without masks a camera textures what its depth map shows it: drawn from
+// camera k's own pose with one colour per camera and no facing weight, the
+// actor is camera k's colour (the camera on the viewing ray outweighs every
+// other one wherever it sees the surface); were the visibility lost, the
+// best-facing camera's fallback would show other colours on much of it.
+TEST(Renderer, WithoutMasksTheViewsOwnCameraTexturesWhatItSees) {
+  Scene s;
+  MakeScene(&s);
+  if (HasFatalFailure()) return;
+  const std::vector<glm::u8vec3> colours = {
+      {230, 40, 40}, {40, 230, 40}, {40, 40, 230}, {230, 230, 40}};
+  MasklessFrame m;
+  MakeMaskless(&s, 2, &colours, &m);
+  if (HasFatalFailure()) return;
+  for (uint32_t k = 0; k < 4; ++k) {
+    ASSERT_TRUE(s.renderer->SetFrame(m.frame).ok());
+    RenderView view;
+    view.facing_exponent = 0;
+    CameraViewProjection(s.cameras[k], 0.05f, 50.0f, &view.view, &view.projection);
+    view.eye = glm::vec3(s.cameras[k].centre[0], s.cameras[k].centre[1], s.cameras[k].centre[2]);
+    ASSERT_TRUE(s.renderer->Draw(view, kW, kH).ok());
+    std::vector<uint8_t> rgb;
+    ASSERT_TRUE(s.renderer->ReadRgb(kW, kH, &rgb).ok());
+    size_t actor = 0, own = 0;
+    for (size_t i = 0; i < rgb.size(); i += 3) {
+      bool camera_colour = false, is_own = false;
+      for (size_t c = 0; c < colours.size(); ++c) {
+        const bool match = std::abs(rgb[i] - colours[c].r) + std::abs(rgb[i + 1] - colours[c].g) +
+                               std::abs(rgb[i + 2] - colours[c].b) <=
+                           12;
+        camera_colour = camera_colour || match;
+        is_own = is_own || (match && c == k);
+      }
+      // Blends of several colours at the outlines count as the actor too.
+      const bool background =
+          std::abs(rgb[i] - 31) + std::abs(rgb[i + 1] - 31) + std::abs(rgb[i + 2] - 36) <= 6;
+      actor += camera_colour || !background;
+      own += is_own;
+    }
+    std::printf("  camera %u: %zu actor pixels, %zu in its own colour\n", k, actor, own);
+    EXPECT_GT(actor, size_t{kW} * kH / 100);
+    EXPECT_GT(double(own), 0.98 * double(actor));  // measured 99.9-100 %
+  }
 }
 
 }  // namespace

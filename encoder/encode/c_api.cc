@@ -106,7 +106,7 @@ void fvv_encoder_default_settings(fvv_encoder_settings* settings) {
   settings->prune = 1;
   settings->coder = FVV_CODER_ARITH3;
   settings->chroma = FVV_CHROMA_444;
-  settings->mask_mode = FVV_MASKS_CODED;
+  settings->mask_mode = FVV_MASKS_NONE;
   settings->texture_codec = FVV_TEXTURE_SPIHT;
   settings->rate_mode = FVV_RATE_PSNR;
   settings->rate_value = 36;

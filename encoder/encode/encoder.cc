@@ -18,7 +18,8 @@ Status CheckSettings(const EncoderSettings& s) {
   }
   if (s.texture_codec == TextureCodec::kPredictive) {
     if (!s.masks) {
-      return InvalidArgument("the predictive texture codec needs masks (they are its supports)");
+      return InvalidArgument(
+          "the predictive texture codec needs masks (they are its supports): code them");
     }
     if (s.chroma != ChromaFormat::k444) {
       return InvalidArgument("the predictive texture codec codes 4:4:4 only");

@@ -98,7 +98,11 @@ struct EncoderSettings {
   // per atlas texel (all of them, seen or not); kTotalBytes: bytes per GOP.
   RateMode rate_mode = RateMode::kPsnr;
   double rate_value = 36;
-  bool masks = true;  // code the visibility masks (the player blends by them)
+  // Code the shape masks (which camera saw which texel). Without them, the
+  // default, players take each camera's visibility from the decoded geometry
+  // and the encoder fills what they may take (docs/encoder.md, "Streams without
+  // masks"). The predictive texture codec needs them (they are its supports).
+  bool masks = false;
   // kMixing (mode 2, format version 2) is about 12 % smaller; kContext (mode 1)
   // keeps a SPIHT stream readable by version 1 decoders.
   MaskCoding mask_coding = MaskCoding::kMixing;
@@ -178,6 +182,10 @@ StatusOr<PrepareSummary> PrepareTake(const std::string& capture, const std::stri
 
 // Texture files of a --save-textures directory.
 std::string TexturePath(const std::string& dir, const std::string& camera, uint32_t frame);
+// Mask PNG values of a texture directory: seen (any other non-zero value
+// reads as seen too), and, for streams without masks, usable: a player may
+// take the texel from the camera, which did not see it.
+constexpr uint8_t kSeenTexel = 255, kUsableTexel = 128;
 std::string TextureMaskPath(const std::string& dir, const std::string& camera, uint32_t frame);
 
 }  // namespace fvv

@@ -63,6 +63,7 @@ Status Session::AllocateForModel() {
   const size_t texels = size_t(s_.atlas_size) * s_.atlas_size;
   span_rgb_.assign(size_t(s_.gop_frames) * sum_.cameras * texels * 3, 0);
   span_mask_.assign(size_t(s_.gop_frames) * sum_.cameras * texels, 0);
+  if (!s_.masks) span_usable_.assign(span_mask_.size(), 0);
   if (s_.fallback_texture || !s_.static_texture.empty()) {
     static_ = std::make_unique<StaticTexture>(s_.atlas_size);
     span_fallback_.assign(s_.gop_frames, {});
@@ -116,7 +117,8 @@ StatusOr<std::vector<Eigen::Vector3f>> Session::Resample(uint32_t frame, uint32_
       const size_t plane = size_t(slot) * sum_.cameras + c;
       ResampleView(map_, model_.mesh, positions, normals, cameras_[c], images[c],
                    silhouettes.empty() ? Image() : silhouettes[c], s_.resample,
-                   &span_rgb_[plane * texels * 3], &span_mask_[plane * texels]);
+                   &span_rgb_[plane * texels * 3], &span_mask_[plane * texels],
+                   span_usable_.empty() ? nullptr : &span_usable_[plane * texels]);
     });
   }
   sum_.resample_s += Since(t0);
@@ -244,6 +246,32 @@ void Session::ApplyFallback(uint32_t frames) {
       ++sum_.fallback_texels;
     }
   }
+}
+
+void Session::FillForPlayers(uint32_t frames) {
+  const size_t texels = size_t(s_.atlas_size) * s_.atlas_size;
+  const uint32_t n = sum_.cameras;
+  pool_.Run(frames, [&](uint32_t t) {
+    const size_t first = size_t(t) * n * texels;
+    for (uint32_t texel : map_.texel) {
+      int sum[3] = {0, 0, 0}, count = 0;
+      for (uint32_t c = 0; c < n; ++c) {
+        const size_t i = first + c * texels + texel;
+        if (!span_mask_[i]) continue;
+        for (int k = 0; k < 3; ++k) sum[k] += span_rgb_[i * 3 + k];
+        ++count;
+      }
+      for (uint32_t c = 0; c < n; ++c) {
+        const size_t i = first + c * texels + texel;
+        if (span_mask_[i] || !span_usable_[i]) continue;
+        if (count == 0) {
+          span_usable_[i] = 0;  // nothing to show: left to the codec's fill
+          continue;
+        }
+        for (int k = 0; k < 3; ++k) span_rgb_[i * 3 + k] = uint8_t((sum[k] + count / 2) / count);
+      }
+    }
+  });
 }
 
 }  // namespace encoding

@@ -164,6 +164,11 @@ class Session {
   // colour in their best-facing camera.
   void ApplyFallback(uint32_t frames);
 
+  // Without masks: texels a player may take from a camera that did not see
+  // them take the mean colour of the cameras that did, so that the player's
+  // blend there is the seeing cameras' (span_usable_ marks them).
+  void FillForPlayers(uint32_t frames);
+
   Status CodeSpan(uint32_t frames);
 
   // One GOP with the predictive scheme; the same rate targets as SPIHT's.
@@ -172,7 +177,7 @@ class Session {
 
   // Y, U, V errors against the block coded; RGB errors against the texels as
   // resampled (what a player shows against what the cameras saw).
-  void Measure(const Block& block, const Block& decoded, const UsedMask& used,
+  void Measure(const Block& block, const Block& decoded, const UsedMask& seen,
                const std::vector<uint8_t>& a);
 
   uint32_t CameraGroups() const { return (sum_.cameras + s_.gop_cameras - 1) / s_.gop_cameras; }
@@ -200,6 +205,7 @@ class Session {
   BodyModel model_;
   TexelMap map_;
   std::vector<uint8_t> span_rgb_, span_mask_;        // (slot, camera, y, x)
+  std::vector<uint8_t> span_usable_;                 // without masks: what a player may use
   std::unique_ptr<StaticTexture> static_;            // with fallback_texture or static_texture
   bool static_fixed_ = false;                        // a prepared take's: frames do not add to it
   std::vector<std::vector<int16_t>> span_fallback_;  // per slot: best-facing camera per texel

@@ -8,6 +8,7 @@ namespace encoding {
 
 Status Session::CodeSpan(uint32_t frames) {
   if (s_.fallback_texture && static_) ApplyFallback(frames);
+  if (!span_usable_.empty()) FillForPlayers(frames);
   const uint32_t span_first = first_ + uint32_t(fragments_.size() / CameraGroups()) * s_.gop_frames;
   // Saved as coded (fallback texels included), so other codecs compared on
   // them code the same content, and --textures encodes them again.
@@ -27,13 +28,26 @@ Status Session::CodeSpan(uint32_t frames) {
     Shape4D shape;
     shape.n = {frames, frag.info.camera_count, s_.atlas_size, s_.atlas_size};
     std::vector<uint8_t> rgb(shape.count() * 3);
-    UsedMask used(shape.count());
+    // `seen`: what the cameras saw (the masks); `used`: what a player will
+    // show, which the coder fills around and weights (without masks, also
+    // what the geometry lets a player take from a camera).
+    UsedMask seen(shape.count());
     for (uint32_t t = 0; t < frames; ++t) {
       for (uint32_t c = 0; c < frag.info.camera_count; ++c) {
         const size_t src = size_t(t) * sum_.cameras + frag.info.first_camera + c;
         const size_t dst = size_t(t) * frag.info.camera_count + c;
         std::copy_n(&span_rgb_[src * texels * 3], texels * 3, &rgb[dst * texels * 3]);
-        std::copy_n(&span_mask_[src * texels], texels, &used[dst * texels]);
+        std::copy_n(&span_mask_[src * texels], texels, &seen[dst * texels]);
+      }
+    }
+    UsedMask used = seen;
+    if (!span_usable_.empty()) {
+      for (uint32_t t = 0; t < frames; ++t) {
+        for (uint32_t c = 0; c < frag.info.camera_count; ++c) {
+          const size_t src = (size_t(t) * sum_.cameras + frag.info.first_camera + c) * texels;
+          const size_t dst = (size_t(t) * frag.info.camera_count + c) * texels;
+          for (size_t i = 0; i < texels; ++i) used[dst + i] |= span_usable_[src + i];
+        }
       }
     }
     const Block block =
@@ -56,14 +70,14 @@ Status Session::CodeSpan(uint32_t frames) {
     Block decoded;
     EncodeReport report;
     report.decoded = &decoded;  // what a decoder reconstructs at full length
-    FVV_ASSIGN_OR_RETURN(frag.texture, EncodeBlock(block, s_.masks ? &used : nullptr, es, &report));
+    FVV_ASSIGN_OR_RETURN(frag.texture, EncodeBlock(block, &used, es, &report));
     if (s_.masks) {
       frag.masks = EncodeMasks(used.data(), shape, s_.mask_coding);
       frag.mask_mode = s_.mask_coding;
     }
     sum_.texture_bytes += frag.texture.total_bytes();
     sum_.mask_bytes += frag.masks.size();
-    Measure(block, decoded, used, rgb);
+    Measure(block, decoded, seen, rgb);
     fragments_.push_back(std::move(frag));
   }
   sum_.code_s += Since(t0);
@@ -110,7 +124,7 @@ Status Session::CodePredictive(const Block& block, std::vector<uint8_t>& rgb, co
 // Y, U, V errors against the block coded; RGB errors against the texels as
 // resampled (what a player shows against what the cameras saw).
 void Session::Measure(const Block& block, const Block& decoded, const UsedMask& used,
-                      const std::vector<uint8_t>& a) {
+                      const std::vector<uint8_t>& a) {  // `used`: what the cameras saw
   UsedMask chroma_used;
   const UsedMask* cmask = &used;
   if (block.chroma == ChromaFormat::k420) {

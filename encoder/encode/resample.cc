@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "container/geometric_visibility.h"
 #include "encoder/capture/calibration.h"
 #include "encoder/shape/depth_map.h"
 
@@ -51,6 +52,31 @@ std::vector<uint8_t> Dilate(const Image& mask, int r) {
       uint8_t v = 0;
       for (int k = std::max(0, y - r); k <= std::min(h - 1, y + r) && !v; ++k) {
         v = rows[size_t(k) * w + x];
+      }
+      out[size_t(y) * w + x] = v;
+    }
+  }
+  return out;
+}
+
+// The largest depth within `r` pixels of each pixel (square neighbourhood,
+// separable max; +infinity, no surface, wins).
+std::vector<float> MaxFilter(const DepthMap& depth, int r) {
+  const int w = depth.width, h = depth.height;
+  std::vector<float> rows(depth.depth.size()), out(depth.depth.size());
+  for (int y = 0; y < h; ++y) {
+    const float* in = &depth.depth[size_t(y) * w];
+    for (int x = 0; x < w; ++x) {
+      float v = in[x];
+      for (int k = std::max(0, x - r); k <= std::min(w - 1, x + r); ++k) v = std::max(v, in[k]);
+      rows[size_t(y) * w + x] = v;
+    }
+  }
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      float v = rows[size_t(y) * w + x];
+      for (int k = std::max(0, y - r); k <= std::min(h - 1, y + r); ++k) {
+        v = std::max(v, rows[size_t(k) * w + x]);
       }
       out[size_t(y) * w + x] = v;
     }
@@ -111,10 +137,13 @@ TexelMap MapAtlasTexels(const Mesh& mesh, uint32_t size, double dilation) {
 
 void ResampleView(const TexelMap& map, const Mesh& mesh, const std::vector<Vector3f>& positions,
                   const std::vector<Vector3f>& normals, const Camera& camera, const Image& image,
-                  const Image& silhouette, const ResampleOptions& o, uint8_t* rgb, uint8_t* mask) {
+                  const Image& silhouette, const ResampleOptions& o, uint8_t* rgb, uint8_t* mask,
+                  uint8_t* usable) {
+  namespace gv = geometric_visibility;
   const size_t texels = size_t(map.size) * map.size;
   std::fill(rgb, rgb + texels * 3, 0);
   std::fill(mask, mask + texels, 0);
+  if (usable) std::fill(usable, usable + texels, 0);
   const int w = int(image.width), h = int(image.height);
 
   // The camera's depth map of the posed model.
@@ -126,6 +155,14 @@ void ResampleView(const TexelMap& map, const Mesh& mesh, const std::vector<Vecto
   // Depth of a surface point's neighbours at the nearest pixel centre differs
   // from its own by up to half a pixel's footprint times the slope; allow that.
   const double pixel_angle = 1.0 / std::max(camera.fx, camera.fy);
+  // The player's depth maps: their texels' size, and the deepest surface one
+  // of them may hold around each pixel.
+  int map_w = 0, map_h = 0;
+  gv::DepthMapSize(camera.width, camera.height, &map_w, &map_h);
+  const double pixels_per_texel = double(std::max(w, 1)) / map_w;
+  const double player_texel_angle = pixel_angle * pixels_per_texel;
+  std::vector<float> deepest;
+  if (usable) deepest = MaxFilter(depth, int(std::ceil(pixels_per_texel)));
   const uint8_t* src = image.pixels.data();
   for (size_t e = 0; e < map.texel.size(); ++e) {
     const auto& tri = mesh.triangles[map.triangle[e]];
@@ -136,13 +173,18 @@ void ResampleView(const TexelMap& map, const Mesh& mesh, const std::vector<Vecto
         (bw[0] * normals[tri[0]] + bw[1] * normals[tri[1]] + bw[2] * normals[tri[2]]).normalized();
     const Vector3f view = centre - p;
     const float facing = nrm.dot(view) / view.norm();
-    if (!(facing >= o.min_facing)) continue;
+    // Normals interpolated on the GPU differ a little from these.
+    if (!(facing >= std::min(o.min_facing, gv::kMinFacing - 0.02))) continue;
     Eigen::Vector2d q;
     double z = 0;
     if (!ProjectPoint(camera, p.cast<double>(), &q, &z)) continue;
     if (!(q.x() >= 0 && q.y() >= 0 && q.x() <= w - 1 && q.y() <= h - 1)) continue;
     const int ix = int(std::lround(q.x())), iy = int(std::lround(q.y()));
     const size_t pixel = size_t(iy) * w + ix;
+    if (usable && z <= deepest[pixel] + gv::DepthAllowance(z, facing, player_texel_angle) + 0.01) {
+      usable[map.texel[e]] = 1;
+    }
+    if (!(facing >= o.min_facing)) continue;
     const double slope = std::sqrt(std::max(0.0, 1.0 - double(facing) * facing)) / facing;
     if (z > depth.depth[pixel] + o.depth_tolerance + 0.75 * z * pixel_angle * slope) continue;
     if (!inside.empty() && !inside[pixel]) continue;
@@ -160,6 +202,7 @@ void ResampleView(const TexelMap& map, const Mesh& mesh, const std::vector<Vecto
       rgb[out * 3 + k] = uint8_t(std::lround(std::clamp((1 - fy) * top + fy * bottom, 0.0, 255.0)));
     }
     mask[out] = 1;
+    if (usable) usable[out] = 1;
   }
 }
 

@@ -6,6 +6,11 @@
 // near outlines are kept even where the model and the silhouette disagree
 // slightly). Texels the camera does not see are unused.
 //
+// For streams without masks it also marks the texels a player may take from
+// the camera (container/geometric_visibility.h), loosened so that it covers
+// the player's coarser depth maps: facing, inside the image, and in front of
+// the depth map's largest value within one player depth texel.
+//
 // The atlas-space rasterisation is done once per atlas (TexelMap): which
 // triangle covers each texel and where, so each view only interpolates the
 // posed vertices.
@@ -42,11 +47,13 @@ struct ResampleOptions {
 // One view: `positions` and `normals` are the mesh's vertices posed (world
 // space). `silhouette` may be empty (no silhouette test). Writes `rgb`
 // (size * size * 3) and `mask` (size * size, 1 = seen); unseen texels are 0.
+// `usable` (size * size, may be null) gets 1 where a player of a stream
+// without masks may take the texel from this camera; every seen texel is.
 void ResampleView(const TexelMap& map, const Mesh& mesh,
                   const std::vector<Eigen::Vector3f>& positions,
                   const std::vector<Eigen::Vector3f>& normals, const Camera& camera,
                   const Image& image, const Image& silhouette, const ResampleOptions& options,
-                  uint8_t* rgb, uint8_t* mask);
+                  uint8_t* rgb, uint8_t* mask, uint8_t* usable = nullptr);
 
 }  // namespace fvv
 

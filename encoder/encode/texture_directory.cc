@@ -1,5 +1,8 @@
 // The texture directory of fvv encode --save-textures and --textures: the
 // atlas textures and masks as coded, per camera and frame, and textures.json.
+// A mask texel is 255 where the camera saw the texel, 0 where it is unused, and
+// for streams without masks 128 where a player may take it from the camera
+// though the camera did not see it (it holds the seeing cameras' colour).
 #include "encoder/encode/encoder_session.h"
 
 namespace fvv {
@@ -12,7 +15,12 @@ Status Session::SaveTextures(uint32_t frame, uint32_t slot) {
     Image tex{s_.atlas_size, s_.atlas_size, 3, {}};
     tex.pixels.assign(&span_rgb_[plane * texels * 3], &span_rgb_[(plane + 1) * texels * 3]);
     Image mask{s_.atlas_size, s_.atlas_size, 1, std::vector<uint8_t>(texels)};
-    for (size_t i = 0; i < texels; ++i) mask.pixels[i] = span_mask_[plane * texels + i] ? 255 : 0;
+    for (size_t i = 0; i < texels; ++i) {
+      const size_t t = plane * texels + i;
+      mask.pixels[i] = span_mask_[t]                              ? kSeenTexel
+                       : !span_usable_.empty() && span_usable_[t] ? kUsableTexel
+                                                                  : 0;
+    }
     FVV_RETURN_IF_ERROR(WritePng(TexturePath(s_.save_textures, camera_dirs_[c], frame), tex));
     FVV_RETURN_IF_ERROR(WritePng(TextureMaskPath(s_.save_textures, camera_dirs_[c], frame), mask));
   }
@@ -41,8 +49,9 @@ Status Session::ReadTextures(uint32_t frame, uint32_t slot) {
       }
     }
     for (size_t i = 0; i < texels; ++i) {
-      const bool seen = mask->pixels[i * mask->channels] != 0;
-      span_mask_[plane * texels + i] = seen;
+      const uint8_t m = mask->pixels[i * mask->channels];
+      span_mask_[plane * texels + i] = m != 0 && m != kUsableTexel;
+      if (!span_usable_.empty()) span_usable_[plane * texels + i] = m != 0;
       for (int k = 0; k < 3; ++k) {
         span_rgb_[(plane * texels + i) * 3 + k] =
             tex->channels == 3 ? tex->pixels[i * 3 + k] : tex->pixels[i];

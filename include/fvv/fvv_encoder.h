@@ -62,9 +62,11 @@ typedef enum {
    format versions 1..5, for older decoders (0.1 to 0.4 dB lower at equal bytes). */
 typedef enum { FVV_WEIGHTS_OWN_BAND = 0, FVV_WEIGHTS_AXIS_BANDS = 1 } fvv_band_weights;
 typedef enum { FVV_CHROMA_444 = 0, FVV_CHROMA_420 = 1 } fvv_chroma;
-/* FVV_MASKS_CODED: mask mode 2 (two context models mixed per texel; format version 2).
+/* FVV_MASKS_NONE (the default): no shape masks; players take each camera's visibility from the
+   decoded geometry (depth maps of the posed model), and the encoder fills what they may take.
+   FVV_MASKS_CODED: mask mode 2 (two context models mixed per texel; format version 2).
    FVV_MASKS_CODED_V1: mask mode 1, about 12 % larger, keeps a SPIHT stream at format version 1
-   for older decoders. FVV_MASKS_NONE: no masks (the player blends every camera everywhere). */
+   for older decoders. */
 typedef enum { FVV_MASKS_CODED = 0, FVV_MASKS_NONE = 1, FVV_MASKS_CODED_V1 = 2 } fvv_mask_mode;
 /* FVV_TEXTURE_SPIHT: 4D wavelet + 4D SPIHT per GOP. FVV_TEXTURE_PREDICTIVE: T00 + R0(t) + R(t, c)
    with shape-adaptive BISK (format version 2; needs coded masks and 4:4:4; give it several

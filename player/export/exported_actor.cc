@@ -68,13 +68,10 @@ StatusOr<ExportedActor> GatherActor(fvv_decoder* decoder, const fvv_export_setti
 
   std::unique_ptr<TextureBlend> blend;
   if (with_texture) {
-    std::vector<glm::vec3> centres;
-    for (uint32_t c = 0; c < info.camera_count; ++c) {
-      fvv_camera camera;
-      fvv_decoder_get_camera(decoder, c, &camera);
-      centres.emplace_back(camera.centre[0], camera.centre[1], camera.centre[2]);
-    }
-    blend = std::make_unique<TextureBlend>(model, info.atlas_width, info.atlas_height, centres);
+    std::vector<fvv_camera> cameras(info.camera_count);
+    for (uint32_t c = 0; c < info.camera_count; ++c)
+      fvv_decoder_get_camera(decoder, c, &cameras[c]);
+    blend = std::make_unique<TextureBlend>(model, info.atlas_width, info.atlas_height, cameras);
   }
   fvv_decode_budget budget{};
   if (!with_texture) {  // the motion is all that is needed: one byte of one camera group

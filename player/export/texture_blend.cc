@@ -5,10 +5,70 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
+#include <memory>
 #include <utility>
+
+#include "container/geometric_visibility.h"
 
 namespace fvv {
 namespace {
+
+// A camera's view of the posed surface for streams without masks: its depth
+// map at the size players use, pinhole (lens distortion only moves where
+// things are, not what hides what).
+struct CameraDepth {
+  int width = 0, height = 0;
+  double scale_x = 0, scale_y = 0;  // depth-map texels per image pixel
+  double texel_angle = 0;
+  std::vector<float> depth;
+
+  // Camera-frame position of world point p.
+  static glm::dvec3 ToCamera(const fvv_camera& c, const glm::vec3& p) {
+    glm::dvec3 q;
+    for (int r = 0; r < 3; ++r) {
+      q[r] = c.rotation[3 * r] * p.x + c.rotation[3 * r + 1] * p.y + c.rotation[3 * r + 2] * p.z +
+             c.translation[r];
+    }
+    return q;
+  }
+  // Depth-map pixel of camera-frame point q (z > 0).
+  glm::dvec2 Pixel(const fvv_camera& c, const glm::dvec3& q) const {
+    return {(c.fx * q.x / q.z + c.cx + 0.5) * scale_x - 0.5,
+            (c.fy * q.y / q.z + c.cy + 0.5) * scale_y - 0.5};
+  }
+
+  CameraDepth(const fvv_camera& c, const fvv_model& model, const std::vector<glm::vec3>& posed) {
+    namespace gv = geometric_visibility;
+    gv::DepthMapSize(c.width, c.height, &width, &height);
+    scale_x = double(width) / c.width;
+    scale_y = double(height) / c.height;
+    texel_angle = 1.0 / std::min(c.fx * scale_x, c.fy * scale_y);
+    std::vector<double> px(posed.size() * 2, 0.0);
+    std::vector<float> inv_z(posed.size(), 0.0f);
+    for (size_t v = 0; v < posed.size(); ++v) {
+      const glm::dvec3 q = ToCamera(c, posed[v]);
+      if (!(q.z > 1e-6)) continue;
+      const glm::dvec2 p = Pixel(c, q);
+      px[2 * v] = p.x;
+      px[2 * v + 1] = p.y;
+      inv_z[v] = float(1 / q.z);
+    }
+    depth = RasterizeDepth(model.triangles, model.triangle_count, px.data(), inv_z.data(), width,
+                           height);
+  }
+
+  // Whether the camera sees point p, facing it by `facing`.
+  bool Sees(const fvv_camera& c, const glm::vec3& p, double facing) const {
+    const glm::dvec3 q = ToCamera(c, p);
+    if (!(q.z > 1e-6)) return false;
+    const glm::dvec2 at = Pixel(c, q);
+    const long x = std::lround(at.x), y = std::lround(at.y);
+    if (x < 0 || y < 0 || x >= width || y >= height) return false;
+    return q.z <= depth[size_t(y) * width + x] +
+                      geometric_visibility::DepthAllowance(q.z, facing, texel_angle);
+  }
+};
 
 float Cross2(const glm::vec2& a, const glm::vec2& b) { return a.x * b.y - a.y * b.x; }
 
@@ -29,8 +89,9 @@ glm::vec3 Sample(const std::vector<float>& rgb, int w, int h, float x, float y) 
 }  // namespace
 
 TextureBlend::TextureBlend(const fvv_model& model, uint32_t width, uint32_t height,
-                           std::vector<glm::vec3> centres)
-    : model_(model), width_(width), height_(height), centres_(std::move(centres)) {
+                           std::vector<fvv_camera> cameras)
+    : model_(model), width_(width), height_(height), cameras_(std::move(cameras)) {
+  for (const fvv_camera& c : cameras_) centres_.emplace_back(c.centre[0], c.centre[1], c.centre[2]);
   const size_t texels = size_t(width) * height;
   std::vector<int32_t> owner(texels, -1);
   std::vector<glm::vec3> bary(texels);
@@ -84,6 +145,12 @@ void TextureBlend::Add(const fvv_frame& frame) {
     position[v] = glm::vec3(m * glm::vec4(glm::make_vec3(model_.positions + 3 * size_t(v)), 1));
     normal[v] = glm::mat3(m) * glm::make_vec3(model_.normals + 3 * size_t(v));
   }
+  std::vector<std::unique_ptr<CameraDepth>> depth(frame.camera_count);
+  for (uint32_t c = 0; c < frame.camera_count && c < cameras_.size(); ++c) {
+    if (frame.views[c].pixels && !frame.views[c].mask) {
+      depth[c] = std::make_unique<CameraDepth>(cameras_[c], model_, position);
+    }
+  }
   for (size_t e = 0; e < texel_.size(); ++e) {
     const uint32_t* tri = model_.triangles + 3 * size_t(triangle_[e]);
     const glm::vec3& b = bary_[e];
@@ -95,7 +162,8 @@ void TextureBlend::Add(const fvv_frame& frame) {
       const fvv_view& view = frame.views[c];
       if (!view.pixels || (view.mask && !view.mask[i])) continue;
       const float cosine = glm::dot(nn, glm::normalize(centres_[c] - p));
-      if (!(cosine > 0)) continue;
+      if (!(cosine > geometric_visibility::kMinFacing)) continue;
+      if (depth[c] && !depth[c]->Sees(cameras_[c], p, cosine)) continue;
       const float w = cosine * cosine;
       for (int k = 0; k < 3; ++k) sum_[3 * i + k] += w * view.pixels[3 * i + k];
       weight_[i] += w;

@@ -49,12 +49,14 @@ namespace fvv {
   X(PFNGLFINISHPROC, Finish)                                   \
   X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer) \
   X(PFNGLFRAMEBUFFERTEXTURE2DPROC, FramebufferTexture2D)       \
+  X(PFNGLFRAMEBUFFERTEXTURELAYERPROC, FramebufferTextureLayer) \
   X(PFNGLGENBUFFERSPROC, GenBuffers)                           \
   X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                 \
   X(PFNGLGENRENDERBUFFERSPROC, GenRenderbuffers)               \
   X(PFNGLGENTEXTURESPROC, GenTextures)                         \
   X(PFNGLGENVERTEXARRAYSPROC, GenVertexArrays)                 \
   X(PFNGLGETERRORPROC, GetError)                               \
+  X(PFNGLGETINTEGERVPROC, GetIntegerv)                         \
   X(PFNGLGETPROGRAMINFOLOGPROC, GetProgramInfoLog)             \
   X(PFNGLGETPROGRAMIVPROC, GetProgramiv)                       \
   X(PFNGLGETSHADERINFOLOGPROC, GetShaderInfoLog)               \

@@ -1,11 +1,14 @@
 #include "player/render/renderer.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <glm/gtc/type_ptr.hpp>
 #include <string>
 
+#include "container/geometric_visibility.h"
+#include "player/render/camera_depth_maps.h"
 #include "player/render/shaders.h"
 
 namespace fvv {
@@ -26,8 +29,10 @@ Status Renderer::CheckGl(const char* where) {
 }
 
 StatusOr<std::unique_ptr<Renderer>> Renderer::Create(const GlApi& gl, const fvv_model& model,
-                                                     const std::vector<glm::vec3>& centres,
+                                                     const std::vector<fvv_camera>& cameras,
                                                      uint32_t atlas_width, uint32_t atlas_height) {
+  std::vector<glm::vec3> centres;
+  for (const fvv_camera& c : cameras) centres.emplace_back(c.centre[0], c.centre[1], c.centre[2]);
   if (model.bone_count > kMaxBones) {
     return Unsupported("renderer: " + std::to_string(model.bone_count) + " bones (at most 256)");
   }
@@ -36,6 +41,7 @@ StatusOr<std::unique_ptr<Renderer>> Renderer::Create(const GlApi& gl, const fvv_
   }
   std::unique_ptr<Renderer> r(new Renderer(gl));
   r->cameras_ = static_cast<uint32_t>(centres.size());
+  r->camera_list_ = cameras;
   r->camera_centres_ = centres;
   r->width_ = atlas_width;
   r->height_ = atlas_height;
@@ -93,6 +99,7 @@ StatusOr<std::unique_ptr<Renderer>> Renderer::Create(const GlApi& gl, const fvv_
   g.BindBuffer(GL_UNIFORM_BUFFER, r->bones_ubo_);
   g.BufferData(GL_UNIFORM_BUFFER, kMaxBones * 64, nullptr, GL_DYNAMIC_DRAW);
   g.UniformBlockBinding(r->program_, g.GetUniformBlockIndex(r->program_, "Bones"), 0);
+  g.UniformBlockBinding(r->program_, g.GetUniformBlockIndex(r->program_, "DepthCameras"), 1);
 
   auto make_array = [&](GLuint* tex, GLint internal, GLenum format) {
     g.GenTextures(1, tex);
@@ -156,12 +163,30 @@ Status Renderer::SetFrame(const fvv_frame& frame) {
     }
   }
   actor_centre_ = glm::vec3(frame.bone_world[12], frame.bone_world[13], frame.bone_world[14]);
+  depth_rendered_ = 0;
   has_frame_ = true;
   return CheckGl("frame upload");
 }
 
 Status Renderer::Draw(const RenderView& view, int width, int height) {
   if (!has_frame_) return InvalidArgument("renderer: Draw before SetFrame");
+  // Cameras far round the actor from the viewer weigh next to nothing (at 110
+  // degrees off, under 0.3 % of one 22 degrees off with the default exponent)
+  // but would cost the fragment shader as much as the others: leave them out,
+  // keeping at least the 3 closest.
+  const uint64_t near = ViewCameras(camera_centres_, view.eye, actor_centre_, 110.0f, 3);
+  std::vector<GLint> active(present_);
+  int active_count = 0;
+  uint64_t active_bits = 0;
+  for (uint32_t c = 0; c < cameras_; ++c) {
+    active[c] = active[c] && c < 64 && ((near >> c) & 1);
+    active_count += active[c];
+  }
+  if (active_count == 0) active = present_;  // the view's cameras all left out of the decode
+  for (uint32_t c = 0; c < cameras_ && c < 64; ++c) {
+    if (active[c]) active_bits |= uint64_t{1} << c;
+  }
+  if (!has_masks_) FVV_RETURN_IF_ERROR(RenderDepthMaps(active_bits));
   gl_.Viewport(0, 0, width, height);
   gl_.ClearColor(view.background.r, view.background.g, view.background.b, 1.0f);
   gl_.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -174,30 +199,31 @@ Status Renderer::Draw(const RenderView& view, int width, int height) {
   gl_.Uniform3fv(gl_.GetUniformLocation(program_, "u_cameras"), static_cast<GLsizei>(cameras_),
                  glm::value_ptr(camera_centres_[0]));
   gl_.Uniform1i(gl_.GetUniformLocation(program_, "u_camera_count"), static_cast<GLint>(cameras_));
-  // Cameras far round the actor from the viewer weigh next to nothing (at 110
-  // degrees off, under 0.3 % of one 22 degrees off with the default exponent)
-  // but would cost the fragment shader as much as the others: leave them out,
-  // keeping at least the 3 closest.
-  const uint64_t near = ViewCameras(camera_centres_, view.eye, actor_centre_, 110.0f, 3);
-  std::vector<GLint> active(present_);
-  int active_count = 0;
-  for (uint32_t c = 0; c < cameras_; ++c) {
-    active[c] = active[c] && c < 64 && ((near >> c) & 1);
-    active_count += active[c];
-  }
-  if (active_count == 0) active = present_;  // the view's cameras all left out of the decode
   gl_.Uniform1iv(gl_.GetUniformLocation(program_, "u_present"), static_cast<GLsizei>(cameras_),
                  active.data());
   gl_.Uniform3fv(gl_.GetUniformLocation(program_, "u_eye"), 1, glm::value_ptr(view.eye));
   gl_.Uniform1f(gl_.GetUniformLocation(program_, "u_exponent"), view.exponent);
+  gl_.Uniform1f(gl_.GetUniformLocation(program_, "u_facing_exponent"), view.facing_exponent);
   gl_.Uniform1i(gl_.GetUniformLocation(program_, "u_has_masks"), has_masks_ ? 1 : 0);
   gl_.Uniform1i(gl_.GetUniformLocation(program_, "u_textures"), 0);
   gl_.Uniform1i(gl_.GetUniformLocation(program_, "u_masks"), 1);
+  gl_.Uniform1i(gl_.GetUniformLocation(program_, "u_depth"), 2);
+  namespace gv = geometric_visibility;
+  gl_.Uniform4fv(gl_.GetUniformLocation(program_, "u_visibility_rule"), 1,
+                 glm::value_ptr(glm::vec4(gv::kDepthTolerance, gv::kSlopeTexels, gv::kMinFacing,
+                                          gv::kFullFacing)));
   gl_.ActiveTexture(GL_TEXTURE0);
   gl_.BindTexture(GL_TEXTURE_2D_ARRAY, textures_);
   gl_.ActiveTexture(GL_TEXTURE1);
   gl_.BindTexture(GL_TEXTURE_2D_ARRAY, masks_);
   gl_.BindBufferBase(GL_UNIFORM_BUFFER, 0, bones_ubo_);
+  if (depth_maps_) {
+    depth_maps_->Bind(2, 1);
+  } else {
+    // With masks the shader reads no depth map; its block still needs a
+    // buffer at least as large bound (the bones' 16 KiB are).
+    gl_.BindBufferBase(GL_UNIFORM_BUFFER, 1, bones_ubo_);
+  }
   gl_.BindVertexArray(vao_);
   gl_.DrawElements(GL_TRIANGLES, index_count_, GL_UNSIGNED_INT, nullptr);
   gl_.BindVertexArray(0);
@@ -205,8 +231,39 @@ Status Renderer::Draw(const RenderView& view, int width, int height) {
   return CheckGl("draw");
 }
 
+Status Renderer::RenderDepthMaps(uint64_t cameras) {
+  const uint64_t needed = cameras & ~depth_rendered_;
+  if (!needed) return Status::Ok();
+  if (!depth_maps_) {
+    FVV_ASSIGN_OR_RETURN(depth_maps_, CameraDepthMaps::Create(gl_, camera_list_));
+  }
+  GLint framebuffer = 0;
+  gl_.GetIntegerv(GL_FRAMEBUFFER_BINDING, &framebuffer);
+  const auto t0 = std::chrono::steady_clock::now();
+  FVV_RETURN_IF_ERROR(depth_maps_->Render(vao_, index_count_, bones_ubo_, needed));
+  gl_.Finish();
+  depth_map_ms_ +=
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  for (uint64_t b = needed; b; b &= b - 1) ++depth_map_layers_;
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, GLuint(framebuffer));
+  depth_rendered_ |= needed;
+  return Status::Ok();
+}
+
 Status Renderer::ReadRgb(int width, int height, std::vector<uint8_t>* rgb) {
   return ReadFramebuffer(gl_, width, height, 3, rgb);
+}
+
+std::vector<fvv_camera> DecoderCameras(const fvv_decoder* decoder) {
+  fvv_stream_info info;
+  std::vector<fvv_camera> cameras;
+  if (fvv_decoder_get_info(decoder, &info) != FVV_OK) return cameras;
+  for (uint32_t c = 0; c < info.camera_count; ++c) {
+    fvv_camera cam;
+    if (fvv_decoder_get_camera(decoder, c, &cam) != FVV_OK) return {};
+    cameras.push_back(cam);
+  }
+  return cameras;
 }
 
 std::vector<glm::vec3> CameraCentres(const fvv_decoder* decoder) {

@@ -1,9 +1,12 @@
 // Renderer II: the body model skinned into the decoded pose and textured from
 // every camera's atlas texture, blended per fragment by viewing angle:
-// camera i's weight is its visibility mask at the texel
-// times (1 / (angle(view direction, camera direction) + eps))^exponent,
-// normalised; where no camera saw a texel the best-facing camera fills in.
-// OpenGL 3.3 core; the context (OSMesa or GLFW) belongs to the caller.
+// camera i's weight is its visibility at the texel
+// times (1 / (angle(view direction, camera direction) + eps))^exponent
+// times cos(angle(normal, camera direction))^facing_exponent, normalised; where no camera saw a
+// texel the best-facing camera fills in. The visibility is the stream's mask where it has masks;
+// without, it comes from the geometry: each camera's depth map of the posed model
+// (camera_depth_maps.h), rendered once per frame for the cameras the view
+// blends. OpenGL 3.3 core; the context (OSMesa or GLFW) belongs to the caller.
 #ifndef FVV_PLAYER_RENDER_RENDERER_H_
 #define FVV_PLAYER_RENDER_RENDERER_H_
 
@@ -14,6 +17,7 @@
 
 #include "codec/base/status.h"
 #include "fvv/fvv_decoder.h"
+#include "player/render/camera_depth_maps.h"
 #include "player/render/gl_api.h"
 
 namespace fvv {
@@ -23,6 +27,10 @@ struct RenderView {
   glm::mat4 projection{1.0f};
   glm::vec3 eye{0.0f};
   float exponent = 4.0f;  // higher: the best-aligned camera dominates more
+  // Higher: the cameras facing the surface squarely dominate more (their
+  // samples are the finest and the least displaced where the model misses the
+  // actor); docs/player.md, "Blending".
+  float facing_exponent = 8.0f;
   glm::vec3 background{0.12f, 0.12f, 0.14f};
 };
 
@@ -30,7 +38,7 @@ class Renderer {
  public:
   // Uploads the mesh; the GL context must be current.
   static StatusOr<std::unique_ptr<Renderer>> Create(const GlApi& gl, const fvv_model& model,
-                                                    const std::vector<glm::vec3>& camera_centres,
+                                                    const std::vector<fvv_camera>& cameras,
                                                     uint32_t atlas_width, uint32_t atlas_height);
   ~Renderer();
   Renderer(const Renderer&) = delete;
@@ -40,27 +48,42 @@ class Renderer {
   // decode left out (NULL pixels) take no part in blending.
   Status SetFrame(const fvv_frame& frame);
   Status Draw(const RenderView& view, int width, int height);
+  // Milliseconds the depth maps of the frames drawn so far took (rendered and
+  // finished), and how many camera layers that was; 0 with masks.
+  double depth_map_ms() const { return depth_map_ms_; }
+  uint64_t depth_map_layers() const { return depth_map_layers_; }
+  // The depth maps drawn for the current frame (null before any frame
+  // without masks was drawn).
+  CameraDepthMaps* depth_maps() const { return depth_maps_.get(); }
   // The framebuffer as top-down RGB8.
   Status ReadRgb(int width, int height, std::vector<uint8_t>* rgb);
 
  private:
   explicit Renderer(const GlApi& gl) : gl_(gl) {}
   Status CheckGl(const char* where);
+  // The depth maps of `cameras` (bits) for the current frame, where not yet.
+  Status RenderDepthMaps(uint64_t cameras);
 
   GlApi gl_;
   GLuint program_ = 0, vao_ = 0, vbo_ = 0, ibo_ = 0, bones_ubo_ = 0, textures_ = 0, masks_ = 0;
   GLsizei index_count_ = 0;
   uint32_t cameras_ = 0, width_ = 0, height_ = 0, bones_ = 0;
+  std::vector<fvv_camera> camera_list_;
   std::vector<glm::vec3> camera_centres_;
+  std::unique_ptr<CameraDepthMaps> depth_maps_;  // made on the first frame without masks
+  uint64_t depth_rendered_ = 0;                  // cameras whose map holds the current frame
+  double depth_map_ms_ = 0;
+  uint64_t depth_map_layers_ = 0;
   std::vector<uint8_t> mask_scratch_;
   std::vector<GLint> present_;    // per camera: the current frame carries its texture
   glm::vec3 actor_centre_{0.0f};  // the root joint of the current frame
   bool has_masks_ = false, has_frame_ = false;
 };
 
-// The centres of a ready decoder's cameras (what Renderer::Create and
-// ViewCameras take).
+// The centres of a ready decoder's cameras (what ViewCameras takes).
 std::vector<glm::vec3> CameraCentres(const fvv_decoder* decoder);
+// A ready decoder's cameras (what Renderer::Create takes); empty on error.
+std::vector<fvv_camera> DecoderCameras(const fvv_decoder* decoder);
 
 // The cameras a view blends with real weight: those seeing the actor (at
 // `target`) from within `max_angle_deg` of the viewing direction, and at least

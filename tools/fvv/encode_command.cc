@@ -27,8 +27,8 @@ struct EncodeArgs {
   uint64_t bytes = 0;
   uint32_t atlas = 512, threads = 2;
   uint16_t gop_frames = 8, gop_cameras = 1, key_interval = 1;
-  bool no_masks = false, extract = false, fixed_shape = false, quiet = false, refine_shape = false,
-       no_fallback = false, no_prune = false;
+  bool masks = false, no_masks = false, extract = false, fixed_shape = false, quiet = false,
+       refine_shape = false, no_fallback = false, no_prune = false;
   int margin = 2;
   double smooth = TrackCaptureOptions{}.smoothing.sigma_frames;
   int fill_iterations = FillOptions{}.iterations;
@@ -86,7 +86,8 @@ int RunEncode(const EncodeArgs& a) {
   } else if (a.psnr > 0) {
     s.rate_mode = RateMode::kPsnr, s.rate_value = a.psnr;
   }
-  s.masks = !a.no_masks;
+  // The predictive codec's supports are its masks: it codes them unless told not to.
+  s.masks = a.masks || (s.texture_codec == TextureCodec::kPredictive && !a.no_masks);
   s.mask_coding = MaskCoderFromName(a.mask_coder);
   s.motion_coder = a.motion_coder == "zstd" ? MotionCoder::kZstd : MotionCoder::kArith;
   s.key_interval = a.key_interval;
@@ -199,8 +200,12 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
   AddPruneOption(e, &a->no_prune);
   AddTextureCodecOption(e, &a->texture_codec);
   AddMaskCoderOption(e, &a->mask_coder);
+  auto* masks =
+      e->add_flag("--masks", a->masks, "Code the shape masks (which camera saw which texel)");
   e->add_flag("--no-masks", a->no_masks,
-              "Do not code visibility masks (the player then blends every camera everywhere)");
+              "Code no shape masks: players take each camera's visibility from the decoded "
+              "geometry (depth maps of the posed model)")
+      ->excludes(masks);
   e->add_option("--motion-coder", a->motion_coder, "Motion track entropy coder")
       ->check(CLI::IsMember({"arith", "zstd"}))
       ->capture_default_str();

@@ -36,6 +36,7 @@ struct RenderArgs {
   int camera = -1;     // -1: orbit
   uint32_t sheet = 0;  // > 0: a contact sheet of this many novel views of --first
   float exponent = 4.0f;
+  float facing_exponent = 8.0f;
   std::string renderer = "blend", poses;
   float dominance = 2.0f;
   int expand_px = 3;
@@ -289,6 +290,7 @@ int RunRender(const RenderArgs& a) {
     for (uint32_t i = 0; i < a.sheet; ++i) {
       RenderView view;
       view.exponent = a.exponent;
+      view.facing_exponent = a.facing_exponent;
       const float angle = 6.2831853f * static_cast<float>(i) / static_cast<float>(a.sheet);
       orbit_view(target, angle, 0.2f + 0.6f * static_cast<float>(i % 2), &view);
       s = frames.Draw(view, width, height);
@@ -322,6 +324,7 @@ int RunRender(const RenderArgs& a) {
     if (!s.ok()) return Fail(s.ToString());
     RenderView view;
     view.exponent = a.exponent;
+    view.facing_exponent = a.facing_exponent;
     if (!path.empty()) {
       PathView(path, f, root, aspect, &view);
     } else if (from_camera) {
@@ -433,6 +436,10 @@ void AddRenderCommand(CLI::App* app, int* exit_code) {
                 "Renderer II blend exponent: higher lets the best-aligned camera dominate")
       ->capture_default_str()
       ->check(CLI::Range(0.0f, 64.0f));
+  r->add_option("--facing-exponent", args->facing_exponent,
+                "Renderer II: higher lets the cameras facing the surface squarely dominate")
+      ->check(CLI::Range(0.0f, 64.0f))
+      ->capture_default_str();
   auto* bytes = r->add_option("--bytes", args->bytes,
                               "Renderer II: texture bytes per GOP fragment to decode");
   auto* max_ms =

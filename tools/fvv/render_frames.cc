@@ -78,7 +78,7 @@ class StreamFrames : public FramesDrawnBy<Renderer> {
   Status CreateRenderer(const GlApi& gl) override {
     fvv_model model;
     fvv_decoder_get_model(decoder_.get(), &model);
-    auto r = Renderer::Create(gl, model, CameraCentres(decoder_.get()), info_.atlas_width,
+    auto r = Renderer::Create(gl, model, DecoderCameras(decoder_.get()), info_.atlas_width,
                               info_.atlas_height);
     if (!r.ok()) return r.status();
     renderer_ = std::move(r).value();

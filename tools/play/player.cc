@@ -225,7 +225,7 @@ int RunPlayer(const PlayerOptions& o) {
     centres.emplace_back(cameras[c].centre[0], cameras[c].centre[1], cameras[c].centre[2]);
   }
   StatusOr<std::unique_ptr<Renderer>> renderer = Internal("no GL");
-  if (s.ok()) renderer = Renderer::Create(gl, model, centres, info.atlas_width, info.atlas_height);
+  if (s.ok()) renderer = Renderer::Create(gl, model, cameras, info.atlas_width, info.atlas_height);
   StatusOr<std::unique_ptr<HudOverlay>> hud = Internal("no GL");
   if (s.ok() && renderer.ok()) hud = HudOverlay::Create(gl);
   if (!s.ok() || !renderer.ok() || !hud.ok()) {

@@ -46,7 +46,7 @@ StatusOr<double> HeldOutStreamPsnr(const std::string& stream, const std::string&
   StatusOr<std::unique_ptr<HeadlessContext>> ctx = HeadlessContext::Create(w, h);
   if (!ctx.ok()) return ctx.status();
   StatusOr<std::unique_ptr<Renderer>> r = Renderer::Create(
-      (*ctx)->gl(), model, CameraCentres(dec.get()), info.atlas_width, info.atlas_height);
+      (*ctx)->gl(), model, DecoderCameras(dec.get()), info.atlas_width, info.atlas_height);
   if (!r.ok()) return r.status();
   FramePtr f = DecodeFrame(dec.get(), frame, nullptr);
   if (!f) return Corrupt(fvv_decoder_error(dec.get()));

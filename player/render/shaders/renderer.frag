@@ -4,13 +4,47 @@ in vec3 v_normal;
 in vec2 v_uv;
 uniform sampler2DArray u_textures;
 uniform sampler2DArray u_masks;
+uniform sampler2DArray u_depth;  // without masks: each camera's depth map (camera_depth_maps.h)
 uniform int u_has_masks;
+layout(std140) uniform DepthCameras {
+  mat4 u_world_to_camera[64];
+  vec4 u_projection[64];
+  vec4 u_texel_angle[64];
+};
 uniform vec3 u_cameras[64];
 uniform int u_present[64];  // 0: no texture of this camera, or it cannot weigh in this view
 uniform int u_camera_count;
 uniform vec3 u_eye;
 uniform float u_exponent;
+uniform float u_facing_exponent;
+// container/geometric_visibility.h: kDepthTolerance, kSlopeTexels, kMinFacing, kFullFacing.
+uniform vec4 u_visibility_rule;
 out vec4 o_color;
+
+// Without masks: how much camera i sees this point, from its depth map (the
+// four nearest texels' tests, bilinearly weighted, so outlines are soft).
+float DepthVisibility(int i, float facing) {
+  vec4 p = u_world_to_camera[i] * vec4(v_world, 1.0);
+  if (p.z <= 1e-4) return 0.0;
+  vec4 k = u_projection[i];
+  vec2 uv = vec2(k.x * p.x / p.z + k.z, k.y * p.y / p.z + k.w);
+  if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 0.0;
+  ivec3 size = textureSize(u_depth, 0);
+  // Layer rows run bottom-up (GL); the image's top-down.
+  vec2 at = vec2(uv.x, 1.0 - uv.y) * vec2(size.xy) - 0.5;
+  ivec2 base = ivec2(floor(at));
+  vec2 f = at - vec2(base);
+  float c = clamp(facing, 0.05, 1.0);
+  float slope = sqrt(max(0.0, 1.0 - c * c)) / c;
+  float allowance = u_visibility_rule.x + u_visibility_rule.y * p.z * u_texel_angle[i].x * slope;
+  float v[4];
+  for (int n = 0; n < 4; ++n) {
+    ivec2 q = clamp(base + ivec2(n & 1, n >> 1), ivec2(0), size.xy - 1);
+    v[n] = p.z <= texelFetch(u_depth, ivec3(q, i), 0).r + allowance ? 1.0 : 0.0;
+  }
+  return mix(mix(v[0], v[1], f.x), mix(v[2], v[3], f.x), f.y);
+}
+
 void main() {
   vec3 n = normalize(v_normal);
   vec3 to_eye = normalize(u_eye - v_world);
@@ -22,15 +56,23 @@ void main() {
     if (u_present[i] == 0) continue;
     vec3 to_camera = normalize(u_cameras[i] - v_world);
     float facing = dot(n, to_camera);
-    // Without masks a camera "sees" the surfaces facing it.
-    float seen = u_has_masks != 0 ? texture(u_masks, vec3(v_uv, float(i))).r
-                                  : step(0.0, facing);
+    float seen = 0.0;
+    if (u_has_masks != 0) {
+      seen = texture(u_masks, vec3(v_uv, float(i))).r;
+    } else if (facing > u_visibility_rule.z) {
+      seen = smoothstep(u_visibility_rule.z, u_visibility_rule.w, facing) *
+             DepthVisibility(i, facing);
+    }
     // Most cameras do not see a given texel: only the ones that do (and the
     // best-facing one, the fallback) cost a texture fetch and the weight.
     if (seen > 0.0) {
       vec3 colour = texture(u_textures, vec3(v_uv, float(i))).rgb;
       float angle = acos(clamp(dot(to_eye, to_camera), -1.0, 1.0));
-      float w = seen * pow(1.0 / (angle + 0.02), u_exponent);
+      // Relative to a camera on the viewing ray (angle 0), so that no exponent
+      // overflows; and a camera seeing the surface squarely sampled it more
+      // finely, and is less thrown by where the model misses the actor.
+      float w = seen * pow(0.02 / (angle + 0.02), u_exponent) *
+                pow(max(facing, 1e-3), u_facing_exponent);
       sum += w * colour;
       weight_sum += w;
     }
