@@ -64,6 +64,7 @@ int main(int argc, char** argv) {
   auto renderer = fvv::Renderer::Create(gl, model, fvv::DecoderCameras(dec.get()), info.atlas_width,
                                         info.atlas_height);
   if (!renderer.ok()) return 1;
+  (*renderer)->MeasureDepthMaps(true);
   auto t = Clock::now();
   for (int i = 0; i < 8; ++i) {
     if (!(*renderer)->SetFrame(*frame).ok()) return 1;
@@ -111,6 +112,7 @@ int main(int argc, char** argv) {
     fvv::RenderView front = view_at(0);
     auto fresh = fvv::Renderer::Create(gl, model, fvv::DecoderCameras(dec.get()), info.atlas_width,
                                        info.atlas_height);
+    if (fresh.ok()) (*fresh)->MeasureDepthMaps(true);
     if (!fresh.ok() || !(*fresh)->SetFrame(*frame).ok() ||
         !(*fresh)->Draw(front, width, height).ok()) {
       return 1;

@@ -43,7 +43,7 @@ ViewScore Score(const std::vector<uint8_t>& rgb, const Image& truth, const Image
 
 // Renderer II's view of `frames` frames of `stream` from `camera`.
 void RenderStream(const std::string& stream, const Camera& camera, uint32_t frames,
-                  std::vector<std::vector<uint8_t>>* renders, double* depth_ms = nullptr) {
+                  std::vector<std::vector<uint8_t>>* renders, uint64_t* depth_layers = nullptr) {
   DecoderPtr dec = MakeDecoder();
   ASSERT_EQ(fvv_decoder_open_file(dec.get(), stream.c_str()), FVV_OK);
   fvv_stream_info info;
@@ -69,7 +69,7 @@ void RenderStream(const std::string& stream, const Camera& camera, uint32_t fram
     ASSERT_TRUE((*renderer)->ReadRgb(w, h, &rgb).ok());
     renders->push_back(std::move(rgb));
   }
-  if (depth_ms) *depth_ms = (*renderer)->depth_map_ms();
+  if (depth_layers) *depth_layers = (*renderer)->depth_map_layers();
 }
 
 TEST(NovelView, HeldOutCameraRenderMatchesTheGeneratorsTruth) {
@@ -214,9 +214,9 @@ TEST(NovelView, StreamWithoutMasksRendersTheHeldOutViewAsWell) {
     auto sum = EncodeCapture(dir + "/cap", stream, s);
     ASSERT_TRUE(sum.ok()) << sum.status().ToString();
     EXPECT_EQ(sum->mask_bytes > 0, masks);
-    double depth_ms = 0;
-    RenderStream(stream, calibration, 3, masks ? &masked : &unmasked, &depth_ms);
-    EXPECT_EQ(depth_ms > 0, !masks);  // depth maps only where there are no masks
+    uint64_t depth_layers = 0;
+    RenderStream(stream, calibration, 3, masks ? &masked : &unmasked, &depth_layers);
+    EXPECT_EQ(depth_layers > 0, !masks);  // depth maps only where there are no masks
   }
   ASSERT_EQ(masked.size(), 3u);
   ASSERT_EQ(unmasked.size(), 3u);

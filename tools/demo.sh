@@ -31,7 +31,7 @@ echo "== marker-free motion capture: silhouettes, initialisation, tracking; erro
 mkdir -p "$out/track_overlays"
 $fvv track "$out/capture" -o "$out/poses.json" --truth "$out/capture" --overlays "$out/track_overlays" -q |
   tee "$out/track.txt"
-echo "== encode: atlas, resampling of every camera into it, 4D-SPIHT textures (8-frame GOPs per camera), masks, motion"
+echo "== encode: atlas, resampling of every camera into it, 4D-SPIHT textures (8-frame GOPs per camera), motion (no masks: players take visibility from the geometry)"
 $fvv encode "$out/capture" -o "$out/capture.fvv" --poses "$out/poses.json" \
   --save-textures "$out/textures" --summary-json "$out/encode_summary.json" -q
 $fvv info "$out/capture.fvv"

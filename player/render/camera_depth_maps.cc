@@ -63,10 +63,15 @@ StatusOr<std::unique_ptr<CameraDepthMaps>> CameraDepthMaps::Create(
 
   const GlApi& g = d->gl_;
   StatusOr<GLuint> program =
-      BuildProgram(g, kSkinningVertexShader, shaders::kCameraDepthFrag, "camera depth maps");
+      BuildProgram(g, shaders::kCameraDepthVert, shaders::kCameraDepthFrag, "camera depth maps");
   if (!program.ok()) return program.status();
   d->program_ = *program;
-  g.UniformBlockBinding(d->program_, g.GetUniformBlockIndex(d->program_, "Bones"), 0);
+  program = BuildProgram(g, kSkinningVertexShader, nullptr, "skinning for depth maps", "v_world");
+  if (!program.ok()) return program.status();
+  d->skin_program_ = *program;
+  g.UniformBlockBinding(d->skin_program_, g.GetUniformBlockIndex(d->skin_program_, "Bones"), 0);
+  g.GenBuffers(1, &d->skinned_);
+  g.GenVertexArrays(1, &d->skinned_vao_);
 
   g.GenTextures(1, &d->texture_);
   g.BindTexture(GL_TEXTURE_2D_ARRAY, d->texture_);
@@ -103,19 +108,43 @@ CameraDepthMaps::~CameraDepthMaps() {
   if (depth_) gl_.DeleteRenderbuffers(1, &depth_);
   if (texture_) gl_.DeleteTextures(1, &texture_);
   if (block_) gl_.DeleteBuffers(1, &block_);
+  if (skinned_) gl_.DeleteBuffers(1, &skinned_);
+  if (skinned_vao_) gl_.DeleteVertexArrays(1, &skinned_vao_);
   if (program_) gl_.DeleteProgram(program_);
+  if (skin_program_) gl_.DeleteProgram(skin_program_);
 }
 
-Status CameraDepthMaps::Render(GLuint vao, GLsizei index_count, GLuint bones_ubo,
-                               uint64_t cameras) {
+Status CameraDepthMaps::Render(GLuint vao, GLsizei vertex_count, GLuint ibo, GLsizei index_count,
+                               GLuint bones_ubo, uint64_t cameras) {
   const GlApi& g = gl_;
+  if (vertex_count != skinned_vertices_) {  // the first frame: the buffer and its VAO
+    g.BindBuffer(GL_ARRAY_BUFFER, skinned_);
+    g.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertex_count) * 12, nullptr, GL_DYNAMIC_COPY);
+    g.BindVertexArray(skinned_vao_);
+    g.EnableVertexAttribArray(0);
+    g.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 12, nullptr);
+    g.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo);
+    g.BindVertexArray(0);
+    skinned_vertices_ = vertex_count;
+  }
+  // Skin every vertex once, into `skinned_`.
+  g.UseProgram(skin_program_);
+  g.Uniform1i(g.GetUniformLocation(skin_program_, "u_skinned"), 1);
+  g.BindBufferBase(GL_UNIFORM_BUFFER, 0, bones_ubo);
+  g.BindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, skinned_);
+  g.BindVertexArray(vao);
+  g.Enable(GL_RASTERIZER_DISCARD);
+  g.BeginTransformFeedback(GL_POINTS);
+  g.DrawArrays(GL_POINTS, 0, vertex_count);
+  g.EndTransformFeedback();
+  g.Disable(GL_RASTERIZER_DISCARD);
+  g.BindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, 0);
+  // Each camera's pass draws the skinned vertices.
   g.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
   g.Viewport(0, 0, width_, height_);
   g.UseProgram(program_);
-  g.Uniform1i(g.GetUniformLocation(program_, "u_skinned"), 1);
   const GLint view_proj = g.GetUniformLocation(program_, "u_view_proj");
-  g.BindBufferBase(GL_UNIFORM_BUFFER, 0, bones_ubo);
-  g.BindVertexArray(vao);
+  g.BindVertexArray(skinned_vao_);
   g.Enable(GL_DEPTH_TEST);
   g.DepthFunc(GL_LESS);
   g.DepthMask(GL_TRUE);

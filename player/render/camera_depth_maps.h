@@ -32,11 +32,15 @@ class CameraDepthMaps {
   CameraDepthMaps(const CameraDepthMaps&) = delete;
   CameraDepthMaps& operator=(const CameraDepthMaps&) = delete;
 
-  // Draws the skinned mesh bound in `vao` (the skinning shader's attributes,
-  // `index_count` indices, its bones in uniform buffer `bones_ubo`) into the
-  // layer of every camera whose bit `cameras` sets. Leaves the default
-  // framebuffer bound and the viewport to the caller.
-  Status Render(GLuint vao, GLsizei index_count, GLuint bones_ubo, uint64_t cameras);
+  // Draws the mesh bound in `vao` (the skinning shader's attributes for
+  // `vertex_count` vertices, triangles in index buffer `ibo` of `index_count`
+  // indices, its bones in uniform buffer `bones_ubo`) into the layer of every
+  // camera whose bit `cameras` sets. The mesh is skinned once for all of them
+  // (transform feedback), since skinning is most of a pass's cost on a
+  // software renderer. Leaves the default framebuffer bound and the viewport
+  // to the caller.
+  Status Render(GLuint vao, GLsizei vertex_count, GLuint ibo, GLsizei index_count, GLuint bones_ubo,
+                uint64_t cameras);
   // Binds the texture array to texture unit `unit` and the block to uniform
   // buffer binding `binding`.
   void Bind(GLint unit, GLuint binding) const;
@@ -53,7 +57,9 @@ class CameraDepthMaps {
   std::vector<fvv_camera> cameras_;
   std::vector<float> view_proj_;  // per camera, column-major mat4
   int width_ = 0, height_ = 0;
-  GLuint program_ = 0, texture_ = 0, framebuffer_ = 0, depth_ = 0, block_ = 0;
+  GLuint program_ = 0, skin_program_ = 0, texture_ = 0, framebuffer_ = 0, depth_ = 0, block_ = 0;
+  GLuint skinned_ = 0, skinned_vao_ = 0;  // the posed vertices, and a VAO drawing them
+  GLsizei skinned_vertices_ = 0;
 };
 
 }  // namespace fvv

@@ -40,7 +40,8 @@ Status CheckBuilt(GLuint object, GLenum status, PFNGLGETSHADERIVPROC get_iv,
 }  // namespace
 
 StatusOr<GLuint> BuildProgram(const GlApi& g, const char* vertex_source,
-                              const char* fragment_source, const std::string& what) {
+                              const char* fragment_source, const std::string& what,
+                              const char* feedback) {
   auto compile = [&](GLenum type, const char* src, GLuint* out) -> Status {
     const GLuint s = g.CreateShader(type);
     g.ShaderSource(s, 1, &src, nullptr);
@@ -52,17 +53,18 @@ StatusOr<GLuint> BuildProgram(const GlApi& g, const char* vertex_source,
   };
   GLuint vs = 0, fs = 0;
   FVV_RETURN_IF_ERROR(compile(GL_VERTEX_SHADER, vertex_source, &vs));
-  Status s = compile(GL_FRAGMENT_SHADER, fragment_source, &fs);
+  Status s = fragment_source ? compile(GL_FRAGMENT_SHADER, fragment_source, &fs) : Status::Ok();
   if (!s.ok()) {
     g.DeleteShader(vs);
     return s;
   }
   const GLuint program = g.CreateProgram();
   g.AttachShader(program, vs);
-  g.AttachShader(program, fs);
+  if (fs) g.AttachShader(program, fs);
+  if (feedback) g.TransformFeedbackVaryings(program, 1, &feedback, GL_INTERLEAVED_ATTRIBS);
   g.LinkProgram(program);
   g.DeleteShader(vs);
-  g.DeleteShader(fs);
+  if (fs) g.DeleteShader(fs);
   FVV_RETURN_IF_ERROR(CheckBuilt(program, GL_LINK_STATUS, g.GetProgramiv, g.GetProgramInfoLog,
                                  g.DeleteProgram, what + ": program does not link: "));
   return program;

@@ -93,6 +93,7 @@ StatusOr<std::unique_ptr<Renderer>> Renderer::Create(const GlApi& gl, const fvv_
                static_cast<GLsizeiptr>(model.triangle_count * 3 * sizeof(uint32_t)),
                model.triangles, GL_STATIC_DRAW);
   r->index_count_ = static_cast<GLsizei>(model.triangle_count * 3);
+  r->vertex_count_ = model.vertex_count;
   g.BindVertexArray(0);
 
   g.GenBuffers(1, &r->bones_ubo_);
@@ -240,10 +241,13 @@ Status Renderer::RenderDepthMaps(uint64_t cameras) {
   GLint framebuffer = 0;
   gl_.GetIntegerv(GL_FRAMEBUFFER_BINDING, &framebuffer);
   const auto t0 = std::chrono::steady_clock::now();
-  FVV_RETURN_IF_ERROR(depth_maps_->Render(vao_, index_count_, bones_ubo_, needed));
-  gl_.Finish();
-  depth_map_ms_ +=
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  FVV_RETURN_IF_ERROR(
+      depth_maps_->Render(vao_, GLsizei(vertex_count_), ibo_, index_count_, bones_ubo_, needed));
+  if (measure_depth_maps_) {
+    gl_.Finish();
+    depth_map_ms_ +=
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  }
   for (uint64_t b = needed; b; b &= b - 1) ++depth_map_layers_;
   gl_.BindFramebuffer(GL_FRAMEBUFFER, GLuint(framebuffer));
   depth_rendered_ |= needed;

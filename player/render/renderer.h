@@ -48,9 +48,12 @@ class Renderer {
   // decode left out (NULL pixels) take no part in blending.
   Status SetFrame(const fvv_frame& frame);
   Status Draw(const RenderView& view, int width, int height);
-  // Milliseconds the depth maps of the frames drawn so far took (rendered and
-  // finished), and how many camera layers that was; 0 with masks.
+  // With `on`, each frame's depth maps are waited for (glFinish) and timed:
+  // depth_map_ms() is then the milliseconds they took so far. Off by default,
+  // so that a player's CPU does not wait for the GPU.
+  void MeasureDepthMaps(bool on) { measure_depth_maps_ = on; }
   double depth_map_ms() const { return depth_map_ms_; }
+  // How many camera layers of depth maps were drawn so far; 0 with masks.
   uint64_t depth_map_layers() const { return depth_map_layers_; }
   // The depth maps drawn for the current frame (null before any frame
   // without masks was drawn).
@@ -67,6 +70,7 @@ class Renderer {
   GlApi gl_;
   GLuint program_ = 0, vao_ = 0, vbo_ = 0, ibo_ = 0, bones_ubo_ = 0, textures_ = 0, masks_ = 0;
   GLsizei index_count_ = 0;
+  uint32_t vertex_count_ = 0;
   uint32_t cameras_ = 0, width_ = 0, height_ = 0, bones_ = 0;
   std::vector<fvv_camera> camera_list_;
   std::vector<glm::vec3> camera_centres_;
@@ -77,7 +81,7 @@ class Renderer {
   std::vector<uint8_t> mask_scratch_;
   std::vector<GLint> present_;    // per camera: the current frame carries its texture
   glm::vec3 actor_centre_{0.0f};  // the root joint of the current frame
-  bool has_masks_ = false, has_frame_ = false;
+  bool has_masks_ = false, has_frame_ = false, measure_depth_maps_ = false;
 };
 
 // The centres of a ready decoder's cameras (what ViewCameras takes).
