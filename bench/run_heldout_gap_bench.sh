@@ -22,28 +22,7 @@ last=$((frames - 1))
 held=$work/cap/truth/heldout
 
 # PSNR of DIR/render_fNNNNN.png against the held-out truth of camera K.
-score() {
-  /usr/bin/python3 - "$1" "$held" "$2" "$last" <<'PY'
-import subprocess, sys
-import numpy as np
-renders, held, k, last = sys.argv[1], sys.argv[2], int(sys.argv[3]), int(sys.argv[4])
-def rgb(path):
-    out = subprocess.run(["ffmpeg", "-v", "error", "-i", path, "-f", "rawvideo", "-pix_fmt",
-                          "rgb24", "-"], capture_output=True, check=True).stdout
-    return np.frombuffer(out, np.uint8).astype(float)
-sq = n = 0.0
-for f in range(last + 1):
-    a = rgb(f"{renders}/render_f{f:05d}.png")
-    b = rgb(f"{held}/held0{k}/{f:06d}.png")
-    m = rgb(f"{held}/silhouettes/held0{k}/{f:06d}.png")
-    inside = np.repeat((m.reshape(-1, 3)[:, 0] > 127), 3) if m.size == a.size else \
-        np.repeat(m > 127, 3)
-    d = (a - b)[inside]
-    sq += (d * d).sum()
-    n += d.size
-print(f"{10 * np.log10(255 ** 2 / (sq / n)):.2f}")
-PY
-}
+score() { bench/heldout_score.py "$1" "$held" "$2" "$last" | cut -d' ' -f1; }
 
 row() {  # name, then a render command's arguments before --cameras-from
   local name=$1
