@@ -92,6 +92,10 @@ struct EncodeSettings {
   // "Pruning"). Decoders see an ordinary stream. A PSNR target does not
   // prune: its gain is smaller than the PSNR search's tolerance.
   bool prune_isolated = true;
+  // The texels a PSNR target counts, where they are fewer than the ones the
+  // mask has coded (e.g. what the cameras saw, of what a player may show);
+  // null: the mask's. Encoder side only.
+  const UsedMask* psnr_mask = nullptr;
   ParallelRunner runner = SerialRunner;
 };
 

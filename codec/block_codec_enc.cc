@@ -206,6 +206,10 @@ StatusOr<EncodedBlock> EncodeBlock(const Block& block, const UsedMask* mask,
   if (mask && mask->size() != block.shape().count())
     return InvalidArgument("mask has " + std::to_string(mask->size()) + " entries, block has " +
                            std::to_string(block.shape().count()) + " texels");
+  if (settings.psnr_mask && settings.psnr_mask->size() != block.shape().count())
+    return InvalidArgument("the PSNR mask has " + std::to_string(settings.psnr_mask->size()) +
+                           " entries, block has " + std::to_string(block.shape().count()) +
+                           " texels");
   if (settings.rate_mode == RateMode::kLossless &&
       (settings.kernel == WaveletKernel::kCdf97 || block.colour != ColourSpace::kRct ||
        block.chroma != ChromaFormat::k444))
@@ -351,7 +355,9 @@ StatusOr<EncodedBlock> EncodeBlock(const Block& block, const UsedMask* mask,
       auto dec = DecodeBlock(*cut, DecodeBudget{}, settings.runner);
       if (!dec.ok()) return 0.0;
       trial_decoded = std::move(*dec);
-      return PsnrFromMse(WeightedMse(block, trial_decoded, mask, settings.channel_weights));
+      return PsnrFromMse(WeightedMse(block, trial_decoded,
+                                     settings.psnr_mask ? settings.psnr_mask : mask,
+                                     settings.channel_weights));
     };
     // First guess: the transform-domain estimate, whose error spreads over all
     // texels while the target counts the used ones.

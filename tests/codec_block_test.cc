@@ -70,6 +70,35 @@ TEST(RateControl, PsnrTargetIsReachedWithoutLargeOvershoot) {
   }
 }
 
+// A PSNR target over fewer texels than the mask codes (what the cameras saw,
+// of what a player of a stream without masks may show): reached over those,
+// with fewer bytes than the same target over the whole mask.
+TEST(RateControl, PsnrTargetCountsItsOwnTexels) {
+  const Shape4D shape{{2, 2, 40, 40}};
+  Block block = SmoothBlock(shape, ColourSpace::kYCbCr601, 9);
+  UsedMask coded(shape.count(), 1), counted(shape.count(), 0);
+  std::mt19937 rng(3);
+  for (size_t i = 0; i < counted.size(); ++i) {
+    counted[i] = (i % 40) < 20;
+    if (!counted[i]) block.channels[0].samples[i] = static_cast<int32_t>(rng() % 256);
+  }
+  EncodeSettings s;
+  s.rate_mode = RateMode::kPsnr;
+  s.rate_value = 34;
+  auto whole = EncodeBlock(block, &coded, s);
+  s.psnr_mask = &counted;
+  auto part = EncodeBlock(block, &coded, s);
+  ASSERT_TRUE(whole.ok() && part.ok());
+  const double over_part = WeightedPsnr(block, *DecodeBlock(*part, {}, SerialRunner), &counted);
+  EXPECT_GE(over_part, 34.0);
+  EXPECT_LT(over_part, 36.0);
+  EXPECT_GE(WeightedPsnr(block, *DecodeBlock(*whole, {}, SerialRunner), &coded), 34.0);
+  EXPECT_LT(part->total_bytes(), whole->total_bytes());
+  UsedMask wrong(3, 1);
+  s.psnr_mask = &wrong;
+  EXPECT_FALSE(EncodeBlock(block, &coded, s).ok());
+}
+
 TEST(RateControl, ChromaGetsFewerBytesThanLuma) {
   const Block block = SmoothBlock(Shape4D{{1, 1, 64, 64}}, ColourSpace::kYCbCr601, 5);
   Block grey_chroma = block;

@@ -66,6 +66,8 @@ Status Session::CodeSpan(uint32_t frames) {
     es.rate_value = s_.rate_value;
     es.fill = s_.fill;
     es.prune_isolated = s_.prune_isolated;
+    // A PSNR target is over what the cameras saw, masks or not.
+    if (!span_usable_.empty()) es.psnr_mask = &seen;
     es.runner = pool_.runner();
     Block decoded;
     EncodeReport report;
