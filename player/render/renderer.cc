@@ -48,9 +48,19 @@ StatusOr<std::unique_ptr<Renderer>> Renderer::Create(const GlApi& gl, const fvv_
   r->bones_ = model.bone_count;
   const GlApi& g = r->gl_;
 
+  // One program per visibility source: a software renderer pays for a branch
+  // it never takes (the depth lookups cost a masked stream a third of its
+  // draw on OSMesa).
+  const std::string source = kFragmentShader;
+  const size_t body = source.find('\n') + 1;  // after #version
+  const std::string depth_source =
+      source.substr(0, body) + "#define FVV_DEPTH_VISIBILITY 1\n" + source.substr(body);
   StatusOr<GLuint> program = BuildProgram(g, kSkinningVertexShader, kFragmentShader, "renderer");
   if (!program.ok()) return program.status();
   r->program_ = *program;
+  program = BuildProgram(g, kSkinningVertexShader, depth_source.c_str(), "renderer (depth maps)");
+  if (!program.ok()) return program.status();
+  r->depth_program_ = *program;
 
   // Interleaved vertices: position 3, normal 3, uv 2, weights 4 floats; joints separately.
   struct Vertex {
@@ -100,7 +110,9 @@ StatusOr<std::unique_ptr<Renderer>> Renderer::Create(const GlApi& gl, const fvv_
   g.BindBuffer(GL_UNIFORM_BUFFER, r->bones_ubo_);
   g.BufferData(GL_UNIFORM_BUFFER, kMaxBones * 64, nullptr, GL_DYNAMIC_DRAW);
   g.UniformBlockBinding(r->program_, g.GetUniformBlockIndex(r->program_, "Bones"), 0);
-  g.UniformBlockBinding(r->program_, g.GetUniformBlockIndex(r->program_, "DepthCameras"), 1);
+  g.UniformBlockBinding(r->depth_program_, g.GetUniformBlockIndex(r->depth_program_, "Bones"), 0);
+  g.UniformBlockBinding(r->depth_program_,
+                        g.GetUniformBlockIndex(r->depth_program_, "DepthCameras"), 1);
 
   auto make_array = [&](GLuint* tex, GLint internal, GLenum format) {
     g.GenTextures(1, tex);
@@ -127,6 +139,7 @@ Renderer::~Renderer() {
   if (ibo_) gl_.DeleteBuffers(1, &ibo_);
   if (vao_) gl_.DeleteVertexArrays(1, &vao_);
   if (program_) gl_.DeleteProgram(program_);
+  if (depth_program_) gl_.DeleteProgram(depth_program_);
 }
 
 Status Renderer::SetFrame(const fvv_frame& frame) {
@@ -192,25 +205,25 @@ Status Renderer::Draw(const RenderView& view, int width, int height) {
   gl_.ClearColor(view.background.r, view.background.g, view.background.b, 1.0f);
   gl_.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   gl_.Enable(GL_DEPTH_TEST);
-  gl_.UseProgram(program_);
+  const GLuint program = has_masks_ ? program_ : depth_program_;
+  gl_.UseProgram(program);
   const glm::mat4 view_proj = view.projection * view.view;
-  gl_.Uniform1i(gl_.GetUniformLocation(program_, "u_skinned"), 1);
-  gl_.UniformMatrix4fv(gl_.GetUniformLocation(program_, "u_view_proj"), 1, GL_FALSE,
+  gl_.Uniform1i(gl_.GetUniformLocation(program, "u_skinned"), 1);
+  gl_.UniformMatrix4fv(gl_.GetUniformLocation(program, "u_view_proj"), 1, GL_FALSE,
                        glm::value_ptr(view_proj));
-  gl_.Uniform3fv(gl_.GetUniformLocation(program_, "u_cameras"), static_cast<GLsizei>(cameras_),
+  gl_.Uniform3fv(gl_.GetUniformLocation(program, "u_cameras"), static_cast<GLsizei>(cameras_),
                  glm::value_ptr(camera_centres_[0]));
-  gl_.Uniform1i(gl_.GetUniformLocation(program_, "u_camera_count"), static_cast<GLint>(cameras_));
-  gl_.Uniform1iv(gl_.GetUniformLocation(program_, "u_present"), static_cast<GLsizei>(cameras_),
+  gl_.Uniform1i(gl_.GetUniformLocation(program, "u_camera_count"), static_cast<GLint>(cameras_));
+  gl_.Uniform1iv(gl_.GetUniformLocation(program, "u_present"), static_cast<GLsizei>(cameras_),
                  active.data());
-  gl_.Uniform3fv(gl_.GetUniformLocation(program_, "u_eye"), 1, glm::value_ptr(view.eye));
-  gl_.Uniform1f(gl_.GetUniformLocation(program_, "u_exponent"), view.exponent);
-  gl_.Uniform1f(gl_.GetUniformLocation(program_, "u_facing_exponent"), view.facing_exponent);
-  gl_.Uniform1i(gl_.GetUniformLocation(program_, "u_has_masks"), has_masks_ ? 1 : 0);
-  gl_.Uniform1i(gl_.GetUniformLocation(program_, "u_textures"), 0);
-  gl_.Uniform1i(gl_.GetUniformLocation(program_, "u_masks"), 1);
-  gl_.Uniform1i(gl_.GetUniformLocation(program_, "u_depth"), 2);
+  gl_.Uniform3fv(gl_.GetUniformLocation(program, "u_eye"), 1, glm::value_ptr(view.eye));
+  gl_.Uniform1f(gl_.GetUniformLocation(program, "u_exponent"), view.exponent);
+  gl_.Uniform1f(gl_.GetUniformLocation(program, "u_facing_exponent"), view.facing_exponent);
+  gl_.Uniform1i(gl_.GetUniformLocation(program, "u_textures"), 0);
+  gl_.Uniform1i(gl_.GetUniformLocation(program, "u_masks"), 1);
+  gl_.Uniform1i(gl_.GetUniformLocation(program, "u_depth"), 2);
   namespace gv = geometric_visibility;
-  gl_.Uniform4fv(gl_.GetUniformLocation(program_, "u_visibility_rule"), 1,
+  gl_.Uniform4fv(gl_.GetUniformLocation(program, "u_visibility_rule"), 1,
                  glm::value_ptr(glm::vec4(gv::kDepthTolerance, gv::kSlopeTexels, gv::kMinFacing,
                                           gv::kFullFacing)));
   gl_.ActiveTexture(GL_TEXTURE0);
@@ -218,13 +231,7 @@ Status Renderer::Draw(const RenderView& view, int width, int height) {
   gl_.ActiveTexture(GL_TEXTURE1);
   gl_.BindTexture(GL_TEXTURE_2D_ARRAY, masks_);
   gl_.BindBufferBase(GL_UNIFORM_BUFFER, 0, bones_ubo_);
-  if (depth_maps_) {
-    depth_maps_->Bind(2, 1);
-  } else {
-    // With masks the shader reads no depth map; its block still needs a
-    // buffer at least as large bound (the bones' 16 KiB are).
-    gl_.BindBufferBase(GL_UNIFORM_BUFFER, 1, bones_ubo_);
-  }
+  if (!has_masks_) depth_maps_->Bind(2, 1);
   gl_.BindVertexArray(vao_);
   gl_.DrawElements(GL_TRIANGLES, index_count_, GL_UNSIGNED_INT, nullptr);
   gl_.BindVertexArray(0);

@@ -68,7 +68,8 @@ class Renderer {
   Status RenderDepthMaps(uint64_t cameras);
 
   GlApi gl_;
-  GLuint program_ = 0, vao_ = 0, vbo_ = 0, ibo_ = 0, bones_ubo_ = 0, textures_ = 0, masks_ = 0;
+  GLuint program_ = 0, depth_program_ = 0, vao_ = 0, vbo_ = 0, ibo_ = 0, bones_ubo_ = 0,
+         textures_ = 0, masks_ = 0;
   GLsizei index_count_ = 0;
   uint32_t vertex_count_ = 0;
   uint32_t cameras_ = 0, width_ = 0, height_ = 0, bones_ = 0;

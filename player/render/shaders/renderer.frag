@@ -4,13 +4,17 @@ in vec3 v_normal;
 in vec2 v_uv;
 uniform sampler2DArray u_textures;
 uniform sampler2DArray u_masks;
-uniform sampler2DArray u_depth;  // without masks: each camera's depth map (camera_depth_maps.h)
-uniform int u_has_masks;
+// Built twice: with FVV_DEPTH_VISIBILITY (streams without masks) each camera's
+// visibility comes from its depth map (camera_depth_maps.h), else from the
+// stream's masks.
+#ifdef FVV_DEPTH_VISIBILITY
+uniform sampler2DArray u_depth;
 layout(std140) uniform DepthCameras {
   mat4 u_world_to_camera[64];
   vec4 u_projection[64];
   vec4 u_texel_angle[64];
 };
+#endif
 uniform vec3 u_cameras[64];
 uniform int u_present[64];  // 0: no texture of this camera, or it cannot weigh in this view
 uniform int u_camera_count;
@@ -21,6 +25,7 @@ uniform float u_facing_exponent;
 uniform vec4 u_visibility_rule;
 out vec4 o_color;
 
+#ifdef FVV_DEPTH_VISIBILITY
 // Without masks: how much camera i sees this point, from its depth map (the
 // four nearest texels' tests, bilinearly weighted, so outlines are soft).
 float DepthVisibility(int i, float facing) {
@@ -44,6 +49,7 @@ float DepthVisibility(int i, float facing) {
   }
   return mix(mix(v[0], v[1], f.x), mix(v[2], v[3], f.x), f.y);
 }
+#endif
 
 void main() {
   vec3 n = normalize(v_normal);
@@ -56,13 +62,14 @@ void main() {
     if (u_present[i] == 0) continue;
     vec3 to_camera = normalize(u_cameras[i] - v_world);
     float facing = dot(n, to_camera);
-    float seen = 0.0;
-    if (u_has_masks != 0) {
-      seen = texture(u_masks, vec3(v_uv, float(i))).r;
-    } else if (facing > u_visibility_rule.z) {
-      seen = smoothstep(u_visibility_rule.z, u_visibility_rule.w, facing) *
-             DepthVisibility(i, facing);
-    }
+#ifdef FVV_DEPTH_VISIBILITY
+    float seen = facing > u_visibility_rule.z
+                     ? smoothstep(u_visibility_rule.z, u_visibility_rule.w, facing) *
+                           DepthVisibility(i, facing)
+                     : 0.0;
+#else
+    float seen = texture(u_masks, vec3(v_uv, float(i))).r;
+#endif
     // Most cameras do not see a given texel: only the ones that do (and the
     // best-facing one, the fallback) cost a texture fetch and the weight.
     if (seen > 0.0) {
