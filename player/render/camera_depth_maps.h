@@ -36,9 +36,8 @@ class CameraDepthMaps {
   // `vertex_count` vertices, triangles in index buffer `ibo` of `index_count`
   // indices, its bones in uniform buffer `bones_ubo`) into the layer of every
   // camera whose bit `cameras` sets. The mesh is skinned once for all of them
-  // (transform feedback), since skinning is most of a pass's cost on a
-  // software renderer. Leaves the default framebuffer bound and the viewport
-  // to the caller.
+  // (transform feedback), not in every camera's pass. Leaves the default
+  // framebuffer bound and the viewport to the caller.
   Status Render(GLuint vao, GLsizei vertex_count, GLuint ibo, GLsizei index_count, GLuint bones_ubo,
                 uint64_t cameras);
   // Binds the texture array to texture unit `unit` and the block to uniform
