@@ -351,6 +351,28 @@ std::string FramePath(const Capture& capture, const FrameSource& source, uint32_
   return Join(capture.directory, name);
 }
 
+Status CheckVideoFrames(const Capture& capture, uint32_t last) {
+  for (const CaptureCamera& cam : capture.cameras) {
+    std::vector<const FrameSource*> sources = {&cam.frames};
+    if (cam.silhouettes) sources.push_back(&*cam.silhouettes);
+    for (const FrameSource* s : sources) {
+      if (s->kind != FrameSource::Kind::kVideo) continue;
+      const std::string path = FramePath(capture, *s, 0);
+      StatusOr<VideoInfo> info = ProbeVideo(path);
+      const std::string label = "camera \"" + cam.calibration.name + "\"";
+      if (!info.ok()) return Status(info.status().code(), label + ": " + info.status().message());
+      const uint64_t wanted = uint64_t(s->first) + last;
+      if (info->frames > 0 && wanted >= info->frames) {
+        return IoError(label + ": video " + path + ": no frame " + std::to_string(info->frames) +
+                       " (its container says it holds " + std::to_string(info->frames) +
+                       " frames; the work asked for reads up to its frame " +
+                       std::to_string(wanted) + ")");
+      }
+    }
+  }
+  return Status::Ok();
+}
+
 struct CaptureReader::Video {
   std::unique_ptr<VideoReader> frames, silhouettes;
 };

@@ -63,6 +63,12 @@ std::string CaptureToJson(const Capture& capture);
 // Writes DIR/capture.json atomically.
 Status SaveCapture(const Capture& capture);
 
+// Whether every video the capture reads (frames and silhouettes) holds the
+// capture's frames up to `last`, as far as its container says: a short video
+// is refused before any work, naming the video and the frame it lacks. Videos
+// whose container gives no frame count pass (their reader fails at the frame).
+Status CheckVideoFrames(const Capture& capture, uint32_t last);
+
 // The file an image-sequence source names for frame `frame`.
 std::string FramePath(const Capture& capture, const FrameSource& source, uint32_t frame);
 
