@@ -30,7 +30,11 @@
 //
 // Usage: rd_bench TEXTURES_DIR CAPTURE_DIR WORK_DIR [--ratios 20,50,120,280] [--frames N]
 //                 [--bisk-kernel 53|97] [--fill-iterations N] [--peer-fill both|fvv|parent]
-//                 [--gop-frames N] [--keyint N]
+//                 [--gop-frames N] [--keyint N] [--masks on|off]
+// `--masks off`: fvv's streams carry no masks (the encoder's default; give
+// textures a mask-free encode saved, whose masks mark the texels a player may
+// take from a camera that did not see them, 128), and its total bytes are its
+// texture bytes.
 #include <unistd.h>
 
 #include <chrono>
@@ -168,9 +172,10 @@ struct Result {
 
 Result RunFvv(const Sequence& seq, const std::string& capture, const std::string& textures,
               const std::string& work, double ratio, const FillOptions& fill, uint16_t gop_frames,
-              uint64_t* mask_bytes, ChromaFormat chroma = ChromaFormat::k444) {
+              bool masks, uint64_t* mask_bytes, ChromaFormat chroma = ChromaFormat::k444) {
   Result r;
   EncoderSettings s;
+  s.masks = masks;
   s.chroma = chroma;
   s.gop_frames = gop_frames;
   s.textures = textures;
@@ -375,7 +380,7 @@ int Main(int argc, char** argv) {
                  "usage: rd_bench TEXTURES_DIR CAPTURE_DIR WORK_DIR [--bisk-kernel 53|97] "
                  "[--ratios 20,50,120,280] "
                  "[--frames N] [--fill-iterations N] [--peer-fill both|fvv|parent] "
-                 "[--gop-frames N] [--keyint N]\n");
+                 "[--gop-frames N] [--keyint N] [--masks on|off]\n");
     return 2;
   }
   const std::string textures = argv[1], capture = argv[2], work = argv[3];
@@ -386,6 +391,7 @@ int Main(int argc, char** argv) {
   std::string peer_fill = "both";
   uint16_t gop_frames = EncoderSettings{}.gop_frames;
   int keyint = 0;  // ffmpeg's default
+  bool masks = true;
   for (int i = 4; i + 1 < argc; i += 2) {
     const std::string opt = argv[i];
     if (opt == "--bisk-kernel") {
@@ -408,6 +414,10 @@ int Main(int argc, char** argv) {
     } else if (opt == "--keyint") {
       keyint = std::atoi(argv[i + 1]);
       if (keyint < 1) return Fail("--keyint: a positive number of frames");
+    } else if (opt == "--masks") {
+      const std::string v = argv[i + 1];
+      if (v != "on" && v != "off") return Fail("--masks on or off");
+      masks = v == "on";
     } else if (opt == "--peer-fill") {
       peer_fill = argv[i + 1];
       if (peer_fill != "fvv" && peer_fill != "parent" && peer_fill != "both")
@@ -465,7 +475,7 @@ int Main(int argc, char** argv) {
   int wins_j2k = 0, wins_x264 = 0, wins_x265 = 0, wins_aom = 0, wins_svt = 0;
   for (double ratio : ratios) {
     uint64_t mask_bytes = 0, unused = 0;
-    const Result f = RunFvv(seq, capture, textures, work, ratio, fill, gop_frames, &mask_bytes);
+    const Result f = RunFvv(seq, capture, textures, work, ratio, fill, gop_frames, masks, &mask_bytes);
     if (!f.ok) return Fail("fvv failed");
     auto row = [&](const std::string& name, const Result& r) {
       if (!r.ok) {
@@ -493,14 +503,14 @@ int Main(int argc, char** argv) {
       const Result svt = RunVideo(seq, work, f.bytes, "libsvtav1", fps, keyint);
       auto at_bytes = [&](const Result& peer, ChromaFormat chroma = ChromaFormat::k444) {
         return peer.ok ? RunFvv(seq, capture, textures, work, raw / peer.bytes, fill, gop_frames,
-                                &unused, chroma)
+                                masks, &unused, chroma)
                        : Result{};
       };
       // Equal total bytes: fvv's masks counted, its textures get the rest.
       auto at_total = [&](const Result& peer, ChromaFormat chroma = ChromaFormat::k444) {
         if (!peer.ok || peer.bytes <= mask_bytes) return Result{};
         Result r = RunFvv(seq, capture, textures, work, raw / double(peer.bytes - mask_bytes), fill,
-                          gop_frames, &unused, chroma);
+                          gop_frames, masks, &unused, chroma);
         r.bytes += mask_bytes;
         return r;
       };
