@@ -475,7 +475,8 @@ int Main(int argc, char** argv) {
   int wins_j2k = 0, wins_x264 = 0, wins_x265 = 0, wins_aom = 0, wins_svt = 0;
   for (double ratio : ratios) {
     uint64_t mask_bytes = 0, unused = 0;
-    const Result f = RunFvv(seq, capture, textures, work, ratio, fill, gop_frames, masks, &mask_bytes);
+    const Result f =
+        RunFvv(seq, capture, textures, work, ratio, fill, gop_frames, masks, &mask_bytes);
     if (!f.ok) return Fail("fvv failed");
     auto row = [&](const std::string& name, const Result& r) {
       if (!r.ok) {
