@@ -114,7 +114,7 @@ Yuv RgbToYuv(ColourSpace colour, int r, int g, int b, int frac) {
 }
 
 Block BlockFromRgb(const uint8_t* rgb, const Shape4D& shape, ColourSpace colour,
-                   ChromaFormat chroma, int sample_frac) {
+                   ChromaFormat chroma, int sample_frac, const UsedMask* used) {
   Block block;
   block.colour = colour;
   block.chroma = chroma;
@@ -141,17 +141,22 @@ Block BlockFromRgb(const uint8_t* rgb, const Shape4D& shape, ColourSpace colour,
     }
   }
   if (chroma == ChromaFormat::k420) {
+    const bool weighted = used && used->size() == n;
     const uint32_t h = shape.height(), w = shape.width();
     for (uint32_t tc = 0; tc < shape.frames() * shape.cameras(); ++tc) {
       for (uint32_t cy = 0; cy < cshape.height(); ++cy) {
         for (uint32_t cx = 0; cx < cshape.width(); ++cx) {
           int32_t su = 0, sv = 0, k = 0;
-          for (uint32_t y = 2 * cy; y < std::min(h, 2 * cy + 2); ++y) {
-            for (uint32_t x = 2 * cx; x < std::min(w, 2 * cx + 2); ++x) {
-              const size_t i = (size_t{tc} * h + y) * w + x;
-              su += u_full[i];
-              sv += v_full[i];
-              ++k;
+          // Pass 0 takes the used sites; pass 1 all of them, when none is used.
+          for (int pass = weighted ? 0 : 1; pass < 2 && k == 0; ++pass) {
+            for (uint32_t y = 2 * cy; y < std::min(h, 2 * cy + 2); ++y) {
+              for (uint32_t x = 2 * cx; x < std::min(w, 2 * cx + 2); ++x) {
+                const size_t i = (size_t{tc} * h + y) * w + x;
+                if (pass == 0 && !(*used)[i]) continue;
+                su += u_full[i];
+                sv += v_full[i];
+                ++k;
+              }
             }
           }
           const size_t o = (size_t{tc} * cshape.height() + cy) * cshape.width() + cx;

@@ -46,9 +46,12 @@ void YcbcrRowToRgb8(const int32_t* y, const int32_t* u, const int32_t* v, uint32
 // Interleaved RGB8 frames (one per (t, c), each h*w*3) <-> a block.
 // In 4:2:0 each chroma sample is the rounded mean of its (up to) 2x2 luma sites,
 // and upsampling replicates it (nearest), which keeps both sides integer and simple.
+// With `used` (one byte per luma site, non-zero where a player shows the texel)
+// the mean is over the cell's used sites where it has any: the replicated value
+// that is nearest to what is shown, not pulled towards colours nobody sees.
 // sample_frac: the block's fractional bits (0 for RCT).
 Block BlockFromRgb(const uint8_t* rgb, const Shape4D& shape, ColourSpace colour,
-                   ChromaFormat chroma, int sample_frac = 0);
+                   ChromaFormat chroma, int sample_frac = 0, const UsedMask* used = nullptr);
 void BlockToRgb(const Block& block, uint8_t* rgb);  // rgb holds shape().count() * 3 bytes
 
 }  // namespace fvv

@@ -78,6 +78,46 @@ TEST(Colour, Chroma420AveragesAndReplicates) {
     EXPECT_NEAR(out[i], rgb[i], 2);  // grey: chroma is neutral
 }
 
+// An atlas's outline: a cell whose used texels are coloured and whose others
+// hold black. Averaged over all four, the coloured texels come back darker in
+// their chroma; over the used ones, as coloured as luma and rounding allow.
+TEST(Colour, Chroma420MeanIsOverTheUsedTexels) {
+  const Shape4D shape{{1, 1, 2, 4}};
+  std::vector<uint8_t> rgb(8 * 3, 0);
+  UsedMask used(8, 0);
+  // Cell 0 (columns 0-1): one used red texel; cell 1: all four used, a gradient.
+  rgb[0] = 220, rgb[1] = 30, rgb[2] = 40;
+  used[0] = 1;
+  for (int y = 0; y < 2; ++y) {
+    for (int x = 2; x < 4; ++x) {
+      const int i = y * 4 + x;
+      rgb[3 * i] = uint8_t(40 + 30 * x), rgb[3 * i + 1] = uint8_t(90 + 20 * y),
+              rgb[3 * i + 2] = 150;
+      used[i] = 1;
+    }
+  }
+  for (int frac : {0, 4}) {
+    const Block all =
+        BlockFromRgb(rgb.data(), shape, ColourSpace::kYCbCr601, ChromaFormat::k420, frac);
+    const Block seen =
+        BlockFromRgb(rgb.data(), shape, ColourSpace::kYCbCr601, ChromaFormat::k420, frac, &used);
+    std::vector<uint8_t> out_all(rgb.size()), out_seen(rgb.size());
+    BlockToRgb(all, out_all.data());
+    BlockToRgb(seen, out_seen.data());
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(out_seen[k], rgb[k], 1) << frac << " " << k;
+    EXPECT_GT(std::abs(int(out_all[0]) - rgb[0]), 40) << "black pulled the red texel's chroma";
+    // A cell used throughout is the plain mean either way.
+    EXPECT_EQ(seen.channels[1].samples[1], all.channels[1].samples[1]);
+    EXPECT_EQ(seen.channels[2].samples[1], all.channels[2].samples[1]);
+  }
+  // A cell with no used texel keeps the plain mean (any value would do; it stays defined).
+  UsedMask none(8, 0);
+  const Block b =
+      BlockFromRgb(rgb.data(), shape, ColourSpace::kYCbCr601, ChromaFormat::k420, 0, &none);
+  const Block a = BlockFromRgb(rgb.data(), shape, ColourSpace::kYCbCr601, ChromaFormat::k420, 0);
+  EXPECT_EQ(b.channels[1].samples, a.channels[1].samples);
+}
+
 TEST(Fill, UsedTexelsUnchangedHolesTakeParentMeans) {
   // 1x1x2x4: used texels 10 and 30 in the left 2x2 cell, 100 in the right one.
   Plane4D p(Shape4D{{1, 1, 2, 4}});

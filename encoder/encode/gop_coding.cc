@@ -51,7 +51,7 @@ Status Session::CodeSpan(uint32_t frames) {
       }
     }
     const Block block =
-        BlockFromRgb(rgb.data(), shape, ColourSpace::kYCbCr601, s_.chroma, SampleFrac());
+        BlockFromRgb(rgb.data(), shape, ColourSpace::kYCbCr601, s_.chroma, SampleFrac(), &used);
     if (s_.texture_codec == TextureCodec::kPredictive) {
       FVV_RETURN_IF_ERROR(CodePredictive(block, rgb, used, shape, &frag));
       fragments_.push_back(std::move(frag));
