@@ -9,7 +9,10 @@
 # build-tsan/)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# Each stage's end and the time so far, to see where a slow run spent it.
+stage() { echo "== $1 done at $((SECONDS / 60)) min $((SECONDS % 60)) s"; }
 ./tools/setup.sh
+stage "set-up"
 python3 tools/check_layers.py  # an include against the layers fails before the long build
 # A directory configured with another compiler cannot be switched in place.
 for d in build-asan build-tsan; do
@@ -18,9 +21,14 @@ for d in build-asan build-tsan; do
   fi
 done
 export CC=clang CXX=clang++
+# Line tables are all a sanitizer's report needs (file and line of every
+# frame); full debug info made the sanitizer builds a quarter slower.
+lines="-O2 -gline-tables-only -DNDEBUG"
 cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFVV_SANITIZE=ON -DFVV_WERROR=ON \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="$lines" -DCMAKE_C_FLAGS_RELWITHDEBINFO="$lines" \
   -DFVV_BUILD_FUZZERS=ON -DFVV_BUILD_BENCH=ON >/dev/null
 cmake --build build-asan -j2
+stage "sanitizer build"
 # CesiumMan's tracking tests fit a cartoon body's proportions (a model rebuilt
 # per trial): 18 times slower under the sanitizers, nearly half the suite's time
 # there. The tracked shards' test tracks a take four times over. They run in an
@@ -31,8 +39,11 @@ cmake --build build-asan -j2
 slow='^(CesiumManTest|TrackedShardTest|PersonSilhouettes)\.'
 CC=cc CXX=c++ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DFVV_WERROR=ON >/dev/null
 cmake --build build -j2 --target track_test encode_shards_test track_person_observer_test
+stage "optimised build"
 ctest --test-dir build-asan -j2 --output-on-failure -E "$slow"
+stage "sanitizer suites"
 ctest --test-dir build -j2 --output-on-failure -R "$slow"
+stage "optimised suites"
 
 # ThreadSanitizer on what runs threads: the codec's pool and parallel coding,
 # the decoder's workers and its C API under threads, the encoder session (its
@@ -40,10 +51,12 @@ ctest --test-dir build -j2 --output-on-failure -R "$slow"
 # suite, the tests that run the pool (its rate comparisons run single-threaded
 # code for minutes under TSan and are left to the ASan run).
 cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFVV_TSAN=ON -DFVV_WERROR=ON \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="$lines" -DCMAKE_C_FLAGS_RELWITHDEBINFO="$lines" \
   -DFVV_BUILD_BENCH=OFF >/dev/null
 cmake --build build-tsan -j2 --target codec_test player_decoder_api_test \
   player_decoder_threads_test player_decoder_realtime_test encode_ordered_queue_test \
   encode_session_test
+stage "ThreadSanitizer build"
 export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1"
 tsan() { echo "== ThreadSanitizer: $*"; timeout 900 "$@"; }
 tsan build-tsan/tests/codec_test \
@@ -58,4 +71,6 @@ tsan build-tsan/tests/encode_session_test \
 # Fuzzing: every libFuzzer target for a fixed time (FVV_FUZZ_SECONDS, default
 # 30), two at a time, under ASan+UBSan (the build above). A crash fails the run
 # and leaves its input in build-asan/fuzz-crashes/ (fuzz/README.md).
+stage "ThreadSanitizer runs"
 fuzz/run_all.sh build-asan "${FVV_FUZZ_SECONDS:-30}"
+stage "fuzzing"
