@@ -20,7 +20,7 @@
 // and steadier over time, which x264 codes better at high rates. fvv codes
 // the texels and the masks' support. Equal bytes: fvv codes again at each
 // peer's own byte count, and a win needs fvv above the peer with both fills.
-// Quality: RGB PSNR over the texels the cameras saw. Bytes: texture payloads
+// Quality: RGB PSNR over the texels the cameras saw (`--masks off` below). Bytes: texture payloads
 // only (fvv's masks, which every codec's player would need, are listed apart).
 //
 // Random access: fvv's GOPs are 8 frames (`--gop-frames`), x264 and x265 keep
@@ -34,7 +34,8 @@
 // `--masks off`: fvv's streams carry no masks (the encoder's default; give
 // textures a mask-free encode saved, whose masks mark the texels a player may
 // take from a camera that did not see them, 128), and its total bytes are its
-// texture bytes.
+// texture bytes. A player of any codec's mask-free atlases takes those texels
+// too, so there every codec codes them and the PSNR counts them.
 #include <unistd.h>
 
 #include <chrono>
@@ -441,10 +442,11 @@ int Main(int argc, char** argv) {
       StatusOr<Image> m = ReadImage(TextureMaskPath(textures, c, seq.first + f));
       if (!t.ok()) return Fail(t.status().ToString());
       if (!m.ok()) return Fail(m.status().ToString());
-      // What the cameras saw; not what a player of a stream without masks may
-      // take from a camera that did not (fvv::kUsableTexel).
+      // With masks, what the cameras saw; without, also what a player may take
+      // from a camera that did not (fvv::kUsableTexel: the encoder wrote the
+      // seeing cameras' colour there).
       for (uint8_t& v : m->pixels) {
-        if (v == fvv::kUsableTexel) v = 0;
+        if (v == fvv::kUsableTexel && masks) v = 0;
         seq.visible += v != 0;
       }
       seq.textures.push_back(std::move(*t));
@@ -460,12 +462,13 @@ int Main(int argc, char** argv) {
   const double fps = 25;
   const double raw = 3.0 * seq.size * seq.size * seq.textures.size();
   std::printf(
-      "MVV textures: %u frames x %zu cameras, %ux%u atlas, %.1f %% of texels seen; ratios "
+      "MVV textures: %u frames x %zu cameras, %ux%u atlas, %.1f %% of texels %s; ratios "
       "against 24-bit RGB of every atlas texel (%.1f MB)\n",
       seq.frames, seq.cameras.size(), seq.size, seq.size,
-      100.0 * seq.visible / (double(seq.size) * seq.size * seq.textures.size()), raw / 1e6);
+      100.0 * seq.visible / (double(seq.size) * seq.size * seq.textures.size()),
+      masks ? "seen" : "a player may take", raw / 1e6);
   std::printf(
-      "RGB PSNR over visible texels; bytes = texture payload; encode/decode = seconds per "
+      "RGB PSNR over those texels; bytes = texture payload; encode/decode = seconds per "
       "frame (all cameras); fvv 2 threads, OpenJPEG 1 thread, x264/x265/AV1 ffmpeg defaults\n");
   std::printf("Random access: fvv GOPs of %u frames; x264/x265 keyframe interval %s\n\n",
               unsigned{gop_frames},

@@ -6,10 +6,16 @@
 # coding (near-lossless at 60 dB, the default 36 dB target, 20:1 and 120:1).
 # PSNR (RGB) over the truth's actor silhouette against the held-out truth
 # images, every frame of the range, both held-out cameras.
-# Usage: bench/run_heldout_gap_bench.sh [frames, default 8]
+# Usage: bench/run_heldout_gap_bench.sh [frames, default 8] [camera size WxH, default 640x480]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 frames=${1:-8}
+size=${2:-640x480}
+if ! [[ $size =~ ^([0-9]+)x([0-9]+)$ ]]; then
+  echo "camera size: WxH (e.g. 320x240), not '$size'" >&2
+  exit 2
+fi
+width=${BASH_REMATCH[1]} height=${BASH_REMATCH[2]}
 ./tools/setup.sh >/dev/null
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j2 --target fvv >/dev/null
@@ -17,7 +23,7 @@ fvv=$PWD/build/tools/fvv/fvv
 work=${FVV_BENCH_DIR:-out/heldout_gap_bench}
 rm -rf "$work" && mkdir -p "$work"
 last=$((frames - 1))
-"$fvv" synth -o "$work/cap" --frames "$frames" --cameras 8 --held-out 2 \
+"$fvv" synth -o "$work/cap" --frames "$frames" --cameras 8 --held-out 2 --width "$width" --height "$height" \
   --motion /usr/share/assimp/models/BVH/01_01.bvh >/dev/null 2>&1
 held=$work/cap/truth/heldout
 
@@ -37,7 +43,7 @@ row() {  # name, then a render command's arguments before --cameras-from
   printf "%-44s %s\n" "$name" "$line"
 }
 
-echo "held-out views of a synthetic capture ($frames frames, 8 cameras at 640x480, true poses):"
+echo "held-out views of a synthetic capture ($frames frames, 8 cameras at $size, true poses):"
 echo "RGB PSNR (dB) over the actor, held-out camera 0 and 1"
 row "Renderer I (the camera images)" "$work/cap" --renderer projective --poses "$work/cap"
 for atlas in 512 1024; do
