@@ -325,21 +325,30 @@ TEST_F(CaptureFiles, VideoFramesDecodeThroughFfmpeg) {
   // A Matroska file says no frame count: the check passes and the reader
   // fails at the frame. A QuickTime file says 4: frame 4 is refused before
   // any decoding, and so is frame 3 when the camera skips its first frame.
-  EXPECT_TRUE(CheckVideoFrames(*c, 7).ok());
+  EXPECT_TRUE(CheckFramesPresent(*c, {0, 7}).ok());
   const std::string mov = "ffmpeg -v error -y -framerate 25 -i '" + dir_ +
                           "/left/%04d.png' -c:v png '" + dir_ + "/left.mov'";
   ASSERT_EQ(std::system(mov.c_str()), 0);
   c->cameras[0].frames.path = "left.mov";
-  EXPECT_TRUE(CheckVideoFrames(*c, 3).ok());
-  Status past = CheckVideoFrames(*c, 4);
+  EXPECT_TRUE(CheckFramesPresent(*c, {0, 1, 2, 3}).ok());
+  Status past = CheckFramesPresent(*c, {2, 4});
   ASSERT_FALSE(past.ok());
   EXPECT_NE(past.message().find("left.mov: no frame 4 (its container says it holds 4 frames"),
             std::string::npos)
       << past.message();
   c->cameras[0].frames.first = 1;
-  Status skipped = CheckVideoFrames(*c, 3);
+  Status skipped = CheckFramesPresent(*c, {3});
   ASSERT_FALSE(skipped.ok());
   EXPECT_NE(skipped.message().find("no frame 4"), std::string::npos) << skipped.message();
+  // An image sequence: the files of the frames asked for, and only those.
+  c->cameras[0].frames = FrameSource{};
+  c->cameras[0].frames.path = "left/%04d.png";
+  EXPECT_TRUE(CheckFramesPresent(*c, {0, 2, 3}).ok());
+  ASSERT_EQ(std::remove((dir_ + "/left/0001.png").c_str()), 0);
+  EXPECT_TRUE(CheckFramesPresent(*c, {0, 2, 3}).ok());
+  Status gone = CheckFramesPresent(*c, {0, 1, 2});
+  ASSERT_FALSE(gone.ok());
+  EXPECT_NE(gone.message().find("frame 1: missing file"), std::string::npos) << gone.message();
   // A video whose size differs from the calibration is named as such.
   StatusOr<std::unique_ptr<VideoReader>> wrong = VideoReader::Open(dir_ + "/left.mkv", 32, 48);
   ASSERT_FALSE(wrong.ok());

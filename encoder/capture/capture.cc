@@ -351,12 +351,24 @@ std::string FramePath(const Capture& capture, const FrameSource& source, uint32_
   return Join(capture.directory, name);
 }
 
-Status CheckVideoFrames(const Capture& capture, uint32_t last) {
+Status CheckFramesPresent(const Capture& capture, const std::vector<uint32_t>& frames) {
+  if (frames.empty()) return Status::Ok();
+  const uint32_t last = *std::max_element(frames.begin(), frames.end());
   for (const CaptureCamera& cam : capture.cameras) {
     std::vector<const FrameSource*> sources = {&cam.frames};
     if (cam.silhouettes) sources.push_back(&*cam.silhouettes);
     for (const FrameSource* s : sources) {
-      if (s->kind != FrameSource::Kind::kVideo) continue;
+      if (s->kind != FrameSource::Kind::kVideo) {
+        for (uint32_t f : frames) {
+          const std::string p = FramePath(capture, *s, f);
+          struct stat st;
+          if (stat(p.c_str(), &st) != 0) {
+            return IoError("camera \"" + cam.calibration.name + "\", frame " + std::to_string(f) +
+                           ": missing file " + p);
+          }
+        }
+        continue;
+      }
       const std::string path = FramePath(capture, *s, 0);
       StatusOr<VideoInfo> info = ProbeVideo(path);
       const std::string label = "camera \"" + cam.calibration.name + "\"";

@@ -63,11 +63,12 @@ std::string CaptureToJson(const Capture& capture);
 // Writes DIR/capture.json atomically.
 Status SaveCapture(const Capture& capture);
 
-// Whether every video the capture reads (frames and silhouettes) holds the
-// capture's frames up to `last`, as far as its container says: a short video
-// is refused before any work, naming the video and the frame it lacks. Videos
+// Whether every source the capture reads (frames and silhouettes) holds
+// `frames`: an image sequence the files of those frames, a video the frames up
+// to the last as far as its container says. A missing file or a short video is
+// refused before any work, naming the camera and the frame it lacks. Videos
 // whose container gives no frame count pass (their reader fails at the frame).
-Status CheckVideoFrames(const Capture& capture, uint32_t last);
+Status CheckFramesPresent(const Capture& capture, const std::vector<uint32_t>& frames);
 
 // The file an image-sequence source names for frame `frame`.
 std::string FramePath(const Capture& capture, const FrameSource& source, uint32_t frame);

@@ -214,7 +214,9 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
     sum.pose_source = s.textures.empty() ? "poses " + s.poses : "textures " + s.textures;
     std::unique_ptr<CaptureFrames> frames;
     if (s.textures.empty()) {
-      FVV_RETURN_IF_ERROR(CheckVideoFrames(*cap, last));
+      std::vector<uint32_t> wanted;
+      for (uint32_t f = first; f <= last; ++f) wanted.push_back(f);
+      FVV_RETURN_IF_ERROR(CheckFramesPresent(*cap, wanted));
       StatusOr<std::unique_ptr<CaptureFrames>> f =
           CaptureFrames::Open(*cap, s.extract_silhouettes, &session.pool());
       if (!f.ok()) return f.status();

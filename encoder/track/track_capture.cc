@@ -95,8 +95,9 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
       reported.push_back(f >= r.first && f <= r.last);
     }
   }
-  // A video too short for the plan fails now, not after the frames before.
-  FVV_RETURN_IF_ERROR(CheckVideoFrames(cap, *std::max_element(plan.begin(), plan.end())));
+  // A missing frame file or a video too short for the plan fails now, not
+  // after the frames before.
+  FVV_RETURN_IF_ERROR(CheckFramesPresent(cap, plan));
   // Separate frames are not smoothed across each other.
   const PoseSmoothing smoothing = o.separate_frames.empty() ? o.smoothing : PoseSmoothing{0};
   const size_t n = cap.cameras.size();
