@@ -33,7 +33,7 @@ stage "sanitizer build"
 # per trial): 18 times slower under the sanitizers, nearly half the suite's time
 # there. The tracked shards' test tracks a take four times over. They run in an
 # optimised build; the same tracker code runs under the sanitizers in every
-# other tracking test (cli_shards tracks shards there too). The person
+# other tracking test. The person
 # silhouettes' test tracks a take on two kinds of silhouettes (541 s under the
 # sanitizers, 35 s optimised); the person observer's other tests run there.
 # Four more fit many frames over and over (507, 225, 197 and 167 s under the

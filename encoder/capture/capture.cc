@@ -351,6 +351,22 @@ std::string FramePath(const Capture& capture, const FrameSource& source, uint32_
   return Join(capture.directory, name);
 }
 
+namespace {
+
+// Frame `f`'s file of an image-sequence source of camera `cam`.
+Status ImageFramePresent(const Capture& capture, const CaptureCamera& cam, const FrameSource& s,
+                         uint32_t f) {
+  const std::string p = FramePath(capture, s, f);
+  struct stat st;
+  if (stat(p.c_str(), &st) != 0) {
+    return IoError("camera \"" + cam.calibration.name + "\", frame " + std::to_string(f) +
+                   ": missing file " + p);
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
 Status CheckFramesPresent(const Capture& capture, const std::vector<uint32_t>& frames) {
   if (frames.empty()) return Status::Ok();
   const uint32_t last = *std::max_element(frames.begin(), frames.end());
@@ -359,14 +375,7 @@ Status CheckFramesPresent(const Capture& capture, const std::vector<uint32_t>& f
     if (cam.silhouettes) sources.push_back(&*cam.silhouettes);
     for (const FrameSource* s : sources) {
       if (s->kind != FrameSource::Kind::kVideo) {
-        for (uint32_t f : frames) {
-          const std::string p = FramePath(capture, *s, f);
-          struct stat st;
-          if (stat(p.c_str(), &st) != 0) {
-            return IoError("camera \"" + cam.calibration.name + "\", frame " + std::to_string(f) +
-                           ": missing file " + p);
-          }
-        }
+        for (uint32_t f : frames) FVV_RETURN_IF_ERROR(ImageFramePresent(capture, cam, *s, f));
         continue;
       }
       const std::string path = FramePath(capture, *s, 0);
@@ -526,14 +535,8 @@ Status CaptureReader::CheckFiles() {
                         "camera \"" + cam.calibration.name + "\": " + v.status().message());
         continue;
       }
-      for (uint32_t f = 0; f < capture_.frame_count; ++f) {
-        const std::string p = FramePath(capture_, *s, f);
-        struct stat st;
-        if (stat(p.c_str(), &st) != 0) {
-          return IoError("camera \"" + cam.calibration.name + "\", frame " + std::to_string(f) +
-                         ": missing file " + p);
-        }
-      }
+      for (uint32_t f = 0; f < capture_.frame_count; ++f)
+        FVV_RETURN_IF_ERROR(ImageFramePresent(capture_, cam, *s, f));
     }
     if (cam.background) {
       const std::string p = Join(capture_.directory, *cam.background);
