@@ -423,6 +423,28 @@ TEST_F(CaptureFiles, ImportsOpenCvYamlAndToml) {
   EXPECT_NE(bad.status().message().find("reflection"), std::string::npos) << bad.status().message();
   std::ofstream(dir_ + "/broken.toml") << "[x\nwidth = ";
   EXPECT_FALSE(ImportCalibrationFile(dir_ + "/broken.toml", 1.0).ok());
+  // An image size no camera has is refused before it becomes an integer, in
+  // either spelling: beyond every integer type, negative, fractional.
+  struct BadSize {
+    const char* lines;
+    const char* field;
+    const char* shown;
+  };
+  const BadSize sizes[] = {{"width = 6.5e53\nheight = 48\n", "image width", "6.5e+53"},
+                           {"width = 64\nheight = -48\n", "image height", "-48"},
+                           {"size = [64.5, 48]\n", "image width", "64.5"},
+                           {"size = [64, 1e300]\n", "image height", "1e+300"}};
+  for (const BadSize& b : sizes) {
+    std::ofstream(dir_ + "/size.toml") << "[x]\n"
+                                       << b.lines << "K = [60, 0, 32, 0, 60, 24, 0, 0, 1]\n"
+                                       << "R = [1, 0, 0, 0, 1, 0, 0, 0, 1]\nt = [0, 0, 1]\n";
+    bad = ImportCalibrationFile(dir_ + "/size.toml", 1.0);
+    ASSERT_FALSE(bad.ok()) << b.lines;
+    const std::string& m = bad.status().message();
+    EXPECT_NE(m.find(std::string(b.field) + " " + b.shown + " is not a whole number of pixels"),
+              std::string::npos)
+        << m;
+  }
 }
 
 }  // namespace

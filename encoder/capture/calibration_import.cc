@@ -76,6 +76,18 @@ const json* Find(const json& cam, std::initializer_list<const char*> keys) {
   return nullptr;
 }
 
+// An image width or height as a file writes it: a whole number of pixels in the range
+// ValidateCalibration accepts, checked before it becomes an integer.
+Status ImageDimension(double v, const std::string& what, uint32_t* out) {
+  if (!std::isfinite(v) || v < 1 || v > 16384 || v != std::floor(v)) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", v);
+    return InvalidArgument(what + " " + text + " is not a whole number of pixels in 1..16384");
+  }
+  *out = static_cast<uint32_t>(v);
+  return Status::Ok();
+}
+
 // Numbers of a matrix in row-major order: opencv-matrix maps, nested or flat lists.
 Status Numbers(const json& v, const std::string& what, std::vector<double>* out) {
   out->clear();
@@ -151,14 +163,14 @@ StatusOr<Camera> CameraFrom(const json& c, const std::string& name, double unit,
   if (const json* size = Find(c, {"image_size", "imageSize", "size"})) {
     FVV_RETURN_IF_ERROR(Numbers(*size, where + ": image_size", &v));
     if (v.size() != 2) return InvalidArgument(where + ": image_size must be [width, height]");
-    cam.width = static_cast<uint32_t>(std::max(0.0, v[0]));
-    cam.height = static_cast<uint32_t>(std::max(0.0, v[1]));
+    FVV_RETURN_IF_ERROR(ImageDimension(v[0], where + ": image width", &cam.width));
+    FVV_RETURN_IF_ERROR(ImageDimension(v[1], where + ": image height", &cam.height));
   } else {
     const json* w = Find(c, {"width", "image_width", "imageWidth"});
     const json* h = Find(c, {"height", "image_height", "imageHeight"});
     if (w && h && w->is_number() && h->is_number()) {
-      cam.width = static_cast<uint32_t>(std::max(0.0, w->get<double>()));
-      cam.height = static_cast<uint32_t>(std::max(0.0, h->get<double>()));
+      FVV_RETURN_IF_ERROR(ImageDimension(w->get<double>(), where + ": image width", &cam.width));
+      FVV_RETURN_IF_ERROR(ImageDimension(h->get<double>(), where + ": image height", &cam.height));
     } else if (!size_optional) {
       return InvalidArgument(where + ": no image size (width/height or image_size)");
     }
