@@ -51,7 +51,7 @@ if [ ! -f "$bvh" ]; then
 fi
 "$fvv" synth -o "$dir/cap" --motion "$bvh" --frames 16 --cameras 4 --width 160 --height 120 \
   >/dev/null 2>&1 || fail "synth"
-"$fvv" encode "$dir/cap" -o "$dir/cap.fvv" --poses "$dir/cap" -q >/dev/null 2>&1 || fail "encode"
+"$fvv" encode "$dir/cap" -o "$dir/cap.fvv" --poses "$dir/cap" --atlas 128 -q >/dev/null 2>&1 || fail "encode"
 out=$("$fvv" export "$dir/cap.fvv" -o "$dir/m.bvh" 2>&1) || fail "export bvh: $out"
 "$fvv" synth -o "$dir/back" --motion "$dir/m.bvh" --frames 16 --cameras 2 --width 160 --height 120 \
   >/dev/null 2>&1 || fail "fvv synth does not read the exported BVH"

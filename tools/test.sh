@@ -40,11 +40,13 @@ stage "sanitizer build"
 # sanitizers, 8-20 s optimised); their suites' other tests run there. The
 # command line's shard test tracks a take and its shards (past its 600 s
 # timeout under the sanitizers on a busy machine, 27 s optimised; the shards'
-# other paths run there in the encoder's shard tests).
+# other paths run there in the encoder's shard tests). Renderer I tracking a
+# capture itself (105 s under the sanitizers, 10 s optimised) runs the tracker
+# that the command-line encode test runs there.
 slow='^(CesiumManTest\.|TrackedShardTest\.|PersonSilhouettes\.|'
 slow+='TrackTest\.(SmoothedFramesReachTheCallbackInOrderWithTheirPoses|'
 slow+='SightingsHoldTheFitWithOneCameraConfused|RecoversKnownMotionWithinBounds)$|'
-slow+='ShapeRefinementTest\.FeaturePointsCorrectAPoseError$|^cli_shards$)'
+slow+='ShapeRefinementTest\.FeaturePointsCorrectAPoseError$|^cli_shards$|^cli_render_tracked$)'
 CC=cc CXX=c++ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DFVV_WERROR=ON >/dev/null
 cmake --build build -j2 --target track_test encode_shards_test track_person_observer_test \
   shape_refinement_test fvv
