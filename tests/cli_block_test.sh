@@ -74,5 +74,10 @@ grep -q "not an fvv block file" <<<"$out" || fail "garbage message: $out"
 head -c 60 "$dir/b.fvb" >"$dir/cut.fvb"
 out=$("$fvv" block decode "$dir/cut.fvb" -o "$dir/xdec" 2>&1) && fail "truncated file accepted"
 grep -q "truncated" <<<"$out" || fail "truncated file message: $out"
+# The header's shape decides the memory: a block above --max-samples is refused
+# before anything is allocated for it (the default takes 2^27 samples).
+out=$("$fvv" block decode "$dir/b.fvb" -o "$dir/ydec" --max-samples 5000 2>&1) && fail "a block above --max-samples decoded"
+grep -q "2x3x24x40 (frames x cameras x height x width), 5760 samples, is above --max-samples 5000" <<<"$out" || fail "max-samples message: $out"
+[ ! -e "$dir/ydec" ] || fail "a refused decode made its output directory"
 [ ! -e "$dir/x.fvb" ] || fail "failed encode left a file"
 echo "cli_block: all checks passed"

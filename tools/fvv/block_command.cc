@@ -202,6 +202,9 @@ struct DecodeArgs {
   uint64_t bytes = 0;
   double max_ms = 0;
   unsigned threads = 0;
+  // The memory a block takes follows from its header, not its size on disk: a
+  // few hundred bytes may declare 2^30 samples (12 GB of coefficients).
+  uint64_t max_samples = uint64_t{1} << 27;
 };
 
 int RunDecode(const DecodeArgs& a) {
@@ -210,6 +213,11 @@ int RunDecode(const DecodeArgs& a) {
   auto encoded = ReadBlockFile(data->data(), data->size());
   if (!encoded.ok())
     return Fail(Status(encoded.status().code(), a.input + ": " + encoded.status().message()));
+  if (encoded->params.shape.count() > a.max_samples) {
+    return Fail(LimitExceeded(a.input + ": a block of " + encoded->params.shape.ToString() + ", " +
+                              std::to_string(encoded->params.shape.count()) +
+                              " samples, is above --max-samples " + std::to_string(a.max_samples)));
+  }
   ThreadPool pool(a.threads);
   DecodeBudget budget;
   budget.max_bytes = a.bytes;
@@ -305,6 +313,10 @@ void AddBlockCommands(CLI::App* app, int* exit_code) {
   d->add_option("-o,--output", dec->output_dir, "Output directory (view_tTTT_cCC.png)")->required();
   d->add_option("--bytes", dec->bytes, "Decode at most this many bytes (all channels together)");
   d->add_option("--max-ms", dec->max_ms, "Stop SPIHT decoding after this many milliseconds");
+  d->add_option("--max-samples", dec->max_samples,
+                "Refuse blocks of more samples per channel (about 15 bytes of memory each)")
+      ->check(CLI::Range(uint64_t{1}, uint64_t{1} << 30))
+      ->capture_default_str();
   d->add_option("--format", dec->format, "Image format")
       ->check(CLI::IsMember({"png", "exr"}))
       ->capture_default_str();
