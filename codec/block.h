@@ -60,6 +60,13 @@ enum class ChromaFormat : uint8_t {
   k420 = 1,  // U and V halved in height and width
 };
 
+// How a 4:2:0 chroma plane returns to luma resolution for RGB (SPEC.md 9.7).
+// The samples are the same either way; a stream's tool bit 18 says which.
+enum class ChromaUpsampling : uint8_t {
+  kNearest = 0,   // each sample over its 2x2 cell (format versions 1-8)
+  kBilinear = 1,  // centred in its cell, weights 9/3/3/1 of 16 (format version 9)
+};
+
 // Fractional bits of a block's samples (SPEC.md 9.6): with p of them a sample
 // counts 2^-p steps of the 8-bit scale, so Y, U and V keep what the BT.601
 // conversion computes below a whole step instead of rounding it away twice (on
@@ -72,7 +79,8 @@ constexpr int kDefaultSampleFrac = 3;
 struct Block {
   ColourSpace colour = ColourSpace::kYCbCr601;
   ChromaFormat chroma = ChromaFormat::k444;
-  std::array<Plane4D, 3> channels;  // Y, U, V
+  ChromaUpsampling upsampling = ChromaUpsampling::kNearest;  // with k420
+  std::array<Plane4D, 3> channels;                           // Y, U, V
   // Fractional bits p of every sample: 0 (whole samples) in format versions
   // before 7. Y is in 0..255 * 2^p, and so are U and V in YCbCr.
   uint8_t sample_frac = 0;

@@ -1,6 +1,7 @@
 #include "codec/colour.h"
 
 #include <algorithm>
+#include <vector>
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
@@ -171,23 +172,56 @@ Block BlockFromRgb(const uint8_t* rgb, const Shape4D& shape, ColourSpace colour,
   return block;
 }
 
+void UpsampleChroma(const int32_t* chroma, uint32_t cw, uint32_t ch, uint32_t w, uint32_t h,
+                    ChromaUpsampling upsampling, int32_t* out) {
+  for (uint32_t y = 0; y < h; ++y) {
+    const uint32_t cy = y >> 1;
+    const int32_t* row = chroma + size_t{cy} * cw;
+    int32_t* o = out + size_t{y} * w;
+    if (upsampling == ChromaUpsampling::kNearest) {
+      for (uint32_t x = 0; x < w; ++x) o[x] = row[x >> 1];
+      continue;
+    }
+    // The neighbour row towards the texel: below for odd rows, above for even.
+    const uint32_t ny = (y & 1) ? std::min(cy + 1, ch - 1) : (cy == 0 ? 0 : cy - 1);
+    const int32_t* near = chroma + size_t{ny} * cw;
+    for (uint32_t x = 0; x < w; ++x) {
+      const uint32_t cx = x >> 1;
+      const uint32_t nx = (x & 1) ? std::min(cx + 1, cw - 1) : (cx == 0 ? 0 : cx - 1);
+      o[x] = (9 * row[cx] + 3 * near[cx] + 3 * row[nx] + near[nx] + 8) >> 4;
+    }
+  }
+}
+
 void BlockToRgb(const Block& block, uint8_t* rgb) {
   const Shape4D& shape = block.shape();
   const Shape4D& cshape = block.channels[1].shape;
   const bool sub = block.chroma == ChromaFormat::k420;
   const uint32_t h = shape.height(), w = shape.width();
+  const size_t view = size_t{w} * h, cview = size_t{cshape.width()} * cshape.height();
+  std::vector<int32_t> u_full, v_full;
+  if (sub) {
+    u_full.resize(view);
+    v_full.resize(view);
+  }
   for (uint32_t tc = 0; tc < shape.frames() * shape.cameras(); ++tc) {
-    for (uint32_t y = 0; y < h; ++y) {
-      for (uint32_t x = 0; x < w; ++x) {
-        const size_t i = (size_t{tc} * h + y) * w + x;
-        const size_t ci = sub ? (size_t{tc} * cshape.height() + y / 2) * cshape.width() + x / 2 : i;
-        const Rgb8 p =
-            YuvToRgb(block.colour, block.channels[0].samples[i], block.channels[1].samples[ci],
-                     block.channels[2].samples[ci], block.sample_frac);
-        rgb[3 * i] = p.r;
-        rgb[3 * i + 1] = p.g;
-        rgb[3 * i + 2] = p.b;
-      }
+    const int32_t* y_plane = block.channels[0].samples.data() + tc * view;
+    const int32_t* u_plane = block.channels[1].samples.data() + tc * (sub ? cview : view);
+    const int32_t* v_plane = block.channels[2].samples.data() + tc * (sub ? cview : view);
+    if (sub) {
+      UpsampleChroma(u_plane, cshape.width(), cshape.height(), w, h, block.upsampling,
+                     u_full.data());
+      UpsampleChroma(v_plane, cshape.width(), cshape.height(), w, h, block.upsampling,
+                     v_full.data());
+      u_plane = u_full.data();
+      v_plane = v_full.data();
+    }
+    uint8_t* out = rgb + 3 * tc * view;
+    for (size_t i = 0; i < view; ++i) {
+      const Rgb8 p = YuvToRgb(block.colour, y_plane[i], u_plane[i], v_plane[i], block.sample_frac);
+      out[3 * i] = p.r;
+      out[3 * i + 1] = p.g;
+      out[3 * i + 2] = p.b;
     }
   }
 }

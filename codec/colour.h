@@ -43,9 +43,17 @@ inline Rgb8 YuvToRgb(ColourSpace colour, int32_t y, int32_t u, int32_t v, int fr
 void YcbcrRowToRgb8(const int32_t* y, const int32_t* u, const int32_t* v, uint32_t n, uint8_t* rgb,
                     int frac = 0);
 
+// One view's 4:2:0 chroma plane (cw x ch samples, rows of cw) at luma
+// resolution (w x h) by the rule of SPEC.md 9.7: nearest replicates each
+// sample over its cell; bilinear weighs the sample of the texel's cell 9, its
+// row and column neighbours towards the texel 3 each and the diagonal one 1, of
+// 16, rounded down after adding 8, the plane's edge samples repeated outwards.
+void UpsampleChroma(const int32_t* chroma, uint32_t cw, uint32_t ch, uint32_t w, uint32_t h,
+                    ChromaUpsampling upsampling, int32_t* out);
+
 // Interleaved RGB8 frames (one per (t, c), each h*w*3) <-> a block.
 // In 4:2:0 each chroma sample is the rounded mean of its (up to) 2x2 luma sites,
-// and upsampling replicates it (nearest), which keeps both sides integer and simple.
+// and the block's `upsampling` returns it to every luma site.
 // With `used` (one byte per luma site, non-zero where a player shows the texel)
 // the mean is over the cell's used sites where it has any: the replicated value
 // that is nearest to what is shown, not pulled towards colours nobody sees.

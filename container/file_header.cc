@@ -37,6 +37,8 @@ const char* CodingToolName(uint32_t tool_bit) {
       return "spiht-arith3";
     case kToolQuadtreeArith4:
       return "quadtree-arith4";
+    case kToolChromaBilinear:
+      return "chroma-bilinear";
     case kToolOwnBandWeights:
       return "own-band-weights";
     case kToolSamplePrecision:
@@ -71,6 +73,7 @@ const LevelLimits* FindLevel(uint8_t level) {
 }
 
 uint16_t RequiredFormatVersion(uint32_t tools) {
+  if (tools & kToolChromaBilinear) return 9;
   if (tools & kToolQuadtreeArith4) return 8;
   if (tools & kToolSamplePrecision) return 7;
   if (tools & kToolOwnBandWeights) return 6;
@@ -139,6 +142,12 @@ Status ValidateFileHeader(const FileHeader& h) {
     return Corrupt(at +
                    "own-band-weights declared with predictive texture (it sets the weights "
                    "of 'texr')");
+  }
+  if ((h.tools & kToolChromaBilinear) &&
+      (!(h.tools & kToolChroma420) || (h.tools & kToolPredictiveTexture))) {
+    return Corrupt(at +
+                   "chroma-bilinear declared without 4:2:0 SPIHT texture (it sets how 'texr' "
+                   "4:2:0 chroma is upsampled)");
   }
   if ((h.tools & kToolTexturePrecision) &&
       (!(h.tools & kToolCdf97) || (h.tools & kToolPredictiveTexture))) {

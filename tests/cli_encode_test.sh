@@ -63,6 +63,16 @@ tex_b=$(grep "textures  " <<<"$out" | awk '{print $2}')
 # arith2 version 4, --coder arith version 3; --coder arith --precision 2
 # --mask-coder context what version 1 decoders read.
 "$fvv" info "$dir/b.fvv" | grep -q "format version 7" || fail "default format version: $("$fvv" info "$dir/b.fvv" | head -1)"
+# 4:2:0: bilinear chroma (format version 9) unless the older rule is asked for.
+out=$("$fvv" encode "$dir/cap" -o "$dir/c420.fvv" --atlas 128 --gop-frames 2 --textures "$dir/tex" \
+  --chroma 420 -q 2>&1) || fail "encode --chroma 420: $out"
+"$fvv" info "$dir/c420.fvv" | grep -q "format version 9" || fail "chroma 420 format version: $("$fvv" info "$dir/c420.fvv" | head -1)"
+"$fvv" info "$dir/c420.fvv" | grep -q "chroma-420.*chroma-bilinear" || fail "chroma 420 tools: $("$fvv" info "$dir/c420.fvv" | grep tools)"
+out=$("$fvv" encode "$dir/cap" -o "$dir/c420n.fvv" --atlas 128 --gop-frames 2 --textures "$dir/tex" \
+  --chroma 420-nearest -q 2>&1) || fail "encode --chroma 420-nearest: $out"
+"$fvv" info "$dir/c420n.fvv" | grep -q "format version 7" || fail "chroma 420-nearest format version: $("$fvv" info "$dir/c420n.fvv" | head -1)"
+"$fvv" info "$dir/c420n.fvv" | grep -q "chroma-bilinear" && fail "chroma 420-nearest tools: $("$fvv" info "$dir/c420n.fvv" | grep tools)"
+[ "$(stat -c %s "$dir/c420.fvv")" = "$(stat -c %s "$dir/c420n.fvv")" ] || fail "the chroma rule changed the coded bytes"
 "$fvv" info "$dir/b.fvv" | grep -q "sample-precision" || fail "default tools: $("$fvv" info "$dir/b.fvv" | grep tools)"
 out=$("$fvv" encode "$dir/cap" -o "$dir/v6.fvv" --atlas 128 --gop-frames 2 --textures "$dir/tex" \
   --sample-bits 0 -q 2>&1) || fail "encode --sample-bits 0: $out"

@@ -128,6 +128,79 @@ TEST(Fill, UsedTexelsUnchangedHolesTakeParentMeans) {
   EXPECT_EQ(p.samples, (std::vector<int32_t>{10, 20, 100, 100, 20, 30, 100, 100}));
 }
 
+// The rule of SPEC.md 9.7 with tool bit 18, worked by hand on a 2x3 chroma
+// plane (luma 4x6) against nearest, which replicates.
+TEST(Colour, BilinearChromaIsTheRuleOfTheSpec) {
+  const uint32_t cw = 3, ch = 2, w = 6, h = 4;
+  const int32_t c[6] = {0, 16, 160, -32, 48, 64};  // rows {0, 16, 160}, {-32, 48, 64}
+  std::vector<int32_t> near(w * h), bil(w * h);
+  UpsampleChroma(c, cw, ch, w, h, ChromaUpsampling::kNearest, near.data());
+  UpsampleChroma(c, cw, ch, w, h, ChromaUpsampling::kBilinear, bil.data());
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) EXPECT_EQ(near[y * w + x], c[(y / 2) * cw + x / 2]);
+  // (0, 0): every neighbour clamps to the sample itself.
+  EXPECT_EQ(bil[0], 0);
+  // (0, 1): cell (0, 0), column neighbour 1: (9*0 + 3*0 + 3*16 + 16 + 8) >> 4 = 4.
+  EXPECT_EQ(bil[1], 4);
+  // (1, 1): cell (0, 0), neighbours row 1 and column 1:
+  // (9*0 + 3*(-32) + 3*16 + 48 + 8) >> 4 = 8 >> 4 = 0.
+  EXPECT_EQ(bil[w + 1], 0);
+  // (1, 2): cell (0, 1), column neighbour 0 (even x), row 1:
+  // (9*16 + 3*48 + 3*0 + (-32) + 8) >> 4 = 264 >> 4 = 16.
+  EXPECT_EQ(bil[w + 2], 16);
+  // (2, 4): cell (1, 2), row neighbour 0 (even y), column neighbour 1 (even x):
+  // (9*64 + 3*160 + 3*48 + 16 + 8) >> 4 = 1224 >> 4 = 76.
+  EXPECT_EQ(bil[2 * w + 4], 76);
+  // (2, 5): the same cell, the column neighbour past the edge clamps to 2:
+  // (9*64 + 3*160 + 3*64 + 160 + 8) >> 4 = 1416 >> 4 = 88.
+  EXPECT_EQ(bil[2 * w + 5], 88);
+  // (3, 0): cell (1, 0), row clamps to 1, column neighbour 0 (clamped):
+  // (9*(-32) + 3*(-32) + 3*(-32) + (-32) + 8) >> 4 = -504 >> 4 = -32 (floor).
+  EXPECT_EQ(bil[3 * w], -32);
+  // (2, 3): cell (1, 1), row 0, column 2: (9*48 + 3*16 + 3*64 + 160 + 8) >> 4 = 840 >> 4 = 52.
+  EXPECT_EQ(bil[2 * w + 3], 52);
+  // A constant plane stays constant; one sample wide or high, the rule still holds.
+  const int32_t flat[4] = {77, 77, 77, 77};
+  std::vector<int32_t> out(16);
+  UpsampleChroma(flat, 2, 2, 4, 4, ChromaUpsampling::kBilinear, out.data());
+  for (int32_t v : out) EXPECT_EQ(v, 77);
+  const int32_t column[3] = {0, 32, 64};
+  std::vector<int32_t> tall(6);
+  UpsampleChroma(column, 1, 3, 1, 6, ChromaUpsampling::kBilinear, tall.data());
+  EXPECT_EQ(tall, (std::vector<int32_t>{0, 8, 24, 40, 56, 64}));
+}
+
+// A smooth colour ramp subsampled and returned: bilinear is closer to the
+// ramp than replication (the 4:2:0 RGB gain that tool bit 18 is for), and
+// BlockToRgb applies the block's rule.
+TEST(Colour, BilinearChromaIsCloserOnASmoothRamp) {
+  const Shape4D shape{{1, 1, 16, 16}};
+  std::vector<uint8_t> rgb(16 * 16 * 3);
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 16; ++x) {
+      uint8_t* p = &rgb[3 * (y * 16 + x)];
+      p[0] = uint8_t(40 + 10 * x), p[1] = uint8_t(100 + 4 * y), p[2] = uint8_t(200 - 8 * x);
+    }
+  Block b = BlockFromRgb(rgb.data(), shape, ColourSpace::kYCbCr601, ChromaFormat::k420, 3);
+  auto error = [&](ChromaUpsampling u) {
+    b.upsampling = u;
+    std::vector<uint8_t> out(rgb.size());
+    BlockToRgb(b, out.data());
+    double sse = 0;
+    // Inside the edge cells, where the ramp continues on both sides.
+    for (int y = 2; y < 14; ++y)
+      for (int x = 2; x < 14; ++x)
+        for (int k = 0; k < 3; ++k) {
+          const double d = double(out[3 * (y * 16 + x) + k]) - rgb[3 * (y * 16 + x) + k];
+          sse += d * d;
+        }
+    return sse;
+  };
+  const double nearest = error(ChromaUpsampling::kNearest);
+  const double bilinear = error(ChromaUpsampling::kBilinear);
+  EXPECT_LT(bilinear, 0.25 * nearest) << nearest << " " << bilinear;
+}
+
 TEST(Fill, EmptyCellsInheritFromCoarserLevels) {
   // 1x1x1x8, one used texel at x = 7: every hole ends up equal to it.
   Plane4D p(Shape4D{{1, 1, 1, 8}});

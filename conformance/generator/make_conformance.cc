@@ -227,6 +227,22 @@ std::vector<CaseSpec> ValidCases() {
   o = Base(3, 2, 1, 50, 3, 2);
   o.chroma = ChromaFormat::k420;
   add("atlas_column_420", "a 1x50 atlas with 4:2:0 chroma (chroma 1x25)", o, {10});
+  // Format version 9: 4:2:0 chroma upsampled bilinearly (tool bit 18), at an
+  // odd atlas's edges and in a chroma plane one sample wide.
+  o = Base(5, 2, 37, 23, 4, 2);
+  o.chroma = ChromaFormat::k420;
+  o.upsampling = ChromaUpsampling::kBilinear;
+  add("chroma_bilinear_odd",
+      "format version 9: 4:2:0 chroma upsampled bilinearly on an odd-sized atlas (37x23: chroma "
+      "19x12, edge samples repeated)",
+      o, {30, 200});
+  o = Base(3, 2, 1, 50, 3, 2);
+  o.chroma = ChromaFormat::k420;
+  o.upsampling = ChromaUpsampling::kBilinear;
+  add("chroma_bilinear_column",
+      "format version 9: a 1x50 atlas with 4:2:0 chroma upsampled bilinearly (chroma 1x25: the "
+      "row neighbour is the sample itself)",
+      o, {10});
 
   o = Base(8, 3, 32, 32, 4, 3);
   o.masks = false;
@@ -1095,6 +1111,21 @@ std::vector<CaseSpec> InvalidCases() {
   // Format version 8: coder 4.
   coder_invalid_cases(EntropyCoder::kQuadtree, EntropyCoder::kSetSignContexts, "quadtree-arith4",
                       "spiht-arith3", 17, 8);
+
+  // Format version 9: 4:2:0 chroma upsampled bilinearly.
+  const auto bilinear = [](CaseSpec* c) {
+    c->options.chroma = ChromaFormat::k420;
+    c->options.upsampling = ChromaUpsampling::kBilinear;
+    return c;
+  };
+  bilinear(add("chroma_bilinear_in_version_8",
+               "the chroma-bilinear tool (bit 18) in a format version 8 header",
+               StatusCode::kCorrupt, {"3.1", "4", "10"}))
+      ->edit = retool(0, 0, 8);
+  add("chroma_bilinear_without_420",
+      "a format version 9 header declaring chroma-bilinear without chroma-420",
+      StatusCode::kCorrupt, {"3.1", "10"})
+      ->edit = retool(0, kToolChromaBilinear, 9);
   return v;
 }
 

@@ -226,6 +226,9 @@ StatusOr<SampleStream> MakeSampleStream(const SampleStreamOptions& o,
   h.tools =
       TextureTools(o.kernel, o.coder, o.lossless ? ColourSpace::kRct : ColourSpace::kYCbCr601,
                    o.chroma, KernelFracBits(o.kernel, o.frac_bits_97), o.weights, SampleFrac(o));
+  if (o.chroma == ChromaFormat::k420 && o.upsampling == ChromaUpsampling::kBilinear) {
+    h.tools |= kToolChromaBilinear;
+  }
   if (o.masks) h.tools |= kToolMasks;
   if (o.vertex_visibility) h.tools |= kToolVertexVisibility;
   if (o.key_interval > 1) h.tools |= kToolMotionInterpolation;

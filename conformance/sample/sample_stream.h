@@ -34,6 +34,8 @@ struct SampleStreamOptions {
   // other codecs code whole samples).
   int sample_frac = 0;
   ChromaFormat chroma = ChromaFormat::k444;
+  // With 4:2:0: kBilinear sets tool bit 18 (format version 9).
+  ChromaUpsampling upsampling = ChromaUpsampling::kNearest;
   bool lossless = false;  // 5/3 or Haar + RCT at full rate
   // The predictive scheme with shape-adaptive BISK ('ptex', format version 2;
   // needs masks). `lossless` then means every stream whole (lossless in YUV).

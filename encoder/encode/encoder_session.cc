@@ -188,6 +188,7 @@ Status Session::FillHeader(FileHeader* h) const {
     h->tools = TextureTools(s_.kernel, s_.coder, ColourSpace::kYCbCr601, s_.chroma,
                             KernelFracBits(s_.kernel, s_.frac_bits_97), s_.weights, SampleFrac());
   }
+  if (ChromaUpsamplingOf() == ChromaUpsampling::kBilinear) h->tools |= kToolChromaBilinear;
   if (s_.masks) h->tools |= kToolMasks;
   if (s_.key_interval > 1) h->tools |= kToolMotionInterpolation;
   if (s_.motion_coder == MotionCoder::kZstd) h->tools |= kToolMotionZstd;

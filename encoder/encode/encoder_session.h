@@ -144,6 +144,12 @@ class Session {
                ? UsableSampleFrac(s_.kernel, s_.frac_bits_97, s_.weights, s_.sample_frac)
                : 0;
   }
+  // The stream's 4:2:0 rule (tool bit 18 with 4:2:0 SPIHT textures).
+  ChromaUpsampling ChromaUpsamplingOf() const {
+    return s_.chroma == ChromaFormat::k420 && s_.texture_codec == TextureCodec::kSpiht4d
+               ? s_.chroma_upsampling
+               : ChromaUpsampling::kNearest;
+  }
   Status FillHeader(FileHeader* h) const;
   // The atlas texel map and the span buffers, once the model is set.
   Status AllocateForModel();

@@ -50,8 +50,9 @@ Status Session::CodeSpan(uint32_t frames) {
         }
       }
     }
-    const Block block =
+    Block block =
         BlockFromRgb(rgb.data(), shape, ColourSpace::kYCbCr601, s_.chroma, SampleFrac(), &used);
+    block.upsampling = ChromaUpsamplingOf();
     if (s_.texture_codec == TextureCodec::kPredictive) {
       FVV_RETURN_IF_ERROR(CodePredictive(block, rgb, used, shape, &frag));
       fragments_.push_back(std::move(frag));
@@ -73,6 +74,7 @@ Status Session::CodeSpan(uint32_t frames) {
     EncodeReport report;
     report.decoded = &decoded;  // what a decoder reconstructs at full length
     FVV_ASSIGN_OR_RETURN(frag.texture, EncodeBlock(block, &used, es, &report));
+    decoded.upsampling = block.upsampling;  // a stream-level rule, not in the block's syntax
     if (s_.masks) {
       frag.masks = EncodeMasks(used.data(), shape, s_.mask_coding);
       frag.mask_mode = s_.mask_coding;

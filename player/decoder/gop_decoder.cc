@@ -235,6 +235,10 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
       gop->bitplanes[c] = std::min(gop->bitplanes[c], report.planes_completed[c]);
     }
     gop->complete = gop->complete && report.complete;
+    // The stream's 4:2:0 rule (tool bit 18, SPEC.md 9.7) goes with its samples.
+    if (info.header.tools & kToolChromaBilinear) {
+      gop->textures[i].upsampling = ChromaUpsampling::kBilinear;
+    }
   }
   gop->ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

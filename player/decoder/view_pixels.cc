@@ -1,5 +1,7 @@
 #include "player/decoder/view_pixels.h"
 
+#include <vector>
+
 #include "codec/colour.h"
 
 namespace fvv {
@@ -15,9 +17,18 @@ void ViewPixels(const Block& block, uint32_t t, uint32_t c, ViewFormat format,
   const int32_t* Y = block.channels[0].samples.data() + luma.Index(t, c, 0, 0);
   const int32_t* U = block.channels[1].samples.data() + chroma.Index(t, c, 0, 0);
   const int32_t* V = block.channels[2].samples.data() + chroma.Index(t, c, 0, 0);
-  const uint32_t cw = chroma.width();
   const int frac = block.sample_frac;
-  if (format == ViewFormat::kRgb8 && !half && block.colour == ColourSpace::kYCbCr601) {
+  // 4:2:0 chroma at luma resolution first, by the stream's rule (SPEC.md 9.7).
+  std::vector<int32_t> u_full, v_full;
+  if (half) {
+    u_full.resize(size_t{w} * h);
+    v_full.resize(size_t{w} * h);
+    UpsampleChroma(U, chroma.width(), chroma.height(), w, h, block.upsampling, u_full.data());
+    UpsampleChroma(V, chroma.width(), chroma.height(), w, h, block.upsampling, v_full.data());
+    U = u_full.data();
+    V = v_full.data();
+  }
+  if (format == ViewFormat::kRgb8 && block.colour == ColourSpace::kYCbCr601) {
     for (uint32_t y = 0; y < h; ++y) {
       const size_t row = size_t{y} * w;
       YcbcrRowToRgb8(Y + row, U + row, V + row, w, out + 3 * row, frac);
@@ -30,16 +41,15 @@ void ViewPixels(const Block& block, uint32_t t, uint32_t c, ViewFormat format,
   for (uint32_t y = 0; y < h; ++y) {
     for (uint32_t x = 0; x < w; ++x) {
       const size_t i = size_t{y} * w + x;
-      const size_t ci = half ? size_t{y >> 1} * cw + (x >> 1) : i;
       if (format == ViewFormat::kRgb8) {
-        const Rgb8 p = YuvToRgb(block.colour, Y[i], U[ci], V[ci], frac);
+        const Rgb8 p = YuvToRgb(block.colour, Y[i], U[i], V[i], frac);
         out[3 * i] = p.r;
         out[3 * i + 1] = p.g;
         out[3 * i + 2] = p.b;
       } else {
         out[i] = to_byte(Y[i]);
-        out[size_t{w} * h + i] = to_byte(U[ci]);
-        out[2 * size_t{w} * h + i] = to_byte(V[ci]);
+        out[size_t{w} * h + i] = to_byte(U[i]);
+        out[2 * size_t{w} * h + i] = to_byte(V[i]);
       }
     }
   }

@@ -292,7 +292,7 @@ void AddBlockCommands(CLI::App* app, int* exit_code) {
   e->add_option("-o,--output", enc->output, "Output block file (.fvb)")->required();
   e->add_option("--frames", enc->frames, "Frames in the block (default: images / cameras)");
   e->add_option("--cameras", enc->cameras, "Cameras in the block")->capture_default_str();
-  AddCodecOptions(e, &enc->codec);
+  AddCodecOptions(e, &enc->codec, false);
   e->add_option("--bpp", enc->bpp, "Target bits per texel, all channels together (default 0.25)")
       ->check(CLI::PositiveNumber);
   e->add_option("--bytes", enc->bytes, "Target total bytes")->check(CLI::PositiveNumber);

@@ -68,6 +68,7 @@ int RunEncode(const EncodeArgs& a) {
   s.weights = a.codec.Weights();
   s.sample_frac = a.codec.sample_bits;
   s.chroma = a.codec.Chroma();
+  s.chroma_upsampling = a.codec.Upsampling();
   s.fill.iterations = a.fill_iterations;
   s.prune_isolated = !a.no_prune;
   if (a.texture_codec == "predictive") {

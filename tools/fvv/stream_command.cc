@@ -235,6 +235,7 @@ int RunSample(SampleArgs a) {
   a.o.weights = a.codec.Weights();
   a.o.sample_frac = a.codec.sample_bits;
   a.o.chroma = a.codec.Chroma();
+  a.o.upsampling = a.codec.Upsampling();
   a.o.predictive = a.texture_codec == "predictive";
   a.o.mask_coding = MaskCoderFromName(a.mask_coder);
   a.o.motion_coder = a.motion_coder == "zstd" ? MotionCoder::kZstd : MotionCoder::kArith;
