@@ -96,6 +96,11 @@ int Run(const std::string& dir) {
          o->chroma = ChromaFormat::k420;
          o->masks = false;
        }},
+      {"chroma_bilinear",
+       [](SampleStreamOptions* o) {
+         o->chroma = ChromaFormat::k420;
+         o->upsampling = ChromaUpsampling::kBilinear;
+       }},
       {"motion_zstd_interp",
        [](SampleStreamOptions* o) {
          o->motion_coder = MotionCoder::kZstd;
