@@ -59,7 +59,8 @@ void UpsampleChroma(const int32_t* chroma, uint32_t cw, uint32_t ch, uint32_t w,
 // that is nearest to what is shown, not pulled towards colours nobody sees.
 // sample_frac: the block's fractional bits (0 for RCT).
 Block BlockFromRgb(const uint8_t* rgb, const Shape4D& shape, ColourSpace colour,
-                   ChromaFormat chroma, int sample_frac = 0, const UsedMask* used = nullptr);
+                   ChromaFormat chroma, int sample_frac = 0, const UsedMask* used = nullptr,
+                   ChromaUpsampling upsampling = ChromaUpsampling::kNearest);
 void BlockToRgb(const Block& block, uint8_t* rgb);  // rgb holds shape().count() * 3 bytes
 
 }  // namespace fvv

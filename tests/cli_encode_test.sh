@@ -72,7 +72,6 @@ out=$("$fvv" encode "$dir/cap" -o "$dir/c420n.fvv" --atlas 128 --gop-frames 2 --
   --chroma 420-nearest -q 2>&1) || fail "encode --chroma 420-nearest: $out"
 "$fvv" info "$dir/c420n.fvv" | grep -q "format version 7" || fail "chroma 420-nearest format version: $("$fvv" info "$dir/c420n.fvv" | head -1)"
 "$fvv" info "$dir/c420n.fvv" | grep -q "chroma-bilinear" && fail "chroma 420-nearest tools: $("$fvv" info "$dir/c420n.fvv" | grep tools)"
-[ "$(stat -c %s "$dir/c420.fvv")" = "$(stat -c %s "$dir/c420n.fvv")" ] || fail "the chroma rule changed the coded bytes"
 "$fvv" info "$dir/b.fvv" | grep -q "sample-precision" || fail "default tools: $("$fvv" info "$dir/b.fvv" | grep tools)"
 out=$("$fvv" encode "$dir/cap" -o "$dir/v6.fvv" --atlas 128 --gop-frames 2 --textures "$dir/tex" \
   --sample-bits 0 -q 2>&1) || fail "encode --sample-bits 0: $out"

@@ -199,6 +199,43 @@ TEST(Colour, BilinearChromaIsCloserOnASmoothRamp) {
   const double nearest = error(ChromaUpsampling::kNearest);
   const double bilinear = error(ChromaUpsampling::kBilinear);
   EXPECT_LT(bilinear, 0.25 * nearest) << nearest << " " << bilinear;
+  // Made for bilinear upsampling, the samples are matched to it: closer
+  // still than the box mean, the whole atlas included, and the same luma.
+  const Block matched = BlockFromRgb(rgb.data(), shape, ColourSpace::kYCbCr601, ChromaFormat::k420,
+                                     3, nullptr, ChromaUpsampling::kBilinear);
+  EXPECT_EQ(matched.upsampling, ChromaUpsampling::kBilinear);
+  EXPECT_EQ(matched.channels[0].samples, b.channels[0].samples);
+  auto whole_error = [&](const Block& block) {
+    std::vector<uint8_t> out(rgb.size());
+    BlockToRgb(block, out.data());
+    double sse = 0;
+    for (size_t i = 0; i < rgb.size(); ++i) sse += (double(out[i]) - rgb[i]) * (out[i] - rgb[i]);
+    return sse;
+  };
+  b.upsampling = ChromaUpsampling::kBilinear;
+  EXPECT_LT(whole_error(matched), 0.8 * whole_error(b));
+}
+
+// The matched samples stay within the channel's range where the colours jump
+// between extremes (a correction can overshoot there).
+TEST(Colour, BilinearMatchedChromaStaysInRange) {
+  const Shape4D shape{{1, 1, 6, 6}};
+  std::vector<uint8_t> rgb(36 * 3);
+  for (int i = 0; i < 36; ++i) {
+    const bool blue = ((i % 6) / 2 + (i / 6) / 2) % 2 == 0;
+    rgb[3 * i] = blue ? 0 : 255, rgb[3 * i + 1] = 0, rgb[3 * i + 2] = blue ? 255 : 0;
+  }
+  for (int frac : {0, 3}) {
+    const Block b = BlockFromRgb(rgb.data(), shape, ColourSpace::kYCbCr601, ChromaFormat::k420,
+                                 frac, nullptr, ChromaUpsampling::kBilinear);
+    for (int k = 1; k <= 2; ++k) {
+      const SampleRange r = ChannelRange(ColourSpace::kYCbCr601, k, frac);
+      for (int32_t v : b.channels[k].samples) {
+        EXPECT_GE(v, r.min);
+        EXPECT_LE(v, r.max);
+      }
+    }
+  }
 }
 
 TEST(Fill, EmptyCellsInheritFromCoarserLevels) {

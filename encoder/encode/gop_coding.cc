@@ -50,9 +50,8 @@ Status Session::CodeSpan(uint32_t frames) {
         }
       }
     }
-    Block block =
-        BlockFromRgb(rgb.data(), shape, ColourSpace::kYCbCr601, s_.chroma, SampleFrac(), &used);
-    block.upsampling = ChromaUpsamplingOf();
+    const Block block = BlockFromRgb(rgb.data(), shape, ColourSpace::kYCbCr601, s_.chroma,
+                                     SampleFrac(), &used, ChromaUpsamplingOf());
     if (s_.texture_codec == TextureCodec::kPredictive) {
       FVV_RETURN_IF_ERROR(CodePredictive(block, rgb, used, shape, &frag));
       fragments_.push_back(std::move(frag));
