@@ -216,8 +216,8 @@ Block BlockFromRgb(const uint8_t* rgb, const Shape4D& shape, ColourSpace colour,
       }
     }
     if (upsampling == ChromaUpsampling::kBilinear) {
-      MatchChromaToBilinear(u_full, used && used->size() == n ? used : nullptr, &block, 1);
-      MatchChromaToBilinear(v_full, used && used->size() == n ? used : nullptr, &block, 2);
+      MatchChromaToBilinear(u_full, weighted ? used : nullptr, &block, 1);
+      MatchChromaToBilinear(v_full, weighted ? used : nullptr, &block, 2);
     }
   }
   return block;
