@@ -3,6 +3,7 @@
 #include <zstd.h>
 
 #include <cmath>
+#include <algorithm>
 #include <cstring>
 
 namespace fvv {
@@ -87,24 +88,57 @@ bool GetColumns(ByteReader* r, size_t count, std::vector<std::array<T, N>>* out)
   return true;
 }
 
-std::vector<uint8_t> SerialiseModel(const BodyModel& model) {
-  ByteWriter w;
-  const auto& bones = model.skeleton.bones;
-  w.U16(static_cast<uint32_t>(bones.size()));
-  for (const Bone& b : bones) {
-    w.Str(b.name);
-    w.I16(b.parent);
-    for (float v : b.rest_translation) w.F32(v);
-    for (float v : b.rest_rotation) w.F32(v);
-    w.U8(static_cast<uint8_t>(b.order));
-    w.U8(b.dof_mask);
+void PutSkeleton(const Skeleton& skeleton, ByteWriter* w) {
+  w->U16(static_cast<uint32_t>(skeleton.bones.size()));
+  for (const Bone& b : skeleton.bones) {
+    w->Str(b.name);
+    w->I16(b.parent);
+    for (float v : b.rest_translation) w->F32(v);
+    for (float v : b.rest_rotation) w->F32(v);
+    w->U8(static_cast<uint8_t>(b.order));
+    w->U8(b.dof_mask);
     for (int k = 0; k < kDofKinds; ++k) {
       if (b.dof_mask & (1u << k)) {
-        w.F32(b.dof_min[k]);
-        w.F32(b.dof_max[k]);
+        w->F32(b.dof_min[k]);
+        w->F32(b.dof_max[k]);
       }
     }
   }
+}
+
+// Triangle corners as differences from the same corner of the previous
+// triangle (mod 2^32): neighbouring triangles share nearby vertices.
+void PutTriangles(const std::vector<std::array<uint32_t, 3>>& triangles, ByteWriter* w) {
+  for (size_t k = 0; k < 3; ++k) {
+    std::vector<uint32_t> d(triangles.size());
+    uint32_t prev = 0;
+    for (size_t i = 0; i < triangles.size(); ++i) {
+      d[i] = triangles[i][k] - prev;
+      prev = triangles[i][k];
+    }
+    PutPlanes(d, w);
+  }
+}
+
+uint32_t ZigZag(int64_t d) { return uint32_t((uint64_t(d) << 1) ^ uint64_t(d >> 63)); }
+int64_t UnZigZag(uint32_t z) { return int64_t(z >> 1) ^ -int64_t(z & 1); }
+
+// A column of values on a grid of 2^-exponent, as differences from the
+// previous vertex's value (zig-zag, so small steps either way have small codes).
+std::vector<uint32_t> GridDeltas(const std::vector<float>& values, int exponent) {
+  std::vector<uint32_t> d(values.size());
+  int64_t prev = 0;
+  for (size_t i = 0; i < values.size(); ++i) {
+    const int64_t q = std::llround(std::ldexp(double(values[i]), exponent));
+    d[i] = ZigZag(q - prev);
+    prev = q;
+  }
+  return d;
+}
+
+std::vector<uint8_t> SerialiseModel(const BodyModel& model) {
+  ByteWriter w;
+  PutSkeleton(model.skeleton, &w);
   const Mesh& m = model.mesh;
   w.U32(static_cast<uint32_t>(m.positions.size()));
   w.U32(static_cast<uint32_t>(m.triangles.size()));
@@ -114,22 +148,48 @@ std::vector<uint8_t> SerialiseModel(const BodyModel& model) {
   for (size_t k = 0; k < kMaxInfluences; ++k) PutPlanes(Column(m.joints, k), &w);
   for (size_t k = 0; k < kMaxInfluences; ++k) PutPlanes(Column(m.weights, k), &w);
   w.Bytes(m.segments);
-  // Triangle corners as differences from the same corner of the previous
-  // triangle (mod 2^32): neighbouring triangles share nearby vertices.
-  for (size_t k = 0; k < 3; ++k) {
-    std::vector<uint32_t> d(m.triangles.size());
-    uint32_t prev = 0;
-    for (size_t i = 0; i < m.triangles.size(); ++i) {
-      d[i] = m.triangles[i][k] - prev;
-      prev = m.triangles[i][k];
-    }
-    PutPlanes(d, &w);
+  PutTriangles(m.triangles, &w);
+  return std::move(w.bytes());
+}
+
+// model_data of 'modl' version 1 (SPEC.md 3.3.1); the mesh taken to the grid's
+// nearest values, which for a QuantiseModel'd mesh are its own.
+std::vector<uint8_t> SerialiseQuantisedModel(const BodyModel& model) {
+  const ModelQuantisation& q = model.quantisation;
+  ByteWriter w;
+  PutSkeleton(model.skeleton, &w);
+  const Mesh& m = model.mesh;
+  const size_t n = m.positions.size();
+  w.U32(static_cast<uint32_t>(n));
+  w.U32(static_cast<uint32_t>(m.triangles.size()));
+  w.U8(q.position_exponent);
+  w.U8(q.uv_exponent);
+  w.U8(q.normal_bits);
+  w.U8(q.weight_bits);
+  for (size_t k = 0; k < 3; ++k) PutPlanes(GridDeltas(Column(m.positions, k), q.position_exponent), &w);
+  std::vector<uint16_t> codes[2] = {std::vector<uint16_t>(n), std::vector<uint16_t>(n)};
+  for (size_t i = 0; i < n; ++i) {
+    const std::array<uint32_t, 2> c = EncodeOctahedralNormal(m.normals[i], q.normal_bits);
+    codes[0][i] = uint16_t(c[0]);
+    codes[1][i] = uint16_t(c[1]);
   }
+  PutPlanes(codes[0], &w);
+  PutPlanes(codes[1], &w);
+  for (size_t k = 0; k < 2; ++k) PutPlanes(GridDeltas(Column(m.uvs, k), q.uv_exponent), &w);
+  for (size_t k = 0; k < kMaxInfluences; ++k) PutPlanes(Column(m.joints, k), &w);
+  std::vector<std::array<uint16_t, kMaxInfluences>> weights(n);
+  for (size_t i = 0; i < n; ++i) {
+    const std::array<uint32_t, 4> qw = QuantiseWeights(m.weights[i], q.weight_bits);
+    for (int k = 0; k < kMaxInfluences; ++k) weights[i][k] = uint16_t(qw[k]);
+  }
+  for (size_t k = 0; k < kMaxInfluences; ++k) PutPlanes(Column(weights, k), &w);
+  w.Bytes(m.segments);
+  PutTriangles(m.triangles, &w);
   return std::move(w.bytes());
 }
 
 // Upper bound of a raw model's size under `limits`: caps the allocation before
-// decompression.
+// decompression (version 1 stores less per vertex than version 0).
 uint64_t MaxRawModelBytes(const LevelLimits& limits) {
   const uint64_t per_bone = 2 + kMaxBoneNameBytes + 2 + 28 + 2 + 48;
   const uint64_t per_vertex = 12 + 12 + 8 + 8 + 8 + 1;
@@ -137,32 +197,68 @@ uint64_t MaxRawModelBytes(const LevelLimits& limits) {
          uint64_t{limits.max_triangles} * 12;
 }
 
-Status ParseRawModel(const uint8_t* data, size_t size, const LevelLimits& limits,
-                     const BoxHeader& box, BodyModel* model) {
-  const std::string at = BoxContext(box);
-  ByteReader r(data, size);
-  const uint32_t bone_count = r.U16();
+Status ParseSkeleton(ByteReader* r, const LevelLimits& limits, const std::string& at,
+                     Skeleton* skeleton) {
+  const uint32_t bone_count = r->U16();
   if (bone_count > limits.max_bones) {
     return LimitExceeded(at + std::to_string(bone_count) + " bones (level allows " +
                          std::to_string(limits.max_bones) + ")");
   }
-  auto& bones = model->skeleton.bones;
+  auto& bones = skeleton->bones;
   bones.assign(bone_count, Bone());
   for (Bone& b : bones) {
-    b.name = r.Str();
-    b.parent = r.I16();
-    for (float& v : b.rest_translation) v = r.F32();
-    for (float& v : b.rest_rotation) v = r.F32();
-    b.order = static_cast<RotationOrder>(r.U8());
-    b.dof_mask = r.U8();
+    b.name = r->Str();
+    b.parent = r->I16();
+    for (float& v : b.rest_translation) v = r->F32();
+    for (float& v : b.rest_rotation) v = r->F32();
+    b.order = static_cast<RotationOrder>(r->U8());
+    b.dof_mask = r->U8();
     for (int k = 0; k < kDofKinds; ++k) {
       if (b.dof_mask & (1u << k)) {
-        b.dof_min[k] = r.F32();
-        b.dof_max[k] = r.F32();
+        b.dof_min[k] = r->F32();
+        b.dof_max[k] = r->F32();
       }
     }
-    if (r.overrun()) return Corrupt(at + "model data ends inside the skeleton");
+    if (r->overrun()) return Corrupt(at + "model data ends inside the skeleton");
   }
+  return Status::Ok();
+}
+
+void GetTriangles(ByteReader* r, uint32_t count, std::vector<std::array<uint32_t, 3>>* triangles) {
+  GetColumns(r, count, triangles);
+  for (size_t k = 0; k < 3; ++k) {
+    uint32_t prev = 0;
+    for (auto& t : *triangles) {
+      t[k] += prev;
+      prev = t[k];
+    }
+  }
+}
+
+// Grid values from their zig-zag differences; false when one leaves the
+// grid's range (|value| < 2^24, where its float is exact).
+template <size_t N>
+bool GetGridColumns(ByteReader* r, uint32_t count, int exponent,
+                    std::vector<std::array<float, N>>* out) {
+  out->resize(count);
+  std::vector<uint32_t> d;
+  for (size_t k = 0; k < N; ++k) {
+    if (!GetPlanes(r, count, &d)) return false;
+    int64_t value = 0;
+    for (size_t i = 0; i < count; ++i) {
+      value += UnZigZag(d[i]);
+      if (value > kMaxQuantisedMagnitude || value < -kMaxQuantisedMagnitude) return false;
+      (*out)[i][k] = std::ldexp(float(value), -exponent);
+    }
+  }
+  return true;
+}
+
+Status ParseRawModel(const uint8_t* data, size_t size, const LevelLimits& limits,
+                     const BoxHeader& box, BodyModel* model) {
+  const std::string at = BoxContext(box);
+  ByteReader r(data, size);
+  FVV_RETURN_IF_ERROR(ParseSkeleton(&r, limits, at, &model->skeleton));
   const uint32_t vertex_count = r.U32();
   const uint32_t triangle_count = r.U32();
   if (vertex_count > limits.max_vertices || triangle_count > limits.max_triangles) {
@@ -171,29 +267,71 @@ Status ParseRawModel(const uint8_t* data, size_t size, const LevelLimits& limits
                          std::to_string(limits.max_vertices) + ", " +
                          std::to_string(limits.max_triangles) + ")");
   }
+  const bool quantised = box.version == 1;
+  ModelQuantisation& q = model->quantisation;
+  q = ModelQuantisation();
+  if (quantised) {
+    q.quantised = true;
+    q.position_exponent = r.U8();
+    q.uv_exponent = r.U8();
+    q.normal_bits = r.U8();
+    q.weight_bits = r.U8();
+    if (r.overrun()) return Corrupt(at + "model data ends before the quantisation grid");
+    const Status grid = ValidateModelQuantisation(q);
+    if (!grid.ok()) return Corrupt(at + grid.message());
+  }
   // Exact size of what follows: checked before any array is allocated.
-  const uint64_t need =
-      uint64_t{vertex_count} * (12 + 12 + 8 + 8 + 8 + 1) + uint64_t{triangle_count} * 12;
+  const uint64_t per_vertex = quantised ? 12 + 4 + 8 + 8 + 8 + 1 : 12 + 12 + 8 + 8 + 8 + 1;
+  const uint64_t need = uint64_t{vertex_count} * per_vertex + uint64_t{triangle_count} * 12;
   if (need != r.remaining()) {
     return Corrupt(at + "mesh arrays need " + std::to_string(need) + " bytes, model data has " +
                    std::to_string(r.remaining()));
   }
   Mesh& m = model->mesh;
-  GetColumns(&r, vertex_count, &m.positions);
-  GetColumns(&r, vertex_count, &m.normals);
-  GetColumns(&r, vertex_count, &m.uvs);
-  GetColumns(&r, vertex_count, &m.joints);
-  GetColumns(&r, vertex_count, &m.weights);
-  const uint8_t* seg = r.Bytes(vertex_count);
-  if (seg) m.segments.assign(seg, seg + vertex_count);
-  GetColumns(&r, triangle_count, &m.triangles);
-  for (size_t k = 0; k < 3; ++k) {
-    uint32_t prev = 0;
-    for (auto& t : m.triangles) {
-      t[k] += prev;
-      prev = t[k];
+  if (!quantised) {
+    GetColumns(&r, vertex_count, &m.positions);
+    GetColumns(&r, vertex_count, &m.normals);
+    GetColumns(&r, vertex_count, &m.uvs);
+  } else {
+    if (!GetGridColumns(&r, vertex_count, q.position_exponent, &m.positions)) {
+      return Corrupt(at + "a vertex position beyond 2^24 grid steps");
+    }
+    std::vector<std::array<uint16_t, 2>> codes;
+    GetColumns(&r, vertex_count, &codes);
+    const uint32_t max_code = (1u << q.normal_bits) - 1;
+    m.normals.resize(vertex_count);
+    for (size_t i = 0; i < vertex_count; ++i) {
+      if (codes[i][0] > max_code || codes[i][1] > max_code) {
+        return Corrupt(at + "vertex " + std::to_string(i) + ": normal code beyond " +
+                       std::to_string(q.normal_bits) + " bits");
+      }
+      m.normals[i] = DecodeOctahedralNormal(codes[i][0], codes[i][1], q.normal_bits);
+    }
+    if (!GetGridColumns(&r, vertex_count, q.uv_exponent, &m.uvs)) {
+      return Corrupt(at + "an atlas coordinate beyond 2^24 grid steps");
     }
   }
+  GetColumns(&r, vertex_count, &m.joints);
+  GetColumns(&r, vertex_count, &m.weights);
+  if (quantised) {
+    // Weights in 1/(2^b - 1) must sum to 2^b - 1; in 1/65535 they then sum
+    // to 65535, which ValidateBodyModel checks.
+    const uint32_t top = (1u << q.weight_bits) - 1, unit = 65535 / top;
+    for (size_t i = 0; i < vertex_count; ++i) {
+      uint32_t sum = 0;
+      for (uint16_t& w : m.weights[i]) {
+        sum += w;
+        w = uint16_t(std::min<uint32_t>(w, top) * unit);
+      }
+      if (sum != top) {
+        return Corrupt(at + "vertex " + std::to_string(i) + " skin weights sum to " +
+                       std::to_string(sum) + ", not " + std::to_string(top));
+      }
+    }
+  }
+  const uint8_t* seg = r.Bytes(vertex_count);
+  if (seg) m.segments.assign(seg, seg + vertex_count);
+  GetTriangles(&r, triangle_count, &m.triangles);
   if (r.overrun() || r.remaining() != 0) return Internal(at + "mesh size bookkeeping");
   return ValidateBodyModel(*model, &limits);
 }
@@ -273,7 +411,9 @@ Status ValidateBodyModel(const BodyModel& model, const LevelLimits* limits) {
 }
 
 std::vector<uint8_t> WriteModelBox(const BodyModel& model) {
-  const std::vector<uint8_t> raw = SerialiseModel(model);
+  const bool quantised = model.quantisation.quantised;
+  const std::vector<uint8_t> raw =
+      quantised ? SerialiseQuantisedModel(model) : SerialiseModel(model);
   std::vector<uint8_t> packed(ZSTD_compressBound(raw.size()));
   // The zstd frame carries its content checksum: damage to the model is detected.
   ZSTD_CCtx* cctx = ZSTD_createCCtx();
@@ -291,13 +431,13 @@ std::vector<uint8_t> WriteModelBox(const BodyModel& model) {
     w.U32(static_cast<uint32_t>(raw.size()));
     w.Bytes(packed.data(), n);
   }
-  return MakeBox(box::kModel, 0, kBoxFlagEssential, w.bytes());
+  return MakeBox(box::kModel, quantised ? 1 : 0, kBoxFlagEssential, w.bytes());
 }
 
 Status ReadModel(const BoxHeader& box, const uint8_t* payload, const LevelLimits& limits,
                  BodyModel* model) {
   const std::string at = BoxContext(box);
-  if (box.version != 0) return Unsupported(at + "version " + std::to_string(box.version));
+  if (box.version > 1) return Unsupported(at + "version " + std::to_string(box.version));
   ByteReader r(payload, box.payload_size());
   const uint8_t compression = r.U8();
   const uint32_t raw_size = r.U32();

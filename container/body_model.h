@@ -12,6 +12,7 @@
 #include "codec/base/status.h"
 #include "container/box.h"
 #include "container/file_header.h"
+#include "container/model_quantisation.h"
 
 namespace fvv {
 
@@ -75,12 +76,17 @@ struct Mesh {
 struct BodyModel {
   Skeleton skeleton;
   Mesh mesh;
+  // How the 'modl' box stores the mesh: as floats (version 0) or on a grid
+  // (version 1), which the mesh's values then lie on (QuantiseModel).
+  ModelQuantisation quantisation;
 };
 
 // Structural checks shared by writer and reader (parents, limits, indices,
 // weights, array sizes). `limits` may be null (no level limits).
 Status ValidateBodyModel(const BodyModel& model, const LevelLimits* limits);
 
+// Version 1 when model.quantisation says so (the mesh's values taken to the
+// nearest point of its grid), else version 0.
 std::vector<uint8_t> WriteModelBox(const BodyModel& model);
 Status ReadModel(const BoxHeader& box, const uint8_t* payload, const LevelLimits& limits,
                  BodyModel* model);

@@ -39,6 +39,8 @@ const char* CodingToolName(uint32_t tool_bit) {
       return "quadtree-arith4";
     case kToolChromaBilinear:
       return "chroma-bilinear";
+    case kToolQuantisedModel:
+      return "quantised-model";
     case kToolOwnBandWeights:
       return "own-band-weights";
     case kToolSamplePrecision:
@@ -73,6 +75,7 @@ const LevelLimits* FindLevel(uint8_t level) {
 }
 
 uint16_t RequiredFormatVersion(uint32_t tools) {
+  if (tools & kToolQuantisedModel) return 10;
   if (tools & kToolChromaBilinear) return 9;
   if (tools & kToolQuadtreeArith4) return 8;
   if (tools & kToolSamplePrecision) return 7;

@@ -15,7 +15,7 @@ namespace fvv {
 // Highest format version this library reads. Writers write the lowest version
 // that has every tool they use (RequiredFormatVersion), so streams without
 // the newer tools stay readable by older decoders.
-constexpr uint16_t kFormatVersion = 9;
+constexpr uint16_t kFormatVersion = 10;
 
 // Coding tools (FileHeader::tools bits). A stream declares every tool it uses;
 // a profile allows a subset.
@@ -39,8 +39,9 @@ enum CodingTool : uint32_t {
   kToolSamplePrecision = 1u << 16,    // format version 7: 'texr' version 3, fractional samples
   kToolQuadtreeArith4 = 1u << 17,     // format version 8: coder 4, quadtrees per subband
   kToolChromaBilinear = 1u << 18,     // format version 9: 4:2:0 chroma upsampled bilinearly
+  kToolQuantisedModel = 1u << 19,     // format version 10: 'modl' version 1, the mesh on a grid
 };
-constexpr uint32_t kAllKnownTools = (1u << 19) - 1;
+constexpr uint32_t kAllKnownTools = (1u << 20) - 1;
 // The format version that introduced the newest of `tools`.
 uint16_t RequiredFormatVersion(uint32_t tools);
 const char* CodingToolName(uint32_t tool_bit);

@@ -43,6 +43,12 @@ Status ApplyTopLevelBox(const BoxHeader& b, const uint8_t* payload, StreamInfo* 
   } else if (b.type == box::kModel) {
     FVV_RETURN_IF_ERROR(once(info->has_model));
     FVV_RETURN_IF_ERROR(ReadModel(b, payload, LimitsOf(info->header), &info->model));
+    const bool declared = (info->header.tools & kToolQuantisedModel) != 0;
+    if (declared != info->model.quantisation.quantised) {
+      return Corrupt(BoxContext(b) + "version " + std::to_string(b.version) + " in a stream " +
+                     (declared ? "declaring" : "not declaring") +
+                     " quantised-model (tool bit 19 and 'modl' version 1 go together)");
+    }
     info->has_model = true;
   } else if (b.type == box::kMotionParams) {
     FVV_RETURN_IF_ERROR(once(info->has_motion));

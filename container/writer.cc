@@ -34,6 +34,13 @@ StatusOr<std::unique_ptr<StreamWriter>> StreamWriter::Create(const StreamInfo& i
   if ((info.motion.coder == MotionCoder::kZstd) != ((info.header.tools & kToolMotionZstd) != 0)) {
     return InvalidArgument("writer: the motion-zstd tool bit must match the motion coder");
   }
+  if (info.model.quantisation.quantised != ((info.header.tools & kToolQuantisedModel) != 0)) {
+    return InvalidArgument("writer: the quantised-model tool bit must match the model's storage");
+  }
+  if (info.model.quantisation.quantised) {
+    const Status grid = ValidateModelQuantisation(info.model.quantisation);
+    if (!grid.ok()) return InvalidArgument("writer: model quantisation: " + grid.message());
+  }
   for (const auto& kv : info.metadata) {
     if (!IsValidUtf8(kv.first) || !IsValidUtf8(kv.second) || kv.first.size() > 65535 ||
         kv.second.size() > 65535) {

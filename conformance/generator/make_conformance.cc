@@ -243,6 +243,13 @@ std::vector<CaseSpec> ValidCases() {
       "format version 9: a 1x50 atlas with 4:2:0 chroma upsampled bilinearly (chroma 1x25: the "
       "row neighbour is the sample itself)",
       o, {10});
+  // Format version 10: the body model on the reference encoder's grid.
+  o = Base(6, 2, 32, 32, 4, 2);
+  o.quantise_model = true;
+  add("quantised_model",
+      "format version 10: the body model on a grid ('modl' version 1: positions in steps of "
+      "2^-13 m, atlas coordinates of 2^-11, 10-bit octahedral normals, 8-bit skin weights)",
+      o, {100});
 
   o = Base(8, 3, 32, 32, 4, 3);
   o.masks = false;
@@ -499,6 +506,41 @@ std::vector<CaseSpec> ValidCases() {
 }
 
 // ---- invalid cases ---------------------------------------------------------
+
+// Offset in raw model data (SPEC.md 3.3) of bone `index`'s name field.
+size_t SkeletonBoneOffset(const std::vector<uint8_t>& raw, size_t index) {
+  size_t at = 2;
+  for (size_t b = 0; b < index; ++b) {
+    at += 2 + size_t(LoadLe(raw, at, 2));  // name
+    at += 2 + 12 + 16 + 1;                 // parent, translation, rotation, order
+    const uint8_t dof_mask = raw[at];
+    at += 1 + 8 * size_t(__builtin_popcount(dof_mask));  // dof_mask, limits
+  }
+  return at;
+}
+
+// An edit of the body model's raw data (decompressed), stored again
+// uncompressed (compression 0) so that the edit is visible in the stream.
+std::function<Status(std::vector<EditBox>*)> EditModelData(
+    std::function<void(std::vector<uint8_t>*)> edit) {
+  return [edit](std::vector<EditBox>* boxes) -> Status {
+    std::vector<uint8_t>& m = (*boxes)[size_t(FindBox(*boxes, box::kModel))].payload;
+    const size_t raw_size = size_t(LoadLe(m, 1, 4));
+    std::vector<uint8_t> raw(raw_size);
+    if (m[0] == 1) {
+      if (ZSTD_decompress(raw.data(), raw_size, m.data() + 5, m.size() - 5) != raw_size) {
+        return Internal("edit: modl does not decompress");
+      }
+    } else {
+      raw.assign(m.begin() + 5, m.end());
+    }
+    edit(&raw);
+    m.assign(1, 0);
+    for (int i = 0; i < 4; ++i) m.push_back(uint8_t(raw_size >> (8 * i)));
+    m.insert(m.end(), raw.begin(), raw.end());
+    return Status::Ok();
+  };
+}
 
 std::vector<CaseSpec> InvalidCases() {
   std::vector<CaseSpec> v;
@@ -962,31 +1004,10 @@ std::vector<CaseSpec> InvalidCases() {
   // model is stored uncompressed (compression 0) so the edit is visible.
   add("model_parent_not_earlier", "bone 1 of the body model is its own parent",
       StatusCode::kCorrupt, {"3.3", "10"})
-      ->edit = [](std::vector<EditBox>* boxes) -> Status {
-    std::vector<uint8_t>& m = (*boxes)[size_t(FindBox(*boxes, box::kModel))].payload;
-    const size_t raw_size = size_t(LoadLe(m, 1, 4));
-    std::vector<uint8_t> raw(raw_size);
-    if (m[0] == 1) {
-      if (ZSTD_decompress(raw.data(), raw_size, m.data() + 5, m.size() - 5) != raw_size) {
-        return Internal("edit: modl does not decompress");
-      }
-    } else {
-      raw.assign(m.begin() + 5, m.end());
-    }
-    // Bone 0: name (u16 length + bytes), parent i16, translation 3 x f32,
-    // rotation 4 x f32, order u8, dof_mask u8, 8 bytes of limits per DOF.
-    size_t at = 2;
-    at += 2 + size_t(LoadLe(raw, at, 2));
-    at += 2 + 12 + 16 + 1;
-    const uint8_t dof_mask = raw[at];
-    at += 1 + 8 * size_t(__builtin_popcount(dof_mask));
-    at += 2 + size_t(LoadLe(raw, at, 2));  // bone 1's name
-    StoreLe(&raw, at, 1, 2);               // its parent: itself
-    m.assign(1, 0);
-    for (int i = 0; i < 4; ++i) m.push_back(uint8_t(raw_size >> (8 * i)));
-    m.insert(m.end(), raw.begin(), raw.end());
-    return Status::Ok();
-  };
+      ->edit = EditModelData([](std::vector<uint8_t>* raw) {
+    const size_t name = SkeletonBoneOffset(*raw, 1);
+    StoreLe(raw, name + 2 + size_t(LoadLe(*raw, name, 2)), 1, 2);  // bone 1's parent: itself
+  });
   add("camera_focal_nan", "the first camera's fx is NaN", StatusCode::kCorrupt, {"3.2", "10"})
       ->edit = [](std::vector<EditBox>* boxes) {
     // cams: count u16, then the first camera: name (u16 length, bytes),
@@ -1126,6 +1147,45 @@ std::vector<CaseSpec> InvalidCases() {
       "a format version 9 header declaring chroma-bilinear without chroma-420",
       StatusCode::kCorrupt, {"3.1", "10"})
       ->edit = retool(0, kToolChromaBilinear, 9);
+
+  // Format version 10: the body model on a grid ('modl' version 1).
+  const auto quantised = [](CaseSpec* c) {
+    c->options.quantise_model = true;
+    return c;
+  };
+  quantised(add("quantised_model_in_version_9",
+                "the quantised-model tool (bit 19) in a format version 9 header",
+                StatusCode::kCorrupt, {"3.1", "4", "10"}))
+      ->edit = retool(0, 0, 9);
+  quantised(add("model_v1_without_tool",
+                "a 'modl' version 1 in a format version 10 stream that does not declare "
+                "quantised-model",
+                StatusCode::kCorrupt, {"3.1", "3.3", "10"}))
+      ->edit = retool(kToolQuantisedModel, 0, 10);
+  add("model_v0_with_tool",
+      "a 'modl' version 0 (floats) in a stream that declares quantised-model",
+      StatusCode::kCorrupt, {"3.1", "3.3", "10"})
+      ->edit = retool(0, kToolQuantisedModel, 10);
+  // The grid after the skeleton and the two counts: position exponent,
+  // uv exponent, normal bits, weight bits.
+  quantised(add("model_normal_bits_17", "a 'modl' version 1 with 17-bit normal codes",
+                StatusCode::kCorrupt, {"3.3", "10"}))
+      ->edit = EditModelData([](std::vector<uint8_t>* raw) {
+    const size_t bones = size_t(LoadLe(*raw, 0, 2));
+    (*raw)[SkeletonBoneOffset(*raw, bones) + 8 + 2] = 17;
+  });
+  quantised(add("model_weights_not_255",
+                "a 'modl' version 1 whose first vertex's 8-bit skin weights sum to 254 or 256",
+                StatusCode::kCorrupt, {"3.3", "10"}))
+      ->edit = EditModelData([](std::vector<uint8_t>* raw) {
+    const size_t bones = size_t(LoadLe(*raw, 0, 2));
+    const size_t counts = SkeletonBoneOffset(*raw, bones);
+    const size_t n = size_t(LoadLe(*raw, counts, 4));
+    // Positions (3 x 4 byte planes), normals (2 x 2), uvs (2 x 4), joints
+    // (4 x 2), then weights: the first weight's low byte plane.
+    const size_t weights = counts + 8 + 4 + n * (12 + 4 + 8 + 8);
+    (*raw)[weights] ^= 1;
+  });
   return v;
 }
 

@@ -233,6 +233,7 @@ StatusOr<SampleStream> MakeSampleStream(const SampleStreamOptions& o,
   if (o.vertex_visibility) h.tools |= kToolVertexVisibility;
   if (o.key_interval > 1) h.tools |= kToolMotionInterpolation;
   if (o.motion_coder == MotionCoder::kZstd) h.tools |= kToolMotionZstd;
+  if (o.quantise_model) h.tools |= kToolQuantisedModel;
   if (o.predictive) {
     if (!o.masks) return InvalidArgument("sample: the predictive texture needs masks");
     if (o.chroma != ChromaFormat::k444) return InvalidArgument("sample: predictive is 4:4:4");
@@ -244,6 +245,11 @@ StatusOr<SampleStream> MakeSampleStream(const SampleStreamOptions& o,
   h.format_version = RequiredFormatVersion(h.tools, o.mask_coding);
   info.cameras = MakeRingCameras(o.cameras, 640, 480);
   info.model = MakeSampleBodyModel();
+  if (o.quantise_model) {
+    FVV_RETURN_IF_ERROR(
+        QuantiseModel(DefaultModelQuantisation(std::max(o.atlas_width, o.atlas_height)),
+                      &info.model));
+  }
   info.motion.coder = o.motion_coder;
   info.motion.key_interval = o.key_interval;
   info.metadata = o.metadata;

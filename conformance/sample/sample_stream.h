@@ -48,6 +48,9 @@ struct SampleStreamOptions {
   bool vertex_visibility = false;
   MotionCoder motion_coder = MotionCoder::kArith;
   uint16_t key_interval = 1;
+  // The body model on the reference encoder's grid ('modl' version 1, format
+  // version 10); floats by default, as the released cases have them.
+  bool quantise_model = false;
   bool fast_start = true;  // declare the frame count up front (index at the front)
   uint8_t level = 1;
   uint32_t frame_rate_num = 25, frame_rate_den = 1;

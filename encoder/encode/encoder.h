@@ -112,6 +112,11 @@ struct EncoderSettings {
   MaskCoding mask_coding = MaskCoding::kMixing;
   MotionCoder motion_coder = MotionCoder::kArith;
   uint16_t key_interval = 1;
+  // The body model on a grid ('modl' version 1, format version 10: 0.12 mm
+  // positions, 10-bit normals, 8-bit weights; less than half the bytes of its
+  // floats). The encoder resamples with the model as decoded. false stores
+  // floats, what format versions 1 to 9 decoders read.
+  bool quantise_model = true;
   uint32_t threads = 2;
   Metadata metadata;
 

@@ -38,6 +38,7 @@ Status Session::SetShape(const BodyShape& shape, const RefinementFrame* first) {
   StatusOr<Atlas> atlas = BuildAtlas(model_.mesh, ao);
   if (!atlas.ok()) return atlas.status();
   model_.mesh = std::move(atlas->mesh);
+  FVV_RETURN_IF_ERROR(StoreModelAsDecoded());
   return AllocateForModel();
 }
 
@@ -50,12 +51,23 @@ Status Session::UsePrepared(const PreparedTake& take) {
   }
   shape_ = take.shape;
   model_ = take.model;
+  FVV_RETURN_IF_ERROR(StoreModelAsDecoded());
   FVV_RETURN_IF_ERROR(AllocateForModel());
   if (static_) {
     static_->Set(take.static_rgb, take.static_coverage);
     static_fixed_ = true;
   }
   return Status::Ok();
+}
+
+// With a quantised model every later step (atlas map, skinning, resampling)
+// uses the mesh a player decodes.
+Status Session::StoreModelAsDecoded() {
+  if (!s_.quantise_model) {
+    model_.quantisation = ModelQuantisation();  // its values as they are, in floats
+    return Status::Ok();
+  }
+  return QuantiseModel(DefaultModelQuantisation(s_.atlas_size), &model_);
 }
 
 Status Session::AllocateForModel() {
@@ -192,6 +204,7 @@ Status Session::FillHeader(FileHeader* h) const {
   if (s_.masks) h->tools |= kToolMasks;
   if (s_.key_interval > 1) h->tools |= kToolMotionInterpolation;
   if (s_.motion_coder == MotionCoder::kZstd) h->tools |= kToolMotionZstd;
+  if (model_.quantisation.quantised) h->tools |= kToolQuantisedModel;
   h->format_version = RequiredFormatVersion(h->tools, s_.mask_coding);
   // The lowest level whose limits hold the stream.
   for (const LevelLimits& l : AllLevels()) {

@@ -151,6 +151,8 @@ class Session {
                : ChromaUpsampling::kNearest;
   }
   Status FillHeader(FileHeader* h) const;
+  // The model on the grid the stream stores it on (EncoderSettings::quantise_model).
+  Status StoreModelAsDecoded();
   // The atlas texel map and the span buffers, once the model is set.
   Status AllocateForModel();
   // The frame's pose quantised as the stream carries it, every camera

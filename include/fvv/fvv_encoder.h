@@ -113,6 +113,10 @@ typedef struct {
      second SPIHT encode and two decodes per GOP). 0: off. Encoder-side only: any decoder reads
      the result. */
   uint32_t prune;
+  /* 1 (default): the body model on a grid (format version 10: 0.12 mm positions, 10-bit normals,
+     8-bit skin weights; less than half the bytes of its floats). 0: 32-bit floats, what format
+     versions 1..9 decoders read. */
+  uint32_t quantise_model;
 } fvv_encoder_settings;
 
 typedef struct {

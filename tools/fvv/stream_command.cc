@@ -1,5 +1,6 @@
 #include "tools/fvv/stream_command.h"
 
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <memory>
@@ -82,6 +83,13 @@ int RunInfo(const InfoArgs& a) {
                 {"dofs", sk.Dofs().size()},
                 {"vertices", info.model.mesh.positions.size()},
                 {"triangles", info.model.mesh.triangles.size()}};
+  if (info.model.quantisation.quantised) {
+    const ModelQuantisation& q = info.model.quantisation;
+    j["model"]["grid"] = {{"position_step_mm", std::ldexp(1000.0, -q.position_exponent)},
+                          {"uv_exponent", q.uv_exponent},
+                          {"normal_bits", q.normal_bits},
+                          {"weight_bits", q.weight_bits}};
+  }
   j["motion"] = {{"rotation_step_degrees", info.motion.rotation_step_degrees()},
                  {"translation_step_mm", info.motion.translation_step_um / 1000.0},
                  {"coder", info.motion.coder == MotionCoder::kArith ? "arith" : "zstd"},
@@ -163,8 +171,15 @@ int RunInfo(const InfoArgs& a) {
       h.frame_count, h.fps(), seconds, h.camera_count, h.atlas_width, h.atlas_height, h.gop_frames,
       h.gop_cameras);
   std::printf("  tools: %s\n", ToolList(h.tools).c_str());
-  std::printf("  model: %zu bones, %zu DOF, %zu vertices, %zu triangles\n", sk.bones.size(),
+  std::printf("  model: %zu bones, %zu DOF, %zu vertices, %zu triangles", sk.bones.size(),
               sk.Dofs().size(), info.model.mesh.positions.size(), info.model.mesh.triangles.size());
+  if (info.model.quantisation.quantised) {
+    const ModelQuantisation& q = info.model.quantisation;
+    std::printf(", on a grid: positions %.4f mm, uv 2^-%d, normals %d bits, weights %d bits",
+                std::ldexp(1000.0, -q.position_exponent), q.uv_exponent, q.normal_bits,
+                q.weight_bits);
+  }
+  std::printf("\n");
   std::printf("  motion: steps %.4f deg / %.3f mm, %s coder, key interval %u\n",
               info.motion.rotation_step_degrees(), info.motion.translation_step_um / 1000.0,
               info.motion.coder == MotionCoder::kArith ? "arith" : "zstd",
