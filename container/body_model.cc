@@ -2,8 +2,8 @@
 
 #include <zstd.h>
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 
 namespace fvv {
@@ -166,7 +166,8 @@ std::vector<uint8_t> SerialiseQuantisedModel(const BodyModel& model) {
   w.U8(q.uv_exponent);
   w.U8(q.normal_bits);
   w.U8(q.weight_bits);
-  for (size_t k = 0; k < 3; ++k) PutPlanes(GridDeltas(Column(m.positions, k), q.position_exponent), &w);
+  for (size_t k = 0; k < 3; ++k)
+    PutPlanes(GridDeltas(Column(m.positions, k), q.position_exponent), &w);
   std::vector<uint16_t> codes[2] = {std::vector<uint16_t>(n), std::vector<uint16_t>(n)};
   for (size_t i = 0; i < n; ++i) {
     const std::array<uint32_t, 2> c = EncodeOctahedralNormal(m.normals[i], q.normal_bits);

@@ -70,8 +70,7 @@ Status ValidateModelQuantisation(const ModelQuantisation& q) {
 std::array<float, 3> DecodeOctahedralNormal(uint32_t u, uint32_t v, int bits) {
   const std::array<int64_t, 3> d = OctahedralDirection(u, v, bits);
   const double length = std::sqrt(double(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
-  return {float(double(d[0]) / length), float(double(d[1]) / length),
-          float(double(d[2]) / length)};
+  return {float(double(d[0]) / length), float(double(d[1]) / length), float(double(d[2]) / length)};
 }
 
 std::array<uint32_t, 2> EncodeOctahedralNormal(const std::array<float, 3>& n, int bits) {

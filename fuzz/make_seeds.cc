@@ -101,6 +101,7 @@ int Run(const std::string& dir) {
          o->chroma = ChromaFormat::k420;
          o->upsampling = ChromaUpsampling::kBilinear;
        }},
+      {"quantised_model", [](SampleStreamOptions* o) { o->quantise_model = true; }},
       {"motion_zstd_interp",
        [](SampleStreamOptions* o) {
          o->motion_coder = MotionCoder::kZstd;

@@ -476,6 +476,10 @@ TEST_F(EncodeTest, CApiEncodesAndReportsAndRefusesMisuse) {
   fvv_encoder_settings s;
   fvv_encoder_default_settings(&s);
   EXPECT_EQ(s.mask_mode, uint32_t{FVV_MASKS_NONE});  // players take visibility from the geometry
+  EXPECT_EQ(s.quantise_model, 1u);                   // the model on a grid: format version 10
+  // The texture tools below write the format versions that introduced them
+  // with the model in floats (quantised, every stream is version 10).
+  s.quantise_model = 0;
   // The coding tools below are compared as they were measured: with masks,
   // each tool at the same texture bytes over the same texels.
   s.mask_mode = FVV_MASKS_CODED;
@@ -568,6 +572,20 @@ TEST_F(EncodeTest, CApiEncodesAndReportsAndRefusesMisuse) {
   EXPECT_EQ(fvv_encoder_create(&s, &none), FVV_INVALID_ARGUMENT);
   EXPECT_NE(std::string(fvv_encoder_settings_error()).find("prune"), std::string::npos);
   s.prune = 1;
+  // The model on a grid: format version 10, the same textures' bytes, a
+  // smaller stream; a value other than 0 or 1 is refused.
+  s.sample_bits = 3;
+  s.quantise_model = 1;
+  fvv_encode_report report_v10;
+  EXPECT_EQ(encode_version("v10", &report_v10), 10u);
+  EXPECT_LT(report_v10.file_bytes, report.file_bytes);
+  EXPECT_NEAR(double(report_v10.texture_bytes), double(report.texture_bytes),
+              0.02 * double(report.texture_bytes));
+  EXPECT_NEAR(report_v10.psnr_rgb, report.psnr_rgb, 0.2);
+  s.quantise_model = 2;
+  EXPECT_EQ(fvv_encoder_create(&s, &none), FVV_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(fvv_encoder_settings_error()).find("quantise_model"), std::string::npos);
+  s.quantise_model = 0;
   s.sample_bits = 0;
   s.weights = FVV_WEIGHTS_AXIS_BANDS;
   fvv_encode_report report_v5;

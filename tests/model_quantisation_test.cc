@@ -1,6 +1,8 @@
 // The body model on a grid ('modl' version 1, SPEC.md 3.3.1): what it
 // changes in the model, that a decoder gets exactly the encoder's snapped
 // model, its size against floats, and the errors a damaged box gives.
+#include "container/model_quantisation.h"
+
 #include <gtest/gtest.h>
 #include <zstd.h>
 
@@ -9,7 +11,6 @@
 #include <random>
 
 #include "container/body_model.h"
-#include "container/model_quantisation.h"
 #include "encoder/atlas/atlas.h"
 #include "encoder/body/generic_body.h"
 
@@ -107,8 +108,8 @@ TEST(ModelQuantisation, DecoderGetsExactlyTheSnappedModelAtLessThanHalfTheBytes)
   size_t moved = 0;
   for (size_t i = 0; i < a.positions.size(); ++i) {
     for (int k = 0; k < 3; ++k) {
-      worst_position = std::max(worst_position, std::fabs(double(a.positions[i][k]) -
-                                                          double(b.positions[i][k])));
+      worst_position = std::max(worst_position,
+                                std::fabs(double(a.positions[i][k]) - double(b.positions[i][k])));
       moved += a.positions[i][k] != b.positions[i][k];
     }
     for (int k = 0; k < 2; ++k) {
@@ -119,10 +120,10 @@ TEST(ModelQuantisation, DecoderGetsExactlyTheSnappedModelAtLessThanHalfTheBytes)
       worst_weight = std::max(worst_weight, std::fabs(double(a.weights[i][k]) - b.weights[i][k]));
     }
   }
-  EXPECT_GT(moved, a.positions.size());  // the grid did something
+  EXPECT_GT(moved, a.positions.size());                      // the grid did something
   EXPECT_LE(worst_position, std::ldexp(1.0, -14) * 1.0001);  // half a step of 2^-13 m
   EXPECT_LE(worst_uv, std::ldexp(1.0, -16) * 1.0001);
-  EXPECT_LT(worst_normal, 0.17);  // 10 bits
+  EXPECT_LT(worst_normal, 0.17);       // 10 bits
   EXPECT_LE(worst_weight, 3 * 257.0);  // a unit of 1/255 per influence, at most 3 moved up
   EXPECT_EQ(a.joints, b.joints);
   EXPECT_EQ(a.segments, b.segments);
@@ -206,14 +207,13 @@ TEST(ModelQuantisation, DamagedGridDataIsCorrupt) {
     uint8_t value;
     bool exclusive_or;  // else set
   };
-  for (const Edit& e : {Edit{"position exponent 31", grid + 0, 31, false},
-                        Edit{"uv exponent 40", grid + 1, 40, false},
-                        Edit{"normal bits 1", grid + 2, 1, false},
-                        Edit{"normal bits 17", grid + 2, 17, false},
-                        Edit{"weight bits 3", grid + 3, 3, false},
-                        Edit{"a normal code of 11 bits", normals + n, 0x04, true},
-                        Edit{"weights that do not sum to 255", weights, 0x01, true},
-                        Edit{"a position 2^30 steps out", positions + 3 * n, 0x80, true}}) {
+  for (const Edit& e :
+       {Edit{"position exponent 31", grid + 0, 31, false},
+        Edit{"uv exponent 40", grid + 1, 40, false}, Edit{"normal bits 1", grid + 2, 1, false},
+        Edit{"normal bits 17", grid + 2, 17, false}, Edit{"weight bits 3", grid + 3, 3, false},
+        Edit{"a normal code of 11 bits", normals + n, 0x04, true},
+        Edit{"weights that do not sum to 255", weights, 0x01, true},
+        Edit{"a position 2^30 steps out", positions + 3 * n, 0x80, true}}) {
     std::vector<uint8_t> edited = raw;
     edited[e.at] = e.exclusive_or ? uint8_t(edited[e.at] ^ e.value) : e.value;
     StatusOr<BodyModel> r = RoundTrip(BoxAround(edited, 1));

@@ -1162,8 +1162,7 @@ std::vector<CaseSpec> InvalidCases() {
                 "quantised-model",
                 StatusCode::kCorrupt, {"3.1", "3.3", "10"}))
       ->edit = retool(kToolQuantisedModel, 0, 10);
-  add("model_v0_with_tool",
-      "a 'modl' version 0 (floats) in a stream that declares quantised-model",
+  add("model_v0_with_tool", "a 'modl' version 0 (floats) in a stream that declares quantised-model",
       StatusCode::kCorrupt, {"3.1", "3.3", "10"})
       ->edit = retool(0, kToolQuantisedModel, 10);
   // The grid after the skeleton and the two counts: position exponent,

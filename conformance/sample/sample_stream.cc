@@ -246,9 +246,8 @@ StatusOr<SampleStream> MakeSampleStream(const SampleStreamOptions& o,
   info.cameras = MakeRingCameras(o.cameras, 640, 480);
   info.model = MakeSampleBodyModel();
   if (o.quantise_model) {
-    FVV_RETURN_IF_ERROR(
-        QuantiseModel(DefaultModelQuantisation(std::max(o.atlas_width, o.atlas_height)),
-                      &info.model));
+    FVV_RETURN_IF_ERROR(QuantiseModel(
+        DefaultModelQuantisation(std::max(o.atlas_width, o.atlas_height)), &info.model));
   }
   info.motion.coder = o.motion_coder;
   info.motion.key_interval = o.key_interval;

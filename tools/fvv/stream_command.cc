@@ -1,7 +1,7 @@
 #include "tools/fvv/stream_command.h"
 
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
