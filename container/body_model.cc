@@ -41,6 +41,11 @@ namespace {
 constexpr size_t kMaxBoneNameBytes = 255;
 constexpr uint8_t kCompressionNone = 0;
 constexpr uint8_t kCompressionZstd = 1;
+// Bytes per vertex of the mesh arrays: version 0 (positions, normals, uvs as
+// f32, joints, weights, segment) and version 1 (positions and uvs as u32
+// differences, normals as two u16 codes).
+constexpr uint64_t kFloatVertexBytes = 12 + 12 + 8 + 8 + 8 + 1;
+constexpr uint64_t kGridVertexBytes = 12 + 4 + 8 + 8 + 8 + 1;
 
 // Floats and integers are stored column-wise with their bytes split into planes
 // (all first bytes, then all second bytes, ...): similar bytes sit together, which
@@ -129,7 +134,7 @@ std::vector<uint32_t> GridDeltas(const std::vector<float>& values, int exponent)
   std::vector<uint32_t> d(values.size());
   int64_t prev = 0;
   for (size_t i = 0; i < values.size(); ++i) {
-    const int64_t q = std::llround(std::ldexp(double(values[i]), exponent));
+    const int64_t q = int64_t(GridSteps(values[i], exponent));
     d[i] = ZigZag(q - prev);
     prev = q;
   }
@@ -193,7 +198,7 @@ std::vector<uint8_t> SerialiseQuantisedModel(const BodyModel& model) {
 // decompression (version 1 stores less per vertex than version 0).
 uint64_t MaxRawModelBytes(const LevelLimits& limits) {
   const uint64_t per_bone = 2 + kMaxBoneNameBytes + 2 + 28 + 2 + 48;
-  const uint64_t per_vertex = 12 + 12 + 8 + 8 + 8 + 1;
+  const uint64_t per_vertex = kFloatVertexBytes;
   return 2 + limits.max_bones * per_bone + 8 + limits.max_vertices * per_vertex +
          uint64_t{limits.max_triangles} * 12;
 }
@@ -249,7 +254,7 @@ bool GetGridColumns(ByteReader* r, uint32_t count, int exponent,
     for (size_t i = 0; i < count; ++i) {
       value += UnZigZag(d[i]);
       if (value > kMaxQuantisedMagnitude || value < -kMaxQuantisedMagnitude) return false;
-      (*out)[i][k] = std::ldexp(float(value), -exponent);
+      (*out)[i][k] = GridFloat(value, exponent);
     }
   }
   return true;
@@ -282,7 +287,7 @@ Status ParseRawModel(const uint8_t* data, size_t size, const LevelLimits& limits
     if (!grid.ok()) return Corrupt(at + grid.message());
   }
   // Exact size of what follows: checked before any array is allocated.
-  const uint64_t per_vertex = quantised ? 12 + 4 + 8 + 8 + 8 + 1 : 12 + 12 + 8 + 8 + 8 + 1;
+  const uint64_t per_vertex = quantised ? kGridVertexBytes : kFloatVertexBytes;
   const uint64_t need = uint64_t{vertex_count} * per_vertex + uint64_t{triangle_count} * 12;
   if (need != r.remaining()) {
     return Corrupt(at + "mesh arrays need " + std::to_string(need) + " bytes, model data has " +
@@ -317,7 +322,7 @@ Status ParseRawModel(const uint8_t* data, size_t size, const LevelLimits& limits
   if (quantised) {
     // Weights in 1/(2^b - 1) must sum to 2^b - 1; in 1/65535 they then sum
     // to 65535, which ValidateBodyModel checks.
-    const uint32_t top = (1u << q.weight_bits) - 1, unit = 65535 / top;
+    const uint32_t top = (1u << q.weight_bits) - 1, unit = WeightUnit(q.weight_bits);
     for (size_t i = 0; i < vertex_count; ++i) {
       uint32_t sum = 0;
       for (uint16_t& w : m.weights[i]) {

@@ -30,10 +30,10 @@ int64_t Nearest(double x, int64_t lo, int64_t hi) {
 }
 
 bool SnapValue(float* x, int exponent) {
-  const double q = std::round(std::ldexp(double(*x), exponent));
+  const double q = GridSteps(*x, exponent);
   if (!(std::fabs(q) <= double(kMaxQuantisedMagnitude))) return false;  // NaN too
   // Through an integer, as a decoder gets it: -0.0 becomes +0.0.
-  *x = std::ldexp(float(int64_t(q)), -exponent);
+  *x = GridFloat(int64_t(q), exponent);
   return true;
 }
 
@@ -154,7 +154,7 @@ Status QuantiseModel(const ModelQuantisation& q, BodyModel* model) {
     const std::array<uint32_t, 2> code = EncodeOctahedralNormal(n, q.normal_bits);
     n = DecodeOctahedralNormal(code[0], code[1], q.normal_bits);
   }
-  const uint32_t unit = 65535 / ((1u << q.weight_bits) - 1);
+  const uint32_t unit = WeightUnit(q.weight_bits);
   for (auto& w : m.weights) {
     const std::array<uint32_t, 4> qw = QuantiseWeights(w, q.weight_bits);
     for (int k = 0; k < 4; ++k) w[k] = uint16_t(qw[k] * unit);

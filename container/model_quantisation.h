@@ -8,6 +8,7 @@
 #define FVV_CONTAINER_MODEL_QUANTISATION_H_
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 
 #include "codec/base/status.h"
@@ -38,6 +39,15 @@ constexpr int kMaxQuantisationExponent = 30;
 // The reference encoder's grid: 2^-13 m (0.12 mm), 1/64 of a texel of an
 // atlas of `atlas_side`, 10-bit octahedral normals, 8-bit weights.
 ModelQuantisation DefaultModelQuantisation(uint32_t atlas_side);
+
+// The nearest grid value of x in steps of 2^-exponent (half away from zero),
+// and the float a decoder makes of a grid value.
+inline double GridSteps(float x, int exponent) {
+  return std::round(std::ldexp(double(x), exponent));
+}
+inline float GridFloat(int64_t value, int exponent) { return std::ldexp(float(value), -exponent); }
+// A skin weight in 1/(2^bits - 1) is this many units of 1/65535.
+inline uint32_t WeightUnit(int bits) { return 65535u / ((1u << bits) - 1); }
 
 // Checks the grid's fields against their ranges (Corrupt names the field).
 Status ValidateModelQuantisation(const ModelQuantisation& q);
