@@ -5,7 +5,13 @@
 // the IoU of the fitted model's silhouette against the person network's mask,
 // and the distance of the model's projected joints from the network's
 // keypoints (full-resolution pixels), beside the same figures in the cameras
-// the fit used. Seconds per frame by stage. Then, unless --no-render, the
+// the fit used. Beside the held-out IoU, the IoU with the model's silhouettes
+// moved by the one image shift, the same in every frame, that lays them best
+// on that camera's masks (SilhouetteShiftSearch): what a turn of the held-out
+// camera by a fraction of a degree against the others would give, so the
+// calibration's share of the shortfall apart from the tracking's; a diagnosis,
+// not a score, since the shift is taken from the held-out masks.
+// Seconds per frame by stage. Then, unless --no-render, the
 // held-out camera's view rendered from the other cameras with Renderer II (a
 // stream encoded by `fvv encode` at its default rate) and Renderer I (`fvv
 // render --renderer projective`, straight from the camera images): PSNR and
@@ -37,6 +43,7 @@
 #include "encoder/track/camera_sync.h"
 #include "encoder/track/capture_frames.h"
 #include "encoder/track/person_observer.h"
+#include "encoder/track/silhouette_shift.h"
 #include "encoder/track/track_capture.h"
 
 namespace fvv {
@@ -72,6 +79,14 @@ struct FitScore {
   int frames = 0, joint_frames = 0;
   double agreement_px = 0;  // KeypointAgreement, summed over frames
   int agreement_frames = 0;
+  // The joints' mean signed offset from the keypoints (model minus keypoint,
+  // pixels), summed over frames: a shift common to every joint and frame is
+  // the camera's calibration against the others', not the fit.
+  Eigen::Vector2d offset = Eigen::Vector2d::Zero();
+  // Held out: the one image shift that best lays the model on the masks over
+  // every frame (BestShift), and the mean IoU with it.
+  Eigen::Vector2i shift = Eigen::Vector2i::Zero();
+  double shifted_iou = 0;
 };
 
 struct RenderScore {
@@ -88,27 +103,30 @@ double Iou(const Image& a, const Image& b) {
   return uni ? double(inter) / double(uni) : 0;
 }
 
-// Mean distance (pixels) of the model's joints from the confident sightings;
-// -1 without any.
+// Mean distance (pixels) of the model's joints from the confident sightings
+// (-1 without any), and their mean signed offset.
 double JointDistance(const BodyModel& model, const std::vector<double>& dofs, const Camera& cam,
-                     const std::vector<JointSighting>& sightings) {
+                     const std::vector<JointSighting>& sightings, Eigen::Vector2d* offset) {
   const std::vector<Eigen::Vector3d> joints = JointPositions(model.skeleton, dofs);
   double sum = 0;
   int n = 0;
+  offset->setZero();
   for (const JointSighting& s : sightings) {
     if (s.confidence < 0.5) continue;
     Eigen::Vector2d p;
     if (!ProjectPoint(cam, joints[s.joint], &p)) continue;
     sum += (p - s.pixel).norm();
+    *offset += p - s.pixel;
     ++n;
   }
+  if (n) *offset /= n;
   return n ? sum / n : -1;
 }
 
-void Add(FitScore* s, double iou, double joint_px) {
+void Add(FitScore* s, double iou, double joint_px, const Eigen::Vector2d& offset) {
   s->iou += iou;
   ++s->frames;
-  if (joint_px >= 0) s->joint_px += joint_px, ++s->joint_frames;
+  if (joint_px >= 0) s->joint_px += joint_px, s->offset += offset, ++s->joint_frames;
 }
 
 double Luma(const Image& im, size_t i) {
@@ -350,6 +368,8 @@ int Run(const Args& a) {
     t.masks = (r->silhouette_seconds - r->decode_seconds - r->person_seconds) / frames;
     t.initialise = r->fits.empty() ? 0 : r->first_fit_seconds;
     t.fit = frames > 1 ? (r->fit_seconds - r->first_fit_seconds) / (frames - 1) : 0;
+    SilhouetteShiftSearch shift_search;
+    std::vector<Image> held_models;
     for (uint32_t f = first; f <= last; ++f) {
       const double agreement = KeypointAgreement(calibrations, k, ref.sightings[f - first], 20.0);
       if (agreement >= 0) held[k].agreement_px += agreement, ++held[k].agreement_frames;
@@ -358,17 +378,40 @@ int Run(const Args& a) {
         const Camera& cam = full.cameras[c].calibration;
         const Image model = BodySilhouette(r->model, cam, dofs);
         const double iou = Iou(model, ref.masks[f - first][c]);
-        const double px = JointDistance(r->model, dofs, cam, ref.sightings[f - first][c]);
-        Add(c == k ? &held[k] : &own[k], iou, px);
+        Eigen::Vector2d offset;
+        const double px = JointDistance(r->model, dofs, cam, ref.sightings[f - first][c], &offset);
+        Add(c == k ? &held[k] : &own[k], iou, px, offset);
+        if (c == k) {
+          shift_search.Add(model, ref.masks[f - first][c]);
+          held_models.push_back(model);
+        }
       }
+    }
+    {
+      // How much of the held-out shortfall one image shift (a small turn of
+      // the camera against the others) explains: a diagnosis of the
+      // calibration, not a score (the shift is taken from the held-out masks).
+      const Eigen::Vector2d best = shift_search.Best().pixels;
+      const Eigen::Vector2i shift(int(std::lround(best.x())), int(std::lround(best.y())));
+      double sum = 0;
+      for (uint32_t f = first; f <= last; ++f) {
+        sum +=
+            ShiftedMaskIou(held_models[f - first], ref.masks[f - first][k], shift.x(), shift.y());
+      }
+      held[k].shift = shift;
+      held[k].shifted_iou = sum / double(held_models.size());
     }
     const FitScore& h = held[k];
     std::printf(
-        "  held out: IoU %.3f, joints %.1f px (the others' keypoints %.1f px); used "
-        "cameras: IoU %.3f, joints %.1f px\n",
+        "  held out: IoU %.3f, joints %.1f px (mean offset %+.1f, %+.1f px; the others' "
+        "keypoints %.1f px); used cameras: IoU %.3f, joints %.1f px; IoU %.3f with the model "
+        "shifted %+d, %+d px in every frame\n",
         h.iou / h.frames, h.joint_frames ? h.joint_px / h.joint_frames : -1.0,
+        h.joint_frames ? h.offset.x() / h.joint_frames : 0.0,
+        h.joint_frames ? h.offset.y() / h.joint_frames : 0.0,
         h.agreement_frames ? h.agreement_px / h.agreement_frames : -1.0, own[k].iou / own[k].frames,
-        own[k].joint_frames ? own[k].joint_px / own[k].joint_frames : -1.0);
+        own[k].joint_frames ? own[k].joint_px / own[k].joint_frames : -1.0, h.shifted_iou,
+        h.shift.x(), h.shift.y());
 
     const uint32_t render_last = std::min(last, first + std::max(1u, a.render_frames) - 1);
     std::vector<Image> rendered2, rendered1;
@@ -464,8 +507,9 @@ int Run(const Args& a) {
 
   // The table.
   std::printf("\nleave one camera out, frames %u..%u (pixels at full resolution)\n", first, last);
-  std::printf("%-10s %8s %9s %9s %8s %9s %9s %8s %9s %8s\n", "held out", "IoU", "joints",
-              "kp agree", "own IoU", "own jts", "II PSNR", "II SSIM", "I PSNR", "I SSIM");
+  std::printf("%-10s %8s %9s %9s %8s %9s %8s %9s %9s %8s %9s %8s\n", "held out", "IoU", "joints",
+              "kp agree", "shifted", "by (px)", "own IoU", "own jts", "II PSNR", "II SSIM",
+              "I PSNR", "I SSIM");
   FitScore all_held, all_own;
   RenderScore all2, all1;
   nlohmann::json rows = nlohmann::json::array();
@@ -476,14 +520,20 @@ int Run(const Args& a) {
     const double agree = h.agreement_frames ? h.agreement_px / h.agreement_frames : -1;
     const RenderScore &r2 = renderer2[k], &r1 = renderer1[k];
     auto mean = [](double v, int count) { return count ? v / count : 0.0; };
-    std::printf("%-10s %8.3f %9.1f %9.1f %8.3f %9.1f %9.2f %8.3f %9.2f %8.3f\n",
+    const std::string by = std::to_string(h.shift.x()) + "," + std::to_string(h.shift.y());
+    std::printf("%-10s %8.3f %9.1f %9.1f %8.3f %9s %8.3f %9.1f %9.2f %8.3f %9.2f %8.3f\n",
                 full.cameras[k].calibration.name.c_str(), h.iou / h.frames, hj, agree,
-                w.iou / w.frames, wj, mean(r2.psnr, r2.frames), mean(r2.ssim, r2.frames),
-                mean(r1.psnr, r1.frames), mean(r1.ssim, r1.frames));
+                h.shifted_iou, by.c_str(), w.iou / w.frames, wj, mean(r2.psnr, r2.frames),
+                mean(r2.ssim, r2.frames), mean(r1.psnr, r1.frames), mean(r1.ssim, r1.frames));
     rows.push_back(
         {{"camera", full.cameras[k].calibration.name},
          {"held_out_iou", h.iou / h.frames},
          {"held_out_joint_px", hj},
+         {"held_out_shift_px", {h.shift.x(), h.shift.y()}},
+         {"held_out_shifted_iou", h.shifted_iou},
+         {"held_out_joint_offset_px",
+          {h.joint_frames ? h.offset.x() / h.joint_frames : 0.0,
+           h.joint_frames ? h.offset.y() / h.joint_frames : 0.0}},
          {"keypoint_agreement_px", agree},
          {"own_iou", w.iou / w.frames},
          {"own_joint_px", wj},
@@ -500,15 +550,16 @@ int Run(const Args& a) {
            {"fit", times[k].fit},
            {"first_frame_fit", times[k].initialise}}}});
     all_held.iou += h.iou / h.frames, all_held.joint_px += hj, all_held.agreement_px += agree;
+    all_held.shifted_iou += h.shifted_iou;
     all_own.iou += w.iou / w.frames, all_own.joint_px += wj;
     all2.psnr += mean(r2.psnr, r2.frames), all2.ssim += mean(r2.ssim, r2.frames);
     all1.psnr += mean(r1.psnr, r1.frames), all1.ssim += mean(r1.ssim, r1.frames);
   }
   const double count = double(scored.size());
-  std::printf("%-10s %8.3f %9.1f %9.1f %8.3f %9.1f %9.2f %8.3f %9.2f %8.3f\n", "mean",
+  std::printf("%-10s %8.3f %9.1f %9.1f %8.3f %9s %8.3f %9.1f %9.2f %8.3f %9.2f %8.3f\n", "mean",
               all_held.iou / count, all_held.joint_px / count, all_held.agreement_px / count,
-              all_own.iou / count, all_own.joint_px / count, all2.psnr / count, all2.ssim / count,
-              all1.psnr / count, all1.ssim / count);
+              all_held.shifted_iou / count, "", all_own.iou / count, all_own.joint_px / count,
+              all2.psnr / count, all2.ssim / count, all1.psnr / count, all1.ssim / count);
   std::printf("\nseconds per frame, %u cameras tracking (after the first frame)\n", n - 1);
   std::printf("%-10s %8s %8s %8s %8s %8s %12s\n", "held out", "decode", "network", "masks", "fit",
               "total", "first frame");

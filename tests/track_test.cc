@@ -265,6 +265,65 @@ TEST_F(TrackTest, FrameDisagreeingWithTheSightingsIsFlagged) {
   EXPECT_GT(off->keypoint_distance, 0.15);
 }
 
+// A camera turned off its calibration sees the fit beside the actor by the
+// same pixels in every frame: TrackCapture names that camera, and only it,
+// with the shift its turn makes; on the exact calibration it names none.
+TEST_F(TrackTest, NamesTheCameraWhoseCalibrationDisagrees) {
+  ASSERT_TRUE(status_.ok()) << status_.ToString();
+  StatusOr<Capture> exact = LoadCapture(options_.output_dir);
+  ASSERT_TRUE(exact.ok());
+  TrackCaptureOptions o;
+  o.tracker.adapt_shape = false;
+  o.shift_check_every = 1;
+  o.smoothing = PoseSmoothing{0};
+  StatusOr<TrackCaptureResult> r = TrackCapture(options_.output_dir, o);
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  ASSERT_EQ(r->camera_shifts.size(), exact->cameras.size());
+  for (size_t c = 0; c < r->camera_shifts.size(); ++c) {
+    const TrackCaptureResult::CameraShift& s = r->camera_shifts[c];
+    std::printf("exact: camera %zu shift %+.1f %+.1f px (%.2f deg), IoU %.3f -> %.3f\n", c,
+                s.shift.pixels.x(), s.shift.pixels.y(), s.degrees, s.shift.iou,
+                s.shift.shifted_iou);
+    EXPECT_EQ(s.shift.frames, int(exact->frame_count));
+    EXPECT_FALSE(s.disagrees) << "camera " << c;
+  }
+  // Camera 2 turned 1 degree about its own vertical axis: what it sees
+  // moves sideways by about fx * tan(1 degree).
+  Capture turned = *exact;
+  turned.directory = options_.output_dir + "/turned";
+  std::system(("mkdir -p '" + turned.directory + "'").c_str());
+  for (CaptureCamera& cam : turned.cameras) {
+    cam.frames.path = options_.output_dir + "/" + cam.frames.path;
+    if (cam.background) cam.background = options_.output_dir + "/" + *cam.background;
+    if (cam.silhouettes) cam.silhouettes->path = options_.output_dir + "/" + cam.silhouettes->path;
+  }
+  Camera& cam = turned.cameras[2].calibration;
+  const Eigen::Matrix3d rotation =
+      Eigen::AngleAxisd(1.0 * M_PI / 180, Eigen::Vector3d::UnitY()) * CameraRotation(cam);
+  const Eigen::Vector3d t = -rotation * CameraCentre(cam);
+  for (int i = 0; i < 9; ++i) cam.rotation[size_t(i)] = rotation(i / 3, i % 3);
+  for (int i = 0; i < 3; ++i) cam.translation[size_t(i)] = t[i];
+  ASSERT_TRUE(SaveCapture(turned).ok());
+  StatusOr<TrackCaptureResult> t2 = TrackCapture(turned.directory, o);
+  ASSERT_TRUE(t2.ok()) << t2.status().ToString();
+  const double expected = cam.fx * std::tan(1.0 * M_PI / 180);
+  for (size_t c = 0; c < t2->camera_shifts.size(); ++c) {
+    const TrackCaptureResult::CameraShift& s = t2->camera_shifts[c];
+    std::printf("camera 2 turned: camera %zu shift %+.1f %+.1f px (%.2f deg), IoU %.3f -> %.3f\n",
+                c, s.shift.pixels.x(), s.shift.pixels.y(), s.degrees, s.shift.iou,
+                s.shift.shifted_iou);
+    EXPECT_EQ(s.disagrees, c == 2) << "camera " << c;
+  }
+  // The fit follows the five cameras that agree: the turned one sees most
+  // of its turn.
+  const Eigen::Vector2d s2 = t2->camera_shifts[2].shift.pixels;
+  EXPECT_GT(std::abs(s2.x()), 0.6 * expected);
+  EXPECT_LT(std::abs(s2.x()), 1.3 * expected);
+  EXPECT_LT(std::abs(s2.y()), 0.3 * expected);
+  const std::string json = t2->ToJson();
+  EXPECT_NE(json.find("\"calibration_disagrees\": true"), std::string::npos);
+}
+
 TEST_F(TrackTest, EmptyOrMissingSilhouettesAreFlaggedNotWild) {
   ASSERT_TRUE(status_.ok()) << status_.ToString();
   StatusOr<Capture> c = LoadCapture(options_.output_dir);

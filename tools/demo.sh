@@ -124,6 +124,9 @@ if [ -d "$real" ]; then
   if $fvv capture sheet "$out/real" --frame 50 --persons -o "$out/real_persons.png"; then
     echo "== the real capture in step: its cameras started a few frames apart (fvv capture sync)"
     $fvv capture sync "$out/real" --write
+    echo "== tracked with all four cameras, frames 30-59: a camera whose network named left and right"
+    echo "   the other way round is put right, and a camera whose calibration disagrees is named"
+    $fvv track "$out/real" --frames 30:59 -o "$out/real_poses.json" -q
     echo "== how far its camera poses are from agreeing with the keypoints (fvv capture refine-calib, a report)"
     $fvv capture refine-calib "$out/real" --frames 12:79
     echo "== camera cam02 held out: tracked from the other three on person masks and keypoints, encoded,"
@@ -156,6 +159,7 @@ echo "         $out/shape/capture (the bumpy actor's synthetic capture the shape
 echo "         $out/capture_predictive.fvv and $out/render_predictive (the predictive texture codec),"
 echo "         $out/real (the real capture's capture.json), $out/real_sheet.png and"
 echo "         $out/real_persons.png (the network's person masks and keypoints),"
+echo "         $out/real_poses.json (all four cameras tracked, frames 30-59: camera_shifts, side_exchanges),"
 echo "         $out/real_heldout (camera cam02 held out: poses, stream, renders, contact_sheet.png,"
 echo "         real_bench.json),"
 echo "         $out/still_arith3.fvb and $out/still_arith4.fvb (one atlas frame, coders 3 and 4)"

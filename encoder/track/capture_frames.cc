@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "encoder/track/person_selection.h"
+#include "encoder/track/sighting_sides.h"
 
 namespace fvv {
 namespace {
@@ -184,6 +185,9 @@ Status CaptureFrames::ReadWithPersons(uint32_t frame, std::vector<Image>* images
     RefineMaskEdges(&s, *subtracted, int(std::ceil(8 * seen[c].region.size / 256)));
   });
   for (const Status& s : errors) FVV_RETURN_IF_ERROR(s);
+  std::vector<Camera> cameras;
+  for (const CaptureCamera& c : capture().cameras) cameras.push_back(c.calibration);
+  side_exchanges_ += uint32_t(ExchangeMislabelledSides(cameras, &sightings_).size());
   if (images) *images = std::move(read);
   return Status::Ok();
 }

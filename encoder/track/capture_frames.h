@@ -39,8 +39,11 @@ class CaptureFrames {
   // `images` is not null, the RGB images.
   Status Read(uint32_t frame, std::vector<Image>* images, std::vector<Image>* silhouettes);
   // The body joints the person network saw in the frame Read last, per
-  // camera (empty without the network).
+  // camera (empty without the network), with left and right exchanged in a
+  // camera that named them the other way round (ExchangeMislabelledSides).
   const std::vector<std::vector<JointSighting>>& sightings() const { return sightings_; }
+  // Camera frames so far whose sightings had their sides exchanged.
+  uint32_t side_exchanges() const { return side_exchanges_; }
   // Seconds spent so far decoding frames and running the person network.
   double decode_seconds() const { return decode_seconds_; }
   double person_seconds() const { return person_seconds_; }
@@ -59,6 +62,7 @@ class CaptureFrames {
   std::vector<PersonRegion> regions_;  // per camera, from its last frame (size 0: detect)
   std::vector<std::vector<JointSighting>> sightings_;
   double decode_seconds_ = 0, person_seconds_ = 0;
+  uint32_t side_exchanges_ = 0;
 };
 
 // The person network's joint sightings in frames `first`..`last` of every

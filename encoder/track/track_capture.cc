@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <deque>
 #include <nlohmann/json.hpp>
@@ -45,7 +46,24 @@ std::string TrackCaptureResult::ToJson() const {
     list.push_back(std::move(frame));
   }
   out["frames"] = list;
+  nlohmann::json shifts = nlohmann::json::array();
+  for (size_t c = 0; c < camera_shifts.size() && c < capture.cameras.size(); ++c) {
+    const CameraShift& s = camera_shifts[c];
+    shifts.push_back({{"camera", capture.cameras[c].calibration.name},
+                      {"shift_px", {s.shift.pixels.x(), s.shift.pixels.y()}},
+                      {"shift_degrees", s.degrees},
+                      {"iou", s.shift.iou},
+                      {"shifted_iou", s.shift.shifted_iou},
+                      {"frames_checked", s.shift.frames},
+                      {"calibration_disagrees", s.disagrees}});
+  }
+  out["camera_shifts"] = shifts;
+  out["side_exchanges"] = side_exchanges;
   return out.dump(1) + "\n";
+}
+
+bool CalibrationDisagrees(const SilhouetteShift& shift, double degrees) {
+  return shift.frames > 0 && degrees >= 0.25 && shift.shifted_iou - shift.iou >= 0.01;
 }
 
 StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCaptureOptions& o) {
@@ -128,6 +146,8 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
   StatusOr<std::unique_ptr<Tracker>> tracker = Tracker::Create(cameras, o.tracker);
   if (!tracker.ok()) return tracker.status();
 
+  std::vector<SilhouetteShiftSearch> shifts(n);  // per camera
+  uint32_t reported_count = 0;
   const auto start = Clock::now();
   const bool want_images = o.on_frame || !o.overlays.empty();
   // Frames tracked but not yet reported: their images wait for the frames
@@ -188,6 +208,11 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
     if (reported[step]) {
       r.flagged += fit->poor;
       r.mean_iou += fit->iou;
+      if (reported_count++ % std::max(1u, o.shift_check_every) == 0) {
+        pool.Run(uint32_t(n), [&](uint32_t c) {
+          shifts[c].Add((*tracker)->ModelSilhouette(c, fit->dofs), sils[c]);
+        });
+      }
     } else {
       ++r.warm_up_frames;
     }
@@ -246,8 +271,17 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
     }
   }
   r.mean_iou /= r.fits.size();
+  for (size_t c = 0; c < n; ++c) {
+    TrackCaptureResult::CameraShift cs;
+    cs.shift = shifts[c].Best();
+    const double focal = cameras[c].fx;
+    cs.degrees = focal > 0 ? std::atan(cs.shift.pixels.norm() / focal) * 180 / M_PI : 0;
+    cs.disagrees = CalibrationDisagrees(cs.shift, cs.degrees);
+    r.camera_shifts.push_back(cs);
+  }
   r.decode_seconds = (*frames)->decode_seconds();
   r.person_seconds = (*frames)->person_seconds();
+  r.side_exchanges = (*frames)->side_exchanges();
   r.shape = (*tracker)->shape();
   r.model = (*tracker)->Model();
   return r;

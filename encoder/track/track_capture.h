@@ -13,6 +13,7 @@
 #include "codec/base/status.h"
 #include "encoder/capture/capture.h"
 #include "encoder/track/pose_smoothing.h"
+#include "encoder/track/silhouette_shift.h"
 #include "encoder/track/tracker.h"
 
 namespace fvv {
@@ -51,6 +52,10 @@ struct TrackCaptureOptions {
   // result), each frame once Radius() later frames are tracked. The fit
   // figures (IoU, XOR, flags) stay those of the frame's own fit.
   PoseSmoothing smoothing{1.0};
+  // Every this many reported frames, each camera's fit is checked for a
+  // shift common to the frames (TrackCaptureResult::camera_shifts): a
+  // calibration's shift is the same in every frame, so a sample finds it.
+  uint32_t shift_check_every = 5;
   std::string save_silhouettes;  // directory for the silhouettes used (PNG), or empty
   std::string overlays;          // directory for fit overlays (PNG), or empty
   std::function<void(const std::string&)> progress;  // one line per frame
@@ -85,10 +90,30 @@ struct TrackCaptureResult {
   double callback_seconds = 0;  // in on_frame
   int flagged = 0;
   double mean_iou = 0;
+  // Camera frames whose keypoints had left and right exchanged to agree with
+  // the other cameras' (ExchangeMislabelledSides), warm-up included.
+  uint32_t side_exchanges = 0;
+  // Per camera: the one image shift that best lays the fitted model on that
+  // camera's silhouettes over the frames checked (shift_check_every), and
+  // whether it says the camera's calibration disagrees with the others'
+  // (CalibrationDisagrees).
+  struct CameraShift {
+    SilhouetteShift shift;
+    double degrees = 0;  // the shift as a turn of the camera
+    bool disagrees = false;
+  };
+  std::vector<CameraShift> camera_shifts;
   std::vector<std::vector<double>> Poses() const;
   // poses.json: DOF names, body shape, per frame DOFs, fit quality and flags.
   std::string ToJson() const;
 };
+
+// Whether a camera's common shift says its calibration disagrees with the
+// other cameras': a turn over a quarter of a degree that raises its IoU by at
+// least 0.01 (a fit whose misses change from frame to frame gains little
+// from any one shift; on the synthetic studios' exact calibrations the shift
+// stays under a tenth of that gain, docs/tracking.md).
+bool CalibrationDisagrees(const SilhouetteShift& shift, double degrees);
 
 StatusOr<TrackCaptureResult> TrackCapture(const std::string& capture_path,
                                           const TrackCaptureOptions& options);

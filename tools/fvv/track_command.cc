@@ -121,6 +121,24 @@ int RunTrack(const TrackArgs& a) {
         b.length[kSegLeftThigh], b.girth[kSegLeftThigh], b.neck_ratio);
   }
   std::printf("  silhouettes: %s, mean IoU %.3f\n", r->silhouette_source.c_str(), r->mean_iou);
+  if (r->side_exchanges > 0) {
+    std::printf(
+        "  keypoints: left and right exchanged in %u camera frames, where one camera named them "
+        "the other way round from the others\n",
+        r->side_exchanges);
+  }
+  // A camera that sees the fit beside the actor by the same pixels in every
+  // frame: its calibration, not the tracking.
+  for (size_t c = 0; c < r->camera_shifts.size(); ++c) {
+    const TrackCaptureResult::CameraShift& cs = r->camera_shifts[c];
+    if (!cs.disagrees) continue;
+    std::printf(
+        "  warning: %s sees the fit %+.0f, %+.0f px off its silhouettes in every frame checked "
+        "(%d; a turn of %.2f degrees; IoU %.3f, %.3f with that shift): its calibration "
+        "disagrees with the other cameras' (fvv capture refine-calib; docs/tracking.md)\n",
+        r->capture.cameras[c].calibration.name.c_str(), -cs.shift.pixels.x(), -cs.shift.pixels.y(),
+        cs.shift.frames, cs.degrees, cs.shift.iou, cs.shift.shifted_iou);
+  }
   // Per frame tracked, warm-up included.
   const size_t tracked = count + r->warm_up_frames;
   std::printf("  time: %.3f s per frame (silhouettes %.3f, fitting %.3f)\n",

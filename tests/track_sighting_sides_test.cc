@@ -1,0 +1,143 @@
+// Left and right named the other way round in one camera's sightings
+// (encoder/track/sighting_sides.h): exchanged back, whole body, arms or legs,
+// from the other cameras' agreement; sightings that agree are left alone.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <random>
+
+#include "encoder/body/generic_body.h"
+#include "encoder/capture/calibration.h"
+#include "encoder/track/sighting_sides.h"
+
+namespace fvv {
+namespace {
+
+using Frame = std::vector<std::vector<JointSighting>>;
+
+// `count` portrait cameras in a ring around a person-sized volume.
+std::vector<Camera> Ring(int count) {
+  std::vector<Camera> cameras;
+  for (int i = 0; i < count; ++i) {
+    const double a = 0.4 + i * 2 * M_PI / count;
+    const Eigen::Vector3d centre(3.2 * std::cos(a), 3.2 * std::sin(a), 1.6 + 0.1 * i);
+    cameras.push_back(LookAtCamera("cam" + std::to_string(i), 1080, 1920, 1700, centre,
+                                   Eigen::Vector3d(0, 0, 1.0), Eigen::Vector3d(0, 0, 1)));
+  }
+  return cameras;
+}
+
+// A standing body facing +x (its left at +y), limbs moved at random, seen
+// by every camera with 3 pixels of keypoint noise.
+Frame Sight(const std::vector<Camera>& cameras, std::mt19937* rng) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::normal_distribution<double> noise(0, 3);
+  const Eigen::Vector3d at(0.3 * u(*rng), 0.3 * u(*rng), 0);
+  const std::pair<int, Eigen::Vector3d> left[] = {
+      {kLeftShoulder, {0, 0.2, 1.45}}, {kLeftElbow, {0.05, 0.3, 1.15}},
+      {kLeftWrist, {0.15, 0.3, 0.9}},  {kLeftHip, {0, 0.1, 0.95}},
+      {kLeftKnee, {0.05, 0.12, 0.5}},  {kLeftAnkle, {0, 0.12, 0.08}}};
+  Frame frame(cameras.size());
+  for (const auto& [joint, place] : left) {
+    for (int side : {1, -1}) {
+      const Eigen::Vector3d p = at + Eigen::Vector3d(place.x() + 0.1 * u(*rng),
+                                                     side * place.y() + 0.05 * u(*rng), place.z());
+      for (size_t c = 0; c < cameras.size(); ++c) {
+        JointSighting s;
+        s.joint = side > 0 ? joint : MirrorJoint(joint);
+        if (!ProjectPoint(cameras[c], p, &s.pixel)) continue;
+        s.pixel += Eigen::Vector2d(noise(*rng), noise(*rng));
+        s.confidence = 0.9;
+        frame[c].push_back(s);
+      }
+    }
+  }
+  return frame;
+}
+
+bool IsLeg(int joint) {
+  return joint == kLeftHip || joint == kLeftKnee || joint == kLeftAnkle || joint == kRightHip ||
+         joint == kRightKnee || joint == kRightAnkle;
+}
+
+void Mislabel(std::vector<JointSighting>* seen, bool arms, bool legs) {
+  for (JointSighting& s : *seen) {
+    if (IsLeg(s.joint) ? legs : arms) s.joint = MirrorJoint(s.joint);
+  }
+}
+
+bool Same(const Frame& a, const Frame& b) {
+  for (size_t c = 0; c < a.size(); ++c) {
+    for (size_t i = 0; i < a[c].size(); ++i) {
+      if (a[c][i].joint != b[c][i].joint) return false;
+    }
+  }
+  return true;
+}
+
+TEST(SightingSides, MirrorJointIsItsOwnInverse) {
+  for (int j = 0; j < kGenericJointCount; ++j) EXPECT_EQ(MirrorJoint(MirrorJoint(j)), j);
+  EXPECT_EQ(MirrorJoint(kLeftKnee), kRightKnee);
+  EXPECT_EQ(MirrorJoint(kRightWrist), kLeftWrist);
+  EXPECT_EQ(MirrorJoint(kHead), kHead);
+}
+
+TEST(SightingSides, SightingsThatAgreeAreLeftAlone) {
+  const std::vector<Camera> cameras = Ring(4);
+  std::mt19937 rng(3);
+  for (int f = 0; f < 20; ++f) {
+    const Frame truth = Sight(cameras, &rng);
+    Frame seen = truth;
+    EXPECT_TRUE(ExchangeMislabelledSides(cameras, &seen).empty()) << "frame " << f;
+    EXPECT_TRUE(Same(seen, truth));
+  }
+}
+
+TEST(SightingSides, OneCameraMislabelledIsExchangedBack) {
+  const std::vector<Camera> cameras = Ring(4);
+  std::mt19937 rng(5);
+  const struct {
+    bool arms, legs;
+    SideExchange::Limbs limbs;
+  } kCases[] = {{true, true, SideExchange::Limbs::kBody},
+                {true, false, SideExchange::Limbs::kArms},
+                {false, true, SideExchange::Limbs::kLegs}};
+  for (const auto& k : kCases) {
+    for (uint32_t bad = 0; bad < 4; ++bad) {
+      const Frame truth = Sight(cameras, &rng);
+      Frame seen = truth;
+      Mislabel(&seen[bad], k.arms, k.legs);
+      const std::vector<SideExchange> done = ExchangeMislabelledSides(cameras, &seen);
+      ASSERT_EQ(done.size(), 1u) << "camera " << bad;
+      EXPECT_EQ(done[0].camera, bad);
+      EXPECT_EQ(done[0].limbs, k.limbs) << "camera " << bad;
+      EXPECT_LT(2 * done[0].after_px, done[0].before_px);
+      EXPECT_TRUE(Same(seen, truth)) << "camera " << bad;
+    }
+  }
+}
+
+TEST(SightingSides, TwoCamerasMislabelledAmongSixAreBothExchanged) {
+  const std::vector<Camera> cameras = Ring(6);
+  std::mt19937 rng(9);
+  for (int f = 0; f < 10; ++f) {
+    const Frame truth = Sight(cameras, &rng);
+    Frame seen = truth;
+    Mislabel(&seen[1], true, true);
+    Mislabel(&seen[4], false, true);
+    const std::vector<SideExchange> done = ExchangeMislabelledSides(cameras, &seen);
+    EXPECT_EQ(done.size(), 2u) << "frame " << f;
+    EXPECT_TRUE(Same(seen, truth)) << "frame " << f;
+  }
+}
+
+TEST(SightingSides, TwoCamerasCannotTellWhichIsWrong) {
+  const std::vector<Camera> cameras = Ring(2);
+  std::mt19937 rng(1);
+  Frame seen = Sight(cameras, &rng);
+  Mislabel(&seen[0], true, true);
+  EXPECT_TRUE(ExchangeMislabelledSides(cameras, &seen).empty());
+}
+
+}  // namespace
+}  // namespace fvv
