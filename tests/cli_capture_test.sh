@@ -48,7 +48,10 @@ grep -q "tracked frames 0..2" <<<"$out" && grep -q "joint error against" <<<"$ou
 # ... and the error of each of the three frames, with the best and worst named.
 grep -Eq "^ +cm:( +[0-9]+\.[0-9]){3}$" <<<"$out" && grep -q "per frame: best frame [0-2] " <<<"$out" ||
   fail "per-frame errors: $out"
-grep -q '"dof_names"' "$dir/poses.json" && [ "$(grep -c '"iou"' "$dir/poses.json")" = 3 ] || fail "poses.json"
+grep -q '"dof_names"' "$dir/poses.json" && [ "$(grep -c '"xor_ratio"' "$dir/poses.json")" = 3 ] &&
+  [ "$(grep -c '"calibration_disagrees": false' "$dir/poses.json")" = 2 ] || fail "poses.json"
+# The synthetic calibration is exact: no camera is named as disagreeing.
+grep -q "calibration disagrees" <<<"$out" && fail "a camera named on an exact calibration: $out"
 # --smooth 0 reports each frame's own fit (the default smooths over time);
 # a sigma out of range is refused before any work.
 out=$("$fvv" track "$dir/cap" -o "$dir/raw.json" --smooth 0 --fixed-shape -q 2>&1) || fail "track --smooth 0: $out"

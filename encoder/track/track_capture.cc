@@ -63,7 +63,8 @@ std::string TrackCaptureResult::ToJson() const {
 }
 
 bool CalibrationDisagrees(const SilhouetteShift& shift, double degrees) {
-  return shift.frames > 0 && degrees >= 0.25 && shift.shifted_iou - shift.iou >= 0.01;
+  return shift.frames >= 3 && shift.pixels.norm() >= 2 && degrees >= 0.25 &&
+         shift.shifted_iou - shift.iou >= 0.01;
 }
 
 StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCaptureOptions& o) {

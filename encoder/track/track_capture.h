@@ -109,10 +109,12 @@ struct TrackCaptureResult {
 };
 
 // Whether a camera's common shift says its calibration disagrees with the
-// other cameras': a turn over a quarter of a degree that raises its IoU by at
-// least 0.01 (a fit whose misses change from frame to frame gains little
-// from any one shift; on the synthetic studios' exact calibrations the shift
-// stays under a tenth of that gain, docs/tracking.md).
+// other cameras': found over 3 frames or more (in one frame a poor fit looks
+// like a shift), 2 pixels or more (less is the masks' and rasters' grain), a
+// turn over a quarter of a degree, and raising its mean IoU by at least 0.01
+// (a fit whose misses change from frame to frame gains little from any one
+// shift). On the synthetic studios' exact calibrations the shift stays under
+// a tenth of a pixel (docs/tracking.md).
 bool CalibrationDisagrees(const SilhouetteShift& shift, double degrees);
 
 StatusOr<TrackCaptureResult> TrackCapture(const std::string& capture_path,
