@@ -187,7 +187,7 @@ Status CaptureFrames::ReadWithPersons(uint32_t frame, std::vector<Image>* images
   for (const Status& s : errors) FVV_RETURN_IF_ERROR(s);
   std::vector<Camera> cameras;
   for (const CaptureCamera& c : capture().cameras) cameras.push_back(c.calibration);
-  side_exchanges_ += uint32_t(ExchangeMislabelledSides(cameras, &sightings_).size());
+  side_exchanges_ += uint32_t(ExchangeMislabelledSides(cameras, &sightings_).exchanges.size());
   if (images) *images = std::move(read);
   return Status::Ok();
 }

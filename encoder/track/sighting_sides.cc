@@ -8,11 +8,6 @@
 namespace fvv {
 namespace {
 
-bool IsArm(int joint) {
-  return joint == kLeftShoulder || joint == kLeftElbow || joint == kLeftWrist ||
-         joint == kRightShoulder || joint == kRightElbow || joint == kRightWrist;
-}
-
 bool IsLeg(int joint) {
   return joint == kLeftHip || joint == kLeftKnee || joint == kLeftAnkle || joint == kRightHip ||
          joint == kRightKnee || joint == kRightAnkle;
@@ -21,16 +16,28 @@ bool IsLeg(int joint) {
 void Exchange(SideExchange::Limbs limbs, std::vector<JointSighting>* seen) {
   for (JointSighting& s : *seen) {
     const bool take = limbs == SideExchange::Limbs::kBody ||
-                      (limbs == SideExchange::Limbs::kArms && IsArm(s.joint)) ||
-                      (limbs == SideExchange::Limbs::kLegs && IsLeg(s.joint));
+                      (limbs == SideExchange::Limbs::kLegs) == IsLeg(s.joint);
     if (take) s.joint = MirrorJoint(s.joint);
   }
 }
 
 // The other cameras' triangulation may leave out a view that disagrees by
-// more than this share of camera k's longer side (20 pixels at 1920).
+// more than this share of the camera's longer side (20 pixels at 1920).
 double Tolerance(const Camera& camera) {
   return std::max(5.0, 0.0104 * double(std::max(camera.width, camera.height)));
+}
+
+// The mean over the cameras that saw the person of their sightings' distance
+// from the others' triangulated into them; -1 where none can be scored.
+double MeanAgreement(const std::vector<Camera>& cameras, const std::vector<uint32_t>& seeing,
+                     const std::vector<std::vector<JointSighting>>& sightings) {
+  double sum = 0;
+  int count = 0;
+  for (uint32_t c : seeing) {
+    const double a = KeypointAgreement(cameras, c, sightings, Tolerance(cameras[c]));
+    if (a >= 0) sum += a, ++count;
+  }
+  return count ? sum / count : -1;
 }
 
 }  // namespace
@@ -66,39 +73,72 @@ int MirrorJoint(int joint) {
   }
 }
 
-std::vector<SideExchange> ExchangeMislabelledSides(
-    const std::vector<Camera>& cameras, std::vector<std::vector<JointSighting>>* sightings) {
-  std::vector<SideExchange> done;
-  const uint32_t n = uint32_t(std::min(cameras.size(), sightings->size()));
-  if (n < 3) return done;
-  std::vector<bool> changed(n, false);
-  constexpr SideExchange::Limbs kWays[] = {SideExchange::Limbs::kBody, SideExchange::Limbs::kArms,
-                                           SideExchange::Limbs::kLegs};
-  for (uint32_t round = 0; round < n; ++round) {
-    SideExchange best;
-    double best_ratio = 0;
-    for (uint32_t c = 0; c < n; ++c) {
-      if (changed[c] || (*sightings)[c].empty()) continue;
-      const double tolerance = Tolerance(cameras[c]);
-      const double before = KeypointAgreement(cameras, c, *sightings, tolerance);
-      if (before <= 0) continue;
+SideExchange ExchangeMislabelledSides(const std::vector<Camera>& cameras,
+                                      std::vector<std::vector<JointSighting>>* sightings) {
+  SideExchange done;
+  std::vector<uint32_t> seeing;
+  for (uint32_t c = 0; c < std::min(cameras.size(), sightings->size()); ++c) {
+    if (!(*sightings)[c].empty()) seeing.push_back(c);
+  }
+  if (seeing.size() < 3) return done;
+  done.before_px = done.after_px = MeanAgreement(cameras, seeing, *sightings);
+  if (done.before_px <= 0) return done;
+  constexpr SideExchange::Limbs kLimbs[] = {SideExchange::Limbs::kBody, SideExchange::Limbs::kArms,
+                                            SideExchange::Limbs::kLegs};
+  // One camera at a time, fewer than half of those that see the person.
+  while (2 * (done.exchanges.size() + 1) < seeing.size()) {
+    // Every camera not yet exchanged, each way; the best, and the best of
+    // the other cameras.
+    struct Trial {
+      uint32_t camera;
+      SideExchange::Limbs limbs;
+      double score;
+    };
+    std::vector<Trial> trials;
+    for (uint32_t c : seeing) {
+      if (std::any_of(done.exchanges.begin(), done.exchanges.end(),
+                      [c](const SideExchange::One& e) { return e.camera == c; })) {
+        continue;
+      }
       const std::vector<JointSighting> own = (*sightings)[c];
-      for (SideExchange::Limbs way : kWays) {
-        Exchange(way, &(*sightings)[c]);
-        const double after = KeypointAgreement(cameras, c, *sightings, tolerance);
+      for (SideExchange::Limbs limbs : kLimbs) {
+        Exchange(limbs, &(*sightings)[c]);
+        const double score = MeanAgreement(cameras, seeing, *sightings);
         (*sightings)[c] = own;
-        if (after <= 0) continue;
-        const double ratio = before / std::max(after, 1e-9);
-        if (ratio > best_ratio) best_ratio = ratio, best = {c, way, before, after};
+        if (score >= 0) trials.push_back({c, limbs, score});
       }
     }
-    // Twice as near: a camera that merely disagrees a little (calibration,
-    // a joint placed loosely) gains far less from an exchange; one that
-    // named the sides the other way gains several times over.
-    if (best_ratio < 2) break;
+    if (trials.empty()) break;
+    const Trial best =
+        *std::min_element(trials.begin(), trials.end(),
+                          [](const Trial& a, const Trial& b) { return a.score < b.score; });
+    const Trial* rival = nullptr;
+    for (const Trial& t : trials) {
+      if (t.camera != best.camera && (!rival || t.score < rival->score)) rival = &t;
+    }
+    // Twice as near: a labelling that is right gains little from any
+    // exchange (side on, left and right lie close in the image), one named
+    // the other way round gains several times over.
+    if (2 * best.score > done.after_px) break;
+    if (rival && 1.5 * best.score > rival->score) {
+      // (Without room for both, the two may be a half of the cameras.)
+      if (2 * (done.exchanges.size() + 2) >= seeing.size()) break;
+      // Another camera's exchange does nearly as well. Two cameras facing
+      // each other, neither sure, contend for one disagreement: with both
+      // made it is no better, and nothing tells which is wrong. Two cameras
+      // each wrong in their own way: both together halve it again.
+      const std::vector<JointSighting> own = (*sightings)[best.camera],
+                                       other = (*sightings)[rival->camera];
+      Exchange(best.limbs, &(*sightings)[best.camera]);
+      Exchange(rival->limbs, &(*sightings)[rival->camera]);
+      const double both = MeanAgreement(cameras, seeing, *sightings);
+      (*sightings)[best.camera] = own;
+      (*sightings)[rival->camera] = other;
+      if (both < 0 || 2 * both > best.score) break;
+    }
     Exchange(best.limbs, &(*sightings)[best.camera]);
-    changed[best.camera] = true;
-    done.push_back(best);
+    done.exchanges.push_back({best.camera, best.limbs});
+    done.after_px = best.score;
   }
   return done;
 }
