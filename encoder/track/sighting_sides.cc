@@ -27,17 +27,26 @@ double Tolerance(const Camera& camera) {
   return std::max(5.0, 0.0104 * double(std::max(camera.width, camera.height)));
 }
 
-// The mean over the cameras that saw the person of their sightings' distance
-// from the others' triangulated into them; -1 where none can be scored.
-double MeanAgreement(const std::vector<Camera>& cameras, const std::vector<uint32_t>& seeing,
-                     const std::vector<std::vector<JointSighting>>& sightings) {
+// Over the cameras that saw the person, their sightings' distance from the
+// others' triangulated into them: the mean and the largest; -1 where none
+// can be scored.
+struct Agreement {
+  double mean = -1, worst = -1;
+};
+
+Agreement CamerasAgreement(const std::vector<Camera>& cameras, const std::vector<uint32_t>& seeing,
+                           const std::vector<std::vector<JointSighting>>& sightings) {
+  Agreement out;
   double sum = 0;
   int count = 0;
   for (uint32_t c : seeing) {
     const double a = KeypointAgreement(cameras, c, sightings, Tolerance(cameras[c]));
-    if (a >= 0) sum += a, ++count;
+    if (a < 0) continue;
+    sum += a, ++count;
+    out.worst = std::max(out.worst, a);
   }
-  return count ? sum / count : -1;
+  if (count) out.mean = sum / count;
+  return out;
 }
 
 }  // namespace
@@ -81,8 +90,9 @@ SideExchange ExchangeMislabelledSides(const std::vector<Camera>& cameras,
     if (!(*sightings)[c].empty()) seeing.push_back(c);
   }
   if (seeing.size() < 3) return done;
-  done.before_px = done.after_px = MeanAgreement(cameras, seeing, *sightings);
-  if (done.before_px <= 0) return done;
+  Agreement now = CamerasAgreement(cameras, seeing, *sightings);
+  done.before_px = done.after_px = now.mean;
+  if (now.mean <= 0) return done;
   constexpr SideExchange::Limbs kLimbs[] = {SideExchange::Limbs::kBody, SideExchange::Limbs::kArms,
                                             SideExchange::Limbs::kLegs};
   // One camera at a time, fewer than half of those that see the person.
@@ -92,7 +102,8 @@ SideExchange ExchangeMislabelledSides(const std::vector<Camera>& cameras,
     struct Trial {
       uint32_t camera;
       SideExchange::Limbs limbs;
-      double score;
+      double score;  // the mean agreement with the exchange
+      double worst;
     };
     std::vector<Trial> trials;
     for (uint32_t c : seeing) {
@@ -103,9 +114,9 @@ SideExchange ExchangeMislabelledSides(const std::vector<Camera>& cameras,
       const std::vector<JointSighting> own = (*sightings)[c];
       for (SideExchange::Limbs limbs : kLimbs) {
         Exchange(limbs, &(*sightings)[c]);
-        const double score = MeanAgreement(cameras, seeing, *sightings);
+        const Agreement a = CamerasAgreement(cameras, seeing, *sightings);
         (*sightings)[c] = own;
-        if (score >= 0) trials.push_back({c, limbs, score});
+        if (a.mean >= 0) trials.push_back({c, limbs, a.mean, a.worst});
       }
     }
     if (trials.empty()) break;
@@ -119,10 +130,15 @@ SideExchange ExchangeMislabelledSides(const std::vector<Camera>& cameras,
     // Twice as near: a labelling that is right gains little from any
     // exchange (side on, left and right lie close in the image), one named
     // the other way round gains several times over.
-    if (2 * best.score > done.after_px) break;
+    if (2 * best.score > now.mean) break;
+    // The last exchange there is room for must leave no camera disagreeing:
+    // half of the cameras against the other half halves the mean with
+    // either half exchanged, and leaves the other.
+    const bool last = 2 * (done.exchanges.size() + 2) >= seeing.size();
+    if (last && 2 * best.worst > now.worst) break;
     if (rival && 1.5 * best.score > rival->score) {
       // (Without room for both, the two may be a half of the cameras.)
-      if (2 * (done.exchanges.size() + 2) >= seeing.size()) break;
+      if (last) break;
       // Another camera's exchange does nearly as well. Two cameras facing
       // each other, neither sure, contend for one disagreement: with both
       // made it is no better, and nothing tells which is wrong. Two cameras
@@ -131,13 +147,14 @@ SideExchange ExchangeMislabelledSides(const std::vector<Camera>& cameras,
                                        other = (*sightings)[rival->camera];
       Exchange(best.limbs, &(*sightings)[best.camera]);
       Exchange(rival->limbs, &(*sightings)[rival->camera]);
-      const double both = MeanAgreement(cameras, seeing, *sightings);
+      const double both = CamerasAgreement(cameras, seeing, *sightings).mean;
       (*sightings)[best.camera] = own;
       (*sightings)[rival->camera] = other;
       if (both < 0 || 2 * both > best.score) break;
     }
     Exchange(best.limbs, &(*sightings)[best.camera]);
     done.exchanges.push_back({best.camera, best.limbs});
+    now = {best.score, best.worst};
     done.after_px = best.score;
   }
   return done;

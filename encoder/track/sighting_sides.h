@@ -43,7 +43,8 @@ struct SideExchange {
 // be the others' labelling turned round, and nothing tells which half is
 // right): each time the exchange that gives the lowest mean agreement, where
 // it at least halves it and no exchange in another camera comes within a
-// factor of 1.5 of it. `sightings` is per camera, as CaptureFrames gives
+// factor of 1.5 of it (unless both together halve it again); the last there
+// is room for must also halve the worst camera's. `sightings` is per camera, as CaptureFrames gives
 // them; three cameras or more must see the person.
 SideExchange ExchangeMislabelledSides(const std::vector<Camera>& cameras,
                                       std::vector<std::vector<JointSighting>>* sightings);
