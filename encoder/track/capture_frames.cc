@@ -28,6 +28,7 @@ StatusOr<std::unique_ptr<CaptureFrames>> CaptureFrames::Open(const Capture& capt
   if (persons) {
     f->persons_ = persons;
     f->regions_.assign(n, PersonRegion());
+    for (const CaptureCamera& c : capture.cameras) f->cameras_.push_back(c.calibration);
     // Without plates the network's masks are the silhouettes: no median needed.
     if (!f->plates_) return f;
   }
@@ -185,9 +186,7 @@ Status CaptureFrames::ReadWithPersons(uint32_t frame, std::vector<Image>* images
     RefineMaskEdges(&s, *subtracted, int(std::ceil(8 * seen[c].region.size / 256)));
   });
   for (const Status& s : errors) FVV_RETURN_IF_ERROR(s);
-  std::vector<Camera> cameras;
-  for (const CaptureCamera& c : capture().cameras) cameras.push_back(c.calibration);
-  side_exchanges_ += uint32_t(ExchangeMislabelledSides(cameras, &sightings_).exchanges.size());
+  side_exchanges_ += uint32_t(ExchangeMislabelledSides(cameras_, &sightings_).exchanges.size());
   if (images) *images = std::move(read);
   return Status::Ok();
 }

@@ -60,6 +60,7 @@ class CaptureFrames {
   std::vector<BackgroundModel> backgrounds_;
   PersonObserver* persons_ = nullptr;
   std::vector<PersonRegion> regions_;  // per camera, from its last frame (size 0: detect)
+  std::vector<Camera> cameras_;        // with the network: the calibrations its sightings meet
   std::vector<std::vector<JointSighting>> sightings_;
   double decode_seconds_ = 0, person_seconds_ = 0;
   uint32_t side_exchanges_ = 0;

@@ -155,8 +155,8 @@ SideExchange ExchangeMislabelledSides(const std::vector<Camera>& cameras,
     Exchange(best.limbs, &(*sightings)[best.camera]);
     done.exchanges.push_back({best.camera, best.limbs});
     now = {best.score, best.worst};
-    done.after_px = best.score;
   }
+  done.after_px = now.mean;
   return done;
 }
 
