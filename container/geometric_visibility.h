@@ -30,6 +30,23 @@ constexpr double kSlopeTexels = 1.5;
 constexpr double kMinFacing = 0.0;
 constexpr double kFullFacing = 0.1;
 
+// The reference player's blend (Renderer II's defaults; informative): camera
+// c's weight at a surface point is its visibility times
+// (kAngleEpsilon / (angle + kAngleEpsilon))^kViewExponent, the angle between
+// the directions from the point to the eye and to c, times
+// max(facing, 1e-3)^kFacingExponent. The encoder codes a stream without masks
+// for this blend (docs/encoder.md, "Streams without masks").
+constexpr double kAngleEpsilon = 0.02;
+constexpr double kViewExponent = 4.0;
+constexpr double kFacingExponent = 8.0;
+
+// The facing ramp of a camera's visibility: 0 at or below kMinFacing, 1 from
+// kFullFacing, smoothstep between (GLSL's smoothstep).
+inline double FacingRamp(double facing) {
+  const double x = std::clamp((facing - kMinFacing) / (kFullFacing - kMinFacing), 0.0, 1.0);
+  return x * x * (3 - 2 * x);
+}
+
 // The depth map's size for a camera image of width x height.
 inline void DepthMapSize(uint32_t width, uint32_t height, int* map_width, int* map_height) {
   const double scale = double(kDepthMapLongSide) / double(std::max<uint32_t>(width, height));

@@ -234,5 +234,71 @@ TEST(NovelView, StreamWithoutMasksRendersTheHeldOutViewAsWell) {
   std::system(("rm -rf '" + dir + "'").c_str());
 }
 
+// Without masks, a texel a camera did not see is coded for the player only
+// where that camera can be a fair share of the blend; the rest goes to the
+// fill. At equal bytes the texels seen then code better, and the held-out
+// view is no worse than with every such texel coded.
+TEST(NovelView, TexelsThatBarelyShowInTheBlendAreLeftToTheFill) {
+  const std::string dir = ::testing::TempDir() + "/novel_view_share_" + std::to_string(getpid());
+  std::system(("rm -rf '" + dir + "'").c_str());
+  SynthOptions o;
+  o.output_dir = dir + "/cap";
+  o.cameras = 6;
+  o.frames = 3;
+  o.width = 320;
+  o.height = 240;
+  o.held_out = 1;
+  o.noise = 0;
+  o.seed = 7;
+  ASSERT_TRUE(RunSynth(o).ok());
+  auto held = LoadCapture(dir + "/cap/truth/heldout");
+  ASSERT_TRUE(held.ok()) << held.status().ToString();
+  const Camera calibration = held->cameras[0].calibration;
+  CaptureReader reader(*held);
+  std::vector<std::vector<uint8_t>> every, shared;
+  std::vector<EncodeSummary> sums;
+  for (double least : {0.0, EncoderSettings{}.least_blend_share}) {
+    EncoderSettings s;
+    s.poses = dir + "/cap";
+    s.atlas_size = 512;
+    s.rate_mode = RateMode::kTotalBytes;
+    s.rate_value = 12000;
+    s.least_blend_share = least;
+    const std::string stream = dir + "/share.fvv";
+    auto sum = EncodeCapture(dir + "/cap", stream, s);
+    ASSERT_TRUE(sum.ok()) << sum.status().ToString();
+    sums.push_back(*sum);
+    RenderStream(stream, calibration, 3, least > 0 ? &shared : &every);
+  }
+  // The same texels offered; the rule leaves most of the unseen ones to the
+  // fill (those no camera saw at all go there either way).
+  ASSERT_GT(sums[0].player_texels, 0u);
+  EXPECT_EQ(sums[0].player_texels, sums[1].player_texels);
+  EXPECT_GT(sums[1].player_texels_left, sums[0].player_texels_left + sums[0].player_texels / 4);
+  EXPECT_LE(sums[1].texture_bytes, sums[0].texture_bytes);
+  std::printf(
+      "  texels offered %llu, left to the fill %llu (every one coded) / %llu (shares); "
+      "texels seen %.2f / %.2f dB\n",
+      (unsigned long long)sums[0].player_texels, (unsigned long long)sums[0].player_texels_left,
+      (unsigned long long)sums[1].player_texels_left, sums[0].psnr_rgb, sums[1].psnr_rgb);
+  EXPECT_GT(sums[1].psnr_rgb, sums[0].psnr_rgb + 0.1);
+  ASSERT_EQ(every.size(), 3u);
+  ASSERT_EQ(shared.size(), 3u);
+  double sum_every = 0, sum_shared = 0;
+  for (uint32_t f = 0; f < 3; ++f) {
+    auto truth = reader.ReadFrame(0, f);
+    auto silhouette = reader.ReadSilhouette(0, f);
+    ASSERT_TRUE(truth.ok() && silhouette.ok());
+    const double a = Score(every[f], *truth, *silhouette).psnr;
+    const double b = Score(shared[f], *truth, *silhouette).psnr;
+    std::printf("  held-out camera, frame %u: every texel coded %.2f dB, by share %.2f dB\n", f, a,
+                b);
+    EXPECT_GT(a, 25.0);
+    sum_every += a, sum_shared += b;
+  }
+  EXPECT_GT(sum_shared / 3, sum_every / 3 - 0.05);
+  std::system(("rm -rf '" + dir + "'").c_str());
+}
+
 }  // namespace
 }  // namespace fvv

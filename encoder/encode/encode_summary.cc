@@ -40,6 +40,11 @@ std::string EncodeSummary::Table() const {
     add("  seamless texture  %.3f s per frame; %llu texel(s) no camera saw filled from it\n",
         seamless_s / std::max(1u, frames), (unsigned long long)fallback_texels);
   }
+  if (player_texels > 0) {
+    add("  without masks     %llu texel(s) a player may take from a camera that did not see "
+        "them; %.1f %% of them left to the fill\n",
+        (unsigned long long)player_texels, 100.0 * player_texels_left / player_texels);
+  }
   if (!refine_moves.empty()) {
     add("  shape refinement  %.1f s on the first frame, mean vertex move %.1f mm\n", refine_s, [&] {
       double sum = 0;
@@ -82,6 +87,8 @@ std::string EncodeSummary::ToJson() const {
       {"psnr", {{"y", psnr[0]}, {"u", psnr[1]}, {"v", psnr[2]}, {"rgb", psnr_rgb}}},
       {"tracking", {{"mean_iou", mean_iou}, {"flagged", flagged_frames}}},
       {"seamless_texture", {{"seconds", seamless_s}, {"fallback_texels", fallback_texels}}},
+      {"without_masks",
+       {{"player_texels", player_texels}, {"player_texels_left", player_texels_left}}},
       {"shape_refinement",
        {{"refined", !refine_moves.empty()},
         {"seconds", refine_s},

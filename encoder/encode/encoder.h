@@ -107,6 +107,12 @@ struct EncoderSettings {
   // and the encoder fills what they may take (docs/encoder.md, "Streams without
   // masks"). The predictive texture codec needs them (they are its supports).
   bool masks = false;
+  // Without masks: a texel a camera did not see but a player may take from it
+  // is coded (with the colour of the cameras that saw it) only where that
+  // camera can be at least this share of the reference player's blend from
+  // some viewpoint (encoder/encode/blend_share.h); elsewhere it is left to the
+  // coder's fill. 0 codes every such texel.
+  double least_blend_share = 0.25;
   // kMixing (mode 2, format version 2) is about 12 % smaller; kContext (mode 1)
   // keeps a SPIHT stream readable by version 1 decoders.
   MaskCoding mask_coding = MaskCoding::kMixing;
@@ -163,6 +169,10 @@ struct EncodeSummary {
   // Texels filled from the static texture (summed over frames), and its time.
   uint64_t fallback_texels = 0;
   double seamless_s = 0;
+  // Without masks: texels a player may take from a camera that did not see
+  // them (summed over frames and cameras), and those of them left to the fill
+  // (least_blend_share).
+  uint64_t player_texels = 0, player_texels_left = 0;
 
   double duration_s() const { return frames / fps; }
   double kbps(uint64_t bytes) const { return bytes * 8.0 / 1000 / duration_s(); }

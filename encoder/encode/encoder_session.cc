@@ -2,6 +2,9 @@
 // the static and fallback texture) and the stream it writes at the end.
 #include "encoder/encode/encoder_session.h"
 
+#include "encoder/capture/calibration.h"
+#include "encoder/encode/blend_share.h"
+
 namespace fvv {
 namespace encoding {
 
@@ -75,7 +78,11 @@ Status Session::AllocateForModel() {
   const size_t texels = size_t(s_.atlas_size) * s_.atlas_size;
   span_rgb_.assign(size_t(s_.gop_frames) * sum_.cameras * texels * 3, 0);
   span_mask_.assign(size_t(s_.gop_frames) * sum_.cameras * texels, 0);
-  if (!s_.masks) span_usable_.assign(span_mask_.size(), 0);
+  if (!s_.masks) {
+    span_usable_.assign(span_mask_.size(), 0);
+    span_positions_.assign(s_.gop_frames, {});
+    span_normals_.assign(s_.gop_frames, {});
+  }
   if (s_.fallback_texture || !s_.static_texture.empty()) {
     static_ = std::make_unique<StaticTexture>(s_.atlas_size);
     span_fallback_.assign(s_.gop_frames, {});
@@ -132,6 +139,12 @@ StatusOr<std::vector<Eigen::Vector3f>> Session::Resample(uint32_t frame, uint32_
                    &span_rgb_[plane * texels * 3], &span_mask_[plane * texels],
                    span_usable_.empty() ? nullptr : &span_usable_[plane * texels]);
     });
+  }
+  // The blend-share rule needs the posed surface; a texture directory already
+  // marks what the encoder chose to code, and is coded as it is.
+  if (!span_positions_.empty()) {
+    span_positions_[slot] = images.empty() ? std::vector<Eigen::Vector3f>() : positions;
+    span_normals_[slot] = images.empty() ? std::vector<Eigen::Vector3f>() : normals;
   }
   sum_.resample_s += Since(t0);
   return positions;
@@ -265,27 +278,61 @@ void Session::ApplyFallback(uint32_t frames) {
 void Session::FillForPlayers(uint32_t frames) {
   const size_t texels = size_t(s_.atlas_size) * s_.atlas_size;
   const uint32_t n = sum_.cameras;
+  std::vector<Eigen::Vector3f> centres;
+  for (const Camera& c : cameras_) centres.push_back(CameraCentre(c).cast<float>());
+  std::vector<uint64_t> offered(frames, 0), left(frames, 0);
   pool_.Run(frames, [&](uint32_t t) {
     const size_t first = size_t(t) * n * texels;
-    for (uint32_t texel : map_.texel) {
-      int sum[3] = {0, 0, 0}, count = 0;
+    const bool shares = s_.least_blend_share > 0 && !span_positions_[t].empty();
+    const std::vector<Eigen::Vector3f>& positions = span_positions_[t];
+    const std::vector<Eigen::Vector3f>& normals = span_normals_[t];
+    std::vector<Eigen::Vector3f> to_camera(n);
+    std::vector<double> facing(n);
+    std::vector<uint8_t> takes(n);
+    for (size_t e = 0; e < map_.texel.size(); ++e) {
+      const uint32_t texel = map_.texel[e];
+      int sum[3] = {0, 0, 0}, count = 0, unseen = 0;
       for (uint32_t c = 0; c < n; ++c) {
         const size_t i = first + c * texels + texel;
+        takes[c] = span_usable_[i];
+        unseen += !span_mask_[i] && span_usable_[i];
         if (!span_mask_[i]) continue;
         for (int k = 0; k < 3; ++k) sum[k] += span_rgb_[i * 3 + k];
         ++count;
       }
+      if (!unseen) continue;
+      offered[t] += unseen;
+      if (shares && count > 0) {
+        const auto& tri = model_.mesh.triangles[map_.triangle[e]];
+        const auto& w = map_.weights[e];
+        const Eigen::Vector3f p =
+            w[0] * positions[tri[0]] + w[1] * positions[tri[1]] + w[2] * positions[tri[2]];
+        const Eigen::Vector3f nrm =
+            (w[0] * normals[tri[0]] + w[1] * normals[tri[1]] + w[2] * normals[tri[2]]).normalized();
+        for (uint32_t c = 0; c < n; ++c) {
+          to_camera[c] = (centres[c] - p).normalized();
+          facing[c] = nrm.dot(to_camera[c]);
+        }
+      }
       for (uint32_t c = 0; c < n; ++c) {
         const size_t i = first + c * texels + texel;
         if (span_mask_[i] || !span_usable_[i]) continue;
-        if (count == 0) {
-          span_usable_[i] = 0;  // nothing to show: left to the codec's fill
+        // Nothing to show, or a colour that barely shows from any viewpoint:
+        // left to the codec's fill.
+        if (count == 0 || (shares && LargestBlendShare(c, n, to_camera.data(), facing.data(),
+                                                       takes.data()) < s_.least_blend_share)) {
+          span_usable_[i] = 0;
+          ++left[t];
           continue;
         }
         for (int k = 0; k < 3; ++k) span_rgb_[i * 3 + k] = uint8_t((sum[k] + count / 2) / count);
       }
     }
   });
+  for (uint32_t t = 0; t < frames; ++t) {
+    sum_.player_texels += offered[t];
+    sum_.player_texels_left += left[t];
+  }
 }
 
 }  // namespace encoding

@@ -212,8 +212,11 @@ class Session {
   BodyShape shape_;
   BodyModel model_;
   TexelMap map_;
-  std::vector<uint8_t> span_rgb_, span_mask_;        // (slot, camera, y, x)
-  std::vector<uint8_t> span_usable_;                 // without masks: what a player may use
+  std::vector<uint8_t> span_rgb_, span_mask_;  // (slot, camera, y, x)
+  std::vector<uint8_t> span_usable_;           // without masks: what a player may use
+  // Without masks, per slot: the posed surface (blend shares; empty for a
+  // texture directory's frames).
+  std::vector<std::vector<Eigen::Vector3f>> span_positions_, span_normals_;
   std::unique_ptr<StaticTexture> static_;            // with fallback_texture or static_texture
   bool static_fixed_ = false;                        // a prepared take's: frames do not add to it
   std::vector<std::vector<int16_t>> span_fallback_;  // per slot: best-facing camera per texel

@@ -218,6 +218,8 @@ Status Renderer::Draw(const RenderView& view, int width, int height) {
                  active.data());
   gl_.Uniform3fv(gl_.GetUniformLocation(program, "u_eye"), 1, glm::value_ptr(view.eye));
   gl_.Uniform1f(gl_.GetUniformLocation(program, "u_exponent"), view.exponent);
+  gl_.Uniform1f(gl_.GetUniformLocation(program, "u_angle_epsilon"),
+                float(geometric_visibility::kAngleEpsilon));
   gl_.Uniform1f(gl_.GetUniformLocation(program, "u_facing_exponent"), view.facing_exponent);
   gl_.Uniform1i(gl_.GetUniformLocation(program, "u_textures"), 0);
   gl_.Uniform1i(gl_.GetUniformLocation(program, "u_masks"), 1);

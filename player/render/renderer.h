@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "codec/base/status.h"
+#include "container/geometric_visibility.h"
 #include "fvv/fvv_decoder.h"
 #include "player/render/camera_depth_maps.h"
 #include "player/render/gl_api.h"
@@ -26,11 +27,12 @@ struct RenderView {
   glm::mat4 view{1.0f};
   glm::mat4 projection{1.0f};
   glm::vec3 eye{0.0f};
-  float exponent = 4.0f;  // higher: the best-aligned camera dominates more
+  // Higher: the best-aligned camera dominates more.
+  float exponent = float(geometric_visibility::kViewExponent);
   // Higher: the cameras facing the surface squarely dominate more (their
   // samples are the finest and the least displaced where the model misses the
   // actor); docs/player.md, "Blending".
-  float facing_exponent = 8.0f;
+  float facing_exponent = float(geometric_visibility::kFacingExponent);
   glm::vec3 background{0.12f, 0.12f, 0.14f};
 };
 

@@ -24,6 +24,7 @@ struct EncodeArgs {
   bool kernel_given = false, gop_cameras_given = false, atlas_given = false,
        gop_frames_given = false, warm_up_given = false;
   double bpp = 0, psnr = 0;
+  double least_blend_share = EncoderSettings{}.least_blend_share;
   uint64_t bytes = 0;
   uint32_t atlas = 512, threads = 2;
   uint16_t gop_frames = 8, gop_cameras = 1, key_interval = 1;
@@ -90,6 +91,7 @@ int RunEncode(const EncodeArgs& a) {
   }
   // The predictive codec's supports are its masks: it codes them unless told not to.
   s.masks = a.masks || (s.texture_codec == TextureCodec::kPredictive && !a.no_masks);
+  s.least_blend_share = a.least_blend_share;
   s.mask_coding = MaskCoderFromName(a.mask_coder);
   s.motion_coder = a.motion_coder == "zstd" ? MotionCoder::kZstd : MotionCoder::kArith;
   s.key_interval = a.key_interval;
@@ -208,6 +210,12 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
               "Code no shape masks: players take each camera's visibility from the decoded "
               "geometry (depth maps of the posed model)")
       ->excludes(masks);
+  e->add_option("--least-blend-share", a->least_blend_share,
+                "Without masks: code a texel a camera did not see but a player may take from "
+                "it only where that camera can be at least this share of the player's blend "
+                "from some viewpoint (0..1; 0 codes them all)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
   e->add_flag("--model-floats", a->model_floats,
               "Store the body model as 32-bit floats (what format versions 1 to 9 decoders "
               "read) instead of on a grid (0.12 mm positions, 10-bit normals, 8-bit weights)");

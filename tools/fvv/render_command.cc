@@ -35,8 +35,8 @@ struct RenderArgs {
   uint32_t first = 0, last = UINT32_MAX;
   int camera = -1;     // -1: orbit
   uint32_t sheet = 0;  // > 0: a contact sheet of this many novel views of --first
-  float exponent = 4.0f;
-  float facing_exponent = 8.0f;
+  float exponent = RenderView().exponent;
+  float facing_exponent = RenderView().facing_exponent;
   std::string renderer = "blend", poses;
   float dominance = 2.0f;
   int expand_px = 3;

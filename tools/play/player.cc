@@ -39,7 +39,7 @@ struct State {
   Transport* t = nullptr;  // the playback loop's playhead, play/pause, loop, speed
   float yaw = 0, pitch = 0.15f, distance = 3.5f;
   glm::vec3 pan{0.0f};
-  float exponent = 4;
+  float exponent = float(geometric_visibility::kViewExponent);
   int camera = -1;
   bool hud = true;
   bool* all_cameras = nullptr;

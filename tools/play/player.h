@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "container/geometric_visibility.h"
 #include "player/playback/playback_controller.h"
 
 namespace fvv {
@@ -12,7 +13,7 @@ namespace fvv {
 struct PlayerOptions {
   std::string input;
   int width = 1280, height = 720;
-  float exponent = 4.0f;
+  float exponent = float(geometric_visibility::kViewExponent);
   double floor_share = PlaybackController::kDefaultFloorShare;  // decoded under any load
   bool loop = true;
   bool all_cameras = false;  // decode every camera, not only those the view blends

@@ -20,6 +20,7 @@ uniform int u_present[64];  // 0: no texture of this camera, or it cannot weigh 
 uniform int u_camera_count;
 uniform vec3 u_eye;
 uniform float u_exponent;
+uniform float u_angle_epsilon;
 uniform float u_facing_exponent;
 // container/geometric_visibility.h: kDepthTolerance, kSlopeTexels, kMinFacing, kFullFacing.
 uniform vec4 u_visibility_rule;
@@ -78,7 +79,7 @@ void main() {
       // Relative to a camera on the viewing ray (angle 0), so that no exponent
       // overflows; and a camera seeing the surface squarely sampled it more
       // finely, and is less thrown by where the model misses the actor.
-      float w = seen * pow(0.02 / (angle + 0.02), u_exponent) *
+      float w = seen * pow(u_angle_epsilon / (angle + u_angle_epsilon), u_exponent) *
                 pow(max(facing, 1e-3), u_facing_exponent);
       sum += w * colour;
       weight_sum += w;
