@@ -179,15 +179,9 @@ TEST(NovelView, HeldOutCameraRenderMatchesTheGeneratorsTruth) {
   std::system(("rm -rf '" + dir + "'").c_str());
 }
 
-// A stream without masks: Renderer II takes its visibility from each camera's
-// depth map of the posed model, and the encoder made sure that what the
-// geometry lets it take from a camera holds a colour worth showing (where the
-// camera did not see it, the seeing cameras' mean). So its held-out view is as
-// good as the masked stream's at the same texture quality, while a blend of
-// every camera facing the surface (no occlusion test) or of unseen texels left
-// to the codec's fill is not.
-TEST(NovelView, StreamWithoutMasksRendersTheHeldOutViewAsWell) {
-  const std::string dir = ::testing::TempDir() + "/novel_view_nomask_" + std::to_string(getpid());
+// A noise-free take of 3 frames from 6 cameras at 320x240 in `dir`/cap, with
+// one camera held out (`held`: its capture).
+void MakeSixCameraTake(const std::string& dir, uint32_t seed, Capture* held) {
   std::system(("rm -rf '" + dir + "'").c_str());
   SynthOptions o;
   o.output_dir = dir + "/cap";
@@ -197,12 +191,26 @@ TEST(NovelView, StreamWithoutMasksRendersTheHeldOutViewAsWell) {
   o.height = 240;
   o.held_out = 1;
   o.noise = 0;
-  o.seed = 5;
+  o.seed = seed;
   ASSERT_TRUE(RunSynth(o).ok());
-  auto held = LoadCapture(dir + "/cap/truth/heldout");
-  ASSERT_TRUE(held.ok()) << held.status().ToString();
-  const Camera calibration = held->cameras[0].calibration;
-  CaptureReader reader(*held);
+  auto loaded = LoadCapture(dir + "/cap/truth/heldout");
+  ASSERT_TRUE(loaded.ok()) << loaded.status().ToString();
+  *held = std::move(*loaded);
+}
+
+// A stream without masks: Renderer II takes its visibility from each camera's
+// depth map of the posed model, and the encoder made sure that what the
+// geometry lets it take from a camera holds a colour worth showing (where the
+// camera did not see it, the seeing cameras' mean). So its held-out view is as
+// good as the masked stream's at the same texture quality, while a blend of
+// every camera facing the surface (no occlusion test) or of unseen texels left
+// to the codec's fill is not.
+TEST(NovelView, StreamWithoutMasksRendersTheHeldOutViewAsWell) {
+  const std::string dir = ::testing::TempDir() + "/novel_view_nomask_" + std::to_string(getpid());
+  Capture held;
+  ASSERT_NO_FATAL_FAILURE(MakeSixCameraTake(dir, 5, &held));
+  const Camera calibration = held.cameras[0].calibration;
+  CaptureReader reader(held);
   std::vector<std::vector<uint8_t>> masked, unmasked;
   for (bool masks : {true, false}) {
     EncoderSettings s;
@@ -240,21 +248,10 @@ TEST(NovelView, StreamWithoutMasksRendersTheHeldOutViewAsWell) {
 // view is no worse than with every such texel coded.
 TEST(NovelView, TexelsThatBarelyShowInTheBlendAreLeftToTheFill) {
   const std::string dir = ::testing::TempDir() + "/novel_view_share_" + std::to_string(getpid());
-  std::system(("rm -rf '" + dir + "'").c_str());
-  SynthOptions o;
-  o.output_dir = dir + "/cap";
-  o.cameras = 6;
-  o.frames = 3;
-  o.width = 320;
-  o.height = 240;
-  o.held_out = 1;
-  o.noise = 0;
-  o.seed = 7;
-  ASSERT_TRUE(RunSynth(o).ok());
-  auto held = LoadCapture(dir + "/cap/truth/heldout");
-  ASSERT_TRUE(held.ok()) << held.status().ToString();
-  const Camera calibration = held->cameras[0].calibration;
-  CaptureReader reader(*held);
+  Capture held;
+  ASSERT_NO_FATAL_FAILURE(MakeSixCameraTake(dir, 7, &held));
+  const Camera calibration = held.cameras[0].calibration;
+  CaptureReader reader(held);
   std::vector<std::vector<uint8_t>> every, shared;
   std::vector<EncodeSummary> sums;
   for (double least : {0.0, EncoderSettings{}.least_blend_share}) {
