@@ -586,6 +586,15 @@ TEST_F(EncodeTest, CApiEncodesAndReportsAndRefusesMisuse) {
   EXPECT_EQ(fvv_encoder_create(&s, &none), FVV_INVALID_ARGUMENT);
   EXPECT_NE(std::string(fvv_encoder_settings_error()).find("quantise_model"), std::string::npos);
   s.quantise_model = 0;
+  // The blend-share rule: a share outside 0..1 is refused.
+  EXPECT_DOUBLE_EQ(s.least_blend_share, 0.25);
+  for (double share : {-0.1, 1.5, std::nan("")}) {
+    s.least_blend_share = share;
+    EXPECT_EQ(fvv_encoder_create(&s, &none), FVV_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(fvv_encoder_settings_error()).find("least_blend_share"),
+              std::string::npos);
+  }
+  s.least_blend_share = 0.25;
   s.sample_bits = 0;
   s.weights = FVV_WEIGHTS_AXIS_BANDS;
   fvv_encode_report report_v5;

@@ -174,7 +174,8 @@ class Session {
 
   // Without masks: texels a player may take from a camera that did not see
   // them take the mean colour of the cameras that did, so that the player's
-  // blend there is the seeing cameras' (span_usable_ marks them).
+  // blend there is the seeing cameras' (span_usable_ marks them), where that
+  // camera can weigh least_blend_share of the blend; the rest go to the fill.
   void FillForPlayers(uint32_t frames);
 
   Status CodeSpan(uint32_t frames);

@@ -117,6 +117,11 @@ typedef struct {
      8-bit skin weights; less than half the bytes of its floats). 0: 32-bit floats, what format
      versions 1..9 decoders read. */
   uint32_t quantise_model;
+  /* Without masks (FVV_MASKS_NONE): a texel a camera did not see but a player may take from it is
+     coded, with the seeing cameras' colour, only where that camera can weigh at least this share
+     of the reference player's blend from some viewpoint; elsewhere it is left to the coder's fill
+     (default 0.25; 0 codes every such texel; at most 1). Encoder-side only. */
+  double least_blend_share;
 } fvv_encoder_settings;
 
 typedef struct {
