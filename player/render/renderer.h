@@ -31,7 +31,7 @@ struct RenderView {
   float exponent = float(geometric_visibility::kViewExponent);
   // Higher: the cameras facing the surface squarely dominate more (their
   // samples are the finest and the least displaced where the model misses the
-  // actor); docs/player.md, "Blending".
+  // actor); docs/encoder.md, "Streams without masks", on blending.
   float facing_exponent = float(geometric_visibility::kFacingExponent);
   glm::vec3 background{0.12f, 0.12f, 0.14f};
 };
