@@ -231,5 +231,36 @@ TEST(Gltf, BrokenFilesGiveErrors) {
   EXPECT_NE(c.status().message().find("skin"), std::string::npos) << c.status().message();
 }
 
+// A character file names other files and images; what they claim must not make
+// the importer read a directory as a file or allocate for a picture that is not there.
+TEST(Gltf, RefusesBuffersThatAreNotFilesAndImagesTooLargeToHold) {
+  const std::string dir = ::testing::TempDir() + "/gltf_refs_" + std::to_string(getpid());
+  ASSERT_TRUE(MakeDirectories(dir).ok());
+  const std::string directory_buffer = dir + "/directory_buffer.gltf";
+  std::ofstream(directory_buffer)
+      << R"({"asset": {"version": "2.0"}, "buffers": [{"uri": ".", "byteLength": 4}]})";
+  StatusOr<GltfCharacter> c = LoadGltf(directory_buffer);
+  ASSERT_FALSE(c.ok());
+  EXPECT_NE(c.status().message().find("not a regular file"), std::string::npos)
+      << c.status().message();
+
+  for (const char* name : {"/empty.glb", "/empty.gltf"}) {
+    std::ofstream(dir + name).flush();
+    c = LoadGltf(dir + name);
+    ASSERT_FALSE(c.ok()) << name;
+    EXPECT_NE(c.status().message().find("empty file"), std::string::npos) << c.status().message();
+  }
+
+  // A PNG header claiming 10000 x 10000 RGBA pixels (400 MB decoded), and nothing more.
+  const std::string huge_image = dir + "/huge_image.gltf";
+  std::ofstream(huge_image) << R"({"asset": {"version": "2.0"}, "images": [{"uri":)"
+                            << R"( "data:image/png;base64,)"
+                            << R"(iVBORw0KGgoAAAANSUhEUgAAJxAAACcQCAYAAAC6TmIn"}]})";
+  c = LoadGltf(huge_image);
+  ASSERT_FALSE(c.ok());
+  EXPECT_NE(c.status().message().find("10000 x 10000 pixels"), std::string::npos)
+      << c.status().message();
+}
+
 }  // namespace
 }  // namespace fvv

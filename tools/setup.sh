@@ -14,7 +14,7 @@ packages=(
   libopenjp2-tools  # opj_compress / opj_decompress: the JPEG 2000 peer in bench/
   libeigen3-dev  # body model kinematics, calibration, tracking
   ffmpeg  # video frame sources of captures
-  libtinygltf-dev  # glTF 2.0 characters (fvv synth --actor)
+  libtinygltf-dev libstb-dev  # glTF 2.0 characters (fvv synth --actor); stb: image sizes read before decoding
   libyaml-cpp-dev libtomlplusplus-dev libtinyxml2-dev  # calibration files (fvv capture import-calib)
   libssl-dev  # SHA-256 of decoded output (fvv conform)
   libopencv-dev python3-numpy python3-onnx  # person masks and keypoints (OpenCV dnn; the model converter)

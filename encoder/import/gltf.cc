@@ -1,8 +1,10 @@
 #include "encoder/import/gltf.h"
 
+#include <stb_image.h>
 #include <tiny_gltf.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstring>
 
@@ -11,6 +13,45 @@ namespace {
 
 constexpr size_t kMaxVertices = size_t{1} << 22;
 constexpr size_t kMaxJoints = 256;
+// Limits on what a character file may make the importer hold: any one file
+// it reads (the .gltf/.glb, an external buffer or image) and any one texture.
+constexpr uint64_t kMaxFileBytes = uint64_t{1} << 30;
+constexpr uint64_t kMaxTexturePixels = uint64_t{8192} * 8192;
+
+// tinygltf's own reader trusts the size a path reports; a URI naming a
+// directory reports one it does not have. This one refuses all but regular,
+// non-empty files and caps their size.
+bool ReadCharacterFile(std::vector<unsigned char>* out, std::string* err, const std::string& path,
+                       void*) {
+  StatusOr<std::vector<uint8_t>> bytes = ReadFileBytes(path, kMaxFileBytes);
+  if (!bytes.ok()) {
+    if (err) *err += bytes.status().message() + "\n";
+    return false;
+  }
+  if (bytes->empty()) {  // tinygltf indexes the first byte of what it reads
+    if (err) *err += path + ": empty file\n";
+    return false;
+  }
+  *out = std::move(*bytes);
+  return true;
+}
+
+// Reads an image's dimensions from its header and refuses one too large
+// before tinygltf's decoder allocates for it.
+bool LoadBoundedImage(tinygltf::Image* image, const int index, std::string* err,
+                      std::string* warn, int req_width, int req_height, const unsigned char* bytes,
+                      int size, void* user) {
+  int w = 0, h = 0, comp = 0;
+  if (stbi_info_from_memory(bytes, size, &w, &h, &comp) &&
+      uint64_t(w) * uint64_t(h) > kMaxTexturePixels) {
+    if (err)
+      *err += "image " + std::to_string(index) + " is " + std::to_string(w) + " x " +
+              std::to_string(h) + " pixels, more than the " + std::to_string(kMaxTexturePixels) +
+              " allowed\n";
+    return false;
+  }
+  return tinygltf::LoadImageData(image, index, err, warn, req_width, req_height, bytes, size, user);
+}
 
 // Reads an accessor as floats (normalised integers scaled to [0, 1]) with
 // bounds checks against its buffer.
@@ -80,6 +121,12 @@ Status ReadAccessor(const tinygltf::Model& m, int index, int want_components,
   return Status::Ok();
 }
 
+// Whether an image was decoded to 8-bit samples, all of them present.
+bool HoldsDecoded8Bit(const tinygltf::Image& img) {
+  return img.bits == 8 && img.width > 0 && img.height > 0 && img.component > 0 &&
+         img.image.size() >= size_t(img.width) * size_t(img.height) * size_t(img.component);
+}
+
 Image ToRgb(const tinygltf::Image& img, const std::vector<double>& factor) {
   Image out;
   out.width = img.width;
@@ -108,10 +155,15 @@ Eigen::Matrix4d Trs(const Eigen::Vector3d& t, const Eigen::Quaterniond& r,
 StatusOr<GltfCharacter> LoadGltf(const std::string& path) {
   tinygltf::Model model;
   tinygltf::TinyGLTF loader;
+  tinygltf::FsCallbacks fs{&tinygltf::FileExists, &tinygltf::ExpandFilePath, &ReadCharacterFile,
+                           &tinygltf::WriteWholeFile, nullptr};
+  loader.SetFsCallbacks(fs);
+  loader.SetImageLoader(&LoadBoundedImage, nullptr);
   std::string err, warn;
   const bool binary = path.size() > 4 && path.compare(path.size() - 4, 4, ".glb") == 0;
   const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
                          : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+  while (!err.empty() && std::isspace(static_cast<unsigned char>(err.back()))) err.pop_back();
   if (!ok) return Corrupt("glTF " + path + ": " + (err.empty() ? "cannot load" : err));
   GltfCharacter c;
   for (size_t n = 0; n < model.nodes.size(); ++n) {
@@ -228,7 +280,7 @@ StatusOr<GltfCharacter> LoadGltf(const std::string& path) {
           if (t >= 0 && size_t(t) < model.textures.size()) {
             const int source = model.textures[t].source;
             if (source >= 0 && size_t(source) < model.images.size() &&
-                !model.images[source].image.empty() && model.images[source].bits == 8) {
+                HoldsDecoded8Bit(model.images[source])) {
               tex = ToRgb(model.images[source], factor);
             }
           }

@@ -165,6 +165,10 @@ Status WriteImage(const std::string& path, const Image& image) {
 StatusOr<std::vector<uint8_t>> ReadFileBytes(const std::string& path, uint64_t max_bytes) {
   FilePtr f(std::fopen(path.c_str(), "rb"));
   if (!f) return IoError(path + ": " + std::strerror(errno));
+  // A directory or device opens too, and reports a size it does not have.
+  struct stat st;
+  if (fstat(fileno(f.get()), &st) != 0) return IoError(path + ": " + std::strerror(errno));
+  if (!S_ISREG(st.st_mode)) return IoError(path + ": not a regular file");
   if (std::fseek(f.get(), 0, SEEK_END) != 0) return IoError(path + ": cannot seek");
   const long size = std::ftell(f.get());
   if (size < 0) return IoError(path + ": cannot determine size");
