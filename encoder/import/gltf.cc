@@ -38,9 +38,9 @@ bool ReadCharacterFile(std::vector<unsigned char>* out, std::string* err, const 
 
 // Reads an image's dimensions from its header and refuses one too large
 // before tinygltf's decoder allocates for it.
-bool LoadBoundedImage(tinygltf::Image* image, const int index, std::string* err,
-                      std::string* warn, int req_width, int req_height, const unsigned char* bytes,
-                      int size, void* user) {
+bool LoadBoundedImage(tinygltf::Image* image, const int index, std::string* err, std::string* warn,
+                      int req_width, int req_height, const unsigned char* bytes, int size,
+                      void* user) {
   int w = 0, h = 0, comp = 0;
   if (stbi_info_from_memory(bytes, size, &w, &h, &comp) &&
       uint64_t(w) * uint64_t(h) > kMaxTexturePixels) {
