@@ -331,5 +331,21 @@ TEST(Coverage, ReadmeNamesEveryCase) {
   }
 }
 
+// The spec is the format's reference for implementers: its title and its
+// versioning section must name the version the reader is.
+TEST(Coverage, SpecNamesTheReadersFormatVersion) {
+  std::ifstream in(kSuite + "/../../container/SPEC.md");
+  const std::string spec(std::istreambuf_iterator<char>(in), {});
+  ASSERT_FALSE(spec.empty());
+  const std::string v = std::to_string(kFormatVersion);
+  EXPECT_EQ(spec.rfind("# The fvv bitstream, format version " + v + " (normative)\n", 0), 0u)
+      << "SPEC.md's title does not name format version " << v;
+  EXPECT_NE(spec.find("\n- Version " + v + " ("), std::string::npos)
+      << "SPEC.md section 4 has no entry for format version " << v;
+  EXPECT_EQ(spec.find("\n- Version " + std::to_string(kFormatVersion + 1) + " ("),
+            std::string::npos)
+      << "SPEC.md section 4 describes a version the reader does not know";
+}
+
 }  // namespace
 }  // namespace fvv
