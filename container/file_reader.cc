@@ -1,5 +1,7 @@
 #include "container/file_reader.h"
 
+#include <sys/stat.h>
+
 #include <cerrno>
 #include <cstring>
 
@@ -16,6 +18,12 @@ Status MemorySource::Read(uint64_t offset, size_t n, uint8_t* out) {
 StatusOr<std::unique_ptr<FileSource>> FileSource::Open(const std::string& path) {
   FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) return IoError("cannot open " + path + ": " + std::strerror(errno));
+  // A directory opens too, and reports a size it does not have.
+  struct stat st;
+  if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
+    std::fclose(f);
+    return IoError("cannot open " + path + ": not a regular file");
+  }
   if (fseeko(f, 0, SEEK_END) != 0) {
     std::fclose(f);
     return IoError("cannot seek in " + path);

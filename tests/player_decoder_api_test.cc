@@ -14,6 +14,7 @@
 #include "conformance/sample/sample_stream.h"
 #include "container/writer.h"
 #include "fvv/fvv_decoder.hpp"
+#include "player/decoder/c_api_internal.h"
 
 extern "C" int fvv_public_headers_compile_as_c(void);
 
@@ -370,6 +371,19 @@ TEST(DecoderApi, MisuseGivesInvalidArgument) {
   fvv_frame_release(nullptr);
   fvv_decoder_destroy(nullptr);
   EXPECT_STREQ(fvv_status_name(FVV_CHECKSUM_MISMATCH), "checksum mismatch");
+}
+
+// A directory opens like a file and reports a size it does not have; the
+// decoder must say what it is, and programs carry the code on (c_api_internal.h).
+TEST(DecoderApi, ADirectoryIsNotAStream) {
+  DecoderPtr dec = MakeDecoder();
+  const std::string dir = ::testing::TempDir();
+  EXPECT_EQ(fvv_decoder_open_file(dec.get(), dir.c_str()), FVV_IO_ERROR);
+  EXPECT_NE(std::strstr(fvv_decoder_error(dec.get()), "not a regular file"), nullptr)
+      << fvv_decoder_error(dec.get());
+  const Status s = DecoderStatus(dec.get());
+  EXPECT_EQ(s.code(), StatusCode::kIoError);
+  EXPECT_EQ(s.ToString(), fvv_decoder_error(dec.get()));
 }
 
 TEST(DecoderApi, DamagedFragmentIsReportedAndOthersStillDecode) {

@@ -20,7 +20,8 @@ static_assert(FVV_FORMAT_VERSION == fvv::kFormatVersion,
 struct fvv_decoder {
   explicit fvv_decoder(const fvv_decoder_settings& s) : impl(s) {}
   fvv::Decoder impl;
-  std::string error;
+  fvv::Status status;  // of the last call
+  std::string error;   // status.ToString(), what fvv_decoder_error returns
   // The model as flat arrays, built on first request.
   bool model_built = false;
   std::vector<int32_t> parents;
@@ -43,7 +44,10 @@ struct FrameImpl {
 };
 
 fvv_status Report(fvv_decoder* d, const fvv::Status& s) {
-  if (d) d->error = s.ok() ? std::string() : s.ToString();
+  if (d) {
+    d->status = s;
+    d->error = s.ok() ? std::string() : s.ToString();
+  }
   return static_cast<fvv_status>(s.code());
 }
 
@@ -99,6 +103,10 @@ const StreamInfo* DecoderStreamInfo(const fvv_decoder* decoder) {
 
 fvv_status ReportDecoderStatus(fvv_decoder* decoder, const Status& status) {
   return Report(decoder, status);
+}
+
+Status DecoderStatus(const fvv_decoder* decoder) {
+  return decoder ? decoder->status : InvalidArgument("no decoder");
 }
 
 }  // namespace fvv

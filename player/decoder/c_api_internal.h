@@ -1,5 +1,6 @@
-// For libraries over the decoder's C API (the exporter): what an open
-// fvv_decoder holds beyond the public arrays, and its error message.
+// For libraries and programs over the decoder's C API (the exporter, the
+// CLI): what an open fvv_decoder holds beyond the public arrays, and its
+// last status.
 #ifndef FVV_PLAYER_DECODER_C_API_INTERNAL_H_
 #define FVV_PLAYER_DECODER_C_API_INTERNAL_H_
 
@@ -14,6 +15,9 @@ namespace fvv {
 const StreamInfo* DecoderStreamInfo(const fvv_decoder* decoder);
 // Sets the message fvv_decoder_error returns and gives the status code.
 fvv_status ReportDecoderStatus(fvv_decoder* decoder, const Status& status);
+// The status of the decoder's last call, for callers that carry Status on
+// (fvv_decoder_error is its ToString()).
+Status DecoderStatus(const fvv_decoder* decoder);
 
 }  // namespace fvv
 

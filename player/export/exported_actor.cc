@@ -37,9 +37,7 @@ StatusOr<ExportedActor> GatherActor(fvv_decoder* decoder, const fvv_export_setti
   fvv_stream_info info;
   fvv_model model;
   fvv_decoder_get_info(decoder, &info);
-  if (fvv_decoder_get_model(decoder, &model) != FVV_OK) {
-    return InvalidArgument(fvv_decoder_error(decoder));
-  }
+  if (fvv_decoder_get_model(decoder, &model) != FVV_OK) return DecoderStatus(decoder);
 
   ExportedActor a;
   a.fps = double(info.frame_rate_num) / info.frame_rate_den;

@@ -12,6 +12,7 @@
 #include "encoder/track/capture_frames.h"
 #include "encoder/track/track_capture.h"
 #include "fvv/fvv_decoder.hpp"
+#include "player/decoder/c_api_internal.h"
 #include "player/decoder/public_camera.h"
 #include "player/render/projective_renderer.h"
 
@@ -44,7 +45,7 @@ class StreamFrames : public FramesDrawnBy<Renderer> {
     decoder_ = MakeDecoder();
     if (!decoder_) return Internal("cannot create a decoder");
     if (fvv_decoder_open_file(decoder_.get(), path.c_str()) != FVV_OK) {
-      return Corrupt(fvv_decoder_error(decoder_.get()));
+      return DecoderStatus(decoder_.get());
     }
     fvv_decoder_get_info(decoder_.get(), &info_);
     first_ = 0;
@@ -87,8 +88,10 @@ class StreamFrames : public FramesDrawnBy<Renderer> {
   Status Load(uint32_t f, glm::vec3* root) override {
     const auto t0 = Clock::now();
     FramePtr frame = DecodeFrame(decoder_.get(), f, &budget_);
-    if (!frame)
-      return Corrupt("frame " + std::to_string(f) + ": " + fvv_decoder_error(decoder_.get()));
+    if (!frame) {
+      const Status s = DecoderStatus(decoder_.get());
+      return Status(s.code(), "frame " + std::to_string(f) + ": " + s.message());
+    }
     decode_s_ += Since(t0);
     const auto t1 = Clock::now();
     if (!texture_.empty()) {

@@ -5,6 +5,7 @@
 
 #include "encoder/capture/capture.h"
 #include "fvv/fvv_decoder.hpp"
+#include "player/decoder/c_api_internal.h"
 #include "player/decoder/public_camera.h"
 #include "player/render/headless.h"
 #include "player/render/renderer.h"
@@ -36,7 +37,7 @@ StatusOr<double> HeldOutStreamPsnr(const std::string& stream, const std::string&
   const Camera& cam = held->cameras[camera].calibration;
   DecoderPtr dec = MakeDecoder();
   if (!dec || fvv_decoder_open_file(dec.get(), stream.c_str()) != FVV_OK) {
-    return Corrupt(dec ? fvv_decoder_error(dec.get()) : "cannot create a decoder");
+    return dec ? DecoderStatus(dec.get()) : Internal("cannot create a decoder");
   }
   fvv_stream_info info;
   fvv_decoder_get_info(dec.get(), &info);
@@ -49,7 +50,7 @@ StatusOr<double> HeldOutStreamPsnr(const std::string& stream, const std::string&
       (*ctx)->gl(), model, DecoderCameras(dec.get()), info.atlas_width, info.atlas_height);
   if (!r.ok()) return r.status();
   FramePtr f = DecodeFrame(dec.get(), frame, nullptr);
-  if (!f) return Corrupt(fvv_decoder_error(dec.get()));
+  if (!f) return DecoderStatus(dec.get());
   RenderView view;
   CameraViewProjection(PublicCamera(cam), 0.05f, 50.0f, &view.view, &view.projection);
   const auto c = cam.Centre();
