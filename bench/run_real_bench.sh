@@ -26,7 +26,7 @@ render_frames=${args[1]:-4}
 out=out/real_bench
 mkdir -p "$out/capture"
 build/tools/fvv/fvv capture import-calib "$real/calibration/Calib.qca.txt" -o "$out/capture" \
-  --video "$(cd "$real/videos" && pwd)/{camera}.mp4" --up z
+  --video "$(cd "$real/videos" && pwd)/{camera}.mp4"
 # The cameras were not started together: skip each one's early frames.
 build/tools/fvv/fvv capture sync "$out/capture" --write
 # With --refine, the camera poses refined from the keypoints of the 68 frames

@@ -1,14 +1,16 @@
 // Capture directories and calibration: projection round trips,
 // calibration sanity checks, capture.json errors that name what is wrong,
-// frame sources (image sequences, ffmpeg-decoded video).
+// frame sources (PNG, EXR and JPEG image sequences, ffmpeg-decoded video).
 #include "encoder/capture/capture.h"
 
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <turbojpeg.h>
 #include <unistd.h>
 
 #include <Eigen/Geometry>
 #include <array>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -16,6 +18,7 @@
 
 #include "encoder/capture/calibration.h"
 #include "encoder/capture/calibration_import.h"
+#include "encoder/capture/up_axis.h"
 #include "encoder/capture/video_reader.h"
 
 namespace fvv {
@@ -293,6 +296,117 @@ TEST_F(CaptureFiles, ReadsExrSequencesAndSilhouettes) {
   EXPECT_EQ(s1->pixels[5], 255);
   EXPECT_EQ(s1->pixels[6], 0);
   EXPECT_FALSE(reader.ReadBackground(0).ok());
+}
+
+// A JPEG of `img` through libjpeg-turbo's encoder (the test's own maker: fvv
+// only reads JPEG).
+std::vector<uint8_t> EncodeJpeg(const Image& img, int quality) {
+  tjhandle tj = tjInitCompress();
+  unsigned char* out = nullptr;
+  unsigned long size = 0;
+  const int rc = tjCompress2(tj, img.pixels.data(), int(img.width), 0, int(img.height),
+                             img.channels == 1 ? TJPF_GRAY : TJPF_RGB, &out, &size,
+                             img.channels == 1 ? TJSAMP_GRAY : TJSAMP_420, quality, 0);
+  std::vector<uint8_t> bytes;
+  if (rc == 0) bytes.assign(out, out + size);
+  tjFree(out);
+  tjDestroy(tj);
+  return bytes;
+}
+
+void WriteBytes(const std::string& path, const std::vector<uint8_t>& bytes) {
+  std::ofstream(path, std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+}
+
+double Psnr(const Image& a, const Image& b) {
+  double se = 0;
+  for (size_t i = 0; i < a.pixels.size(); ++i) {
+    const double d = double(a.pixels[i]) - b.pixels[i];
+    se += d * d;
+  }
+  return 10 * std::log10(255.0 * 255.0 * double(a.pixels.size()) / std::max(se, 1e-9));
+}
+
+TEST_F(CaptureFiles, ReadsJpegSequencesAndRefusesDamagedOnes) {
+  nlohmann::json j = ValidCaptureJson();
+  j["cameras"].erase(1);
+  j["cameras"][0]["width"] = 96, j["cameras"][0]["height"] = 64;
+  j["cameras"][0]["K"] = {{90, 0, 48}, {0, 90, 32}, {0, 0, 1}};
+  j["cameras"][0]["distortion"] = {0, 0, 0, 0, 0};
+  j["cameras"][0]["frames"] = {{"images", "left/%03d.jpg"}};
+  std::ofstream(dir_ + "/capture.json") << j.dump();
+  // Smooth frames, as a camera sees: JPEG keeps them within a few levels.
+  auto smooth = [](int seed, int channels) {
+    Image img;
+    img.width = 96, img.height = 64, img.channels = channels;
+    img.pixels.resize(size_t{96} * 64 * channels);
+    for (uint32_t y = 0; y < 64; ++y)
+      for (uint32_t x = 0; x < 96; ++x)
+        for (int c = 0; c < channels; ++c)
+          img.pixels[(y * 96 + x) * channels + c] =
+              uint8_t(128 + 90 * std::sin(0.07 * x + 0.05 * y + seed + 2.0 * c));
+    return img;
+  };
+  std::vector<std::vector<uint8_t>> files;
+  for (int f = 0; f < 3; ++f) {
+    files.push_back(EncodeJpeg(smooth(f, 3), 95));
+    ASSERT_FALSE(files.back().empty());
+    char name[64];
+    std::snprintf(name, sizeof(name), "/left/%03d.jpg", f);
+    WriteBytes(dir_ + name, files.back());
+  }
+  StatusOr<Capture> c = LoadCapture(dir_);
+  ASSERT_TRUE(c.ok()) << c.status().ToString();
+  CaptureReader reader(*c);
+  EXPECT_TRUE(reader.CheckFiles().ok());
+  for (uint32_t f = 0; f < 3; ++f) {
+    StatusOr<Image> got = reader.ReadFrame(0, f);
+    ASSERT_TRUE(got.ok()) << got.status().ToString();
+    ASSERT_EQ(got->channels, 3);
+    ASSERT_EQ(got->pixels.size(), smooth(int(f), 3).pixels.size());
+    EXPECT_GT(Psnr(*got, smooth(int(f), 3)), 35.0) << "frame " << f;
+    // Not another frame's picture.
+    EXPECT_LT(Psnr(*got, smooth(int(f + 1), 3)), 25.0) << "frame " << f;
+  }
+  // Grey JPEGs stay grey; the extension's case does not matter.
+  WriteBytes(dir_ + "/grey.JPEG", EncodeJpeg(smooth(4, 1), 95));
+  StatusOr<Image> grey = ReadImage(dir_ + "/grey.JPEG");
+  ASSERT_TRUE(grey.ok()) << grey.status().ToString();
+  EXPECT_EQ(grey->channels, 1);
+  EXPECT_GT(Psnr(*grey, smooth(4, 1)), 35.0);
+  // Damaged files: each refused with its own reason, never a partial picture.
+  struct Case {
+    const char* what;
+    std::vector<uint8_t> bytes;
+    const char* expect;
+  };
+  std::vector<uint8_t> truncated(files[1].begin(), files[1].begin() + files[1].size() / 2);
+  std::vector<uint8_t> huge = files[1];
+  // The frame header (SOF0: FF C0, length, precision, height, width): claim
+  // 30000 x 30000 pixels (within JPEG's limit, over fvv's 2^28), which must
+  // be refused before anything is allocated.
+  for (size_t i = 0; i + 8 < huge.size(); ++i) {
+    if (huge[i] == 0xFF && huge[i + 1] == 0xC0) {
+      huge[i + 5] = huge[i + 7] = 0x75;
+      huge[i + 6] = huge[i + 8] = 0x30;
+      break;
+    }
+  }
+  const Case cases[] = {
+      {"truncated", truncated, "JPEG decoding failed"},
+      {"not a JPEG", std::vector<uint8_t>(200, 0x42), "not a readable JPEG"},
+      {"empty", {}, "empty file"},
+      {"30000 x 30000", huge, "too large"},
+  };
+  for (const Case& k : cases) {
+    WriteBytes(dir_ + "/left/001.jpg", k.bytes);
+    StatusOr<Image> bad = reader.ReadFrame(0, 1);
+    ASSERT_FALSE(bad.ok()) << k.what;
+    EXPECT_NE(bad.status().message().find(k.expect), std::string::npos)
+        << k.what << ": " << bad.status().message();
+    EXPECT_NE(bad.status().message().find("001.jpg"), std::string::npos) << k.what;
+  }
 }
 
 TEST_F(CaptureFiles, VideoFramesDecodeThroughFfmpeg) {
@@ -580,6 +694,7 @@ TEST_F(CaptureFiles, ImportsQualisysQca) {
   StatusOr<ImportedCalibration> got = ImportCalibrationFiles({dir_ + "/Calib.qca.txt"}, 0.01);
   ASSERT_TRUE(got.ok()) << got.status().ToString();
   EXPECT_EQ(got->format, "Qualisys");
+  EXPECT_EQ(got->up_axis, 'z');        // the lab frame Qualisys defines
   ASSERT_EQ(got->cameras.size(), 2u);  // the inactive camera is left out
   EXPECT_EQ(got->cameras[1].name, "cam02");
   for (const Camera& c : got->cameras) ExpectSameCamera(truth, c);
@@ -596,6 +711,100 @@ TEST_F(CaptureFiles, ImportsQualisysQca) {
   bad = ImportCalibrationFiles({dir_ + "/other.xml"}, 1.0);
   ASSERT_FALSE(bad.ok());
   EXPECT_NE(bad.status().message().find("not a Qualisys calibration"), std::string::npos);
+}
+
+// Eight cameras on a ring 3.6 m out, alternately 1.3 and 2.0 m high, looking
+// at the actor's middle (1 m up), each rolled about its optical axis by
+// `roll_deg`; in a y-up world, or the same rig in a z-up one (the world turned
+// a quarter about x, so that y goes to z).
+std::vector<Camera> Ring(bool z_up, double roll_deg) {
+  std::vector<Camera> cams;
+  const Eigen::Matrix3d to_z = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()).matrix();
+  const Eigen::Matrix3d roll =
+      Eigen::AngleAxisd(roll_deg * M_PI / 180, Eigen::Vector3d::UnitZ()).matrix();
+  for (int i = 0; i < 8; ++i) {
+    const double a = 2 * M_PI * i / 8;
+    Camera c =
+        LookAtCamera("c" + std::to_string(i), 640, 480, 600,
+                     Eigen::Vector3d(3.6 * std::cos(a), i % 2 ? 2.0 : 1.3, 3.6 * std::sin(a)),
+                     Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(0, 1, 0));
+    Eigen::Matrix3d r = roll * CameraRotation(c);
+    if (z_up) r = r * to_z.transpose();
+    const Eigen::Vector3d centre = z_up ? Eigen::Vector3d(to_z * CameraCentre(c)) : CameraCentre(c);
+    const Eigen::Vector3d t = -r * centre;
+    for (int k = 0; k < 9; ++k) c.rotation[k] = r(k / 3, k % 3);
+    for (int k = 0; k < 3; ++k) c.translation[k] = t[k];
+    cams.push_back(c);
+  }
+  return cams;
+}
+
+TEST(UpAxis, UprightCamerasSayWhichAxisIsUp) {
+  for (bool z_up : {false, true}) {
+    const UpAxisEvidence e = InferUpAxis(Ring(z_up, 0));
+    EXPECT_TRUE(e.found);
+    EXPECT_EQ(e.axis, z_up ? 2 : 1);
+    EXPECT_EQ(e.sign, 1);
+    EXPECT_EQ(e.upright, 8u);
+    EXPECT_FALSE(e.from_centres);
+    EXPECT_GT(e.agreement, 0.9);
+  }
+  // Upside down: the image up points along -y.
+  const UpAxisEvidence flipped = InferUpAxis(Ring(false, 180));
+  EXPECT_TRUE(flipped.found);
+  EXPECT_EQ(flipped.axis, 1);
+  EXPECT_EQ(flipped.sign, -1);
+}
+
+TEST(UpAxis, RolledCamerasFallBackOnTheirRing) {
+  // Portrait footage from cameras turned on their side: the image up lies
+  // flat, the ring of centres still has a normal, on the side they look
+  // down from.
+  for (bool z_up : {false, true}) {
+    const UpAxisEvidence e = InferUpAxis(Ring(z_up, 90));
+    EXPECT_TRUE(e.found) << z_up;
+    EXPECT_TRUE(e.from_centres) << z_up;
+    EXPECT_EQ(e.axis, z_up ? 2 : 1) << z_up;
+    EXPECT_EQ(e.sign, 1) << z_up;
+    EXPECT_EQ(e.upright, 0u) << z_up;
+  }
+  // Two rolled cameras facing each other: their image ups cancel, and two
+  // centres span no ring; nothing found.
+  const std::vector<Camera> ring = Ring(true, 90);
+  EXPECT_FALSE(InferUpAxis({ring[0], ring[4]}).found);
+}
+
+TEST(UpAxis, TheFormatsAxisOrTheCamerasAndAWarningWhereTheyDisagree) {
+  const std::vector<Camera> z_rig = Ring(true, 0);
+  UpAxisChoice c = ChooseUpAxis("auto", 'z', "Qualisys", z_rig);
+  EXPECT_EQ(c.axis, 'z');
+  EXPECT_NE(c.reason.find("Qualisys"), std::string::npos) << c.reason;
+  EXPECT_TRUE(c.warning.empty()) << c.warning;
+  c = ChooseUpAxis("auto", 0, "TOML", z_rig);
+  EXPECT_EQ(c.axis, 'z');
+  EXPECT_NE(c.reason.find("from the cameras"), std::string::npos) << c.reason;
+  EXPECT_TRUE(c.warning.empty()) << c.warning;
+  EXPECT_EQ(ChooseUpAxis("auto", 0, "TOML", Ring(false, 0)).axis, 'y');
+  // Told otherwise than the cameras stand: taken, with a warning.
+  c = ChooseUpAxis("y", 0, "TOML", z_rig);
+  EXPECT_EQ(c.axis, 'y');
+  EXPECT_NE(c.warning.find("+z"), std::string::npos) << c.warning;
+  c = ChooseUpAxis("auto", 'z', "Qualisys", Ring(false, 0));
+  EXPECT_EQ(c.axis, 'z');
+  EXPECT_NE(c.warning.find("+y"), std::string::npos) << c.warning;
+  // An upside-down rig cannot be said in capture.json: y, with a warning.
+  c = ChooseUpAxis("auto", 0, "TOML", Ring(false, 180));
+  EXPECT_EQ(c.axis, 'y');
+  EXPECT_NE(c.reason.find("-y"), std::string::npos) << c.reason;
+  EXPECT_FALSE(c.warning.empty());
+  // A loaded capture (fvv's y-up world) whose cameras do not stand upright.
+  std::vector<CaptureCamera> loaded(8);
+  for (int i = 0; i < 8; ++i) loaded[size_t(i)].calibration = Ring(false, 0)[size_t(i)];
+  EXPECT_EQ(UprightWarning(loaded, 'y'), "");
+  for (int i = 0; i < 8; ++i) loaded[size_t(i)].calibration = z_rig[size_t(i)];
+  const std::string w = UprightWarning(loaded, 'y');
+  EXPECT_NE(w.find("+z"), std::string::npos) << w;
+  EXPECT_NE(w.find("--up"), std::string::npos) << w;
 }
 
 // Frames of another size than the calibration's window: their size is taken,

@@ -95,6 +95,24 @@ out=$("$fvv" capture import-calib "$dir/rig.toml" -o "$dir/imported" --translati
 grep -q "imported 2 cameras (TOML) from 1 file(s)" <<<"$out" && grep -q "(3 frames at 25 fps)" <<<"$out" ||
   fail "import report: $out"
 "$fvv" capture check "$dir/imported" >/dev/null || fail "imported capture does not check"
+# Without --up, a rig whose cameras stand upright along z is taken as z up, and
+# the import says why; told y, it warns that the cameras say otherwise.
+mkdir -p "$dir/zup"
+sed 's/^rvec = .*/rvec = [1.5707963267949, 0, 0]/' "$dir/rig.toml" >"$dir/zup.toml"
+out=$("$fvv" capture import-calib "$dir/zup.toml" -o "$dir/zup" --images "$dir/cap/{camera}/%06d.png" \
+  --translation-unit mm 2>&1) || fail "import-calib z up: $out"
+grep -q "up axis z: from the cameras (+z: 2 camera(s)' image up within 45 degrees of it)" <<<"$out" ||
+  fail "up axis from the cameras: $out"
+grep -q '"up_axis": "z"' "$dir/zup/capture.json" || fail "capture.json up axis: $(cat "$dir/zup/capture.json")"
+out=$("$fvv" capture check "$dir/zup" 2>&1) || fail "z-up capture does not check: $out"
+grep -q "warning" <<<"$out" && fail "an upright rig warned: $out"
+out=$("$fvv" capture import-calib "$dir/zup.toml" -o "$dir/zup" --images "$dir/cap/{camera}/%06d.png" \
+  --translation-unit mm --up y 2>&1) || fail "import-calib --up y: $out"
+grep -q "up axis y: as --up says" <<<"$out" && grep -q "warning: up axis: the cameras' image up points along +z" <<<"$out" ||
+  fail "no warning against the cameras: $out"
+out=$("$fvv" capture check "$dir/zup" 2>&1) || fail "y-up capture does not check: $out"
+grep -q "warning: the cameras do not stand upright in this capture's world" <<<"$out" ||
+  fail "check does not warn of a lying rig: $out"
 printf '[cam00]\nwidth = 96\n' >"$dir/partial.toml"
 out=$("$fvv" capture import-calib "$dir/partial.toml" -o "$dir/imported" 2>&1) && fail "partial calibration accepted"
 grep -q "partial.toml: cam00: no camera matrix\|no camera found" <<<"$out" || fail "partial message: $out"

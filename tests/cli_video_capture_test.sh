@@ -127,9 +127,12 @@ no_children "track (SIGTERM)"
 real="$data/real/pose2sim_single"
 if [ -n "$data" ] && [ -f "$real/calibration/Calib.qca.txt" ]; then
   mkdir -p "$dir/real"
+  # No --up: the Qualisys lab frame is z up, which the cameras confirm.
   out=$(run capture import-calib "$real/calibration/Calib.qca.txt" -o "$dir/real" \
-    --video "$(cd "$real/videos" && pwd)/{camera}.mp4" --up z 2>&1) || fail "import real: $out"
+    --video "$(cd "$real/videos" && pwd)/{camera}.mp4" 2>&1) || fail "import real: $out"
   grep -q "imported 4 cameras (Qualisys) from 1 file(s)" <<<"$out" || fail "import report: $out"
+  grep -q "up axis z: the Qualisys format's world is z up" <<<"$out" || fail "real up axis: $out"
+  grep -q "warning: up axis" <<<"$out" && fail "the real cameras contradicted z up: $out"
   grep -q "cam01: the calibration's image is 1088x1920, its frames are 1080x1920 (-8 x +0" \
     <<<"$out" || fail "no warning about cam01's width: $out"
   grep -q "(100 frames at 60 fps)" <<<"$out" || fail "frames and rate from the videos: $out"

@@ -383,12 +383,48 @@ TEST(CameraSync, FindsTheCameraThatStartedLate) {
   }
   EXPECT_EQ(*std::min_element(r->offsets.begin(), r->offsets.end()), 0);
   EXPECT_LT(r->after_px[2], r->before_px[2]);
+  // What fvv track warns of.
+  EXPECT_TRUE(CamerasOutOfStep(*r));
+  // The same sightings with camera 2's moved back 3 frames (as fvv capture
+  // sync --write does): in step, no warning.
+  StatusOr<CaptureSightings> seen = ReadSightings(*cap, observer.get(), 0, 29, nullptr);
+  ASSERT_TRUE(seen.ok()) << seen.status().ToString();
+  CaptureSightings in_step;
+  for (size_t i = 3; i < seen->size(); ++i) {
+    in_step.push_back((*seen)[i]);
+    in_step.back()[2] = (*seen)[i - 3][2];
+  }
+  std::vector<Camera> cameras;
+  for (const CaptureCamera& c : cap->cameras) cameras.push_back(c.calibration);
+  StatusOr<FrameOffsets> steady = EstimateFrameOffsets(cameras, in_step, o);
+  ASSERT_TRUE(steady.ok()) << steady.status().ToString();
+  EXPECT_FALSE(CamerasOutOfStep(*steady)) << steady->offsets[0] << " " << steady->offsets[1] << " "
+                                          << steady->offsets[2] << " " << steady->offsets[3];
   // Too few frames for the offsets asked: refused with a message.
   o.last = 5;
   StatusOr<FrameOffsets> few = EstimateFrameOffsets(*cap, observer.get(), o);
   ASSERT_FALSE(few.ok());
   EXPECT_NE(few.status().message().find("too few"), std::string::npos);
   std::system(("rm -rf '" + dir + "'").c_str());
+}
+
+// The rule fvv track warns by: cameras 2 frames apart or more whose
+// keypoints then meet better by 5 % or more.
+TEST(CameraSync, OutOfStepOnlyWhereOffsetsClearlyHelp) {
+  FrameOffsets r;
+  r.offsets = {0, 1, 3, 1};  // the real take before fvv capture sync
+  r.before_px = {27.3, 20.7, 33.4, 25.6};
+  r.after_px = {24.3, 19.6, 30.0, 25.2};
+  EXPECT_TRUE(CamerasOutOfStep(r));
+  r.after_px = {26.9, 20.5, 32.1, 25.4};  // 2.2 % better
+  EXPECT_FALSE(CamerasOutOfStep(r));
+  r.offsets = {1, 1, 0, 1};  // the same take in step: a frame apart, noise
+  r.before_px = {24.0, 19.6, 30.4, 23.9};
+  r.after_px = {20.0, 18.5, 25.8, 22.0};
+  EXPECT_FALSE(CamerasOutOfStep(r));
+  r.offsets = {0, 0, 3, 0};
+  r.after_px = {-1, -1, -1, -1};  // nothing measured
+  EXPECT_FALSE(CamerasOutOfStep(r));
 }
 
 // A camera knocked off its calibration (turned 3 degrees, moved 1 cm): its

@@ -116,7 +116,7 @@ if [ -d "$real" ]; then
   echo "== a real capture (Pose2Sim's demo: Qualisys calibration, 4 portrait videos at 60 fps): import and look"
   mkdir -p "$out/real"
   $fvv capture import-calib "$real/calibration/Calib.qca.txt" -o "$out/real" \
-    --video "$(cd "$real/videos" && pwd)/{camera}.mp4" --up z
+    --video "$(cd "$real/videos" && pwd)/{camera}.mp4"
   $fvv capture check "$out/real"
   $fvv capture sheet "$out/real" --frame 50 -o "$out/real_sheet.png"
   # The person the pretrained network sees in each camera (masks and keypoints),

@@ -7,7 +7,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config clang clang-format
   python3  # tools/check_layers.py: the include graph against the layers
-  libpng-dev libopenexr-dev libgtest-dev libcli11-dev libzstd-dev nlohmann-json3-dev zstd libglm-dev
+  libpng-dev libturbojpeg0-dev libopenexr-dev libgtest-dev libcli11-dev libzstd-dev nlohmann-json3-dev zstd libglm-dev
   libosmesa6-dev libgl-dev libglfw3-dev  # OpenGL: OSMesa headless, GLFW windowed
   xvfb xauth  # a virtual display, so the windowed player is tested too
   assimp-testmodels  # CMU BVH motion: the motion-track benchmark and tests

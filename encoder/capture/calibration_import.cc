@@ -359,6 +359,9 @@ StatusOr<ImportedCalibration> ImportCalibrationFiles(const std::vector<std::stri
     if (result.format.find(*format) == std::string::npos) {
       result.format += (result.format.empty() ? "" : ", ") + *format;
     }
+    // Qualisys Track Manager's lab frame is z up (its default, and what its
+    // exports give); the other formats leave the world's axes to the rig.
+    if (*format == "Qualisys") result.up_axis = 'z';
     for (Entry& e : entries) {
       auto same = std::find_if(merged.begin(), merged.end(),
                                [&](const Entry& m) { return m.name == e.name; });

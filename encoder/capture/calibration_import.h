@@ -32,6 +32,9 @@ namespace fvv {
 struct ImportedCalibration {
   std::vector<Camera> cameras;  // width and height 0 where the files give no image size
   std::string format;           // e.g. "Qualisys", "TOML", "EasyMocap"
+  // The world's up axis where the format defines one ('z': Qualisys Track
+  // Manager's lab frame), else 0 (up_axis.h infers it from the cameras).
+  char up_axis = 0;
 };
 
 // The cameras of one rig from one or more files, merged by camera name (a

@@ -8,6 +8,7 @@
 #include <ImfOutputFile.h>
 #include <png.h>
 #include <sys/stat.h>
+#include <turbojpeg.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -103,11 +104,51 @@ StatusOr<Image> ReadExr(const std::string& path) {
   }
 }
 
+struct TjCloser {
+  void operator()(void* h) const {
+    if (h) tjDestroy(h);
+  }
+};
+
+// Baseline and progressive JPEG, 8-bit, any subsampling, grey kept grey.
+// The header is read first, so a claimed size is refused before anything is
+// allocated for it; a corrupt stream is an error, not a partly grey picture.
+StatusOr<Image> ReadJpeg(const std::string& path) {
+  StatusOr<std::vector<uint8_t>> bytes = ReadFileBytes(path, uint64_t{1} << 30);
+  if (!bytes.ok()) return bytes.status();
+  if (bytes->empty()) return IoError(path + ": empty file, not a JPEG");
+  std::unique_ptr<void, TjCloser> tj(tjInitDecompress());
+  if (!tj) return IoError(path + ": cannot start the JPEG decoder");
+  int w = 0, h = 0, subsampling = 0, colourspace = 0;
+  if (tjDecompressHeader3(tj.get(), bytes->data(), static_cast<unsigned long>(bytes->size()), &w,
+                          &h, &subsampling, &colourspace) != 0) {
+    return IoError(path + ": not a readable JPEG (" + tjGetErrorStr2(tj.get()) + ")");
+  }
+  if (w <= 0 || h <= 0 || int64_t{w} * h > (int64_t{1} << 28)) {
+    return IoError(path + ": JPEG of " + std::to_string(w) + "x" + std::to_string(h) +
+                   " is empty or too large");
+  }
+  Image img;
+  img.width = static_cast<uint32_t>(w);
+  img.height = static_cast<uint32_t>(h);
+  img.channels = colourspace == TJCS_GRAY ? 1 : 3;
+  img.pixels.resize(size_t{img.width} * img.height * img.channels);
+  // Every warning (a truncated or damaged stream) is an error: a frame with
+  // its lower part missing would be read as a person cut in half.
+  if (tjDecompress2(tj.get(), bytes->data(), static_cast<unsigned long>(bytes->size()),
+                    img.pixels.data(), w, 0, h, img.channels == 1 ? TJPF_GRAY : TJPF_RGB,
+                    TJFLAG_ACCURATEDCT | TJFLAG_STOPONWARNING) != 0) {
+    return IoError(path + ": JPEG decoding failed (" + tjGetErrorStr2(tj.get()) + ")");
+  }
+  return img;
+}
+
 }  // namespace
 
 StatusOr<Image> ReadImage(const std::string& path) {
   if (access(path.c_str(), R_OK) != 0) return IoError(path + ": " + std::strerror(errno));
   if (EndsWith(path, ".exr")) return ReadExr(path);
+  if (EndsWith(path, ".jpg") || EndsWith(path, ".jpeg")) return ReadJpeg(path);
   return ReadPng(path);
 }
 

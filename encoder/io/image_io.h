@@ -1,4 +1,5 @@
-// Reading and writing 8-bit images: PNG through libpng, EXR through OpenEXR.
+// Reading and writing 8-bit images: PNG through libpng, EXR through OpenEXR;
+// JPEG (read only: studios deliver image sequences in it) through libjpeg-turbo.
 // Writers go through a temporary file and a rename, so an interrupted write
 // never leaves a partial file under the final name.
 #ifndef FVV_ENCODER_IO_IMAGE_IO_H_
@@ -20,7 +21,8 @@ struct Image {
 };
 
 // PNG (any bit depth/colour type, converted to 8-bit grey or RGB; alpha dropped)
-// or EXR (R, G, B or Y channels, linear values clamped to [0, 1] and scaled to 8 bits).
+// or EXR (R, G, B or Y channels, linear values clamped to [0, 1] and scaled to 8 bits)
+// or JPEG (.jpg, .jpeg: 8-bit grey or colour; a damaged or truncated stream is an error).
 StatusOr<Image> ReadImage(const std::string& path);
 Status WritePng(const std::string& path, const Image& image);
 Status WriteExr(const std::string& path, const Image& image);

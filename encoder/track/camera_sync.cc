@@ -67,8 +67,9 @@ double RayGap(const Camera& ca, const Ray& a, const Camera& cb, const Ray& b) {
 
 StatusOr<FrameOffsets> EstimateFrameOffsets(const Capture& capture, PersonObserver* observer,
                                             const FrameOffsetOptions& o) {
-  const uint32_t n = uint32_t(capture.cameras.size());
-  if (n < 3) return InvalidArgument("sync: needs 3 cameras or more (2 always agree)");
+  if (capture.cameras.size() < 3) {
+    return InvalidArgument("sync: needs 3 cameras or more (2 always agree)");
+  }
   if (o.max_offset < 1 || o.max_offset > 1000)
     return InvalidArgument("sync: the largest offset must be 1..1000 frames");
   const int m = o.max_offset;
@@ -79,16 +80,35 @@ StatusOr<FrameOffsets> EstimateFrameOffsets(const Capture& capture, PersonObserv
                            " (give at least " + std::to_string(2 * m + 2) +
                            " frames of the capture)");
   }
-  // Sightings of every camera over the span; frame i of camera c is compared
-  // at base frame i - m - offset[c], so the base frames run over the middle.
+  // Sightings of every camera over the span.
   StatusOr<CaptureSightings> read =
       ReadSightings(capture, observer, o.first, last, [&](const std::string& line) {
         if (o.progress) o.progress("sync: " + line);
       });
   if (!read.ok()) return read.status();
-  const CaptureSightings& seen = *read;
   std::vector<Camera> cameras;
   for (const CaptureCamera& c : capture.cameras) cameras.push_back(c.calibration);
+  return EstimateFrameOffsets(cameras, *read, o);
+}
+
+StatusOr<FrameOffsets> EstimateFrameOffsets(const std::vector<Camera>& cameras,
+                                            const CaptureSightings& seen,
+                                            const FrameOffsetOptions& o) {
+  const uint32_t n = uint32_t(cameras.size());
+  if (n < 3) return InvalidArgument("sync: needs 3 cameras or more (2 always agree)");
+  if (o.max_offset < 1 || o.max_offset > 1000)
+    return InvalidArgument("sync: the largest offset must be 1..1000 frames");
+  const int m = o.max_offset;
+  if (seen.size() < size_t(2 * m + 2)) {
+    return InvalidArgument("sync: " + std::to_string(seen.size()) +
+                           " frames are too few for offsets up to " + std::to_string(m) +
+                           " (give at least " + std::to_string(2 * m + 2) + ")");
+  }
+  for (const auto& frame : seen) {
+    if (frame.size() != n) return InvalidArgument("sync: sightings of another number of cameras");
+  }
+  // Frame i of camera c is compared at base frame i - m - offset[c], so the
+  // base frames run over the middle.
   const int total = int(seen.size()), span = total - 2 * m;
   // Per camera pair and shift (camera b's frames later than a's by d, |d| up
   // to 2m): the median over frames of the joints' mean ray gap. Pairs depend
@@ -207,6 +227,19 @@ StatusOr<FrameOffsets> EstimateFrameOffsets(const Capture& capture, PersonObserv
   for (int& v : offsets) v -= low;
   r.offsets = offsets;
   return r;
+}
+
+bool CamerasOutOfStep(const FrameOffsets& r) {
+  if (r.offsets.empty()) return false;
+  const auto [low, high] = std::minmax_element(r.offsets.begin(), r.offsets.end());
+  if (*high - *low < 2) return false;
+  double before = 0, after = 0;
+  int counted = 0;
+  for (size_t c = 0; c < r.before_px.size() && c < r.after_px.size(); ++c) {
+    if (r.before_px[c] < 0 || r.after_px[c] < 0) continue;
+    before += r.before_px[c], after += r.after_px[c], ++counted;
+  }
+  return counted > 0 && after < 0.95 * before;
 }
 
 }  // namespace fvv

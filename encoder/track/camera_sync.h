@@ -17,6 +17,7 @@
 #include "codec/base/status.h"
 #include "container/cameras.h"
 #include "encoder/capture/capture.h"
+#include "encoder/track/capture_frames.h"
 #include "encoder/track/joint_sighting.h"
 #include "encoder/track/person_observer.h"
 
@@ -50,6 +51,20 @@ struct FrameOffsetOptions {
 
 StatusOr<FrameOffsets> EstimateFrameOffsets(const Capture& capture, PersonObserver* observer,
                                             const FrameOffsetOptions& options);
+
+// The same from sightings already read (`[frame][camera]`, consecutive frames;
+// options.first and last are not read): what fvv track checks on the frames
+// it tracked.
+StatusOr<FrameOffsets> EstimateFrameOffsets(const std::vector<Camera>& cameras,
+                                            const CaptureSightings& sightings,
+                                            const FrameOffsetOptions& options);
+
+// Whether offsets found by EstimateFrameOffsets say the cameras run out of
+// step: two cameras 2 frames apart or more, and the cameras' keypoints then
+// agreeing better by 5 % or more. The search always finds some offsets that
+// help a little: on a real 60 fps take already in step it found cameras a
+// frame apart, gaining or losing about a pixel of 20-30 (docs/tracking.md).
+bool CamerasOutOfStep(const FrameOffsets& offsets);
 
 }  // namespace fvv
 

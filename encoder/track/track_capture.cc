@@ -148,6 +148,9 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
   if (!tracker.ok()) return tracker.status();
 
   std::vector<SilhouetteShiftSearch> shifts(n);  // per camera
+  CaptureSightings step_sightings;               // the first frames', for the step check
+  const bool check_steps = persons && o.keypoints && o.separate_frames.empty() && n >= 3 &&
+                           o.step_check_frames >= uint32_t(2 * o.step_check_offset + 2);
   uint32_t reported_count = 0;
   const auto start = Clock::now();
   const bool want_images = o.on_frame || !o.overlays.empty();
@@ -193,6 +196,9 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
     const auto t1 = Clock::now();
     const std::vector<std::vector<JointSighting>> none;
     const auto& sightings = o.keypoints ? (*frames)->sightings() : none;
+    if (check_steps && step_sightings.size() < o.step_check_frames) {
+      step_sightings.push_back(sightings);
+    }
     if (step == 0 && lead > 0) {
       FVV_RETURN_IF_ERROR((*tracker)->Resume(o.lead_in[lead - 2], o.lead_in[lead - 1], sils));
     }
@@ -279,6 +285,15 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
     cs.degrees = focal > 0 ? std::atan(cs.shift.pixels.norm() / focal) * 180 / M_PI : 0;
     cs.disagrees = CalibrationDisagrees(cs.shift, cs.degrees);
     r.camera_shifts.push_back(cs);
+  }
+  if (check_steps && step_sightings.size() >= size_t(2 * o.step_check_offset + 2)) {
+    FrameOffsetOptions so;
+    so.max_offset = o.step_check_offset;
+    StatusOr<FrameOffsets> steps = EstimateFrameOffsets(cameras, step_sightings, so);
+    if (steps.ok()) {
+      r.steps = std::move(*steps);
+      r.out_of_step = CamerasOutOfStep(r.steps);
+    }
   }
   r.decode_seconds = (*frames)->decode_seconds();
   r.person_seconds = (*frames)->person_seconds();

@@ -12,6 +12,7 @@
 
 #include "codec/base/status.h"
 #include "encoder/capture/capture.h"
+#include "encoder/track/camera_sync.h"
 #include "encoder/track/pose_smoothing.h"
 #include "encoder/track/silhouette_shift.h"
 #include "encoder/track/tracker.h"
@@ -56,6 +57,12 @@ struct TrackCaptureOptions {
   // shift common to the frames (TrackCaptureResult::camera_shifts): a
   // calibration's shift is the same in every frame, so a sample finds it.
   uint32_t shift_check_every = 5;
+  // The first this many frames tracked (consecutive, with the person
+  // network's keypoints) are checked for cameras out of step by up to
+  // step_check_offset frames (TrackCaptureResult::steps): a take not brought
+  // in step (fvv capture sync) fits worse in every frame. 0: no check.
+  uint32_t step_check_frames = 30;
+  int step_check_offset = 3;
   std::string save_silhouettes;  // directory for the silhouettes used (PNG), or empty
   std::string overlays;          // directory for fit overlays (PNG), or empty
   std::function<void(const std::string&)> progress;  // one line per frame
@@ -103,6 +110,11 @@ struct TrackCaptureResult {
     bool disagrees = false;
   };
   std::vector<CameraShift> camera_shifts;
+  // The cameras' frame offsets that best bring their keypoints together over
+  // the frames checked (step_check_frames; empty offsets where not checked),
+  // and whether they say the cameras run out of step (CamerasOutOfStep).
+  FrameOffsets steps;
+  bool out_of_step = false;
   std::vector<std::vector<double>> Poses() const;
   // poses.json: DOF names, body shape, per frame DOFs, fit quality and flags.
   std::string ToJson() const;

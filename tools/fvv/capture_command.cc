@@ -12,6 +12,7 @@
 #include "encoder/capture/calibration.h"
 #include "encoder/capture/calibration_import.h"
 #include "encoder/capture/capture.h"
+#include "encoder/capture/up_axis.h"
 #include "encoder/capture/video_reader.h"
 #include "encoder/io/image_io.h"
 #include "encoder/shape/visual_hull.h"
@@ -143,6 +144,8 @@ int RunCheck(const std::string& path) {
               c->declared_up_axis == 'z' ? "z (cameras below in fvv's y-up world)" : "y",
               reader.HasBackgrounds() ? ", background plates" : "",
               reader.HasSilhouettes() ? ", silhouettes" : "");
+  const std::string upright = UprightWarning(c->cameras, c->declared_up_axis);
+  if (!upright.empty()) std::fprintf(stderr, "warning: %s\n", upright.c_str());
   for (const CaptureCamera& cam : c->cameras) {
     const Camera& k = cam.calibration;
     const auto centre = k.Centre();
@@ -162,7 +165,7 @@ struct ImportArgs {
   uint32_t frame_count = 0;
   double fps = 0;  // 0: the videos' rate, or 25
   std::string unit = "m";
-  std::string up = "y";
+  std::string up = "auto";
 };
 
 std::string ForCamera(std::string pattern, const std::string& camera) {
@@ -208,7 +211,9 @@ int RunImportCalib(const ImportArgs& a) {
   if (!imported.ok()) return Fail(imported.status());
   Capture c;
   c.directory = a.output_dir;
-  c.up_axis = a.up[0];
+  const UpAxisChoice up =
+      ChooseUpAxis(a.up, imported->up_axis, imported->format, imported->cameras);
+  c.up_axis = up.axis;
   double video_rate = 0;
   uint32_t video_frames = 0;
   for (Camera& k : imported->cameras) {
@@ -274,6 +279,8 @@ int RunImportCalib(const ImportArgs& a) {
       "imported %zu cameras (%s) from %zu file(s) -> %s/capture.json (%u frames at %.3g fps)\n",
       c.cameras.size(), imported->format.c_str(), a.files.size(), a.output_dir.c_str(),
       c.frame_count, c.frame_rate);
+  std::printf("  up axis %c: %s\n", c.up_axis, up.reason.c_str());
+  if (!up.warning.empty()) std::fprintf(stderr, "warning: up axis: %s\n", up.warning.c_str());
   for (const CaptureCamera& cc : c.cameras) {
     const Camera& k = cc.calibration;
     const std::array<double, 3> centre = k.Centre();
@@ -626,9 +633,11 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
                  "Unit of t in the files: m, cm or mm (Qualisys files are always mm)")
       ->capture_default_str()
       ->check(CLI::IsMember({"m", "cm", "mm"}));
-  ic->add_option("--up", imp->up, "World up axis: y or z")
+  ic->add_option("--up", imp->up,
+                 "World up axis: y, z, or auto (the format's where it defines one, as Qualisys "
+                 "does: z; else from the cameras, which stand upright above the floor)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"y", "z"}));
+      ->check(CLI::IsMember({"auto", "y", "z"}));
   ic->callback([imp, exit_code] { *exit_code = RunImportCalib(*imp); });
 
   auto hull = std::make_shared<HullArgs>();

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "encoder/capture/up_axis.h"
 #include "encoder/encode/prepared_take.h"
 #include "encoder/io/image_io.h"
 #include "encoder/track/joint_truth.h"
@@ -93,6 +94,11 @@ int RunTrack(const TrackArgs& a) {
   }
   if (!a.quiet)
     o.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+  // A world whose up the cameras contradict: said before the long work.
+  if (StatusOr<Capture> c = LoadCapture(a.capture); c.ok()) {
+    const std::string upright = UprightWarning(c->cameras, c->declared_up_axis);
+    if (!upright.empty()) std::fprintf(stderr, "warning: %s\n", upright.c_str());
+  }
   StatusOr<TrackCaptureResult> r = TrackCapture(a.capture, o);
   if (!r.ok()) return Fail(r.status());
   const std::string text = r->ToJson();
@@ -138,6 +144,22 @@ int RunTrack(const TrackArgs& a) {
         "disagrees with the other cameras' (fvv capture refine-calib; docs/tracking.md)\n",
         r->capture.cameras[c].calibration.name.c_str(), -cs.shift.pixels.x(), -cs.shift.pixels.y(),
         cs.shift.frames, cs.degrees, cs.shift.iou, cs.shift.shifted_iou);
+  }
+  // Cameras whose keypoints meet clearly better a frame or more apart.
+  if (r->out_of_step) {
+    std::string which;
+    for (size_t c = 0; c < r->steps.offsets.size(); ++c) {
+      char part[160];
+      std::snprintf(part, sizeof(part), "%s%s %+d (keypoints %.1f -> %.1f px)",
+                    which.empty() ? "" : ", ", r->capture.cameras[c].calibration.name.c_str(),
+                    r->steps.offsets[c], r->steps.before_px[c], r->steps.after_px[c]);
+      which += part;
+    }
+    std::printf(
+        "  warning: the cameras look out of step (the first frames tracked, %u compared): their "
+        "keypoints meet best with these frame offsets: %s; bring them in step with fvv capture "
+        "sync --write and track again\n",
+        r->steps.frames, which.c_str());
   }
   // Per frame tracked, warm-up included.
   const size_t tracked = count + r->warm_up_frames;
