@@ -1,10 +1,19 @@
 #!/usr/bin/env bash
 # The real-footage benchmark (bench/README.md): imports the real capture's
 # Qualisys calibration and videos, brings the cameras in step (fvv capture
-# sync), with --refine refines the camera poses from the keypoints of later
-# frames (fvv capture refine-calib), then runs build/bench/real_bench on it
+# sync), optionally refines the calibration from the frames after the scored
+# ones (fvv capture refine-calib), then runs build/bench/real_bench on it
 # (leave one camera out: tracking, Renderer II and Renderer I on the held-out
-# view). Usage: bench/run_real_bench.sh [FRAMES A:B] [RENDER_FRAMES N] [--refine]
+# view).
+#
+# Usage: bench/run_real_bench.sh [FRAMES A:B] [RENDER_FRAMES N] [--refine[=FROM]] [--strict]
+#   --refine            camera poses from the keypoints (refine-calib --from keypoints)
+#   --refine=silhouettes  camera orientations from the tracked actor's outlines
+#   --strict            the held-out camera as imported, the other cameras refined among
+#                       themselves, once per held-out camera (without it: the "studio"
+#                       protocol, every camera refined together, as a studio would before a
+#                       shoot). Either way the refinement reads the 68 frames after B only:
+#                       no scored frame shapes the calibration.
 # Needs the person models (tools/setup.sh fetches them) and a Release build in build/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -13,30 +22,73 @@ if [ ! -d "$real" ]; then
   echo "run_real_bench: no real capture at $real (see ../shared/data/README.md)" >&2
   exit 1
 fi
-refine=0
+refine=""
+strict=0
 args=()
 for a in "$@"; do
   case $a in
-    --refine) refine=1 ;;
+    --refine) refine=keypoints ;;
+    --refine=*) refine=${a#--refine=} ;;
+    --strict) strict=1 ;;
     *) args+=("$a") ;;
   esac
 done
+case $refine in
+  "" | keypoints | silhouettes) ;;
+  *) echo "run_real_bench: --refine=keypoints or --refine=silhouettes, not $refine" >&2; exit 2 ;;
+esac
+if [ $strict = 1 ] && [ -z "$refine" ]; then
+  echo "run_real_bench: --strict needs --refine (as imported, every protocol is the same)" >&2
+  exit 2
+fi
 frames=${args[0]:-0:29}
 render_frames=${args[1]:-4}
+last=${frames#*:}
+span="$((last + 1)):$((last + 68))"
+fvv=build/tools/fvv/fvv
 out=out/real_bench
 mkdir -p "$out/capture"
-build/tools/fvv/fvv capture import-calib "$real/calibration/Calib.qca.txt" -o "$out/capture" \
+# The up axis comes from the format (Qualisys: z).
+$fvv capture import-calib "$real/calibration/Calib.qca.txt" -o "$out/capture" \
   --video "$(cd "$real/videos" && pwd)/{camera}.mp4"
 # The cameras were not started together: skip each one's early frames.
-build/tools/fvv/fvv capture sync "$out/capture" --write
-# With --refine, the camera poses refined from the keypoints of the 68 frames
-# after the scored ones: no keypoint of a scored frame shapes the calibration,
-# but the held-out camera's keypoints of the later frames do (docs/tracking.md:
-# not a held-out figure in the strict sense).
-if [ $refine = 1 ]; then
-  last=${frames#*:}
-  build/tools/fvv/fvv capture refine-calib "$out/capture" --frames "$((last + 1)):$((last + 68))" \
-    --write
+$fvv capture sync "$out/capture" --write
+if [ $strict = 0 ]; then
+  if [ -n "$refine" ]; then
+    $fvv capture refine-calib "$out/capture" --from "$refine" --frames "$span" --write
+  fi
+  build/bench/real_bench "$out/capture" --frames "$frames" --render-frames "$render_frames" \
+    --out "$out" --fvv $fvv
+  exit 0
 fi
-build/bench/real_bench "$out/capture" --frames "$frames" --render-frames "$render_frames" \
-  --out "$out" --fvv build/tools/fvv/fvv
+# Strict: per held-out camera, a capture of its own whose other cameras are
+# refined among themselves.
+names=$(python3 -c 'import json,sys; print(" ".join(c["name"] for c in json.load(open(sys.argv[1]))["cameras"]))' \
+  "$out/capture/capture.json")
+for held in $names; do
+  dir="$out/strict_$held"
+  mkdir -p "$dir/capture"
+  cp "$out/capture/capture.json" "$dir/capture/"
+  others=$(tr ' ' '\n' <<<"$names" | grep -vx "$held" | paste -sd, -)
+  echo "== $held held out: $others refined among themselves"
+  $fvv capture refine-calib "$dir/capture" --from "$refine" --cameras "$others" --frames "$span" \
+    --write
+  build/bench/real_bench "$dir/capture" --frames "$frames" --render-frames "$render_frames" \
+    --out "$dir" --fvv $fvv --held-out "$held"
+done
+python3 - "$out" $names <<'EOF'
+import json, sys
+out, names = sys.argv[1], sys.argv[2:]
+keys = ["held_out_iou", "held_out_joint_px", "own_iou", "renderer2_psnr", "renderer1_psnr"]
+rows = []
+for n in names:
+    for c in json.load(open(f"{out}/strict_{n}/real_bench.json"))["cameras"]:
+        if c["camera"] == n:
+            rows.append(c)
+print("strict protocol: each camera held out as imported, the others refined among themselves")
+print("%-10s" % "held out" + "".join("%20s" % k for k in keys))
+for r in rows:
+    print("%-10s" % r["camera"] + "".join("%20.3f" % r[k] for k in keys))
+print("%-10s" % "mean" + "".join("%20.3f" % (sum(r[k] for r in rows) / len(rows)) for k in keys))
+json.dump({"protocol": "strict", "cameras": rows}, open(f"{out}/real_bench_strict.json", "w"), indent=1)
+EOF

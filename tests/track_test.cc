@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -17,6 +18,7 @@
 #include "encoder/track/pose_smoothing.h"
 #include "encoder/track/powell.h"
 #include "encoder/track/silhouette.h"
+#include "encoder/track/silhouette_calibration.h"
 #include "encoder/track/track_capture.h"
 #include "encoder/track/tracker.h"
 #include "tools/synth/gltf_actor.h"
@@ -322,6 +324,70 @@ TEST_F(TrackTest, NamesTheCameraWhoseCalibrationDisagrees) {
   EXPECT_LT(std::abs(s2.y()), 0.3 * expected);
   const std::string json = t2->ToJson();
   EXPECT_NE(json.find("\"calibration_disagrees\": true"), std::string::npos);
+}
+
+// The turn TurnedByImageShift makes moves what the camera sees at the
+// principal point by the pixels asked, and points near it by nearly as much.
+TEST(SilhouetteCalibration, ATurnMovesTheImageByTheShiftAsked) {
+  const Camera c = LookAtCamera("c", 640, 480, 600, Eigen::Vector3d(3, 1.5, 2),
+                                Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(0, 1, 0));
+  const Eigen::Vector2d shift(12, -7);
+  const Camera turned = TurnedByImageShift(c, shift);
+  for (const Eigen::Vector2d& at : {Eigen::Vector2d(c.cx, c.cy), Eigen::Vector2d(400, 300)}) {
+    const Eigen::Vector3d point = UnprojectPixel(c, at, 3.0);
+    Eigen::Vector2d moved;
+    ASSERT_TRUE(ProjectPoint(turned, point, &moved));
+    EXPECT_NEAR((moved - at - shift).norm(), 0, at == Eigen::Vector2d(c.cx, c.cy) ? 0.05 : 0.5)
+        << moved.transpose();
+  }
+  EXPECT_NEAR((CameraCentre(turned) - CameraCentre(c)).norm(), 0, 1e-9);  // turned, not moved
+  EXPECT_NEAR(TurnBetween(c, turned), std::atan(shift.norm() / 600) * 180 / M_PI, 0.01);
+}
+
+// Two cameras turned off their calibration (1 degree and 0.7 degree about
+// different axes) are turned back by the outlines of the actor tracked with
+// every camera; the cameras that agreed stay where they were.
+TEST_F(TrackTest, SilhouetteRefinementTurnsBumpedCamerasBack) {
+  ASSERT_TRUE(status_.ok()) << status_.ToString();
+  StatusOr<Capture> exact = LoadCapture(options_.output_dir);
+  ASSERT_TRUE(exact.ok());
+  Capture bumped = *exact;
+  for (CaptureCamera& cam : bumped.cameras) {
+    cam.frames.path = options_.output_dir + "/" + cam.frames.path;
+    if (cam.background) cam.background = options_.output_dir + "/" + *cam.background;
+    if (cam.silhouettes) cam.silhouettes->path = options_.output_dir + "/" + cam.silhouettes->path;
+  }
+  auto turn = [](Camera* cam, double degrees, const Eigen::Vector3d& axis) {
+    const Eigen::Matrix3d r = Eigen::AngleAxisd(degrees * M_PI / 180, axis) * CameraRotation(*cam);
+    const Eigen::Vector3d t = -r * CameraCentre(*cam);
+    for (int i = 0; i < 9; ++i) cam->rotation[size_t(i)] = r(i / 3, i % 3);
+    for (int i = 0; i < 3; ++i) cam->translation[size_t(i)] = t[i];
+  };
+  turn(&bumped.cameras[2].calibration, 1.0, Eigen::Vector3d::UnitY());
+  turn(&bumped.cameras[5].calibration, 0.7, Eigen::Vector3d::UnitX());
+  SilhouetteCalibrationOptions o;
+  o.first = 0;
+  o.last = 3;
+  o.rounds = 3;
+  o.track.tracker.adapt_shape = false;
+  o.track.smoothing = PoseSmoothing{0};
+  StatusOr<SilhouetteCalibration> r = RefineCamerasFromSilhouettes(bumped, o);
+  ASSERT_TRUE(r.ok()) << r.status().ToString();
+  ASSERT_EQ(r->cameras.size(), exact->cameras.size());
+  for (size_t c = 0; c < r->cameras.size(); ++c) {
+    const double before = TurnBetween(bumped.cameras[c].calibration, exact->cameras[c].calibration);
+    const double after = TurnBetween(r->cameras[c], exact->cameras[c].calibration);
+    std::printf("camera %zu: %.2f degrees off before, %.2f after (turned %.2f)\n", c, before, after,
+                r->turn_deg[c]);
+    EXPECT_LT(after, 0.3) << "camera " << c;
+    EXPECT_NEAR(CameraCentre(r->cameras[c])[0], CameraCentre(exact->cameras[c].calibration)[0],
+                1e-9);
+  }
+  // The fit agrees better with the outlines in the last round than the first.
+  EXPECT_GT(r->rounds.back().mean_iou, r->rounds.front().mean_iou);
+  // A span too short for a shift is refused.
+  o.last = 1;
+  EXPECT_FALSE(RefineCamerasFromSilhouettes(bumped, o).ok());
 }
 
 TEST_F(TrackTest, EmptyOrMissingSilhouettesAreFlaggedNotWild) {

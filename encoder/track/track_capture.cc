@@ -68,11 +68,15 @@ bool CalibrationDisagrees(const SilhouetteShift& shift, double degrees) {
 }
 
 StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCaptureOptions& o) {
-  using Clock = std::chrono::steady_clock;
   StatusOr<Capture> loaded = LoadCapture(path);
   if (!loaded.ok()) return loaded.status();
+  return TrackCapture(*loaded, o);
+}
+
+StatusOr<TrackCaptureResult> TrackCapture(const Capture& capture, const TrackCaptureOptions& o) {
+  using Clock = std::chrono::steady_clock;
   TrackCaptureResult r;
-  r.capture = *loaded;
+  r.capture = capture;
   const Capture& cap = r.capture;
   // What is tracked: the frames to fit, which of them start from scratch,
   // and which are reported.

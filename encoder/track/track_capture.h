@@ -131,6 +131,10 @@ bool CalibrationDisagrees(const SilhouetteShift& shift, double degrees);
 
 StatusOr<TrackCaptureResult> TrackCapture(const std::string& capture_path,
                                           const TrackCaptureOptions& options);
+// The same on a capture already loaded (its cameras as they are, e.g. a
+// calibration being refined).
+StatusOr<TrackCaptureResult> TrackCapture(const Capture& capture,
+                                          const TrackCaptureOptions& options);
 
 }  // namespace fvv
 

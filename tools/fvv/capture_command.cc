@@ -20,6 +20,7 @@
 #include "encoder/track/camera_sync.h"
 #include "encoder/track/capture_frames.h"
 #include "encoder/track/person_observer.h"
+#include "encoder/track/silhouette_calibration.h"
 #include "tools/fvv/frame_range.h"
 #include "tools/fvv/register_command.h"
 #include "tools/synth/synth.h"
@@ -351,6 +352,9 @@ int RunSync(const SyncArgs& a) {
 
 struct RefineArgs {
   std::string capture, frames = "0:59", models;
+  std::string from = "keypoints";    // or "silhouettes"
+  std::vector<std::string> cameras;  // refined among themselves; empty: all
+  int rounds = SilhouetteCalibrationOptions{}.rounds;
   CalibrationRefinementOptions options;
   bool write = false;
 };
@@ -373,12 +377,91 @@ std::vector<double> HeldOutAgreement(const std::vector<Camera>& cameras,
   return median;
 }
 
+// The cameras named (all where none is), as indices into the capture's.
+StatusOr<std::vector<size_t>> ChooseCameras(const Capture& cap,
+                                            const std::vector<std::string>& names) {
+  std::vector<size_t> chosen;
+  for (size_t c = 0; c < cap.cameras.size(); ++c) {
+    if (names.empty() ||
+        std::find(names.begin(), names.end(), cap.cameras[c].calibration.name) != names.end()) {
+      chosen.push_back(c);
+    }
+  }
+  for (const std::string& name : names) {
+    const bool known = std::any_of(cap.cameras.begin(), cap.cameras.end(),
+                                   [&](const auto& c) { return c.calibration.name == name; });
+    if (!known) return InvalidArgument("--cameras: the capture has no camera \"" + name + "\"");
+  }
+  return chosen;
+}
+
+// Camera orientations from the outlines of the actor tracked with the chosen
+// cameras (RefineCamerasFromSilhouettes); `sub` is the capture cut down to them.
+int RunRefineFromSilhouettes(const RefineArgs& a, const Capture& cap, const Capture& sub,
+                             const std::vector<size_t>& chosen, uint32_t first, uint32_t last) {
+  SilhouetteCalibrationOptions o;
+  o.first = first;
+  o.last = last;
+  o.rounds = a.rounds;
+  o.track.person_models = a.models;
+  o.progress = [](const std::string& line) {
+    std::fprintf(stderr, "refine-calib: %s\n", line.c_str());
+  };
+  StatusOr<SilhouetteCalibration> r = RefineCamerasFromSilhouettes(sub, o);
+  if (!r.ok()) return Fail(r.status());
+  std::printf(
+      "camera orientations of %s refined from the actor's outlines in frames %u..%u (%zu "
+      "round(s); the fit's mean IoU %.3f in the first, %.3f in the last):\n",
+      cap.directory.c_str(), first, last, r->rounds.size(), r->rounds.front().mean_iou,
+      r->rounds.back().mean_iou);
+  std::printf("  %-10s %24s %24s %10s\n", "camera", "first shift (IoU -> at it)",
+              "last shift (IoU)", "turned");
+  for (size_t c = 0; c < sub.cameras.size(); ++c) {
+    const SilhouetteCalibrationRound &f = r->rounds.front(), &l = r->rounds.back();
+    std::printf("  %-10s %+6.1f,%+6.1f px %.3f->%.3f %+6.1f,%+6.1f px %.3f %7.2f deg\n",
+                sub.cameras[c].calibration.name.c_str(), f.shift_px[c].x(), f.shift_px[c].y(),
+                f.iou[c], f.shifted_iou[c], l.shift_px[c].x(), l.shift_px[c].y(), l.iou[c],
+                r->turn_deg[c]);
+  }
+  if (r->rounds.size() == 1 && r->rounds.front().shift_px.size() == sub.cameras.size()) {
+    double largest = 0;
+    for (const auto& v : r->rounds.front().shift_px) largest = std::max(largest, v.norm());
+    if (largest < o.stop_px) {
+      std::printf("the outlines agree within %.0f pixels: capture.json left unchanged\n",
+                  o.stop_px);
+      return 0;
+    }
+  }
+  if (!a.write) {
+    std::printf("(--write stores the refined orientations in capture.json)\n");
+    return 0;
+  }
+  Capture out = cap;
+  for (size_t i = 0; i < chosen.size(); ++i) {
+    const Camera& k = r->cameras[i];
+    if (Status s = ValidateCalibration(k, k.name); !s.ok()) return Fail(s);
+    out.cameras[chosen[i]].calibration = k;
+  }
+  if (Status s = SaveCapture(out); !s.ok()) return Fail(s);
+  std::printf("wrote %s/capture.json with the refined orientations\n", out.directory.c_str());
+  return 0;
+}
+
 int RunRefineCalib(const RefineArgs& a) {
-  StatusOr<Capture> cap = LoadCapture(a.capture);
-  if (!cap.ok()) return Fail(cap.status());
+  StatusOr<Capture> loaded = LoadCapture(a.capture);
+  if (!loaded.ok()) return Fail(loaded.status());
   uint32_t first = 0, last = 0;
   if (Status s = ParseFrameRange(a.frames, &first, &last); !s.ok()) return Fail(s);
-  last = std::min(last, cap->frame_count - 1);
+  last = std::min(last, loaded->frame_count - 1);
+  StatusOr<std::vector<size_t>> chosen = ChooseCameras(*loaded, a.cameras);
+  if (!chosen.ok()) return Fail(chosen.status());
+  // The chosen cameras alone: the others take no part and keep their poses.
+  Capture sub = *loaded;
+  sub.cameras.clear();
+  for (size_t c : *chosen) sub.cameras.push_back(loaded->cameras[c]);
+  if (a.from == "silhouettes")
+    return RunRefineFromSilhouettes(a, *loaded, sub, *chosen, first, last);
+  const Capture* cap = &sub;
   StatusOr<std::unique_ptr<PersonObserver>> observer =
       LoadPersons(a.models, "refining the calibration");
   if (!observer.ok()) return Fail(observer.status());
@@ -433,10 +516,10 @@ int RunRefineCalib(const RefineArgs& a) {
     std::printf("(--write stores the refined poses in capture.json)\n");
     return 0;
   }
-  Capture out = *cap;
-  for (size_t c = 0; c < out.cameras.size(); ++c) {
+  Capture out = *loaded;
+  for (size_t c = 0; c < chosen->size(); ++c) {
     if (Status s = ValidateCalibration(r->cameras[c], r->cameras[c].name); !s.ok()) return Fail(s);
-    out.cameras[c].calibration = r->cameras[c];
+    out.cameras[(*chosen)[c]].calibration = r->cameras[c];
   }
   if (Status s = SaveCapture(out); !s.ok()) return Fail(s);
   std::printf("wrote %s/capture.json with the refined camera poses\n", out.directory.c_str());
@@ -587,8 +670,9 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
   CLI::App* rc = cap->add_subcommand(
       "refine-calib",
       "Refine the camera poses from the person network's body keypoints (bundle adjustment "
-      "over a span of frames; intrinsics kept); --write stores them. Bring the cameras in "
-      "step (sync) first");
+      "over a span of frames; intrinsics kept) or, --from silhouettes, the cameras' "
+      "orientations from the tracked actor's outlines; --write stores them. Bring the cameras "
+      "in step (sync) first");
   rc->add_option("capture", refine->capture, "Capture directory or capture.json")->required();
   rc->add_option("--frames", refine->frames,
                  "Frames A:B whose keypoints are used (the actor in view, moving about)")
@@ -602,6 +686,22 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
                  "How far (metres, one standard deviation) its camera centres are believed off")
       ->capture_default_str()
       ->check(CLI::Range(0.0001, 1.0));
+  rc->add_option("--from", refine->from,
+                 "keypoints: camera poses from the body keypoints (bundle adjustment); "
+                 "silhouettes: orientations only, each camera turned by the one image shift that "
+                 "lays the tracked body's outlines on its person masks, tracked again, for "
+                 "--rounds rounds (docs/tracking.md)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"keypoints", "silhouettes"}));
+  rc->add_option("--cameras", refine->cameras,
+                 "Refine these cameras among themselves (names, comma-separated); the others take "
+                 "no part and keep their calibration (default: all)")
+      ->delimiter(',');
+  rc->add_option("--rounds", refine->rounds,
+                 "With --from silhouettes: track-and-turn rounds at most (ends early when every "
+                 "shift is under 2 pixels)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 20));
   rc->add_flag("--write", refine->write, "Write the refined poses into capture.json");
   rc->add_option("--models", refine->models,
                  "Directory of the person models (default: $FVV_MODEL_DIR or ~/.cache/fvv/models)");
