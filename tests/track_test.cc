@@ -13,6 +13,7 @@
 
 #include "encoder/body/kinematics.h"
 #include "encoder/capture/calibration.h"
+#include "encoder/track/camera_choice.h"
 #include "encoder/track/features.h"
 #include "encoder/track/joint_truth.h"
 #include "encoder/track/pose_smoothing.h"
@@ -324,6 +325,52 @@ TEST_F(TrackTest, NamesTheCameraWhoseCalibrationDisagrees) {
   EXPECT_LT(std::abs(s2.y()), 0.3 * expected);
   const std::string json = t2->ToJson();
   EXPECT_NE(json.find("\"calibration_disagrees\": true"), std::string::npos);
+}
+
+// Of a 32-camera dome the fit takes 10 that see the whole volume (no
+// close-up) and stand apart: around the actor and over the rings' heights.
+TEST(CameraChoice, ASpreadFewOfADomeSeeingTheActorWhole) {
+  const std::vector<Camera> dome = MakeDomeCameras(32, 640, 360);
+  ASSERT_EQ(dome.size(), 32u);
+  const Eigen::Vector3d centre = CaptureVolumeCentre(dome);
+  EXPECT_LT((centre - Eigen::Vector3d(0, 0.9, 0)).norm(), 0.35) << centre.transpose();
+  const CameraChoice choice = ChooseTrackingCameras(dome, 10);
+  ASSERT_EQ(choice.cameras.size(), 10u);
+  EXPECT_TRUE(std::is_sorted(choice.cameras.begin(), choice.cameras.end()));
+  int close_ups = 0, whole = 0;
+  for (uint32_t c = 0; c < dome.size(); ++c) {
+    close_ups += dome[c].fx > 1.5 * 1.5 * 360;
+    whole += choice.coverage[c] >= 1.0;
+  }
+  EXPECT_GE(close_ups, 4);
+  EXPECT_GE(whole, 20);
+  std::vector<Eigen::Vector3d> dirs;
+  double lowest = 1e9, highest = -1e9;
+  for (uint32_t c : choice.cameras) {
+    EXPECT_GE(choice.coverage[c], 1.0) << dome[c].name << " does not see the volume whole";
+    EXPECT_LT(dome[c].fx, 1.5 * 1.5 * 360) << dome[c].name << " is a close-up";
+    dirs.push_back((CameraCentre(dome[c]) - choice.centre).normalized());
+    lowest = std::min(lowest, CameraCentre(dome[c]).y());
+    highest = std::max(highest, CameraCentre(dome[c]).y());
+  }
+  EXPECT_LT(lowest, 1.0);   // from the low ring
+  EXPECT_GT(highest, 2.0);  // and from above
+  // Spread: no two chosen cameras within 20 degrees of each other, seen from
+  // the volume's centre; and around it, every quarter holds one.
+  for (size_t i = 0; i < dirs.size(); ++i) {
+    for (size_t j = i + 1; j < dirs.size(); ++j) {
+      EXPECT_GT(std::acos(std::clamp(dirs[i].dot(dirs[j]), -1.0, 1.0)) * 180 / M_PI, 20.0)
+          << dome[choice.cameras[i]].name << " " << dome[choice.cameras[j]].name;
+    }
+  }
+  bool quarter[4] = {false, false, false, false};
+  for (const Eigen::Vector3d& d : dirs) {
+    const double a = std::atan2(d.x(), d.z());
+    quarter[int(std::floor((a + M_PI) / (M_PI / 2))) & 3] = true;
+  }
+  for (int q = 0; q < 4; ++q) EXPECT_TRUE(quarter[q]) << "quarter " << q;
+  // A rig no larger than the count: every camera.
+  EXPECT_EQ(ChooseTrackingCameras(MakeStudioCameras(8, 640, 480, 0, "c"), 10).cameras.size(), 8u);
 }
 
 // The turn TurnedByImageShift makes moves what the camera sees at the

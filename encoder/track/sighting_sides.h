@@ -46,8 +46,13 @@ struct SideExchange {
 // factor of 1.5 of it (unless both together halve it again); the last there
 // is room for must also halve the worst camera's. `sightings` is per camera, as CaptureFrames gives
 // them; three cameras or more must see the person.
+// In a rig of more than `every_camera_tried_up_to` cameras seeing the person
+// only the cameras that stand out (twice the median agreement or more) are
+// tried: trying all is cubic in cameras, and a camera named the other way
+// round stands out there (in fewer, it drags the others along and may not).
 SideExchange ExchangeMislabelledSides(const std::vector<Camera>& cameras,
-                                      std::vector<std::vector<JointSighting>>* sightings);
+                                      std::vector<std::vector<JointSighting>>* sightings,
+                                      size_t every_camera_tried_up_to = 8);
 
 }  // namespace fvv
 

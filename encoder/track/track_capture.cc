@@ -24,6 +24,9 @@ std::string TrackCaptureResult::ToJson() const {
   nlohmann::json out;
   out["generator"] = "fvv track";
   out["capture"] = capture.directory;
+  nlohmann::json fitted = nlohmann::json::array();
+  for (const CaptureCamera& c : capture.cameras) fitted.push_back(c.calibration.name);
+  out["cameras"] = fitted;  // those the fit read
   out["silhouettes"] = silhouette_source;
   nlohmann::json names = nlohmann::json::array();
   for (const DofRef& d : model.skeleton.Dofs()) {

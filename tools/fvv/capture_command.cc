@@ -573,6 +573,11 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
       ->capture_default_str()
       ->check(CLI::Range(1, 64));
   s->add_flag("--overhead", o->overhead, "Add a camera looking down from above");
+  s->add_option("--dome", o->dome,
+                "A studio dome of N cameras instead of the ring: four rings from 0.5 m to 3.3 m "
+                "high, every fifth camera of the lower three a close-up that sees the actor "
+                "partly (docs/capture-format.md)")
+      ->check(CLI::Range(4, 256));
   s->add_option("--width", o->width, "Image width")->capture_default_str();
   s->add_option("--height", o->height, "Image height")->capture_default_str();
   s->add_option("--fps", o->fps, "Frame rate")->capture_default_str();

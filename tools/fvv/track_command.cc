@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 
 #include "encoder/capture/up_axis.h"
 #include "encoder/encode/prepared_take.h"
 #include "encoder/io/image_io.h"
+#include "encoder/track/camera_choice.h"
 #include "encoder/track/joint_truth.h"
 #include "encoder/track/track_capture.h"
 #include "tools/fvv/frame_range.h"
@@ -16,12 +18,16 @@
 namespace fvv {
 namespace {
 
+// Rigs of more cameras than this track on a chosen few by default.
+constexpr uint32_t kAutoTrackingAbove = 12;
+
 struct TrackArgs {
   std::string capture, output, truth, save_silhouettes, overlays;
   std::string frames;  // "A:B"
   std::string prepared, shard, after;
   bool extract = false;
   std::string persons = "auto", models;
+  std::string track_cameras = "auto";  // a count, "all", or "auto"
   bool no_shape = false;
   bool no_keypoints = false;
   bool quiet = false;
@@ -94,12 +100,39 @@ int RunTrack(const TrackArgs& a) {
   }
   if (!a.quiet)
     o.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+  StatusOr<Capture> capture = LoadCapture(a.capture);
+  if (!capture.ok()) return Fail(capture.status());
   // A world whose up the cameras contradict: said before the long work.
-  if (StatusOr<Capture> c = LoadCapture(a.capture); c.ok()) {
-    const std::string upright = UprightWarning(c->cameras, c->declared_up_axis);
-    if (!upright.empty()) std::fprintf(stderr, "warning: %s\n", upright.c_str());
+  const std::string upright = UprightWarning(capture->cameras, capture->declared_up_axis);
+  if (!upright.empty()) std::fprintf(stderr, "warning: %s\n", upright.c_str());
+  // Of a studio's many cameras, the fit reads a spread few.
+  uint32_t fit_count = uint32_t(capture->cameras.size());
+  if (a.track_cameras == "auto") {
+    if (fit_count > kAutoTrackingAbove) fit_count = kDefaultTrackingCameras;
+  } else if (a.track_cameras != "all") {
+    char* end = nullptr;
+    const long v = std::strtol(a.track_cameras.c_str(), &end, 10);
+    if (end == a.track_cameras.c_str() || *end != '\0' || v < 1 || v > 256) {
+      return Fail(InvalidArgument("--track-cameras: a count of 1 to 256, all or auto, not \"" +
+                                  a.track_cameras + "\""));
+    }
+    fit_count = std::min(fit_count, uint32_t(v));
   }
-  StatusOr<TrackCaptureResult> r = TrackCapture(a.capture, o);
+  Capture fit = *capture;
+  if (fit_count < capture->cameras.size()) {
+    std::vector<Camera> calibrations;
+    for (const CaptureCamera& c : capture->cameras) calibrations.push_back(c.calibration);
+    const CameraChoice choice = ChooseTrackingCameras(calibrations, fit_count);
+    fit.cameras.clear();
+    std::string names;
+    for (uint32_t c : choice.cameras) {
+      fit.cameras.push_back(capture->cameras[c]);
+      names += (names.empty() ? "" : " ") + capture->cameras[c].calibration.name;
+    }
+    std::fprintf(stderr, "track: fitting with %zu of %zu cameras (--track-cameras): %s\n",
+                 fit.cameras.size(), capture->cameras.size(), names.c_str());
+  }
+  StatusOr<TrackCaptureResult> r = TrackCapture(fit, o);
   if (!r.ok()) return Fail(r.status());
   const std::string text = r->ToJson();
   Status s = WriteFileAtomic(a.output, reinterpret_cast<const uint8_t*>(text.data()), text.size());
@@ -166,6 +199,12 @@ int RunTrack(const TrackArgs& a) {
   std::printf("  time: %.3f s per frame (silhouettes %.3f, fitting %.3f)\n",
               (r->silhouette_seconds + r->fit_seconds) / tracked, r->silhouette_seconds / tracked,
               r->fit_seconds / tracked);
+  if (r->person_seconds > 0) {
+    std::printf(
+        "        of the silhouettes: decoding %.3f, person network %.3f s per frame (%zu "
+        "cameras)\n",
+        r->decode_seconds / tracked, r->person_seconds / tracked, r->capture.cameras.size());
+  }
   if (tracked > 1) {
     // The first frame (initialisation) is a one-off: what a longer take costs per frame.
     const double later = (r->silhouette_seconds + r->fit_seconds - r->first_fit_seconds -
@@ -238,6 +277,13 @@ void AddTrackCommand(CLI::App* app, int* exit_code) {
               "With person masks, fit silhouettes only (the network's body keypoints neither "
               "place the body nor hold the fit)");
   t->add_flag("--fixed-shape", a->no_shape, "Keep the generic body's proportions");
+  t->add_option("--track-cameras", a->track_cameras,
+                "Cameras the fit reads: a count (chosen to see the actor whole and stand as far "
+                "apart as they go), all, or auto (" +
+                    std::to_string(kDefaultTrackingCameras) + " of a rig of over " +
+                    std::to_string(kAutoTrackingAbove) +
+                    ", else all). The poses hold for every camera's texture")
+      ->capture_default_str();
   AddSmoothOption(t, &a->smooth);
   t->add_option("--save-silhouettes", a->save_silhouettes,
                 "Write the silhouettes used (PNG) here (created if missing)");

@@ -83,6 +83,38 @@ std::vector<Camera> MakeStudioCameras(uint32_t count, uint32_t width, uint32_t h
   return out;
 }
 
+std::vector<Camera> MakeDomeCameras(uint32_t count, uint32_t width, uint32_t height) {
+  struct Ring {
+    double share, height, radius;
+  };
+  const Ring rings[4] = {{0.25, 0.5, 3.4}, {1.0 / 3, 1.4, 3.8}, {0.25, 2.4, 3.6}, {0, 3.3, 2.6}};
+  uint32_t counts[4], placed = 0;
+  for (int r = 0; r < 3; ++r) {
+    counts[r] = uint32_t(std::lround(rings[r].share * count));
+    placed += counts[r];
+  }
+  counts[3] = count - std::min(placed, count);
+  const double focal = 1.5 * std::min(width, height);
+  std::vector<Camera> out;
+  for (int r = 0; r < 4; ++r) {
+    for (uint32_t i = 0; i < counts[r]; ++i) {
+      const double a = 2 * kPi * (i + 0.5 * (r % 2)) / counts[r];
+      const Eigen::Vector3d centre(rings[r].radius * std::sin(a), rings[r].height,
+                                   rings[r].radius * std::cos(a));
+      // Close-ups: every fifth camera of the lower rings, on the upper body
+      // and the legs in turn.
+      const bool close = r < 3 && i % 5 == 4;
+      // The low ring looks up a little, at the actor's middle from below.
+      const Eigen::Vector3d target(0, close ? (i % 10 == 4 ? 1.3 : 0.5) : r == 0 ? 1.0 : 0.9, 0);
+      char name[32];
+      std::snprintf(name, sizeof(name), "cam%02zu", out.size());
+      out.push_back(LookAtCamera(name, width, height, close ? 2.2 * focal : focal, centre, target,
+                                 Eigen::Vector3d(0, 1, 0)));
+    }
+  }
+  return out;
+}
+
 StatusOr<std::unique_ptr<Actor>> MakeSynthActor(const SynthOptions& o) {
   if (o.actor != "builtin") {
     if (!o.motion.empty()) {
@@ -175,6 +207,9 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
   };
   if (o.output_dir.empty()) return InvalidArgument("synth: no output directory given");
   if (o.cameras < 1 || o.cameras > 64) return InvalidArgument("synth: --cameras must be 1..64");
+  if (o.dome != 0 && (o.dome < 4 || o.dome > 256)) {
+    return InvalidArgument("synth: --dome must be 4..256 cameras");
+  }
   if (o.held_out > 16) return InvalidArgument("synth: --held-out must be 0..16");
   if (o.width < 16 || o.height < 16 || o.width > 4096 || o.height > 4096) {
     return InvalidArgument("synth: image size must be 16..4096 on each side");
@@ -198,7 +233,9 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
   }
   say("synth: actor: " + actor.Describe());
 
-  std::vector<Camera> cameras = MakeStudioCameras(o.cameras, o.width, o.height, 0.0, "cam");
+  std::vector<Camera> cameras = o.dome
+                                    ? MakeDomeCameras(o.dome, o.width, o.height)
+                                    : MakeStudioCameras(o.cameras, o.width, o.height, 0.0, "cam");
   if (o.overhead) {
     cameras.push_back(LookAtCamera("top", o.width, o.height, 0.9 * o.height,
                                    Eigen::Vector3d(0, 4.2, 0.3), Eigen::Vector3d(0, 0, 0),

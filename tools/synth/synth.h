@@ -25,6 +25,8 @@ struct SynthOptions {
   std::string output_dir;
   uint32_t cameras = 8;
   bool overhead = false;  // one more camera looking down from above the centre
+  // Instead of the ring: a dome of this many cameras (MakeDomeCameras); 0: the ring.
+  uint32_t dome = 0;
   uint32_t width = 640, height = 480;
   double fps = 25;
   uint32_t frames = 50;
@@ -61,6 +63,16 @@ struct SynthSummary {
 // between ring cameras).
 std::vector<Camera> MakeStudioCameras(uint32_t count, uint32_t width, uint32_t height, double phase,
                                       const std::string& prefix);
+
+// A studio dome: `count` cameras (4..256) on four rings around the capture
+// volume, low (0.5 m, 3.4 m out), middle (1.4 m, 3.8 m), high (2.4 m, 3.6 m)
+// and top (3.3 m, 2.6 m, looking down; the low ring looks up at 1 m, the
+// others at 0.9 m), a quarter, a third, a quarter and the
+// rest of them, each ring turned half a step against the one below so that no
+// camera stands above another. Every fifth camera of the lower three rings is
+// zoomed in (2.2 times the focal length) on the upper or the lower body, so
+// it sees the actor partly, as close-ups in real domes do.
+std::vector<Camera> MakeDomeCameras(uint32_t count, uint32_t width, uint32_t height);
 
 // Builds the actor the options describe.
 StatusOr<std::unique_ptr<Actor>> MakeSynthActor(const SynthOptions& options);
