@@ -59,6 +59,20 @@ cmp -s "$dir/raw.json" "$dir/poses.json" && fail "--smooth 0 gave the smoothed p
 out=$("$fvv" track "$dir/cap" -o "$dir/wild.json" --smooth 17 -q 2>&1) && fail "--smooth 17 accepted"
 grep -q "smooth" <<<"$out" && [ ! -e "$dir/wild.json" ] || fail "--smooth 17 message: $out"
 
+# A dome: its cameras as asked, and tracking on a chosen few of them, named in
+# the report and in poses.json; a count of 0 is refused before any work.
+out=$("$fvv" synth -o "$dir/dome" --dome 6 --width 96 --height 72 --frames 2 --held-out 0 2>&1) ||
+  fail "synth --dome: $out"
+grep -q "cameras:  6 at 96x72" <<<"$out" || fail "dome summary: $out"
+out=$("$fvv" track "$dir/dome" -o "$dir/dome.json" --track-cameras 3 --fixed-shape -q 2>&1) ||
+  fail "track --track-cameras 3: $out"
+grep -q "track: fitting with 3 of 6 cameras (--track-cameras): cam" <<<"$out" || fail "fit cameras: $out"
+python3 -c 'import json,sys; c=json.load(open(sys.argv[1]))["cameras"]; sys.exit(len(c) != 3)' \
+  "$dir/dome.json" || fail "poses.json does not name the 3 cameras: $(head -c 400 "$dir/dome.json")"
+out=$("$fvv" track "$dir/dome" -o "$dir/dome0.json" --track-cameras 0 -q 2>&1) && fail "--track-cameras 0 accepted"
+grep -q "track-cameras" <<<"$out" && [ ! -e "$dir/dome0.json" ] || fail "--track-cameras 0 message: $out"
+out=$("$fvv" synth -o "$dir/dome3" --dome 3 2>&1) && fail "--dome 3 accepted"
+
 # Bad inputs.
 out=$("$fvv" capture check "$dir/nowhere" 2>&1) && fail "missing capture accepted"
 grep -q "cannot read" <<<"$out" || fail "missing capture message: $out"
