@@ -22,17 +22,14 @@
 #include <cstdio>
 #include <fstream>
 #include <functional>
-#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
-#include "encoder/body/generic_body.h"
-#include "encoder/capture/calibration.h"
 #include "encoder/capture/calibration_import.h"
 #include "encoder/capture/capture.h"
+#include "encoder/track/camera_sync.h"
 #include "encoder/track/capture_frames.h"
-#include "encoder/track/features.h"
 #include "encoder/track/person_observer.h"
 
 namespace fvv {
@@ -78,23 +75,8 @@ CameraResidual HeldOutResidual(const std::vector<Camera>& cameras, uint32_t k,
                                const CaptureSightings& seen) {
   std::vector<Eigen::Vector2d> residuals;
   for (const auto& frame : seen) {
-    std::map<std::string, std::map<uint32_t, Eigen::Vector2d>> points;
-    for (uint32_t c = 0; c < cameras.size(); ++c) {
-      if (c == k) continue;
-      for (const JointSighting& s : frame[c]) {
-        if (s.confidence >= 0.5) points[GenericJointName(s.joint)][c] = s.pixel;
-      }
-    }
-    const auto world = TriangulateFeatures(points, cameras, 20.0);
-    for (const JointSighting& s : frame[k]) {
-      auto it = world.find(GenericJointName(s.joint));
-      Eigen::Vector2d p;
-      if (s.confidence < 0.5 || it == world.end() ||
-          !ProjectPoint(cameras[k], it->second.position, &p)) {
-        continue;
-      }
-      residuals.push_back(s.pixel - p);  // where the camera sees it, from where the rig says
-    }
+    const std::vector<Eigen::Vector2d> r = KeypointResiduals(cameras, k, frame, 20.0);
+    residuals.insert(residuals.end(), r.begin(), r.end());
   }
   CameraResidual r;
   r.sightings = uint32_t(residuals.size());

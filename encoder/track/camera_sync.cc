@@ -10,9 +10,9 @@
 
 namespace fvv {
 
-double KeypointAgreement(const std::vector<Camera>& cameras, uint32_t k,
-                         const std::vector<std::vector<JointSighting>>& sightings,
-                         double tolerance_px) {
+std::vector<Eigen::Vector2d> KeypointResiduals(
+    const std::vector<Camera>& cameras, uint32_t k,
+    const std::vector<std::vector<JointSighting>>& sightings, double tolerance_px) {
   std::map<std::string, std::map<uint32_t, Eigen::Vector2d>> points;
   for (uint32_t c = 0; c < cameras.size(); ++c) {
     if (c == k) continue;
@@ -21,8 +21,7 @@ double KeypointAgreement(const std::vector<Camera>& cameras, uint32_t k,
     }
   }
   const auto world = TriangulateFeatures(points, cameras, tolerance_px);
-  double sum = 0;
-  int n = 0;
+  std::vector<Eigen::Vector2d> out;
   for (const JointSighting& s : sightings[k]) {
     auto it = world.find(GenericJointName(s.joint));
     Eigen::Vector2d p;
@@ -30,10 +29,18 @@ double KeypointAgreement(const std::vector<Camera>& cameras, uint32_t k,
         !ProjectPoint(cameras[k], it->second.position, &p)) {
       continue;
     }
-    sum += (p - s.pixel).norm();
-    ++n;
+    out.push_back(s.pixel - p);
   }
-  return n ? sum / n : -1;
+  return out;
+}
+
+double KeypointAgreement(const std::vector<Camera>& cameras, uint32_t k,
+                         const std::vector<std::vector<JointSighting>>& sightings,
+                         double tolerance_px) {
+  const std::vector<Eigen::Vector2d> r = KeypointResiduals(cameras, k, sightings, tolerance_px);
+  double sum = 0;
+  for (const Eigen::Vector2d& v : r) sum += v.norm();
+  return r.empty() ? -1 : sum / double(r.size());
 }
 
 namespace {

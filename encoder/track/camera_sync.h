@@ -31,6 +31,11 @@ namespace fvv {
 double KeypointAgreement(const std::vector<Camera>& cameras, uint32_t k,
                          const std::vector<std::vector<JointSighting>>& sightings,
                          double tolerance_px);
+// The same sightings' residuals one by one: where camera k sees each joint
+// minus where the other cameras put it (pixels).
+std::vector<Eigen::Vector2d> KeypointResiduals(
+    const std::vector<Camera>& cameras, uint32_t k,
+    const std::vector<std::vector<JointSighting>>& sightings, double tolerance_px);
 
 struct FrameOffsets {
   // Per camera: frames to skip at the start of its recording (added to its
