@@ -109,9 +109,10 @@ $fvv render "$out/capture" --renderer projective --poses "$out/poses.json" -o "$
   --cameras-from "$out/capture/truth/heldout" --camera 0 --first 30 --last 33
 $fvv render "$out/capture.fvv" -o "$out/render_heldout" --cameras-from "$out/capture/truth/heldout" \
   --camera 0 --first 30 --last 33
-echo "== a studio dome: 24 cameras around the actor, close-ups and a bystander (fvv synth --dome),"
-echo "   tracked on the 10 cameras the fit chooses (fvv track --track-cameras), against the truth"
-$fvv synth -o "$out/dome" --dome 24 --width 640 --height 360 --frames 4 --held-out 0 --bystander
+echo "== a studio dome: 24 cameras around the actor, close-ups and a bystander, no plates (fvv synth --dome),"
+echo "   tracked on person masks from the 10 cameras the fit chooses (fvv track --track-cameras), against the truth"
+$fvv synth -o "$out/dome" --dome 24 --width 640 --height 360 --frames 4 --held-out 0 --bystander \
+  --no-plates
 $fvv track "$out/dome" -o "$out/dome_poses.json" --truth "$out/dome" -q
 echo "== shape refinement: generic model, visual hull and refined model against a bumpy actor's true surface"
 build/bench/shape_bench --out "$out/shape"
