@@ -156,8 +156,10 @@ StatusOr<TrackCaptureResult> TrackCapture(const Capture& capture, const TrackCap
 
   std::vector<SilhouetteShiftSearch> shifts(n);  // per camera
   CaptureSightings step_sightings;               // the first frames', for the step check
+  // Every pair of cameras at every shift: quadratic in cameras, so a rig
+  // fitted with more than 16 (--track-cameras all on a dome) is not checked.
   const bool check_steps = persons && o.keypoints && o.separate_frames.empty() && n >= 3 &&
-                           o.step_check_frames >= uint32_t(2 * o.step_check_offset + 2);
+                           n <= 16 && o.step_check_frames >= uint32_t(2 * o.step_check_offset + 2);
   uint32_t reported_count = 0;
   const auto start = Clock::now();
   const bool want_images = o.on_frame || !o.overlays.empty();

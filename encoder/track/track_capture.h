@@ -60,7 +60,8 @@ struct TrackCaptureOptions {
   // The first this many frames tracked (consecutive, with the person
   // network's keypoints) are checked for cameras out of step by up to
   // step_check_offset frames (TrackCaptureResult::steps): a take not brought
-  // in step (fvv capture sync) fits worse in every frame. 0: no check.
+  // in step (fvv capture sync) fits worse in every frame. 0: no check. Rigs
+  // fitted with more than 16 cameras are not checked (pairs at every shift).
   uint32_t step_check_frames = 30;
   int step_check_offset = 3;
   std::string save_silhouettes;  // directory for the silhouettes used (PNG), or empty
