@@ -423,14 +423,14 @@ int RunRefineFromSilhouettes(const RefineArgs& a, const Capture& cap, const Capt
                 f.iou[c], f.shifted_iou[c], l.shift_px[c].x(), l.shift_px[c].y(), l.iou[c],
                 r->turn_deg[c]);
   }
-  if (r->rounds.size() == 1 && r->rounds.front().shift_px.size() == sub.cameras.size()) {
-    double largest = 0;
-    for (const auto& v : r->rounds.front().shift_px) largest = std::max(largest, v.norm());
-    if (largest < o.stop_px) {
-      std::printf("the outlines agree within %.0f pixels: capture.json left unchanged\n",
-                  o.stop_px);
-      return 0;
-    }
+  // No round turned a camera: the first round's shifts were all under stop_px.
+  bool turned = false;
+  for (size_t c = 0; c < sub.cameras.size(); ++c) {
+    turned = turned || r->cameras[c].rotation != sub.cameras[c].calibration.rotation;
+  }
+  if (!turned) {
+    std::printf("the outlines agree within %.0f pixels: capture.json left unchanged\n", o.stop_px);
+    return 0;
   }
   if (!a.write) {
     std::printf("(--write stores the refined orientations in capture.json)\n");
@@ -461,16 +461,15 @@ int RunRefineCalib(const RefineArgs& a) {
   for (size_t c : *chosen) sub.cameras.push_back(loaded->cameras[c]);
   if (a.from == "silhouettes")
     return RunRefineFromSilhouettes(a, *loaded, sub, *chosen, first, last);
-  const Capture* cap = &sub;
   StatusOr<std::unique_ptr<PersonObserver>> observer =
       LoadPersons(a.models, "refining the calibration");
   if (!observer.ok()) return Fail(observer.status());
   StatusOr<CaptureSightings> seen = ReadSightings(
-      *cap, observer->get(), first, last,
+      sub, observer->get(), first, last,
       [](const std::string& line) { std::fprintf(stderr, "refine-calib: %s\n", line.c_str()); });
   if (!seen.ok()) return Fail(seen.status());
   std::vector<Camera> cameras;
-  for (const CaptureCamera& c : cap->cameras) cameras.push_back(c.calibration);
+  for (const CaptureCamera& c : sub.cameras) cameras.push_back(c.calibration);
   StatusOr<CalibrationRefinement> r = RefineCameraPoses(cameras, *seen, a.options);
   if (!r.ok()) return Fail(r.status());
   const std::vector<double> before = HeldOutAgreement(cameras, *seen),
@@ -478,7 +477,7 @@ int RunRefineCalib(const RefineArgs& a) {
   std::printf(
       "camera poses of %s refined from the body keypoints of frames %u..%u (%u joints, %d "
       "iterations):\n",
-      cap->directory.c_str(), first, last, r->points, r->iterations);
+      sub.directory.c_str(), first, last, r->points, r->iterations);
   std::printf("  %-10s %9s %16s %22s %10s %8s\n", "camera", "sightings", "median px",
               "against the others px", "turned", "moved");
   double most_turn = 0, most_move = 0;
