@@ -72,6 +72,20 @@ python3 -c 'import json,sys; c=json.load(open(sys.argv[1]))["cameras"]; sys.exit
 out=$("$fvv" track "$dir/dome" -o "$dir/dome0.json" --track-cameras 0 -q 2>&1) && fail "--track-cameras 0 accepted"
 grep -q "track-cameras" <<<"$out" && [ ! -e "$dir/dome0.json" ] || fail "--track-cameras 0 message: $out"
 out=$("$fvv" synth -o "$dir/dome3" --dome 3 2>&1) && fail "--dome 3 accepted"
+# fvv encode tracks on the same chosen few and textures every camera: the
+# stream is the one encoded from fvv track's poses.
+out=$("$fvv" encode "$dir/dome" -o "$dir/dome_tracked.fvv" --track-cameras 3 --fixed-shape \
+  --atlas 128 2>&1) || fail "encode --track-cameras 3: $out"
+grep -q "encode: tracking with 3 of 6 cameras (--track-cameras): cam" <<<"$out" ||
+  fail "encode fit cameras: $out"
+grep -q "2 frames (from 0) x 6 cameras" <<<"$out" || fail "encode did not texture all 6 cameras: $out"
+out=$("$fvv" encode "$dir/dome" -o "$dir/dome_posed.fvv" --poses "$dir/dome.json" --atlas 128 2>&1) ||
+  fail "encode --poses: $out"
+[ "$(stat -c %s "$dir/dome_tracked.fvv")" -gt 0 ] && cmp -s "$dir/dome_tracked.fvv" "$dir/dome_posed.fvv" ||
+  fail "tracking in fvv encode on 3 cameras differs from fvv track's poses encoded"
+out=$("$fvv" encode "$dir/dome" -o "$dir/dome_bad.fvv" --track-cameras none 2>&1) &&
+  fail "encode --track-cameras none accepted"
+grep -q "track-cameras" <<<"$out" && [ ! -e "$dir/dome_bad.fvv" ] || fail "encode --track-cameras none: $out"
 
 # Bad inputs.
 out=$("$fvv" capture check "$dir/nowhere" 2>&1) && fail "missing capture accepted"

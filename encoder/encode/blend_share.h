@@ -21,6 +21,15 @@ namespace fvv {
 double LargestBlendShare(uint32_t c, uint32_t n, const Eigen::Vector3f* to_camera,
                          const double* facing, const uint8_t* takes);
 
+// The same from each camera's facing weight (BlendFacingWeight of its
+// cosine), worked out once for every camera at the point.
+double LargestBlendShareOfWeights(uint32_t c, uint32_t n, const Eigen::Vector3f* to_camera,
+                                  const double* weight, const uint8_t* takes);
+
+// A camera's blend weight at a point without the viewing-angle term: the
+// facing ramp times max(facing, 1e-3)^kFacingExponent; 0 facing away.
+double BlendFacingWeight(double facing);
+
 }  // namespace fvv
 
 #endif  // FVV_ENCODER_ENCODE_BLEND_SHARE_H_

@@ -259,6 +259,25 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
     // Resampling and coding a frame run on a thread of their own, beside the
     // tracking of the next frames (at most one GOP and a frame queued), in
     // frame order, so the output is what a sequential run writes.
+    // Of a studio's many cameras the fit reads a chosen few; the texture is
+    // then read from every camera as with poses given (background
+    // subtraction or the capture's silhouettes), beside the tracking.
+    std::string fit_names;
+    const Capture fit_capture =
+        FittingCapture(*cap, TrackingCameraCount(s.track_cameras, cap->cameras.size()), &fit_names);
+    std::unique_ptr<CaptureFrames> every_camera;
+    double texture_read_s = 0;
+    if (fit_capture.cameras.size() < cap->cameras.size()) {
+      Say(s, "encode: tracking with " + std::to_string(fit_capture.cameras.size()) + " of " +
+                 std::to_string(cap->cameras.size()) + " cameras (--track-cameras): " + fit_names);
+      FVV_ASSIGN_OR_RETURN(every_camera,
+                           CaptureFrames::Open(*cap, s.extract_silhouettes, &session.pool()));
+      if (s.refine_shape) {
+        return InvalidArgument(
+            "--refine-shape reads the fit's cameras: with --track-cameras fewer than the rig's, "
+            "track first (fvv track) and encode with --poses");
+      }
+    }
     OrderedQueue behind_tracking(s.gop_frames + 1);
     to.on_frame = [&](uint32_t f, const FrameFit& fit, const Tracker& tracker,
                       const std::vector<Image>& images, const std::vector<Image>& sils) -> Status {
@@ -266,11 +285,23 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
         FVV_RETURN_IF_ERROR(session.UsePrepared(*prepared));
       } else if (!session.HasShape()) {  // the shape: once, before any frame is resampled
         const RefinementFrame refine{fit.dofs, images, sils, features.Of(f)};
-        FVV_RETURN_IF_ERROR(session.SetShape(tracker.shape(), &refine));
+        FVV_RETURN_IF_ERROR(session.SetShape(tracker.shape(), every_camera ? nullptr : &refine));
       }
       char extra[96];
       std::snprintf(extra, sizeof(extra), "  IoU %.3f%s", fit.iou,
                     fit.poor ? ("  FLAGGED: " + fit.note).c_str() : "");
+      if (every_camera) {
+        return behind_tracking.Push([&session, &progress, &texture_read_s, &every_camera, f,
+                                     dofs = fit.dofs, line = std::string(extra)] {
+          std::vector<Image> all_images, all_sils;
+          const auto t0 = Clock::now();
+          FVV_RETURN_IF_ERROR(every_camera->Read(f, &all_images, &all_sils));
+          texture_read_s += Since(t0);
+          FVV_RETURN_IF_ERROR(session.AddFrame(f, dofs, all_images, all_sils));
+          progress(f, line);
+          return Status::Ok();
+        });
+      }
       return behind_tracking.Push(
           [&session, &progress, f, dofs = fit.dofs, images, sils, line = std::string(extra)] {
             FVV_RETURN_IF_ERROR(session.AddFrame(f, dofs, images, sils));
@@ -278,7 +309,7 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
             return Status::Ok();
           });
     };
-    StatusOr<TrackCaptureResult> tracked = TrackCapture(capture_path, to);
+    StatusOr<TrackCaptureResult> tracked = TrackCapture(fit_capture, to);
     FVV_RETURN_IF_ERROR(behind_tracking.Finish());
     if (!tracked.ok()) return tracked.status();
     if (prepared && s.shards > 0 && !tracked->after_frames.empty()) {
@@ -286,7 +317,7 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
       for (uint32_t f : tracked->after_frames) take_frames.push_back(f - prepared->first_frame);
       session.AddMetadata(kShardPosesAfterKey, FormatShardPoses(take_frames, tracked->after_poses));
     }
-    sum.read_s = tracked->silhouette_seconds;
+    sum.read_s = tracked->silhouette_seconds + texture_read_s;
     sum.track_s = tracked->fit_seconds;
     sum.flagged_frames = tracked->flagged;
     sum.mean_iou = tracked->mean_iou;

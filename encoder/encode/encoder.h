@@ -25,6 +25,7 @@
 #include "container/motion_track.h"
 #include "encoder/encode/resample.h"
 #include "encoder/shape/shape_refinement.h"
+#include "encoder/track/camera_choice.h"
 #include "encoder/track/track_capture.h"
 #include "encoder/track/tracker.h"
 
@@ -39,6 +40,10 @@ struct EncoderSettings {
   uint32_t first_frame = 0, last_frame = UINT32_MAX;  // clamped to the capture
   bool extract_silhouettes = false;  // background subtraction even if silhouettes are given
   TrackerOptions tracker;
+  // The cameras the tracker fits with (encoder/track/camera_choice.h): a
+  // count, kTrackingCamerasAuto or kTrackingCamerasAll. Every camera is
+  // resampled for texture whichever the fit read.
+  uint32_t track_cameras = kTrackingCamerasAuto;
   // Tracked poses only (given poses are used as they are): smoothing over time
   // before resampling (encoder/track/pose_smoothing.h).
   PoseSmoothing pose_smoothing = TrackCaptureOptions{}.smoothing;

@@ -180,14 +180,26 @@ class Session {
 
   Status CodeSpan(uint32_t frames);
 
+  // What one camera group's coding adds to the summary.
+  struct GroupFigures {
+    std::array<double, 3> sse{};
+    std::array<uint64_t, 3> samples{};
+    double sse_rgb = 0;
+    uint64_t visible_texels = 0, texture_bytes = 0, mask_bytes = 0;
+  };
+  // Camera group `g` of the span: its fragment and figures. Reads the span
+  // buffers only, so groups code side by side.
+  Status CodeGroup(uint32_t g, uint32_t frames, uint32_t span_first, FragmentData* out,
+                   GroupFigures* figures) const;
+
   // One GOP with the predictive scheme; the same rate targets as SPIHT's.
   Status CodePredictive(const Block& block, std::vector<uint8_t>& rgb, const UsedMask& used,
-                        const Shape4D& shape, FragmentData* frag);
+                        const Shape4D& shape, FragmentData* frag, GroupFigures* figures) const;
 
   // Y, U, V errors against the block coded; RGB errors against the texels as
   // resampled (what a player shows against what the cameras saw).
   void Measure(const Block& block, const Block& decoded, const UsedMask& seen,
-               const std::vector<uint8_t>& a);
+               const std::vector<uint8_t>& a, GroupFigures* figures) const;
 
   uint32_t CameraGroups() const { return (sum_.cameras + s_.gop_cameras - 1) / s_.gop_cameras; }
 
@@ -204,7 +216,7 @@ class Session {
 
   const Capture& cap_;
   const EncoderSettings& s_;
-  ThreadPool pool_;
+  mutable ThreadPool pool_;  // shared by the const coding of camera groups
   uint32_t first_, last_;
   EncodeSummary sum_;
   std::vector<Camera> cameras_;

@@ -16,80 +16,104 @@ Status Session::CodeSpan(uint32_t frames) {
     for (uint32_t t = 0; t < frames; ++t) FVV_RETURN_IF_ERROR(SaveTextures(span_first + t, t));
   }
   const auto t0 = Clock::now();
-  const size_t texels = size_t(s_.atlas_size) * s_.atlas_size;
-  for (uint32_t g = 0; g < CameraGroups(); ++g) {
-    FragmentData frag;
-    frag.info.gop_index = uint32_t(fragments_.size());
-    frag.info.first_frame = span_first - first_;
-    frag.info.frame_count = uint16_t(frames);
-    frag.info.first_camera = uint16_t(g * s_.gop_cameras);
-    frag.info.camera_count =
-        uint16_t(std::min<uint32_t>(s_.gop_cameras, sum_.cameras - g * s_.gop_cameras));
-    Shape4D shape;
-    shape.n = {frames, frag.info.camera_count, s_.atlas_size, s_.atlas_size};
-    std::vector<uint8_t> rgb(shape.count() * 3);
-    // `seen`: what the cameras saw (the masks); `used`: what a player will
-    // show, which the coder fills around and weights (without masks, also
-    // what the geometry lets a player take from a camera).
-    UsedMask seen(shape.count());
-    for (uint32_t t = 0; t < frames; ++t) {
-      for (uint32_t c = 0; c < frag.info.camera_count; ++c) {
-        const size_t src = size_t(t) * sum_.cameras + frag.info.first_camera + c;
-        const size_t dst = size_t(t) * frag.info.camera_count + c;
-        std::copy_n(&span_rgb_[src * texels * 3], texels * 3, &rgb[dst * texels * 3]);
-        std::copy_n(&span_mask_[src * texels], texels, &seen[dst * texels]);
-      }
+  // The camera groups are coded side by side: with many cameras in groups of
+  // one, each block is too small to keep the pool busy on its own. Each group's
+  // figures are added in group order, so the summary does not depend on the
+  // threads.
+  const uint32_t groups = CameraGroups();
+  std::vector<FragmentData> coded(groups);
+  std::vector<GroupFigures> figures(groups);
+  std::vector<Status> status(groups);
+  pool_.Run(groups, [&](uint32_t g) {
+    status[g] = CodeGroup(g, frames, span_first, &coded[g], &figures[g]);
+  });
+  for (uint32_t g = 0; g < groups; ++g) {
+    FVV_RETURN_IF_ERROR(status[g]);
+    for (int c = 0; c < 3; ++c) {
+      sse_[c] += figures[g].sse[c];
+      samples_[c] += figures[g].samples[c];
     }
-    UsedMask used = seen;
-    if (!span_usable_.empty()) {
-      for (uint32_t t = 0; t < frames; ++t) {
-        for (uint32_t c = 0; c < frag.info.camera_count; ++c) {
-          const size_t src = (size_t(t) * sum_.cameras + frag.info.first_camera + c) * texels;
-          const size_t dst = (size_t(t) * frag.info.camera_count + c) * texels;
-          for (size_t i = 0; i < texels; ++i) used[dst + i] |= span_usable_[src + i];
-        }
-      }
-    }
-    const Block block = BlockFromRgb(rgb.data(), shape, ColourSpace::kYCbCr601, s_.chroma,
-                                     SampleFrac(), &used, ChromaUpsamplingOf());
-    if (s_.texture_codec == TextureCodec::kPredictive) {
-      FVV_RETURN_IF_ERROR(CodePredictive(block, rgb, used, shape, &frag));
-      fragments_.push_back(std::move(frag));
-      continue;
-    }
-    EncodeSettings es;
-    es.kernel = s_.kernel;
-    es.frac_bits_97 = s_.frac_bits_97;
-    es.coder = s_.coder;
-    es.weights = s_.weights;
-    es.rate_mode = s_.rate_mode;
-    es.rate_value = s_.rate_value;
-    es.fill = s_.fill;
-    es.prune_isolated = s_.prune_isolated;
-    // A PSNR target is over what the cameras saw, masks or not.
-    if (!span_usable_.empty()) es.psnr_mask = &seen;
-    es.runner = pool_.runner();
-    Block decoded;
-    EncodeReport report;
-    report.decoded = &decoded;  // what a decoder reconstructs at full length
-    FVV_ASSIGN_OR_RETURN(frag.texture, EncodeBlock(block, &used, es, &report));
-    decoded.upsampling = block.upsampling;  // a stream-level rule, not in the block's syntax
-    if (s_.masks) {
-      frag.masks = EncodeMasks(used.data(), shape, s_.mask_coding);
-      frag.mask_mode = s_.mask_coding;
-    }
-    sum_.texture_bytes += frag.texture.total_bytes();
-    sum_.mask_bytes += frag.masks.size();
-    Measure(block, decoded, seen, rgb);
-    fragments_.push_back(std::move(frag));
+    sse_rgb_ += figures[g].sse_rgb;
+    sum_.visible_texels += figures[g].visible_texels;
+    sum_.texture_bytes += figures[g].texture_bytes;
+    sum_.mask_bytes += figures[g].mask_bytes;
+    fragments_.push_back(std::move(coded[g]));
   }
   sum_.code_s += Since(t0);
   return Status::Ok();
 }
 
+Status Session::CodeGroup(uint32_t g, uint32_t frames, uint32_t span_first, FragmentData* out,
+                          GroupFigures* figures) const {
+  const size_t texels = size_t(s_.atlas_size) * s_.atlas_size;
+  FragmentData& frag = *out;
+  frag.info.gop_index = uint32_t(fragments_.size() + g);
+  frag.info.first_frame = span_first - first_;
+  frag.info.frame_count = uint16_t(frames);
+  frag.info.first_camera = uint16_t(g * s_.gop_cameras);
+  frag.info.camera_count =
+      uint16_t(std::min<uint32_t>(s_.gop_cameras, sum_.cameras - g * s_.gop_cameras));
+  Shape4D shape;
+  shape.n = {frames, frag.info.camera_count, s_.atlas_size, s_.atlas_size};
+  std::vector<uint8_t> rgb(shape.count() * 3);
+  // `seen`: what the cameras saw (the masks); `used`: what a player will
+  // show, which the coder fills around and weights (without masks, also
+  // what the geometry lets a player take from a camera).
+  UsedMask seen(shape.count());
+  for (uint32_t t = 0; t < frames; ++t) {
+    for (uint32_t c = 0; c < frag.info.camera_count; ++c) {
+      const size_t src = size_t(t) * sum_.cameras + frag.info.first_camera + c;
+      const size_t dst = size_t(t) * frag.info.camera_count + c;
+      std::copy_n(&span_rgb_[src * texels * 3], texels * 3, &rgb[dst * texels * 3]);
+      std::copy_n(&span_mask_[src * texels], texels, &seen[dst * texels]);
+    }
+  }
+  UsedMask used = seen;
+  if (!span_usable_.empty()) {
+    for (uint32_t t = 0; t < frames; ++t) {
+      for (uint32_t c = 0; c < frag.info.camera_count; ++c) {
+        const size_t src = (size_t(t) * sum_.cameras + frag.info.first_camera + c) * texels;
+        const size_t dst = (size_t(t) * frag.info.camera_count + c) * texels;
+        for (size_t i = 0; i < texels; ++i) used[dst + i] |= span_usable_[src + i];
+      }
+    }
+  }
+  const Block block = BlockFromRgb(rgb.data(), shape, ColourSpace::kYCbCr601, s_.chroma,
+                                   SampleFrac(), &used, ChromaUpsamplingOf());
+  if (s_.texture_codec == TextureCodec::kPredictive) {
+    return CodePredictive(block, rgb, used, shape, &frag, figures);
+  }
+  EncodeSettings es;
+  es.kernel = s_.kernel;
+  es.frac_bits_97 = s_.frac_bits_97;
+  es.coder = s_.coder;
+  es.weights = s_.weights;
+  es.rate_mode = s_.rate_mode;
+  es.rate_value = s_.rate_value;
+  es.fill = s_.fill;
+  es.prune_isolated = s_.prune_isolated;
+  // A PSNR target is over what the cameras saw, masks or not.
+  if (!span_usable_.empty()) es.psnr_mask = &seen;
+  es.runner = pool_.runner();
+  Block decoded;
+  EncodeReport report;
+  report.decoded = &decoded;  // what a decoder reconstructs at full length
+  FVV_ASSIGN_OR_RETURN(frag.texture, EncodeBlock(block, &used, es, &report));
+  decoded.upsampling = block.upsampling;  // a stream-level rule, not in the block's syntax
+  if (s_.masks) {
+    frag.masks = EncodeMasks(used.data(), shape, s_.mask_coding);
+    frag.mask_mode = s_.mask_coding;
+  }
+  figures->texture_bytes = frag.texture.total_bytes();
+  figures->mask_bytes = frag.masks.size();
+  Measure(block, decoded, seen, rgb, figures);
+  return Status::Ok();
+}
+
 // One GOP with the predictive scheme; the same rate targets as SPIHT's.
 Status Session::CodePredictive(const Block& block, std::vector<uint8_t>& rgb, const UsedMask& used,
-                               const Shape4D& shape, FragmentData* frag) {
+                               const Shape4D& shape, FragmentData* frag,
+                               GroupFigures* figures) const {
   PredictiveGop gop;
   gop.frames = shape.frames(), gop.cameras = shape.cameras();
   gop.width = shape.width(), gop.height = shape.height();
@@ -110,8 +134,8 @@ Status Session::CodePredictive(const Block& block, std::vector<uint8_t>& rgb, co
   frag->predictive = true;
   frag->masks = EncodeMasks(used.data(), shape, s_.mask_coding);
   frag->mask_mode = s_.mask_coding;
-  sum_.texture_bytes += frag->predictive_texture.Bytes();
-  sum_.mask_bytes += frag->masks.size();
+  figures->texture_bytes = frag->predictive_texture.Bytes();
+  figures->mask_bytes = frag->masks.size();
   Block decoded = block;
   const size_t texels = size_t(gop.width) * gop.height;
   for (int k = 0; k < 3; ++k) {
@@ -120,14 +144,15 @@ Status Session::CodePredictive(const Block& block, std::vector<uint8_t>& rgb, co
                 decoded.channels[k].samples.begin() + tc * texels);
     }
   }
-  Measure(block, decoded, used, gop.rgb);
+  Measure(block, decoded, used, gop.rgb, figures);
   return Status::Ok();
 }
 
 // Y, U, V errors against the block coded; RGB errors against the texels as
 // resampled (what a player shows against what the cameras saw).
 void Session::Measure(const Block& block, const Block& decoded, const UsedMask& used,
-                      const std::vector<uint8_t>& a) {  // `used`: what the cameras saw
+                      const std::vector<uint8_t>& a,
+                      GroupFigures* figures) const {  // `used`: what the cameras saw
   UsedMask chroma_used;
   const UsedMask* cmask = &used;
   if (block.chroma == ChromaFormat::k420) {
@@ -138,17 +163,18 @@ void Session::Measure(const Block& block, const Block& decoded, const UsedMask& 
     const UsedMask& m = c == 0 ? used : *cmask;
     uint64_t count = 0;
     for (uint8_t u : m) count += u != 0;
-    sse_[c] += ChannelMse(block.channels[c], decoded.channels[c], &m, block.sample_frac) * count;
-    samples_[c] += count;
+    figures->sse[c] +=
+        ChannelMse(block.channels[c], decoded.channels[c], &m, block.sample_frac) * count;
+    figures->samples[c] += count;
   }
   std::vector<uint8_t> b(a.size());
   BlockToRgb(decoded, b.data());
   for (size_t i = 0; i < used.size(); ++i) {
     if (!used[i]) continue;
-    ++sum_.visible_texels;
+    ++figures->visible_texels;
     for (int k = 0; k < 3; ++k) {
       const double d = double(a[3 * i + k]) - b[3 * i + k];
-      sse_rgb_ += d * d;
+      figures->sse_rgb += d * d;
     }
   }
 }

@@ -65,6 +65,9 @@ StatusOr<PrepareSummary> PrepareTake(const std::string& capture_path, const std:
     shape = given->shape;
     for (uint32_t f : sum.texture_frames) poses[f] = given->poses[f - given->first_frame];
   } else {
+    // The cameras the shards' fits read (the shape is theirs).
+    const Capture fit =
+        FittingCapture(*cap, TrackingCameraCount(s.track_cameras, cap->cameras.size()));
     TrackCaptureOptions to;
     to.first = range.first;
     to.last = std::min(range.last, range.first + ShapeFrames(s.tracker) - 1);
@@ -73,7 +76,7 @@ StatusOr<PrepareSummary> PrepareTake(const std::string& capture_path, const std:
     to.smoothing = s.pose_smoothing;
     Say("prepare: the actor's shape, tracking frames " + std::to_string(to.first) + ".." +
         std::to_string(to.last));
-    FVV_ASSIGN_OR_RETURN(const TrackCaptureResult first_frames, TrackCapture(capture_path, to));
+    FVV_ASSIGN_OR_RETURN(const TrackCaptureResult first_frames, TrackCapture(fit, to));
     shape = first_frames.shape;
     // Texture frames among those just tracked keep their tracked poses (a fit
     // too poor to trust would paint the actor's colours elsewhere); the others
@@ -98,7 +101,7 @@ StatusOr<PrepareSummary> PrepareTake(const std::string& capture_path, const std:
     if (!to.separate_frames.empty()) {
       Say("prepare: fitting " + std::to_string(to.separate_frames.size()) +
           " of the static texture's frames, each on its own");
-      FVV_ASSIGN_OR_RETURN(const TrackCaptureResult spread, TrackCapture(capture_path, to));
+      FVV_ASSIGN_OR_RETURN(const TrackCaptureResult spread, TrackCapture(fit, to));
       Take(spread);
     }
     if (poses.empty()) {

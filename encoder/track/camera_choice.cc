@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 
 #include "encoder/capture/calibration.h"
@@ -96,6 +97,38 @@ CameraChoice ChooseTrackingCameras(const std::vector<Camera>& cameras, uint32_t 
   }
   std::sort(choice.cameras.begin(), choice.cameras.end());
   return choice;
+}
+
+StatusOr<uint32_t> ParseTrackingCameras(const std::string& text) {
+  if (text == "auto") return kTrackingCamerasAuto;
+  if (text == "all") return kTrackingCamerasAll;
+  char* end = nullptr;
+  const long v = std::strtol(text.c_str(), &end, 10);
+  if (end == text.c_str() || *end != '\0' || v < 1 || v > 256) {
+    return InvalidArgument("--track-cameras: a count of 1 to 256, all or auto, not \"" + text +
+                           "\"");
+  }
+  return uint32_t(v);
+}
+
+uint32_t TrackingCameraCount(uint32_t setting, size_t rig_size) {
+  const uint32_t n = uint32_t(rig_size);
+  if (setting == kTrackingCamerasAuto) return n > kAutoTrackingAbove ? kDefaultTrackingCameras : n;
+  return std::min(n, setting);
+}
+
+Capture FittingCapture(const Capture& capture, uint32_t count, std::string* names) {
+  if (names) names->clear();
+  if (count >= capture.cameras.size()) return capture;
+  std::vector<Camera> calibrations;
+  for (const CaptureCamera& c : capture.cameras) calibrations.push_back(c.calibration);
+  Capture fit = capture;
+  fit.cameras.clear();
+  for (uint32_t c : ChooseTrackingCameras(calibrations, count).cameras) {
+    fit.cameras.push_back(capture.cameras[c]);
+    if (names) *names += (names->empty() ? "" : " ") + capture.cameras[c].calibration.name;
+  }
+  return fit;
 }
 
 }  // namespace fvv

@@ -13,12 +13,19 @@
 #include <cstdint>
 #include <vector>
 
+#include "codec/base/status.h"
 #include "container/cameras.h"
+#include "encoder/capture/capture.h"
 
 namespace fvv {
 
-// The default number of cameras the fit takes from a larger rig.
+// The default number of cameras the fit takes from a rig of more than
+// kAutoTrackingAbove.
 constexpr uint32_t kDefaultTrackingCameras = 10;
+constexpr uint32_t kAutoTrackingAbove = 12;
+// A tracking-camera setting: a count, or one of these.
+constexpr uint32_t kTrackingCamerasAuto = 0;
+constexpr uint32_t kTrackingCamerasAll = UINT32_MAX;
 
 struct CameraChoice {
   std::vector<uint32_t> cameras;  // the indices chosen, ascending
@@ -39,6 +46,17 @@ Eigen::Vector3d CaptureVolumeCentre(const std::vector<Camera>& cameras);
 // vertical cylinder 0.45 m in radius from 0.95 m below the centre to 1.0 m
 // above it (fvv's world is y up).
 CameraChoice ChooseTrackingCameras(const std::vector<Camera>& cameras, uint32_t count);
+
+// "auto", "all" or a count of 1 to 256 (--track-cameras).
+StatusOr<uint32_t> ParseTrackingCameras(const std::string& text);
+
+// How many of a rig's `rig_size` cameras a setting fits with.
+uint32_t TrackingCameraCount(uint32_t setting, size_t rig_size);
+
+// The capture cut to `count` cameras (ChooseTrackingCameras), in the rig's
+// order; the capture itself where that is every camera. `names`, if given:
+// the chosen cameras' names, space-separated.
+Capture FittingCapture(const Capture& capture, uint32_t count, std::string* names = nullptr);
 
 }  // namespace fvv
 

@@ -34,6 +34,7 @@ struct EncodeArgs {
   double smooth = TrackCaptureOptions{}.smoothing.sigma_frames;
   int fill_iterations = FillOptions{}.iterations;
   std::vector<std::string> meta;
+  std::string track_cameras = "auto";  // a count, "all", or "auto"
 };
 
 int Fail(const Status& s) {
@@ -50,6 +51,9 @@ int RunEncode(const EncodeArgs& a) {
   if (!range.ok()) return Fail(range);
   s.extract_silhouettes = a.extract;
   s.tracker.adapt_shape = !a.fixed_shape;
+  StatusOr<uint32_t> track_cameras = ParseTrackingCameras(a.track_cameras);
+  if (!track_cameras.ok()) return Fail(track_cameras.status());
+  s.track_cameras = *track_cameras;
   s.pose_smoothing.sigma_frames = a.smooth;
   s.refine_shape = a.refine_shape;
   s.fallback_texture = !a.no_fallback;
@@ -231,6 +235,12 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
   e->add_flag("--extract", a->extract,
               "Background subtraction even when the capture lists silhouettes");
   e->add_flag("--fixed-shape", a->fixed_shape, "Tracking keeps the generic body's proportions");
+  e->add_option("--track-cameras", a->track_cameras,
+                "Without --poses: the cameras the fit reads, a count (chosen to see the actor "
+                "whole and stand apart), all, or auto (" +
+                    std::to_string(kDefaultTrackingCameras) + " of a rig of over " +
+                    std::to_string(kAutoTrackingAbove) + ", else all). Every camera is textured")
+      ->capture_default_str();
   AddSmoothOption(e, &a->smooth);
   e->add_flag("--no-fallback-texture", a->no_fallback,
               "Leave texels no camera of a frame sees to the codec's fill, instead of the "

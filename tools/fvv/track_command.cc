@@ -18,9 +18,6 @@
 namespace fvv {
 namespace {
 
-// Rigs of more cameras than this track on a chosen few by default.
-constexpr uint32_t kAutoTrackingAbove = 12;
-
 struct TrackArgs {
   std::string capture, output, truth, save_silhouettes, overlays;
   std::string frames;  // "A:B"
@@ -106,29 +103,12 @@ int RunTrack(const TrackArgs& a) {
   const std::string upright = UprightWarning(capture->cameras, capture->declared_up_axis);
   if (!upright.empty()) std::fprintf(stderr, "warning: %s\n", upright.c_str());
   // Of a studio's many cameras, the fit reads a spread few.
-  uint32_t fit_count = uint32_t(capture->cameras.size());
-  if (a.track_cameras == "auto") {
-    if (fit_count > kAutoTrackingAbove) fit_count = kDefaultTrackingCameras;
-  } else if (a.track_cameras != "all") {
-    char* end = nullptr;
-    const long v = std::strtol(a.track_cameras.c_str(), &end, 10);
-    if (end == a.track_cameras.c_str() || *end != '\0' || v < 1 || v > 256) {
-      return Fail(InvalidArgument("--track-cameras: a count of 1 to 256, all or auto, not \"" +
-                                  a.track_cameras + "\""));
-    }
-    fit_count = std::min(fit_count, uint32_t(v));
-  }
-  Capture fit = *capture;
-  if (fit_count < capture->cameras.size()) {
-    std::vector<Camera> calibrations;
-    for (const CaptureCamera& c : capture->cameras) calibrations.push_back(c.calibration);
-    const CameraChoice choice = ChooseTrackingCameras(calibrations, fit_count);
-    fit.cameras.clear();
-    std::string names;
-    for (uint32_t c : choice.cameras) {
-      fit.cameras.push_back(capture->cameras[c]);
-      names += (names.empty() ? "" : " ") + capture->cameras[c].calibration.name;
-    }
+  StatusOr<uint32_t> setting = ParseTrackingCameras(a.track_cameras);
+  if (!setting.ok()) return Fail(setting.status());
+  std::string names;
+  const Capture fit =
+      FittingCapture(*capture, TrackingCameraCount(*setting, capture->cameras.size()), &names);
+  if (fit.cameras.size() < capture->cameras.size()) {
     std::fprintf(stderr, "track: fitting with %zu of %zu cameras (--track-cameras): %s\n",
                  fit.cameras.size(), capture->cameras.size(), names.c_str());
   }
