@@ -331,6 +331,36 @@ TEST(Renderer, WithoutMasksTheViewsOwnCameraTexturesWhatItSees) {
 namespace fvv {
 namespace {
 
+// Of a dome's many cameras a view blends and decodes the closest few: a ring
+// of 32 seen from camera 0's side keeps exactly the kMaxViewCameras closest in
+// angle, however many lie within the angle asked; a ring of 8 keeps those
+// within it as before.
+TEST(ViewCameras, ADomeIsCutToTheClosestFew) {
+  auto ring = [](int n) {
+    std::vector<glm::vec3> centres;
+    for (int c = 0; c < n; ++c) {
+      const float a = 6.2831853f * float(c) / float(n);
+      centres.emplace_back(3.0f * std::sin(a), 1.5f, 3.0f * std::cos(a));
+    }
+    return centres;
+  };
+  const glm::vec3 target(0.0f, 1.0f, 0.0f);
+  const std::vector<glm::vec3> dome = ring(32);
+  const glm::vec3 eye = target + 1.2f * (dome[0] - target);
+  const uint64_t mask = ViewCameras(dome, eye, target, 110.0f);
+  EXPECT_EQ(__builtin_popcountll(mask), kMaxViewCameras);
+  // The closest: camera 0 and its neighbours out to 3 on either side, and
+  // one of the two 4 away.
+  for (int d = -3; d <= 3; ++d) EXPECT_TRUE((mask >> ((32 + d) % 32)) & 1) << d;
+  EXPECT_EQ(((mask >> 4) & 1) + ((mask >> 28) & 1), 1u);
+  // Without the cap, every camera within 110 degrees (19 of them).
+  EXPECT_EQ(__builtin_popcountll(ViewCameras(dome, eye, target, 110.0f, 3, 64)), 19);
+  const std::vector<glm::vec3> eight = ring(8);
+  EXPECT_EQ(ViewCameras(eight, target + (eight[0] - target), target, 100.0f), 0b11000111u);
+  // At least the 3 closest, however narrow the angle.
+  EXPECT_EQ(__builtin_popcountll(ViewCameras(dome, eye, target, 1.0f)), 3);
+}
+
 // The HUD draws exactly its font's pixels, scaled, on its panel, and nothing
 // outside the panel; unknown characters draw as '?'.
 TEST(Hud, DrawsEveryFontPixelOnItsPanelAndNothingElse) {

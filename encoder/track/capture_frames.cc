@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <future>
 #include <optional>
 
 #include "encoder/track/person_selection.h"
@@ -60,26 +61,62 @@ Status CaptureFrames::Read(uint32_t frame, std::vector<Image>* images,
   if (persons_) return ReadWithPersons(frame, images, silhouettes);
   const uint32_t n = uint32_t(capture().cameras.size());
   silhouettes->assign(n, Image());
-  if (images) images->assign(n, Image());
+  std::vector<Image> read(n);
+  if (images || !given_) FVV_RETURN_IF_ERROR(DecodeFrame(frame, &read));
   std::vector<Status> errors(n);
   // One camera per task: the reader keeps one video decoder per camera.
   pool_->Run(n, [&](uint32_t c) {
-    StatusOr<Image> image = Image();
-    if (images || !given_) {
-      image = reader_.ReadFrame(c, frame);
-      if (!image.ok()) {
-        errors[c] = image.status();
-        return;
-      }
-    }
     StatusOr<Image> s =
-        given_ ? reader_.ReadSilhouette(c, frame) : ExtractSilhouette(*image, backgrounds_[c]);
+        given_ ? reader_.ReadSilhouette(c, frame) : ExtractSilhouette(read[c], backgrounds_[c]);
     if (!s.ok()) {
       errors[c] = s.status();
       return;
     }
     (*silhouettes)[c] = std::move(*s);
-    if (images) (*images)[c] = std::move(*image);
+  });
+  for (const Status& s : errors) FVV_RETURN_IF_ERROR(s);
+  if (images) *images = std::move(read);
+  return Status::Ok();
+}
+
+CaptureFrames::~CaptureFrames() {
+  if (ahead_.valid()) ahead_.wait();
+}
+
+void CaptureFrames::Prefetch(uint32_t frame) {
+  if (given_) return;  // the silhouettes are read, not made from the images
+  if (ahead_.valid()) ahead_.wait();
+  ahead_frame_ = frame;
+  ahead_ = std::async(std::launch::async, [this, frame] {
+    std::vector<StatusOr<Image>> images;
+    for (uint32_t c = 0; c < capture().cameras.size(); ++c) {
+      images.push_back(reader_.ReadFrame(c, frame));
+    }
+    return images;
+  });
+}
+
+Status CaptureFrames::DecodeFrame(uint32_t frame, std::vector<Image>* read) {
+  const uint32_t n = uint32_t(capture().cameras.size());
+  read->assign(n, Image());
+  if (ahead_.valid()) {
+    std::vector<StatusOr<Image>> images = ahead_.get();
+    if (ahead_frame_ == frame) {
+      for (uint32_t c = 0; c < n; ++c) {
+        if (!images[c].ok()) return images[c].status();
+        (*read)[c] = std::move(*images[c]);
+      }
+      return Status::Ok();
+    }
+  }
+  std::vector<Status> errors(n);
+  pool_->Run(n, [&](uint32_t c) {
+    StatusOr<Image> image = reader_.ReadFrame(c, frame);
+    if (image.ok()) {
+      (*read)[c] = std::move(*image);
+    } else {
+      errors[c] = image.status();
+    }
   });
   for (const Status& s : errors) FVV_RETURN_IF_ERROR(s);
   return Status::Ok();
@@ -96,17 +133,9 @@ Status CaptureFrames::ReadWithPersons(uint32_t frame, std::vector<Image>* images
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   const uint32_t n = uint32_t(capture().cameras.size());
-  std::vector<Image> read(n);
+  std::vector<Image> read;
+  FVV_RETURN_IF_ERROR(DecodeFrame(frame, &read));
   std::vector<Status> errors(n);
-  pool_->Run(n, [&](uint32_t c) {
-    StatusOr<Image> image = reader_.ReadFrame(c, frame);
-    if (image.ok()) {
-      read[c] = std::move(*image);
-    } else {
-      errors[c] = image.status();
-    }
-  });
-  for (const Status& s : errors) FVV_RETURN_IF_ERROR(s);
   const auto decoded = Clock::now();
   decode_seconds_ += std::chrono::duration<double>(decoded - start).count();
   auto named = [&](uint32_t c, const Status& s) {

@@ -8,6 +8,7 @@
 #define FVV_ENCODER_TRACK_CAPTURE_FRAMES_H_
 
 #include <functional>
+#include <future>
 #include <memory>
 #include <string>
 #include <vector>
@@ -44,7 +45,16 @@ class CaptureFrames {
   const std::vector<std::vector<JointSighting>>& sightings() const { return sightings_; }
   // Camera frames so far whose sightings had their sides exchanged.
   uint32_t side_exchanges() const { return side_exchanges_; }
-  // Seconds spent so far decoding frames and running the person network.
+  // Starts decoding `frame`'s images on a thread of its own, for the Read of
+  // it that comes next: with the person network, decoding large frames costs
+  // half of what the network does and would otherwise wait for it. Only
+  // between Reads (the reader is not shared); a Read of another frame drops
+  // it.
+  void Prefetch(uint32_t frame);
+  ~CaptureFrames();
+
+  // Seconds spent so far decoding frames and running the person network
+  // (decoding: what Read waited for).
   double decode_seconds() const { return decode_seconds_; }
   double person_seconds() const { return person_seconds_; }
 
@@ -52,6 +62,8 @@ class CaptureFrames {
   CaptureFrames(const Capture& capture, ThreadPool* pool) : reader_(capture), pool_(pool) {}
   Status ReadWithPersons(uint32_t frame, std::vector<Image>* images,
                          std::vector<Image>* silhouettes);
+  // Every camera's image of `frame`: the prefetched ones, or decoded now.
+  Status DecodeFrame(uint32_t frame, std::vector<Image>* read);
 
   CaptureReader reader_;
   ThreadPool* pool_;
@@ -63,6 +75,8 @@ class CaptureFrames {
   std::vector<Camera> cameras_;        // with the network: the calibrations its sightings meet
   std::vector<std::vector<JointSighting>> sightings_;
   double decode_seconds_ = 0, person_seconds_ = 0;
+  uint32_t ahead_frame_ = 0;
+  std::future<std::vector<StatusOr<Image>>> ahead_;  // Prefetch's, while valid()
   uint32_t side_exchanges_ = 0;
 };
 

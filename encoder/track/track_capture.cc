@@ -194,6 +194,8 @@ StatusOr<TrackCaptureResult> TrackCapture(const Capture& capture, const TrackCap
     const auto t0 = Clock::now();
     std::vector<Image> sils, images;
     FVV_RETURN_IF_ERROR((*frames)->Read(f, want_images ? &images : nullptr, &sils));
+    // The next frame's images decode while this one is fitted.
+    if (step + 1 < plan.size()) (*frames)->Prefetch(plan[step + 1]);
     if (!o.save_silhouettes.empty() && reported[step]) {
       for (uint32_t c = 0; c < n; ++c) {
         char name[64];

@@ -186,19 +186,22 @@ Status Renderer::Draw(const RenderView& view, int width, int height) {
   if (!has_frame_) return InvalidArgument("renderer: Draw before SetFrame");
   // Cameras far round the actor from the viewer weigh next to nothing (at 110
   // degrees off, under 0.3 % of one 22 degrees off with the default exponent)
-  // but would cost the fragment shader as much as the others: leave them out,
-  // keeping at least the 3 closest.
-  const uint64_t near = ViewCameras(camera_centres_, view.eye, actor_centre_, 110.0f, 3);
-  std::vector<GLint> active(present_);
-  int active_count = 0;
-  uint64_t active_bits = 0;
-  for (uint32_t c = 0; c < cameras_; ++c) {
-    active[c] = active[c] && c < 64 && ((near >> c) & 1);
-    active_count += active[c];
-  }
-  if (active_count == 0) active = present_;  // the view's cameras all left out of the decode
+  // but would cost the fragment shader as much as the others: of the cameras
+  // whose textures are here, the closest (at least 3, at most
+  // kMaxViewCameras) within 110 degrees.
+  std::vector<glm::vec3> here;
+  std::vector<GLint> view_cameras, picked;
   for (uint32_t c = 0; c < cameras_ && c < 64; ++c) {
-    if (active[c]) active_bits |= uint64_t{1} << c;
+    if (!present_[c]) continue;
+    here.push_back(camera_centres_[c]);
+    picked.push_back(GLint(c));
+  }
+  const uint64_t near = ViewCameras(here, view.eye, actor_centre_, 110.0f, 3);
+  uint64_t active_bits = 0;
+  for (size_t k = 0; k < picked.size(); ++k) {
+    if (!((near >> k) & 1)) continue;
+    view_cameras.push_back(picked[k]);
+    active_bits |= uint64_t{1} << picked[k];
   }
   if (!has_masks_) FVV_RETURN_IF_ERROR(RenderDepthMaps(active_bits));
   gl_.Viewport(0, 0, width, height);
@@ -213,9 +216,10 @@ Status Renderer::Draw(const RenderView& view, int width, int height) {
                        glm::value_ptr(view_proj));
   gl_.Uniform3fv(gl_.GetUniformLocation(program, "u_cameras"), static_cast<GLsizei>(cameras_),
                  glm::value_ptr(camera_centres_[0]));
-  gl_.Uniform1i(gl_.GetUniformLocation(program, "u_camera_count"), static_cast<GLint>(cameras_));
-  gl_.Uniform1iv(gl_.GetUniformLocation(program, "u_present"), static_cast<GLsizei>(cameras_),
-                 active.data());
+  gl_.Uniform1i(gl_.GetUniformLocation(program, "u_view_camera_count"),
+                static_cast<GLint>(view_cameras.size()));
+  gl_.Uniform1iv(gl_.GetUniformLocation(program, "u_view_cameras"),
+                 static_cast<GLsizei>(view_cameras.size()), view_cameras.data());
   gl_.Uniform3fv(gl_.GetUniformLocation(program, "u_eye"), 1, glm::value_ptr(view.eye));
   gl_.Uniform1f(gl_.GetUniformLocation(program, "u_exponent"), view.exponent);
   gl_.Uniform1f(gl_.GetUniformLocation(program, "u_angle_epsilon"),
@@ -292,7 +296,8 @@ std::vector<glm::vec3> CameraCentres(const fvv_decoder* decoder) {
 }
 
 uint64_t ViewCameras(const std::vector<glm::vec3>& centres, const glm::vec3& eye,
-                     const glm::vec3& target, float max_angle_deg, int min_cameras) {
+                     const glm::vec3& target, float max_angle_deg, int min_cameras,
+                     int max_cameras) {
   const size_t n = std::min<size_t>(centres.size(), 64);
   const glm::vec3 view = glm::normalize(eye - target);
   std::vector<std::pair<float, size_t>> angles;
@@ -303,7 +308,7 @@ uint64_t ViewCameras(const std::vector<glm::vec3>& centres, const glm::vec3& eye
   std::sort(angles.begin(), angles.end());
   uint64_t mask = 0;
   const float limit = glm::radians(max_angle_deg);
-  for (size_t k = 0; k < angles.size(); ++k) {
+  for (size_t k = 0; k < angles.size() && static_cast<int>(k) < max_cameras; ++k) {
     if (static_cast<int>(k) < min_cameras || angles[k].first < limit) {
       mask |= uint64_t{1} << angles[k].second;
     }

@@ -33,8 +33,21 @@ uint64_t PlaybackLoop::ViewMask(const glm::vec3& eye, const glm::vec3& target) {
     const float cosine = std::clamp(glm::dot(direction, last_direction_), -1.0f, 1.0f);
     turned_deg = glm::degrees(std::acos(cosine));
   }
+  const float reach = std::min(180.0f, 90.0f + 2 * turned_deg);
+  uint64_t mask = ViewCameras(centres_, eye, target, reach);
+  // The closest cameras are capped (kMaxViewCameras): while the view turns,
+  // the closest to where it will be by then too, the turn carried on twice.
+  const glm::vec3 axis = glm::length(last_direction_) > 0 ? glm::cross(last_direction_, direction)
+                                                          : glm::vec3(0.0f);
+  if (turned_deg > 1.0f && glm::length(axis) > 1e-6f) {
+    const glm::vec3 k = glm::normalize(axis);
+    const float a = glm::radians(2 * turned_deg);
+    const glm::vec3 ahead = direction * std::cos(a) + glm::cross(k, direction) * std::sin(a) +
+                            k * glm::dot(k, direction) * (1 - std::cos(a));
+    mask |= ViewCameras(centres_, target + ahead * glm::length(eye - target), target, reach);
+  }
   last_direction_ = direction;
-  return ViewCameras(centres_, eye, target, std::min(180.0f, 90.0f + 2 * turned_deg));
+  return mask;
 }
 
 uint32_t PlaybackLoop::LastGop() const { return (info_.frame_count - 1) / info_.gop_frames; }

@@ -16,8 +16,11 @@ layout(std140) uniform DepthCameras {
 };
 #endif
 uniform vec3 u_cameras[64];
-uniform int u_present[64];  // 0: no texture of this camera, or it cannot weigh in this view
-uniform int u_camera_count;
+// The cameras that weigh in this view and whose textures are here, the first
+// u_view_camera_count entries (a few of a dome's many: the loop below costs
+// what they do, not what the rig does).
+uniform int u_view_cameras[64];
+uniform int u_view_camera_count;
 uniform vec3 u_eye;
 uniform float u_exponent;
 uniform float u_angle_epsilon;
@@ -59,8 +62,8 @@ void main() {
   float weight_sum = 0.0;
   int best_camera = -1;
   float best = -2.0;
-  for (int i = 0; i < u_camera_count; ++i) {
-    if (u_present[i] == 0) continue;
+  for (int j = 0; j < u_view_camera_count; ++j) {
+    int i = u_view_cameras[j];
     vec3 to_camera = normalize(u_cameras[i] - v_world);
     float facing = dot(n, to_camera);
 #ifdef FVV_DEPTH_VISIBILITY
