@@ -3,9 +3,12 @@
 # (fvv synth --dome N, a second person walking through, no plates: silhouettes
 # from the person network), each tracked with every camera and with the few
 # the fit chooses (fvv track --track-cameras), both against the truth; then
-# encoded from every camera with the chosen cameras' poses. Reports seconds
-# per frame, the joint error and the encoder's peak memory per dome, writes
-# out/dome_bench/dome_bench.tsv and a plot to docs/figures/dome_bench.png.
+# encoded from every camera with the chosen cameras' poses, and played
+# (build/bench/playback_load_bench --only idle: fvv play's loop headless at
+# 1280x720, the view swinging round the actor). Reports seconds per frame, the
+# joint error, the encoder's peak memory and the player's frames per second
+# and cameras decoded per dome, writes out/dome_bench/dome_bench_WxH.tsv and a
+# plot to docs/figures/dome_bench_WxH.png.
 # Usage: bench/run_dome_bench.sh [WIDTHxHEIGHT] [FRAMES] [COUNTS...]
 #   default 640x360, 8 frames, domes of 8 16 32 64 cameras
 # Needs a Release build in build/ and the person models (tools/setup.sh).
@@ -21,7 +24,7 @@ fvv=build/tools/fvv/fvv
 out=out/dome_bench
 mkdir -p "$out"
 tsv="$out/dome_bench_${size}.tsv"
-printf 'cameras\tfit_cameras\ttrack_all_s\terror_all_cm\ttrack_chosen_s\terror_chosen_cm\tsilhouettes_chosen_s\tnetwork_chosen_s\tencode_s\tencode_peak_mb\n' >"$tsv"
+printf 'cameras\tfit_cameras\ttrack_all_s\terror_all_cm\ttrack_chosen_s\terror_chosen_cm\tsilhouettes_chosen_s\tnetwork_chosen_s\tencode_s\tencode_peak_mb\tencode_cores\tplay_fps\n' >"$tsv"
 # Seconds per frame after the first (the first frame's fit is a one-off) and
 # the mean joint error, from fvv track's report.
 per_frame() { grep -o 'every later frame [0-9.]* s' "$1" | grep -o '[0-9.]*' | head -1; }
@@ -44,10 +47,14 @@ for n in "${counts[@]}"; do
   enc_s=$(grep -o 'Elapsed (wall clock) time.*' "$cap/encode_time.txt" | awk '{print $NF}' |
     awk -F: '{ if (NF == 3) print $1 * 3600 + $2 * 60 + $3; else print $1 * 60 + $2 }')
   peak=$(grep -o 'Maximum resident set size (kbytes): [0-9]*' "$cap/encode_time.txt" | grep -o '[0-9]*$')
-  row=$(printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%.3f\t%.0f' "$n" "$fit" \
+  cores=$(grep -o 'Percent of CPU this job got: [0-9]*' "$cap/encode_time.txt" | grep -o '[0-9]*$')
+  build/bench/playback_load_bench "$cap/dome.fvv" --only idle --seconds 10 >"$cap/play.txt" 2>&1
+  fps=$(awk '$1 == "idle" { print $2 }' "$cap/play.txt")
+  row=$(printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%.3f\t%.0f\t%.2f\t%s' "$n" "$fit" \
     "$(per_frame "$cap/track_all.txt")" "$(joint_error "$cap/track_all.txt")" \
     "$(per_frame "$cap/track_chosen.txt")" "$(joint_error "$cap/track_chosen.txt")" \
-    "${sil:-}" "${net:-}" "$(echo "$enc_s / $frames" | bc -l)" "$(echo "$peak / 1024" | bc -l)")
+    "${sil:-}" "${net:-}" "$(echo "$enc_s / $frames" | bc -l)" "$(echo "$peak / 1024" | bc -l)" \
+    "$(echo "$cores / 100" | bc -l)" "${fps:-}")
   echo "$row" | tee -a "$tsv"
 done
 column -t "$tsv"

@@ -40,6 +40,11 @@ std::string EncodeSummary::Table() const {
     add("  seamless texture  %.3f s per frame; %llu texel(s) no camera saw filled from it\n",
         seamless_s / std::max(1u, frames), (unsigned long long)fallback_texels);
   }
+  if (agreement_texels > 0) {
+    add("  cameras' agreement %llu sample(s) no other camera backs dropped, of %llu texel(s) "
+        "seen by 2 cameras or more\n",
+        (unsigned long long)agreement_dropped, (unsigned long long)agreement_texels);
+  }
   if (player_texels > 0) {
     add("  without masks     %llu texel(s) a player may take from a camera that did not see "
         "them; %.1f %% of them left to the fill\n",
@@ -87,6 +92,7 @@ std::string EncodeSummary::ToJson() const {
       {"psnr", {{"y", psnr[0]}, {"u", psnr[1]}, {"v", psnr[2]}, {"rgb", psnr_rgb}}},
       {"tracking", {{"mean_iou", mean_iou}, {"flagged", flagged_frames}}},
       {"seamless_texture", {{"seconds", seamless_s}, {"fallback_texels", fallback_texels}}},
+      {"agreement", {{"texels", agreement_texels}, {"dropped", agreement_dropped}}},
       {"without_masks",
        {{"player_texels", player_texels}, {"player_texels_left", player_texels_left}}},
       {"shape_refinement",

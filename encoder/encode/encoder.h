@@ -24,6 +24,7 @@
 #include "container/index_box.h"
 #include "container/motion_track.h"
 #include "encoder/encode/resample.h"
+#include "encoder/encode/sample_agreement.h"
 #include "encoder/shape/shape_refinement.h"
 #include "encoder/track/camera_choice.h"
 #include "encoder/track/track_capture.h"
@@ -48,6 +49,11 @@ struct EncoderSettings {
   // before resampling (encoder/track/pose_smoothing.h).
   PoseSmoothing pose_smoothing = TrackCaptureOptions{}.smoothing;
   ResampleOptions resample;
+  // A camera's sample that no other camera seeing the point backs is dropped
+  // (encoder/encode/sample_agreement.h): what stood in front of the actor.
+  // Off by default (max_difference 0: every sample kept): at low resolution
+  // the cameras also disagree on fine clothing patterns (docs/encoder.md).
+  SampleAgreementOptions agreement = {0, 2};
   // Refine the body model's shape to the actor on the first encoded frame
   // (silhouettes, stereo) before resampling: the stream's model is
   // then the refined mesh (same topology, skinning and atlas).
@@ -178,6 +184,9 @@ struct EncodeSummary {
   // them (summed over frames and cameras), and those of them left to the fill
   // (least_blend_share).
   uint64_t player_texels = 0, player_texels_left = 0;
+  // Texels seen by enough cameras to check their colours, and the samples
+  // dropped as seeing something else (summed over frames).
+  uint64_t agreement_texels = 0, agreement_dropped = 0;
 
   double duration_s() const { return frames / fps; }
   double kbps(uint64_t bytes) const { return bytes * 8.0 / 1000 / duration_s(); }

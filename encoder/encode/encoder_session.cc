@@ -139,6 +139,21 @@ StatusOr<std::vector<Eigen::Vector3f>> Session::Resample(uint32_t frame, uint32_
                    &span_rgb_[plane * texels * 3], &span_mask_[plane * texels],
                    span_usable_.empty() ? nullptr : &span_usable_[plane * texels]);
     });
+    if (s_.agreement.max_difference > 0) {
+      // In parts of the atlas's texels, side by side.
+      constexpr uint32_t kParts = 16;
+      const size_t first = size_t(slot) * sum_.cameras * texels, count = map_.texel.size();
+      std::vector<SampleAgreementCount> parts(kParts);
+      pool_.Run(kParts, [&](uint32_t k) {
+        const size_t a = count * k / kParts, b = count * (k + 1) / kParts;
+        parts[k] = DropDisagreeingSamples(sum_.cameras, texels, map_.texel.data() + a, b - a,
+                                          &span_rgb_[first * 3], &span_mask_[first], s_.agreement);
+      });
+      for (const SampleAgreementCount& a : parts) {
+        sum_.agreement_texels += a.voted;
+        sum_.agreement_dropped += a.dropped;
+      }
+    }
   }
   // The blend-share rule needs the posed surface; a texture directory already
   // marks what the encoder chose to code, and is coded as it is.

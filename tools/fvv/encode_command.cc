@@ -31,6 +31,7 @@ struct EncodeArgs {
   bool masks = false, no_masks = false, extract = false, fixed_shape = false, quiet = false,
        refine_shape = false, no_fallback = false, no_prune = false, model_floats = false;
   int margin = 2;
+  double agreement = EncoderSettings{}.agreement.max_difference;
   double smooth = TrackCaptureOptions{}.smoothing.sigma_frames;
   int fill_iterations = FillOptions{}.iterations;
   std::vector<std::string> meta;
@@ -64,6 +65,7 @@ int RunEncode(const EncodeArgs& a) {
     return 1;
   }
   s.resample.silhouette_margin = a.margin;
+  s.agreement.max_difference = a.agreement;
   s.atlas_size = a.atlas;
   s.gop_frames = a.gop_frames;
   s.gop_cameras = a.gop_cameras;
@@ -231,6 +233,13 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
       ->capture_default_str();
   e->add_option("--silhouette-margin", a->margin,
                 "Pixels the image silhouettes grow by before resampling")
+      ->capture_default_str();
+  e->add_option("--agreement", a->agreement,
+                "Drop a camera's sample of a surface point where every other camera that saw the "
+                "point differs from it by more than this many levels (mean over R, G, B): "
+                "something stood in front of the actor. 0 (the default) keeps every sample; 40 "
+                "is a start (docs/encoder.md)")
+      ->check(CLI::Range(0.0, 255.0))
       ->capture_default_str();
   e->add_flag("--extract", a->extract,
               "Background subtraction even when the capture lists silhouettes");
