@@ -114,6 +114,10 @@ echo "   tracked on person masks from the 10 cameras the fit chooses (fvv track 
 $fvv synth -o "$out/dome" --dome 24 --width 640 --height 360 --frames 4 --held-out 0 --bystander \
   --no-plates
 $fvv track "$out/dome" -o "$out/dome_poses.json" --truth "$out/dome" -q
+echo "   encoded from all 24 cameras with those poses, and drawn from 6 viewpoints around the actor"
+echo "   (the player blends and decodes at most the 8 cameras closest to a view)"
+$fvv encode "$out/dome" -o "$out/dome.fvv" --poses "$out/dome_poses.json" -q
+$fvv render "$out/dome.fvv" --size 320x240 --contact-sheet 6 -o "$out/dome_views"
 echo "== shape refinement: generic model, visual hull and refined model against a bumpy actor's true surface"
 build/bench/shape_bench --out "$out/shape"
 real=../shared/data/real/pose2sim_single
@@ -162,7 +166,8 @@ echo "         $out/play_loaded.png (fvv play's last frame and HUD with both cor
 echo "         $out/render_projective (Renderer I: contact sheet, held-out camera 0's view of frames 30-33;"
 echo "         $out/render_heldout is Renderer II's, $out/capture/truth/heldout/held00 the truth),"
 echo "         $out/shape/capture (the bumpy actor's synthetic capture the shape table measured),"
-echo "         $out/dome and $out/dome_poses.json (a 24-camera dome, tracked on 10 of its cameras),"
+echo "         $out/dome, $out/dome_poses.json and $out/dome.fvv (a 24-camera dome, tracked on 10 of its"
+echo "         cameras, encoded from all 24; $out/dome_views: 6 views of its first frame),"
 echo "         $out/capture_predictive.fvv and $out/render_predictive (the predictive texture codec),"
 echo "         $out/real (the real capture's capture.json, its cameras turned to the actor's outline),"
 echo "         $out/real_sheet.png and"

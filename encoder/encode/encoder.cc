@@ -229,6 +229,8 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
       if (frames) {
         const auto t0 = Clock::now();
         FVV_RETURN_IF_ERROR(frames->Read(f, &images, &sils));
+        // The next frame decodes while this one is resampled and coded.
+        if (f < last) frames->Prefetch(f + 1);
         sum.read_s += Since(t0);
       }
       if (f == first && prepared) {
@@ -291,11 +293,12 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
       std::snprintf(extra, sizeof(extra), "  IoU %.3f%s", fit.iou,
                     fit.poor ? ("  FLAGGED: " + fit.note).c_str() : "");
       if (every_camera) {
-        return behind_tracking.Push([&session, &progress, &texture_read_s, &every_camera, f,
+        return behind_tracking.Push([&session, &progress, &texture_read_s, &every_camera, f, last,
                                      dofs = fit.dofs, line = std::string(extra)] {
           std::vector<Image> all_images, all_sils;
           const auto t0 = Clock::now();
           FVV_RETURN_IF_ERROR(every_camera->Read(f, &all_images, &all_sils));
+          if (f < last) every_camera->Prefetch(f + 1);
           texture_read_s += Since(t0);
           FVV_RETURN_IF_ERROR(session.AddFrame(f, dofs, all_images, all_sils));
           progress(f, line);

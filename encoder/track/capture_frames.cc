@@ -34,12 +34,18 @@ StatusOr<std::unique_ptr<CaptureFrames>> CaptureFrames::Open(const Capture& capt
     if (!f->plates_) return f;
   }
   f->backgrounds_.resize(n);
-  for (uint32_t c = 0; c < n; ++c) {
+  // One camera per task (the reader keeps one video decoder per camera): a
+  // dome's plates or medians are most of the start-up otherwise.
+  std::vector<Status> errors(n);
+  pool->Run(uint32_t(n), [&](uint32_t c) {
     if (capture.cameras[c].background) {
       StatusOr<Image> plate = reader.ReadBackground(c);
-      if (!plate.ok()) return plate.status();
+      if (!plate.ok()) {
+        errors[c] = plate.status();
+        return;
+      }
       f->backgrounds_[c].colour = std::move(*plate);
-      continue;
+      return;
     }
     // No plate: the temporal median of up to 15 frames spread over the take.
     std::vector<Image> samples;
@@ -48,11 +54,15 @@ StatusOr<std::unique_ptr<CaptureFrames>> CaptureFrames::Open(const Capture& capt
       const uint32_t frame =
           uint32_t(uint64_t(k) * (capture.frame_count - 1) / std::max(1u, count - 1));
       StatusOr<Image> image = reader.ReadFrame(c, frame);
-      if (!image.ok()) return image.status();
+      if (!image.ok()) {
+        errors[c] = image.status();
+        return;
+      }
       samples.push_back(std::move(*image));
     }
     f->backgrounds_[c].colour = TemporalMedian(samples);
-  }
+  });
+  for (const Status& s : errors) FVV_RETURN_IF_ERROR(s);
   return f;
 }
 
