@@ -178,7 +178,7 @@ Status FileReader::LoadIndex() {
       if (!info_.index.empty()) {
         const IndexEntry& before = info_.index.back();
         FVV_RETURN_IF_ERROR(CheckSpanOrder(hdr, before.first_frame, before.frame_count,
-                                           e.first_frame, BoxContext(h)));
+                                           e.first_frame, e.frame_count, BoxContext(h)));
       }
       info_.index.push_back(e);
     } else if (h.type == box::kIndex) {
@@ -191,7 +191,7 @@ Status FileReader::LoadIndex() {
     }
     offset += h.size;
   }
-  return Status::Ok();
+  return CheckEndsAfterWholeSpan(hdr, info_.index.size(), "");
 }
 
 StatusOr<FragmentData> FileReader::ReadFragment(size_t i) {

@@ -27,12 +27,26 @@ Status CheckGridCell(const FileHeader& h, uint32_t first_frame, uint32_t frame_c
 }
 
 Status CheckSpanOrder(const FileHeader& h, uint32_t previous_first_frame,
-                      uint32_t previous_frame_count, uint32_t first_frame, const std::string& at) {
+                      uint32_t previous_frame_count, uint32_t first_frame, uint32_t frame_count,
+                      const std::string& at) {
   if (previous_frame_count < h.gop_frames && first_frame > previous_first_frame) {
     return Corrupt(at + "frames from " + std::to_string(first_frame) + " after a time span of " +
                    std::to_string(previous_frame_count) + " frames (only the last may be short)");
   }
+  if (first_frame == previous_first_frame && frame_count != previous_frame_count) {
+    return Corrupt(at + "the time span from frame " + std::to_string(first_frame) + " is " +
+                   std::to_string(frame_count) + " frames here and " +
+                   std::to_string(previous_frame_count) + " in the camera group before");
+  }
   return Status::Ok();
+}
+
+Status CheckEndsAfterWholeSpan(const FileHeader& h, uint64_t fragments, const std::string& at) {
+  const uint32_t groups = h.camera_groups();
+  if (h.frame_count != 0 || fragments % groups == 0) return Status::Ok();
+  return Truncated(at + "the stream ends inside time span " + std::to_string(fragments / groups) +
+                   ", after " + std::to_string(fragments % groups) + " of its " +
+                   std::to_string(groups) + " camera groups");
 }
 
 }  // namespace fvv

@@ -22,9 +22,18 @@ Status CheckGridCell(const FileHeader& h, uint32_t first_frame, uint32_t frame_c
 
 // In a live stream (frame_count 0), where no header says where the frames
 // end, only the last span may be short: a fragment of a later span than a
-// short one is **Corrupt**. `previous_*` is the fragment before it in the stream.
+// short one is **Corrupt**; and the fragments of one span agree on its frame
+// count (**Corrupt** otherwise). `previous_*` is the fragment before it in the
+// stream.
 Status CheckSpanOrder(const FileHeader& h, uint32_t previous_first_frame,
-                      uint32_t previous_frame_count, uint32_t first_frame, const std::string& at);
+                      uint32_t previous_frame_count, uint32_t first_frame, uint32_t frame_count,
+                      const std::string& at);
+
+// A live stream ends after a whole time span: `fragments` in all must be a
+// multiple of the camera groups (**Truncated** otherwise, the message starting
+// with `at`). Nothing to check where the header's frame_count is known (the
+// readers count its fragments against it).
+Status CheckEndsAfterWholeSpan(const FileHeader& h, uint64_t fragments, const std::string& at);
 
 }  // namespace fvv
 

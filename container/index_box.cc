@@ -32,6 +32,10 @@ Status ReadIndex(const BoxHeader& box, const uint8_t* payload, const FileHeader&
     return Corrupt(at + std::to_string(count) + " entries, the header's shape needs " +
                    std::to_string(uint64_t{h.time_spans()} * h.camera_groups()));
   }
+  if (h.frame_count == 0 && count % h.camera_groups() != 0) {
+    return Corrupt(at + std::to_string(count) + " entries end inside a time span of " +
+                   std::to_string(h.camera_groups()) + " camera groups");
+  }
   entries->assign(count, IndexEntry());
   uint64_t previous_end = 0;
   for (uint32_t i = 0; i < count; ++i) {
@@ -47,7 +51,8 @@ Status ReadIndex(const BoxHeader& box, const uint8_t* payload, const FileHeader&
         CheckGridCell(h, e.first_frame, e.frame_count, e.first_camera, e.camera_count, en));
     if (i > 0) {
       const IndexEntry& p = (*entries)[i - 1];
-      FVV_RETURN_IF_ERROR(CheckSpanOrder(h, p.first_frame, p.frame_count, e.first_frame, en));
+      FVV_RETURN_IF_ERROR(
+          CheckSpanOrder(h, p.first_frame, p.frame_count, e.first_frame, e.frame_count, en));
     }
     if (e.size < kMinBoxHeaderSize || e.offset < previous_end || e.offset > UINT64_MAX - e.size) {
       return Corrupt(en + "offset " + std::to_string(e.offset) + " size " + std::to_string(e.size) +

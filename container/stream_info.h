@@ -30,6 +30,13 @@ struct StreamInfo {
   uint64_t expected_fragments() const {
     return uint64_t{header.time_spans()} * header.camera_groups();
   }
+  // The stream's frames: the header's count, or in a live stream (SPEC.md
+  // 3.1) those of its fragments as the index lists them (a file's walk
+  // rebuilds it), which end after a whole time span.
+  uint32_t frames() const {
+    if (header.frame_count != 0 || index.empty()) return header.frame_count;
+    return index.back().first_frame + index.back().frame_count;
+  }
 };
 
 // Largest top-level box of this type a reader buffers (level limits).

@@ -75,6 +75,8 @@ StatusOr<ReaderEvent> StreamReader::Next() {
       return Fail(Truncated("stream ends after " + std::to_string(fragments_read_) + " of " +
                             std::to_string(info_.expected_fragments()) + " fragments"));
     }
+    Status whole = CheckEndsAfterWholeSpan(info_.header, fragments_read_, "");
+    if (!whole.ok()) return Fail(whole);
     if (info_.header.index_offset != 0 && !info_.has_index) {
       return Fail(Truncated("stream ends before the index at offset " +
                             std::to_string(info_.header.index_offset)));
@@ -145,7 +147,7 @@ StatusOr<ReaderEvent> StreamReader::Next() {
       e.frame_count = fragment_.info.frame_count;
       if (!seen_.empty()) {
         s = CheckSpanOrder(info_.header, seen_.back().first_frame, seen_.back().frame_count,
-                           e.first_frame, BoxContext(b));
+                           e.first_frame, e.frame_count, BoxContext(b));
       }
       seen_.push_back(e);
       if (s.ok()) s = CheckFragmentAgainstIndex(b.offset, b.size);

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <thread>
 #include <vector>
 
@@ -259,6 +261,40 @@ TEST(DecoderApi, StreamingGivesTheSameFrames) {
     }
   }
   EXPECT_EQ(decoded, 10u);
+}
+
+// A live stream (no frame count in its header) opened as a file has the
+// frames of its fragments (SPEC.md 3.1), as pushed it has once it ends: the
+// conformance case `live`, 9 frames in spans of 4.
+TEST(DecoderApi, ALiveStreamFileHasTheFramesOfItsFragments) {
+  const std::string path = std::string(FVV_CONFORMANCE_DIR) + "/live/stream.fvv";
+  DecoderPtr file = MakeDecoder();
+  ASSERT_EQ(fvv_decoder_open_file(file.get(), path.c_str()), FVV_OK)
+      << fvv_decoder_error(file.get());
+  fvv_stream_info info;
+  ASSERT_EQ(fvv_decoder_get_info(file.get(), &info), FVV_OK);
+  EXPECT_EQ(info.frame_count, 0u);  // the header's: not known when it was written
+  EXPECT_EQ(fvv_decoder_frames_available(file.get()), 9u);
+  FramePtr last = DecodeFrame(file.get(), 8, nullptr);
+  ASSERT_TRUE(last) << fvv_decoder_error(file.get());
+  EXPECT_FALSE(DecodeFrame(file.get(), 9, nullptr));
+
+  std::ifstream in(path, std::ios::binary);
+  const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                   std::istreambuf_iterator<char>());
+  DecoderPtr pushed = MakeDecoder();
+  ASSERT_EQ(fvv_decoder_push(pushed.get(), bytes.data(), bytes.size()), FVV_OK);
+  ASSERT_EQ(fvv_decoder_push_end(pushed.get()), FVV_OK);
+  for (fvv_event event = FVV_EVENT_NEED_MORE_INPUT; event != FVV_EVENT_END;) {
+    ASSERT_EQ(fvv_decoder_process(pushed.get(), &event), FVV_OK) << fvv_decoder_error(pushed.get());
+  }
+  EXPECT_EQ(fvv_decoder_frames_available(pushed.get()), 9u);
+  FramePtr same = DecodeFrame(pushed.get(), 8, nullptr);
+  ASSERT_TRUE(same);
+  for (uint32_t c = 0; c < last->camera_count; ++c) {
+    EXPECT_EQ(0, std::memcmp(last->views[c].pixels, same->views[c].pixels,
+                             size_t{last->width} * last->height * 3));
+  }
 }
 
 TEST(DecoderApi, PrefetchMakesAFrameReadyWithoutBlocking) {

@@ -704,6 +704,41 @@ std::vector<CaseSpec> InvalidCases() {
         StatusCode::kCorrupt, {"3.1", "3.5", "10"})
         ->edit = shorten_first_span(true);
   }
+  // A live stream's time spans: the fragments of one span agree on its frame
+  // count, and the stream ends after a whole span. Two camera groups, 3
+  // frames: spans of 2 and 1 frames, fragments 0-3.
+  {
+    SampleStreamOptions groups = Tiny();
+    groups.gop_cameras = 1;
+    const auto make_live = [](std::vector<EditBox>* boxes) -> Status {
+      FVV_RETURN_IF_ERROR(DropIndex(boxes));
+      StoreLe(&(*boxes)[size_t(FindBox(*boxes, box::kFileHeader))].payload, fvvh::kFrameCount, 0,
+              4);
+      return Status::Ok();
+    };
+    add("live_span_frame_counts_differ",
+        "a live stream of two camera groups whose last time span is 1 frame in the first "
+        "group's fragment and 2 in the second's",
+        StatusCode::kCorrupt, {"3.1", "3.5", "10"});
+    v.back().options = groups;
+    v.back().edit = [make_live, fragment](std::vector<EditBox>* boxes) -> Status {
+      FVV_RETURN_IF_ERROR(make_live(boxes));
+      // fghd: gop_index u32, first_frame u32, frame_count u16.
+      return EditFragment(&fragment(boxes, 3), [](std::vector<EditBox>* subs) {
+        StoreLe(&(*subs)[size_t(FindBox(*subs, box::kFragmentHeader))].payload, 8, 2, 2);
+      });
+    };
+    add("live_ends_inside_span",
+        "a live stream of two camera groups that ends after the first group's fragment of a "
+        "time span",
+        StatusCode::kTruncated, {"3.1", "3.5", "10"});
+    v.back().options = groups;
+    v.back().edit = [make_live](std::vector<EditBox>* boxes) -> Status {
+      FVV_RETURN_IF_ERROR(make_live(boxes));
+      boxes->erase(boxes->begin() + FindBox(*boxes, box::kFragment, 3));
+      return Status::Ok();
+    };
+  }
   add("header_format_version_0", "format_version 0", StatusCode::kUnsupported, {"3.1", "10"})
       ->edit = set_fields({{fvvh::kFormatVersion, 2, 0}});
   add("header_profile_2", "profile 2 (only 1, Main, exists)", StatusCode::kUnsupported,

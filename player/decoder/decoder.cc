@@ -20,7 +20,12 @@ Decoder::~Decoder() { WaitDecodeAhead(); }
 
 const StreamInfo& Decoder::info() const { return file_ ? file_->info() : stream_->info(); }
 
-uint32_t Decoder::span_count() const { return info().header.time_spans(); }
+uint32_t Decoder::span_count() const {
+  const FileHeader& h = info().header;
+  // A live stream's spans are those of the frames that have arrived.
+  return h.frame_count != 0 ? h.time_spans()
+                            : (frames_available_ + h.gop_frames - 1) / h.gop_frames;
+}
 
 Status Decoder::OpenFile(const std::string& path) {
   if (file_ || stream_) return InvalidArgument("the decoder already has an input");
@@ -32,7 +37,7 @@ Status Decoder::OpenFile(const std::string& path) {
   }
   file_ = std::move(reader).value();
   ready_ = true;
-  frames_available_ = file_->info().header.frame_count;
+  frames_available_ = file_->info().frames();
   return Status::Ok();
 }
 

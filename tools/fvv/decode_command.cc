@@ -110,10 +110,14 @@ int RunDecode(const DecodeArgs& a) {
   }
   fvv_stream_info info;
   fvv_decoder_get_info(dec.get(), &info);
+  // A live stream's header has no frame count: its frames are its fragments'.
+  const uint32_t frames =
+      info.frame_count != 0 ? info.frame_count : fvv_decoder_frames_available(dec.get());
   uint32_t first, last;
-  if (!ParseRange(a.frames, info.frame_count, &first, &last)) {
+  if (frames == 0) return Fail(a.input + ": the stream has no frames");
+  if (!ParseRange(a.frames, frames, &first, &last)) {
     return Fail("--frames " + a.frames +
-                ": not a range A:B within 0:" + std::to_string(info.frame_count - 1));
+                ": not a range A:B within 0:" + std::to_string(frames - 1));
   }
   if (Status s = MakeDirectories(a.output_dir); !s.ok()) return Fail(s.ToString());
   fvv_decode_budget budget{};

@@ -150,7 +150,9 @@ int RunInfo(const InfoArgs& a) {
     }
     j["gops"].push_back(g);
   }
-  const double seconds = h.fps() > 0 ? h.frame_count / h.fps() : 0;
+  // A live stream (no frame count in its header): its fragments' frames.
+  const uint32_t frames = info.frames();
+  const double seconds = h.fps() > 0 ? frames / h.fps() : 0;
   auto kbps = [seconds](uint64_t bytes) { return seconds > 0 ? bytes * 8 / seconds / 1000 : 0.0; };
   j["bitrate_kbps"] = {{"texture", kbps(texture)},
                        {"motion", kbps(motion)},
@@ -167,9 +169,9 @@ int RunInfo(const InfoArgs& a) {
               a.input.c_str(), h.format_version, int(h.profile), h.level,
               static_cast<unsigned long long>((*source)->size()));
   std::printf(
-      "  %u frames at %.3f fps (%.2f s), %u cameras, atlas %ux%u, GOP %u frames x %u cameras\n",
-      h.frame_count, h.fps(), seconds, h.camera_count, h.atlas_width, h.atlas_height, h.gop_frames,
-      h.gop_cameras);
+      "  %u frames%s at %.3f fps (%.2f s), %u cameras, atlas %ux%u, GOP %u frames x %u cameras\n",
+      frames, h.frame_count == 0 ? " (live: counted from its fragments)" : "", h.fps(), seconds,
+      h.camera_count, h.atlas_width, h.atlas_height, h.gop_frames, h.gop_cameras);
   std::printf("  tools: %s\n", ToolList(h.tools).c_str());
   std::printf("  model: %zu bones, %zu DOF, %zu vertices, %zu triangles", sk.bones.size(),
               sk.Dofs().size(), info.model.mesh.positions.size(), info.model.mesh.triangles.size());
