@@ -106,6 +106,17 @@ StatusOr<FrameSpan> FramesToEncode(const Capture& cap, const EncoderSettings& s,
   return r;
 }
 
+StatusOr<TextureFrames> OpenTextureFrames(const Capture& cap, const EncoderSettings& s,
+                                          ThreadPool* pool, std::string* note) {
+  TextureFrames t;
+  FVV_ASSIGN_OR_RETURN(
+      t.persons, PersonsForCapture(cap, s.extract_silhouettes, s.persons, s.person_models, note));
+  FVV_ASSIGN_OR_RETURN(t.frames,
+                       CaptureFrames::Open(cap, s.extract_silhouettes, pool, t.persons.get()));
+  t.frames->SkipSightings();
+  return t;
+}
+
 StatusOr<TakeFeatures> TakeFeatures::Load(const Capture& cap, const std::string& path) {
   TakeFeatures t;
   for (const auto& c : cap.cameras) t.cameras_.push_back(c.calibration);
@@ -212,15 +223,17 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
 
   if (given) {
     sum.pose_source = s.textures.empty() ? "poses " + s.poses : "textures " + s.textures;
-    std::unique_ptr<CaptureFrames> frames;
+    encoding::TextureFrames texture_frames;
+    CaptureFrames* frames = nullptr;
     if (s.textures.empty()) {
       std::vector<uint32_t> wanted;
       for (uint32_t f = first; f <= last; ++f) wanted.push_back(f);
       FVV_RETURN_IF_ERROR(CheckFramesPresent(*cap, wanted));
-      StatusOr<std::unique_ptr<CaptureFrames>> f =
-          CaptureFrames::Open(*cap, s.extract_silhouettes, &session.pool());
-      if (!f.ok()) return f.status();
-      frames = std::move(*f);
+      std::string note;
+      FVV_ASSIGN_OR_RETURN(texture_frames,
+                           encoding::OpenTextureFrames(*cap, s, &session.pool(), &note));
+      if (!note.empty()) Say(s, "encode: " + note);
+      frames = texture_frames.frames.get();
     } else if (s.refine_shape) {
       return InvalidArgument("--refine-shape needs the capture's images, not --textures");
     }
@@ -250,6 +263,8 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
     to.last = last;
     to.tracker = s.tracker;
     to.extract = s.extract_silhouettes;
+    to.persons = s.persons;
+    to.person_models = s.person_models;
     to.smoothing = s.pose_smoothing;  // before GoOnAfter, which keeps what it reads
     if (prepared) {
       // A shard's warm-up frames and the take's shape, as every shard tracks.
@@ -267,13 +282,15 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
     std::string fit_names;
     const Capture fit_capture =
         FittingCapture(*cap, TrackingCameraCount(s.track_cameras, cap->cameras.size()), &fit_names);
-    std::unique_ptr<CaptureFrames> every_camera;
+    encoding::TextureFrames every_camera_frames;
+    CaptureFrames* every_camera = nullptr;
     double texture_read_s = 0;
     if (fit_capture.cameras.size() < cap->cameras.size()) {
       Say(s, "encode: tracking with " + std::to_string(fit_capture.cameras.size()) + " of " +
                  std::to_string(cap->cameras.size()) + " cameras (--track-cameras): " + fit_names);
-      FVV_ASSIGN_OR_RETURN(every_camera,
-                           CaptureFrames::Open(*cap, s.extract_silhouettes, &session.pool()));
+      FVV_ASSIGN_OR_RETURN(every_camera_frames,
+                           encoding::OpenTextureFrames(*cap, s, &session.pool(), nullptr));
+      every_camera = every_camera_frames.frames.get();
       if (s.refine_shape) {
         return InvalidArgument(
             "--refine-shape reads the fit's cameras: with --track-cameras fewer than the rig's, "
@@ -293,7 +310,7 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
       std::snprintf(extra, sizeof(extra), "  IoU %.3f%s", fit.iou,
                     fit.poor ? ("  FLAGGED: " + fit.note).c_str() : "");
       if (every_camera) {
-        return behind_tracking.Push([&session, &progress, &texture_read_s, &every_camera, f, last,
+        return behind_tracking.Push([&session, &progress, &texture_read_s, every_camera, f, last,
                                      dofs = fit.dofs, line = std::string(extra)] {
           std::vector<Image> all_images, all_sils;
           const auto t0 = Clock::now();

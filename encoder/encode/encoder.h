@@ -41,6 +41,11 @@ struct EncoderSettings {
   uint32_t first_frame = 0, last_frame = UINT32_MAX;  // clamped to the capture
   bool extract_silhouettes = false;  // background subtraction even if silhouettes are given
   TrackerOptions tracker;
+  // Silhouettes from the person network, for tracking and for the textures
+  // alike (TrackCaptureOptions::persons): auto where the capture has neither
+  // silhouettes nor plates and the models load.
+  TrackCaptureOptions::Persons persons = TrackCaptureOptions::Persons::kAuto;
+  std::string person_models;  // empty: DefaultModelDirectory()
   // The cameras the tracker fits with (encoder/track/camera_choice.h): a
   // count, kTrackingCamerasAuto or kTrackingCamerasAll. Every camera is
   // resampled for texture whichever the fit read.

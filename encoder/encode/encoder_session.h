@@ -70,6 +70,17 @@ struct FrameSpan {
 StatusOr<FrameSpan> FramesToEncode(const Capture& cap, const EncoderSettings& s,
                                    const PoseSequence* given);
 
+// The frames textures are resampled from, with silhouettes as tracking takes
+// them: the capture's, the person network's masks of the actor (where the
+// capture has neither silhouettes nor plates, EncoderSettings::persons), or
+// background subtraction. `note`: why the network is not used, if it says so.
+struct TextureFrames {
+  std::unique_ptr<PersonObserver> persons;  // outlives `frames`, which reads with it
+  std::unique_ptr<CaptureFrames> frames;
+};
+StatusOr<TextureFrames> OpenTextureFrames(const Capture& cap, const EncoderSettings& s,
+                                          ThreadPool* pool, std::string* note);
+
 // Feature points for shape refinement's features term (none without a file):
 // per frame, the points two or more cameras saw, triangulated.
 class TakeFeatures {

@@ -72,6 +72,8 @@ StatusOr<PrepareSummary> PrepareTake(const std::string& capture_path, const std:
     to.first = range.first;
     to.last = std::min(range.last, range.first + ShapeFrames(s.tracker) - 1);
     to.extract = s.extract_silhouettes;
+    to.persons = s.persons;
+    to.person_models = s.person_models;
     to.tracker = s.tracker;
     to.smoothing = s.pose_smoothing;
     Say("prepare: the actor's shape, tracking frames " + std::to_string(to.first) + ".." +
@@ -114,14 +116,15 @@ StatusOr<PrepareSummary> PrepareTake(const std::string& capture_path, const std:
   FVV_ASSIGN_OR_RETURN(const encoding::TakeFeatures features,
                        encoding::TakeFeatures::Load(*cap, s.features));
   encoding::Session session(*cap, "", s, range.first, range.last);
-  StatusOr<std::unique_ptr<CaptureFrames>> frames =
-      CaptureFrames::Open(*cap, s.extract_silhouettes, &session.pool());
-  if (!frames.ok()) return frames.status();
+  // The static texture's frames, read as the shards' textures will be.
+  FVV_ASSIGN_OR_RETURN(encoding::TextureFrames texture_frames,
+                       encoding::OpenTextureFrames(*cap, s, &session.pool(), nullptr));
+  CaptureFrames* const frames = texture_frames.frames.get();
   const auto PoseOf = [&](uint32_t f) { return poses.at(f); };
 
   for (uint32_t f : sum.texture_frames) {
     std::vector<Image> images, sils;
-    FVV_RETURN_IF_ERROR((*frames)->Read(f, &images, &sils));
+    FVV_RETURN_IF_ERROR(frames->Read(f, &images, &sils));
     if (!session.HasShape()) {
       Say(std::string("prepare: the body model") +
           (s.refine_shape ? ", refined on frame " + std::to_string(f) : std::string()));

@@ -201,7 +201,7 @@ Status CaptureFrames::ReadWithPersons(uint32_t frame, std::vector<Image>* images
   sightings_.assign(n, {});
   pool_->Run(n, [&](uint32_t c) {
     regions_[c] = seen[c].found ? seen[c].next : PersonRegion();
-    sightings_[c] = BodyJointSightings(seen[c]);
+    if (keep_sightings_) sightings_[c] = BodyJointSightings(seen[c]);
     Image& s = (*silhouettes)[c];
     s.width = read[c].width;
     s.height = read[c].height;
@@ -225,7 +225,10 @@ Status CaptureFrames::ReadWithPersons(uint32_t frame, std::vector<Image>* images
     RefineMaskEdges(&s, *subtracted, int(std::ceil(8 * seen[c].region.size / 256)));
   });
   for (const Status& s : errors) FVV_RETURN_IF_ERROR(s);
-  side_exchanges_ += uint32_t(ExchangeMislabelledSides(cameras_, &sightings_).exchanges.size());
+  // The sides' agreement tries cameras against each other: only for a fit.
+  if (keep_sightings_) {
+    side_exchanges_ += uint32_t(ExchangeMislabelledSides(cameras_, &sightings_).exchanges.size());
+  }
   if (images) *images = std::move(read);
   return Status::Ok();
 }

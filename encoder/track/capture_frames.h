@@ -51,6 +51,10 @@ class CaptureFrames {
   // between Reads (the reader is not shared); a Read of another frame drops
   // it.
   void Prefetch(uint32_t frame);
+  // With the person network: masks only, no joint sightings (what a texture
+  // needs; the sides' agreement across a dome's cameras costs more than the
+  // network).
+  void SkipSightings() { keep_sightings_ = false; }
   ~CaptureFrames();
 
   // Seconds spent so far decoding frames and running the person network
@@ -76,6 +80,7 @@ class CaptureFrames {
   std::vector<std::vector<JointSighting>> sightings_;
   double decode_seconds_ = 0, person_seconds_ = 0;
   uint32_t ahead_frame_ = 0;
+  bool keep_sightings_ = true;
   std::future<std::vector<StatusOr<Image>>> ahead_;  // Prefetch's, while valid()
   uint32_t side_exchanges_ = 0;
 };

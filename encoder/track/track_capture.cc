@@ -76,6 +76,26 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& path, const TrackCa
   return TrackCapture(*loaded, o);
 }
 
+StatusOr<std::unique_ptr<PersonObserver>> PersonsForCapture(const Capture& cap, bool extract,
+                                                            TrackCaptureOptions::Persons mode,
+                                                            const std::string& models,
+                                                            std::string* note) {
+  using Persons = TrackCaptureOptions::Persons;
+  const bool listed = CaptureReader(cap).HasSilhouettes() && !extract;
+  const bool plates = CaptureReader(cap).HasBackgrounds();
+  if (mode == Persons::kOff || (mode == Persons::kAuto && (listed || plates))) {
+    return std::unique_ptr<PersonObserver>();
+  }
+  StatusOr<std::unique_ptr<PersonObserver>> observer =
+      PersonObserver::Load(models.empty() ? DefaultModelDirectory() : models);
+  if (observer.ok() || mode == Persons::kOn) return observer;
+  if (note) {
+    *note = "no background plates and no person network (" + observer.status().message() +
+            "): silhouettes by a temporal median";
+  }
+  return std::unique_ptr<PersonObserver>();
+}
+
 StatusOr<TrackCaptureResult> TrackCapture(const Capture& capture, const TrackCaptureOptions& o) {
   using Clock = std::chrono::steady_clock;
   TrackCaptureResult r;
@@ -128,22 +148,10 @@ StatusOr<TrackCaptureResult> TrackCapture(const Capture& capture, const TrackCap
   const PoseSmoothing smoothing = o.separate_frames.empty() ? o.smoothing : PoseSmoothing{0};
   const size_t n = cap.cameras.size();
   ThreadPool pool(std::max(1u, o.tracker.threads));
-  std::unique_ptr<PersonObserver> persons;
-  const bool listed = CaptureReader(cap).HasSilhouettes() && !o.extract;
-  const bool plates = CaptureReader(cap).HasBackgrounds();
-  if (o.persons == TrackCaptureOptions::Persons::kOn ||
-      (o.persons == TrackCaptureOptions::Persons::kAuto && !listed && !plates)) {
-    StatusOr<std::unique_ptr<PersonObserver>> observer =
-        PersonObserver::Load(o.person_models.empty() ? DefaultModelDirectory() : o.person_models);
-    if (observer.ok()) {
-      persons = std::move(*observer);
-    } else if (o.persons == TrackCaptureOptions::Persons::kOn) {
-      return observer.status();
-    } else if (o.progress) {
-      o.progress("track: no background plates and no person network (" +
-                 observer.status().message() + "): silhouettes by a temporal median");
-    }
-  }
+  std::string note;
+  FVV_ASSIGN_OR_RETURN(std::unique_ptr<PersonObserver> persons,
+                       PersonsForCapture(cap, o.extract, o.persons, o.person_models, &note));
+  if (!note.empty() && o.progress) o.progress("track: " + note);
   StatusOr<std::unique_ptr<CaptureFrames>> frames =
       CaptureFrames::Open(cap, o.extract, &pool, persons.get());
   if (!frames.ok()) return frames.status();

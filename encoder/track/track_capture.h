@@ -7,12 +7,14 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "codec/base/status.h"
 #include "encoder/capture/capture.h"
 #include "encoder/track/camera_sync.h"
+#include "encoder/track/person_observer.h"
 #include "encoder/track/pose_smoothing.h"
 #include "encoder/track/silhouette_shift.h"
 #include "encoder/track/tracker.h"
@@ -134,6 +136,15 @@ StatusOr<TrackCaptureResult> TrackCapture(const std::string& capture_path,
                                           const TrackCaptureOptions& options);
 // The same on a capture already loaded (its cameras as they are, e.g. a
 // calibration being refined).
+// The person network for a capture's silhouettes under `persons` (see
+// TrackCaptureOptions::persons; `extract` as there): null where it is not
+// wanted, or under kAuto where its models do not load (`note`, if given, then
+// says why). What tracking and the encoder's textures both take.
+StatusOr<std::unique_ptr<PersonObserver>> PersonsForCapture(const Capture& capture, bool extract,
+                                                            TrackCaptureOptions::Persons persons,
+                                                            const std::string& models,
+                                                            std::string* note = nullptr);
+
 StatusOr<TrackCaptureResult> TrackCapture(const Capture& capture,
                                           const TrackCaptureOptions& options);
 

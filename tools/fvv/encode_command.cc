@@ -8,6 +8,7 @@
 #include "encoder/encode/prepared_take.h"
 #include "tools/fvv/codec_options.h"
 #include "tools/fvv/frame_range.h"
+#include "tools/fvv/persons_option.h"
 #include "tools/fvv/shard_option.h"
 #include "tools/fvv/smooth_option.h"
 
@@ -36,6 +37,7 @@ struct EncodeArgs {
   int fill_iterations = FillOptions{}.iterations;
   std::vector<std::string> meta;
   std::string track_cameras = "auto";  // a count, "all", or "auto"
+  std::string persons = "auto", models;
 };
 
 int Fail(const Status& s) {
@@ -55,6 +57,8 @@ int RunEncode(const EncodeArgs& a) {
   StatusOr<uint32_t> track_cameras = ParseTrackingCameras(a.track_cameras);
   if (!track_cameras.ok()) return Fail(track_cameras.status());
   s.track_cameras = *track_cameras;
+  s.persons = PersonsSetting(a.persons);
+  s.person_models = a.models;
   s.pose_smoothing.sigma_frames = a.smooth;
   s.refine_shape = a.refine_shape;
   s.fallback_texture = !a.no_fallback;
@@ -244,6 +248,7 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
   e->add_flag("--extract", a->extract,
               "Background subtraction even when the capture lists silhouettes");
   e->add_flag("--fixed-shape", a->fixed_shape, "Tracking keeps the generic body's proportions");
+  AddPersonsOptions(e, "for tracking and for the textures", &a->persons, &a->models);
   e->add_option("--track-cameras", a->track_cameras,
                 "Without --poses: the cameras the fit reads, a count (chosen to see the actor "
                 "whole and stand apart), all, or auto (" +

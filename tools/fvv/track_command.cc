@@ -12,6 +12,7 @@
 #include "encoder/track/joint_truth.h"
 #include "encoder/track/track_capture.h"
 #include "tools/fvv/frame_range.h"
+#include "tools/fvv/persons_option.h"
 #include "tools/fvv/shard_option.h"
 #include "tools/fvv/smooth_option.h"
 
@@ -82,9 +83,7 @@ int RunTrack(const TrackArgs& a) {
   }
   o.extract = a.extract;
   o.tracker.threads = a.threads;
-  o.persons = a.persons == "on"    ? TrackCaptureOptions::Persons::kOn
-              : a.persons == "off" ? TrackCaptureOptions::Persons::kOff
-                                   : TrackCaptureOptions::Persons::kAuto;
+  o.persons = PersonsSetting(a.persons);
   o.person_models = a.models;
   o.keypoints = !a.no_keypoints;
   if (a.no_shape && !o.tracker.fixed_shape) o.tracker.adapt_shape = false;
@@ -246,13 +245,7 @@ void AddTrackCommand(CLI::App* app, int* exit_code) {
       ->check(CLI::ExistingFile);
   t->add_flag("--extract", a->extract,
               "Background subtraction even when the capture lists silhouettes");
-  t->add_option("--persons", a->persons,
-                "Silhouettes from the pretrained person network: auto (where the capture has "
-                "no plates and the models are installed), on, off")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"auto", "on", "off"}));
-  t->add_option("--models", a->models,
-                "Directory of the person models (default: $FVV_MODEL_DIR or ~/.cache/fvv/models)");
+  AddPersonsOptions(t, "to fit", &a->persons, &a->models);
   t->add_flag("--no-keypoints", a->no_keypoints,
               "With person masks, fit silhouettes only (the network's body keypoints neither "
               "place the body nor hold the fit)");
