@@ -273,12 +273,9 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
       sum.pose_source =
           "tracked (prepared take, " + std::to_string(prepared->warm_up) + " frames' warm-up)";
     }
-    // Resampling and coding a frame run on a thread of their own, beside the
-    // tracking of the next frames (at most one GOP and a frame queued), in
-    // frame order, so the output is what a sequential run writes.
     // Of a studio's many cameras the fit reads a chosen few; the texture is
-    // then read from every camera as with poses given (background
-    // subtraction or the capture's silhouettes), beside the tracking.
+    // then read from every camera as with poses given (OpenTextureFrames),
+    // beside the tracking.
     std::string fit_names;
     const Capture fit_capture =
         FittingCapture(*cap, TrackingCameraCount(s.track_cameras, cap->cameras.size()), &fit_names);
@@ -286,17 +283,20 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
     CaptureFrames* every_camera = nullptr;
     double texture_read_s = 0;
     if (fit_capture.cameras.size() < cap->cameras.size()) {
-      Say(s, "encode: tracking with " + std::to_string(fit_capture.cameras.size()) + " of " +
-                 std::to_string(cap->cameras.size()) + " cameras (--track-cameras): " + fit_names);
-      FVV_ASSIGN_OR_RETURN(every_camera_frames,
-                           encoding::OpenTextureFrames(*cap, s, &session.pool(), nullptr));
-      every_camera = every_camera_frames.frames.get();
       if (s.refine_shape) {
         return InvalidArgument(
             "--refine-shape reads the fit's cameras: with --track-cameras fewer than the rig's, "
             "track first (fvv track) and encode with --poses");
       }
+      Say(s, "encode: tracking with " + std::to_string(fit_capture.cameras.size()) + " of " +
+                 std::to_string(cap->cameras.size()) + " cameras (--track-cameras): " + fit_names);
+      FVV_ASSIGN_OR_RETURN(every_camera_frames,
+                           encoding::OpenTextureFrames(*cap, s, &session.pool(), nullptr));
+      every_camera = every_camera_frames.frames.get();
     }
+    // Resampling and coding a frame run on a thread of their own, beside the
+    // tracking of the next frames (at most one GOP and a frame queued), in
+    // frame order, so the output is what a sequential run writes.
     OrderedQueue behind_tracking(s.gop_frames + 1);
     to.on_frame = [&](uint32_t f, const FrameFit& fit, const Tracker& tracker,
                       const std::vector<Image>& images, const std::vector<Image>& sils) -> Status {

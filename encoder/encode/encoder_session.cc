@@ -302,7 +302,7 @@ void Session::FillForPlayers(uint32_t frames) {
     const std::vector<Eigen::Vector3f>& positions = span_positions_[t];
     const std::vector<Eigen::Vector3f>& normals = span_normals_[t];
     std::vector<Eigen::Vector3f> to_camera(n);
-    std::vector<double> facing(n);  // each camera's facing weight (BlendFacingWeight)
+    std::vector<double> weight(n);  // each camera's facing weight (BlendFacingWeight)
     std::vector<uint8_t> takes(n);
     for (size_t e = 0; e < map_.texel.size(); ++e) {
       const uint32_t texel = map_.texel[e];
@@ -326,7 +326,7 @@ void Session::FillForPlayers(uint32_t frames) {
             (w[0] * normals[tri[0]] + w[1] * normals[tri[1]] + w[2] * normals[tri[2]]).normalized();
         for (uint32_t c = 0; c < n; ++c) {
           to_camera[c] = (centres[c] - p).normalized();
-          facing[c] = BlendFacingWeight(nrm.dot(to_camera[c]));
+          weight[c] = BlendFacingWeight(nrm.dot(to_camera[c]));
         }
       }
       for (uint32_t c = 0; c < n; ++c) {
@@ -335,7 +335,7 @@ void Session::FillForPlayers(uint32_t frames) {
         // Nothing to show, or a colour that barely shows from any viewpoint:
         // left to the codec's fill.
         if (count == 0 ||
-            (shares && LargestBlendShareOfWeights(c, n, to_camera.data(), facing.data(),
+            (shares && LargestBlendShareOfWeights(c, n, to_camera.data(), weight.data(),
                                                   takes.data()) < s_.least_blend_share)) {
           span_usable_[i] = 0;
           ++left[t];

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <glm/gtc/quaternion.hpp>
 #include <string>
 #include <utility>
 
@@ -37,13 +38,10 @@ uint64_t PlaybackLoop::ViewMask(const glm::vec3& eye, const glm::vec3& target) {
   uint64_t mask = ViewCameras(centres_, eye, target, reach);
   // The closest cameras are capped (kMaxViewCameras): while the view turns,
   // the closest to where it will be by then too, the turn carried on twice.
-  const glm::vec3 axis =
-      glm::length(last_direction_) > 0 ? glm::cross(last_direction_, direction) : glm::vec3(0.0f);
+  const glm::vec3 axis = glm::cross(last_direction_, direction);  // 0 before the first view
   if (turned_deg > 1.0f && glm::length(axis) > 1e-6f) {
-    const glm::vec3 k = glm::normalize(axis);
-    const float a = glm::radians(2 * turned_deg);
-    const glm::vec3 ahead = direction * std::cos(a) + glm::cross(k, direction) * std::sin(a) +
-                            k * glm::dot(k, direction) * (1 - std::cos(a));
+    const glm::vec3 ahead =
+        glm::angleAxis(glm::radians(2 * turned_deg), glm::normalize(axis)) * direction;
     mask |= ViewCameras(centres_, target + ahead * glm::length(eye - target), target, reach);
   }
   last_direction_ = direction;
