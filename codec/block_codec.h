@@ -45,10 +45,21 @@ struct BlockParams {
   uint8_t sample_frac = 0;
 };
 
+// A point of the encoder's rate-distortion hull of a stream: after `bytes`,
+// `distortion` (weighted as the rate allocation weighs the channels) is left.
+struct RdPoint {
+  uint64_t bytes = 0;
+  double distortion = 0;
+};
+
 struct ChannelStream {
   uint8_t planes = 0;
   std::vector<uint8_t> data;
   std::vector<TruncationPoint> points;
+  // The encoder's convex RD hull, bytes ascending: which bytes buy the most,
+  // for laying the channels out in rate order (container/fragment.h). In
+  // memory only: no stream carries it, and a stream read back has none.
+  std::vector<RdPoint> rd;
 };
 
 struct EncodedBlock {
@@ -117,6 +128,9 @@ struct DecodeBudget {
   uint64_t max_bytes =
       0;              // all channels together; 0 = no limit. Split in proportion to stream sizes.
   double max_ms = 0;  // 0 = no limit; each channel's SPIHT decoding stops this long after it starts
+  // Each channel's bytes at most, on top of max_bytes: what a prefix of a
+  // fragment whose channels come in chunks holds of each (SPEC.md 3.5.1).
+  std::array<uint64_t, 3> channel_max_bytes = {UINT64_MAX, UINT64_MAX, UINT64_MAX};
   // The share of each channel's stream that a time budget never cuts (0 to 1):
   // decoding past max_ms goes on until this much is read.
   double floor_share = 0;

@@ -50,6 +50,7 @@ Status BlockDecode::Start(const EncodedBlock& encoded, const DecodeBudget& budge
       limits_[c].max_bytes =
           static_cast<uint64_t>(Wide{encoded.channels[c].data.size()} * budget.max_bytes / total);
     }
+    limits_[c].max_bytes = std::min(limits_[c].max_bytes, budget.channel_max_bytes[c]);
     if (budget.floor_share > 0) {
       const double share = std::min(1.0, budget.floor_share);
       limits_[c].min_bytes =

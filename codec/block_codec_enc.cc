@@ -110,6 +110,7 @@ std::array<uint64_t, 3> Allocate(const std::array<ChannelRd, 3>& hulls, uint64_t
 void CutStream(uint64_t bytes, ChannelStream* s) {
   if (s->data.size() > bytes) s->data.resize(bytes);
   while (!s->points.empty() && s->points.back().bytes > s->data.size()) s->points.pop_back();
+  while (!s->rd.empty() && s->rd.back().bytes > s->data.size()) s->rd.pop_back();
 }
 
 EncodedBlock CutBlock(const EncodedBlock& full, const std::array<uint64_t, 3>& alloc) {
@@ -289,6 +290,11 @@ StatusOr<EncodedBlock> EncodeBlock(const Block& block, const UsedMask* mask,
       hulls[c] =
           ConvexHull(rd_bytes[c], rd_distortion[c], settings.channel_weights[c] * per_sample);
       capped = capped || out.channels[c].data.size() >= cap;
+      std::vector<RdPoint>& rd = out.channels[c].rd;
+      rd.clear();
+      for (size_t k = 0; k < hulls[c].bytes.size(); ++k) {
+        rd.push_back({hulls[c].bytes[k], hulls[c].distortion[k]});
+      }
     }
     return capped;
   };

@@ -38,6 +38,8 @@ constexpr FourCC kPredictiveTexture = MakeFourCC("ptex");
 constexpr FourCC kMasks = MakeFourCC("mask");
 constexpr FourCC kVertexVisibility = MakeFourCC("vvis");
 constexpr FourCC kChecksum = MakeFourCC("fcrc");
+constexpr FourCC kTextureHead = MakeFourCC("txhd");    // texture-chunks: the channels' sizes
+constexpr FourCC kTextureChunks = MakeFourCC("txck");  // texture-chunks: the chunks, last
 }  // namespace box
 
 // flags bit 0: a reader that does not know this box type must stop with

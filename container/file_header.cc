@@ -47,6 +47,8 @@ const char* CodingToolName(uint32_t tool_bit) {
       return "sample-precision";
     case kToolTexturePrecision:
       return "texture-precision";
+    case kToolTextureChunks:
+      return "texture-chunks";
     default:
       return "unknown";
   }
@@ -75,6 +77,7 @@ const LevelLimits* FindLevel(uint8_t level) {
 }
 
 uint16_t RequiredFormatVersion(uint32_t tools) {
+  if (tools & kToolTextureChunks) return 11;
   if (tools & kToolQuantisedModel) return 10;
   if (tools & kToolChromaBilinear) return 9;
   if (tools & kToolQuadtreeArith4) return 8;
@@ -157,6 +160,11 @@ Status ValidateFileHeader(const FileHeader& h) {
     return Corrupt(at +
                    "texture-precision declared without 9/7 SPIHT texture (it sets the "
                    "9/7's sample precision in 'texr')");
+  }
+  if ((h.tools & kToolTextureChunks) && (h.tools & kToolPredictiveTexture)) {
+    return Corrupt(at +
+                   "texture-chunks declared with predictive texture (it lays out the 'texr' "
+                   "channel streams in chunks)");
   }
   if (h.frame_rate_num == 0 || h.frame_rate_den == 0) {
     return Corrupt(at + "frame rate " + std::to_string(h.frame_rate_num) + "/" +

@@ -47,9 +47,15 @@ Status FileSource::Read(uint64_t offset, size_t n, uint8_t* out) {
 }
 
 StatusOr<std::unique_ptr<FileReader>> FileReader::Open(ByteSource* source,
-                                                       FragmentReadOptions options) {
+                                                       FragmentReadOptions options,
+                                                       bool require_index) {
   std::unique_ptr<FileReader> r(new FileReader(source, options));
   FVV_RETURN_IF_ERROR(r->ReadHeaderBoxes());
+  if (require_index && !r->info_.has_index && r->info_.header.index_offset == 0) {
+    return Unsupported(
+        "the stream has no index ('indx'), so its fragments cannot be found without reading "
+        "all of it: play it from the start with whole fragments");
+  }
   FVV_RETURN_IF_ERROR(r->LoadIndex());
   return r;
 }
@@ -194,7 +200,7 @@ Status FileReader::LoadIndex() {
   return CheckEndsAfterWholeSpan(hdr, info_.index.size(), "");
 }
 
-StatusOr<FragmentData> FileReader::ReadFragment(size_t i) {
+StatusOr<FragmentData> FileReader::ReadFragment(size_t i, uint64_t bytes) {
   if (i >= info_.index.size()) {
     return InvalidArgument("fragment " + std::to_string(i) + " of " +
                            std::to_string(info_.index.size()));
@@ -209,13 +215,18 @@ StatusOr<FragmentData> FileReader::ReadFragment(size_t i) {
   if (h.size > MaxTopLevelBoxSize(info_, h.type)) {
     return LimitExceeded(BoxContext(h) + "fragment larger than the level allows");
   }
-  std::vector<uint8_t> payload(static_cast<size_t>(h.payload_size()));
+  FragmentReadOptions options = options_;
+  const uint64_t delivered = bytes == 0 || bytes >= h.size ? h.size : bytes;
+  if (delivered < h.size) options.delivered = delivered;
+  std::vector<uint8_t> payload(
+      static_cast<size_t>(delivered > h.header_size ? delivered - h.header_size : 0));
   FVV_RETURN_IF_ERROR(source_->Read(e.offset + h.header_size, payload.size(), payload.data()));
   FragmentData f;
-  FVV_RETURN_IF_ERROR(fvv::ReadFragment(h, payload.data(), info_.header, options_, &f));
+  FVV_RETURN_IF_ERROR(fvv::ReadFragment(h, payload.data(), info_.header, options, &f));
   if (f.info.gop_index != i || f.info.first_frame != e.first_frame ||
       f.info.frame_count != e.frame_count || f.info.first_camera != e.first_camera ||
-      f.info.camera_count != e.camera_count) {
+      f.info.camera_count != e.camera_count ||
+      (f.chunked && index_in_stream_ && e.head_size != f.head_bytes)) {
     return Corrupt("index entry " + std::to_string(i) +
                    " disagrees with the fragment it points at");
   }

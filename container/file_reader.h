@@ -51,16 +51,21 @@ class FileSource : public ByteSource {
 
 class FileReader {
  public:
-  // The source must outlive the reader.
+  // The source must outlive the reader. `require_index`: a stream without an
+  // index is refused (Unsupported) instead of walked fragment by fragment, for
+  // sources where each read is a network request.
   static StatusOr<std::unique_ptr<FileReader>> Open(ByteSource* source,
-                                                    FragmentReadOptions options = {});
+                                                    FragmentReadOptions options = {},
+                                                    bool require_index = false);
 
   const StreamInfo& info() const { return info_; }
   size_t fragment_count() const { return info_.index.size(); }
   // True when the index came from the stream (front or end), false when rebuilt by scanning.
   bool index_in_stream() const { return index_in_stream_; }
   bool fast_start() const { return fast_start_; }
-  StatusOr<FragmentData> ReadFragment(size_t i);
+  // Fragment i, from the first `bytes` bytes of its box (0: all of them; a
+  // prefix decodes only with texture-chunks, SPEC.md 3.5.1).
+  StatusOr<FragmentData> ReadFragment(size_t i, uint64_t bytes = 0);
   // The fragment holding (frame, camera), or LimitExceeded/InvalidArgument.
   StatusOr<size_t> FindFragment(uint32_t frame, uint32_t camera) const;
   // Every top-level box in file order (for `fvv info`).

@@ -39,6 +39,7 @@ uint16_t RequiredFormatVersion(uint32_t tools, MaskCoding mask_coding) {
 }
 
 uint64_t TextureBytes(const FragmentData& f) {
+  if (f.chunked) return uint64_t{f.declared_bytes[0]} + f.declared_bytes[1] + f.declared_bytes[2];
   return f.predictive ? f.predictive_texture.Bytes() : f.texture.total_bytes();
 }
 
@@ -60,7 +61,104 @@ StatusOr<FragmentInfo> FragmentInfoFor(const FileHeader& h, uint32_t gop_index) 
   return f;
 }
 
-std::vector<uint8_t> WriteFragmentBox(const FragmentData& f) {
+std::vector<TextureChunk> PlanTextureChunks(const EncodedBlock& texture) {
+  // Each channel's stream in pieces, ranked by what a byte of the piece buys:
+  // the slopes of the encoder's RD hulls (which the rate allocation across
+  // channels follows too), so that every prefix is near the allocation the
+  // encoder would make for its bytes. A stream without a hull (read back from
+  // a file) leaves equal shares of the channels, the rule of SPEC.md Annex B.2.
+  struct Piece {
+    double rank;  // ascending: the steepest slope first
+    uint8_t channel;
+    uint64_t end;  // the channel's bytes up to the piece's end
+  };
+  std::vector<Piece> pieces;
+  bool hulls = true;
+  for (const ChannelStream& s : texture.channels) hulls = hulls && s.rd.size() >= 2;
+  for (uint8_t c = 0; c < 3; ++c) {
+    const ChannelStream& s = texture.channels[c];
+    if (!hulls) {
+      for (int k = 1; k <= 64; ++k) pieces.push_back({double(k), c, s.data.size() * k / 64});
+      continue;
+    }
+    uint64_t last = 0;
+    for (size_t k = 1; k < s.rd.size(); ++k) {
+      const uint64_t end = std::min<uint64_t>(s.rd[k].bytes, s.data.size());
+      if (end <= last) continue;
+      const double slope =
+          (s.rd[k - 1].distortion - s.rd[k].distortion) / double(s.rd[k].bytes - s.rd[k - 1].bytes);
+      pieces.push_back({-slope, c, end});
+      last = end;
+    }
+    if (last < s.data.size()) pieces.push_back({0.0, c, s.data.size()});
+  }
+  std::stable_sort(pieces.begin(), pieces.end(),
+                   [](const Piece& a, const Piece& b) { return a.rank < b.rank; });
+  // Chunks of about 1/48 of the texture, smaller at first: at most a quarter
+  // of the bytes before them (and at least 64), so that a short prefix, which
+  // wastes at most its last chunk, still holds every channel's first bytes.
+  // A channel's bytes wait until half a chunk has gathered (the hull's first
+  // segments are a few bytes each), and go out with any other channel's that
+  // reach a quarter of one, so that no channel falls behind the order.
+  const uint64_t total = texture.total_bytes();
+  const uint64_t largest = std::clamp<uint64_t>((total + 47) / 48, 192, 65535);
+  std::array<uint64_t, 3> target{}, written{};
+  uint64_t out = 0;
+  std::vector<TextureChunk> chunks;
+  const auto size_now = [&] { return std::clamp<uint64_t>(out / 4, 64, largest); };
+  const auto emit = [&](uint8_t c, uint64_t at_least) {
+    while (target[c] - written[c] >= std::max<uint64_t>(at_least, 1)) {
+      const uint64_t n = std::min(target[c] - written[c], size_now());
+      chunks.push_back({c, static_cast<uint16_t>(n)});
+      written[c] += n;
+      out += n;
+    }
+  };
+  for (const Piece& p : pieces) {
+    target[p.channel] = std::max(target[p.channel], p.end);
+    if (target[p.channel] - written[p.channel] < size_now() / 2) continue;
+    emit(p.channel, size_now() / 2);
+    for (uint8_t c = 0; c < 3; ++c) emit(c, size_now() / 4);
+  }
+  for (uint8_t c = 0; c < 3; ++c) {
+    target[c] = texture.channels[c].data.size();
+    emit(c, 1);
+  }
+  return chunks;
+}
+
+namespace {
+
+// The 'texr' fields up to the channel streams (SPEC.md 9.1), shared by 'texr'
+// and the chunked texture's head 'txhd'; returns the box version.
+uint8_t WriteTextureParams(const BlockParams& p, ByteWriter* w) {
+  w->U8(static_cast<uint8_t>(p.kernel));
+  w->U8(static_cast<uint8_t>(p.coder));
+  w->U8(static_cast<uint8_t>(p.colour));
+  w->U8(static_cast<uint8_t>(p.chroma));
+  // The version its tools imply (SPEC.md 9.1): 3 with sample-precision, 2
+  // with own-band-weights, 1 with texture-precision, else 0. (Every texture
+  // of a stream is coded with the same tools, so this is the stream's.)
+  const uint8_t version = TextureVersion(
+      TextureTools(p.kernel, p.coder, p.colour, p.chroma, p.frac_bits, p.weights, p.sample_frac));
+  if (version >= 1) w->U8(p.frac_bits);
+  if (version >= 3) w->U8(p.sample_frac);
+  return version;
+}
+
+// A chunk: channel u8, size u16, crc u32 (CRC-32C of the channel, size and
+// data bytes), data.
+void AppendChunk(uint8_t channel, const uint8_t* data, uint16_t size, std::vector<uint8_t>* out) {
+  uint8_t head[3] = {channel, static_cast<uint8_t>(size & 0xFF), static_cast<uint8_t>(size >> 8)};
+  const uint32_t crc = Crc32c(data, size, Crc32c(head, 3));
+  out->insert(out->end(), head, head + 3);
+  for (int k = 0; k < 4; ++k) out->push_back(static_cast<uint8_t>(crc >> (8 * k)));
+  out->insert(out->end(), data, data + size);
+}
+
+}  // namespace
+
+std::vector<uint8_t> WriteFragmentBox(const FragmentData& f, bool chunked, uint64_t* head_bytes) {
   std::vector<uint8_t> payload;
   {
     ByteWriter w;
@@ -80,20 +178,9 @@ std::vector<uint8_t> WriteFragmentBox(const FragmentData& f) {
     for (const std::vector<uint8_t>* s : streams) w.U32(static_cast<uint32_t>(s->size()));
     for (const std::vector<uint8_t>* s : streams) w.Bytes(*s);
     AppendBox(box::kPredictiveTexture, 0, kBoxFlagEssential, w.bytes(), &payload);
-  } else {
+  } else if (!chunked) {
     ByteWriter w;
-    const BlockParams& p = f.texture.params;
-    w.U8(static_cast<uint8_t>(p.kernel));
-    w.U8(static_cast<uint8_t>(p.coder));
-    w.U8(static_cast<uint8_t>(p.colour));
-    w.U8(static_cast<uint8_t>(p.chroma));
-    // The version its tools imply (SPEC.md 9.1): 3 with sample-precision, 2
-    // with own-band-weights, 1 with texture-precision, else 0. (Every texture
-    // of a stream is coded with the same tools, so this is the stream's.)
-    const uint8_t version = TextureVersion(
-        TextureTools(p.kernel, p.coder, p.colour, p.chroma, p.frac_bits, p.weights, p.sample_frac));
-    if (version >= 1) w.U8(p.frac_bits);
-    if (version >= 3) w.U8(p.sample_frac);
+    const uint8_t version = WriteTextureParams(f.texture.params, &w);
     for (const ChannelStream& s : f.texture.channels) WriteChannelStream(s, &w);
     AppendBox(box::kTexture, version, kBoxFlagEssential, w.bytes(), &payload);
   }
@@ -106,10 +193,42 @@ std::vector<uint8_t> WriteFragmentBox(const FragmentData& f) {
   if (!f.vertex_visibility.empty()) {
     AppendBox(box::kVertexVisibility, 0, 0, f.vertex_visibility, &payload);
   }
+  if (chunked && !f.predictive) {
+    // The head's last box before 'fcrc': the texture's parameters and the
+    // channels' sizes, so the chunks that follow need no table.
+    ByteWriter w;
+    const uint8_t version = WriteTextureParams(f.texture.params, &w);
+    for (const ChannelStream& s : f.texture.channels) {
+      w.U8(s.planes);
+      w.U32(static_cast<uint32_t>(s.data.size()));
+    }
+    AppendBox(box::kTextureHead, version, kBoxFlagEssential, w.bytes(), &payload);
+  }
   ByteWriter crc;
   crc.U32(Crc32c(payload.data(), payload.size()));
   AppendBox(box::kChecksum, 0, kBoxFlagEssential, crc.bytes(), &payload);
-  return MakeBox(box::kFragment, 0, kBoxFlagEssential, payload);
+  if (!chunked || f.predictive) {
+    std::vector<uint8_t> out = MakeBox(box::kFragment, 0, kBoxFlagEssential, payload);
+    if (head_bytes) *head_bytes = out.size();
+    return out;
+  }
+  const std::vector<TextureChunk> chunks =
+      f.chunks.empty() ? PlanTextureChunks(f.texture) : f.chunks;
+  std::vector<uint8_t> body;
+  std::array<size_t, 3> at{};
+  for (const TextureChunk& c : chunks) {
+    const std::vector<uint8_t>& data = f.texture.channels[c.channel].data;
+    AppendChunk(c.channel, data.data() + at[c.channel], c.size, &body);
+    at[c.channel] += c.size;
+  }
+  const size_t chunks_at = payload.size();
+  AppendBox(box::kTextureChunks, 0, kBoxFlagEssential, body, &payload);
+  std::vector<uint8_t> out = MakeBox(box::kFragment, 0, kBoxFlagEssential, payload);
+  if (head_bytes) {
+    const uint64_t chunks_header = payload.size() - chunks_at - body.size();
+    *head_bytes = (out.size() - payload.size()) + chunks_at + chunks_header;
+  }
+  return out;
 }
 
 BoxHeader MotionBoxHeader(const FragmentData& f) {
@@ -144,8 +263,10 @@ Status ReadFragmentHeader(const BoxHeader& b, const uint8_t* payload, const File
   return Status::Ok();
 }
 
-Status ReadTexture(const BoxHeader& b, const uint8_t* payload, const FileHeader& h,
-                   const FragmentInfo& info, EncodedBlock* texture) {
+// The 'texr' fields before the channel streams (SPEC.md 9.1), which the
+// chunked texture's head 'txhd' shares, version rules included.
+Status ReadTextureParams(const BoxHeader& b, const FileHeader& h, const FragmentInfo& info,
+                         ByteReader* r, BlockParams* p) {
   const std::string at = BoxContext(b);
   // A version the stream's format version does not have is unknown to it.
   const uint8_t newest = h.format_version >= 7   ? 3
@@ -170,31 +291,114 @@ Status ReadTexture(const BoxHeader& b, const uint8_t* payload, const FileHeader&
     return Corrupt(at + "version " + std::to_string(b.version) + " in a stream that " +
                    kWhy[expected]);
   }
-  ByteReader r(payload, b.payload_size());
-  BlockParams& p = texture->params;
-  p.kernel = static_cast<WaveletKernel>(r.U8());
-  p.coder = static_cast<EntropyCoder>(r.U8());
-  p.colour = static_cast<ColourSpace>(r.U8());
-  p.chroma = static_cast<ChromaFormat>(r.U8());
-  p.frac_bits = b.version >= 1 ? r.U8() : static_cast<uint8_t>(LegacyFracBits(p.kernel));
-  p.weights = b.version >= 2 ? BandWeights::kOwnBand : BandWeights::kAxisBands;
-  p.sample_frac = b.version >= 3 ? r.U8() : 0;
-  p.shape = info.TextureShape(h);
-  if (r.overrun()) return Corrupt(at + "too short");
-  Status s = ValidateParams(p);
+  p->kernel = static_cast<WaveletKernel>(r->U8());
+  p->coder = static_cast<EntropyCoder>(r->U8());
+  p->colour = static_cast<ColourSpace>(r->U8());
+  p->chroma = static_cast<ChromaFormat>(r->U8());
+  p->frac_bits = b.version >= 1 ? r->U8() : static_cast<uint8_t>(LegacyFracBits(p->kernel));
+  p->weights = b.version >= 2 ? BandWeights::kOwnBand : BandWeights::kAxisBands;
+  p->sample_frac = b.version >= 3 ? r->U8() : 0;
+  p->shape = info.TextureShape(h);
+  if (r->overrun()) return Corrupt(at + "too short");
+  Status s = ValidateParams(*p);
   if (!s.ok()) return Status(s.code(), at + s.message());
-  if ((TextureTools(p.kernel, p.coder, p.colour, p.chroma, p.frac_bits, p.weights, p.sample_frac) &
+  if ((TextureTools(p->kernel, p->coder, p->colour, p->chroma, p->frac_bits, p->weights,
+                    p->sample_frac) &
        ~h.tools) != 0) {
     return Corrupt(at + "uses coding tools the file header does not declare");
   }
+  return Status::Ok();
+}
+
+Status ReadTexture(const BoxHeader& b, const uint8_t* payload, const FileHeader& h,
+                   const FragmentInfo& info, EncodedBlock* texture) {
+  const std::string at = BoxContext(b);
+  ByteReader r(payload, b.payload_size());
+  FVV_RETURN_IF_ERROR(ReadTextureParams(b, h, info, &r, &texture->params));
   static const char* const kNames[3] = {"Y", "U", "V"};
   for (int c = 0; c < 3; ++c) {
-    s = ReadChannelStream(&r, kNames[c], &texture->channels[c]);
+    Status s = ReadChannelStream(&r, kNames[c], &texture->channels[c]);
     if (!s.ok())
       return Status(s.code() == StatusCode::kTruncated ? StatusCode::kCorrupt : s.code(),
                     at + s.message());
   }
   return CheckFullyRead(r, b);
+}
+
+// 'txhd' (SPEC.md 3.5.1): the 'texr' fields, then per channel its bitplanes
+// and its data's size; the data comes in the chunks after 'fcrc'.
+Status ReadTextureHead(const BoxHeader& b, const uint8_t* payload, const FileHeader& h,
+                       const FragmentInfo& info, FragmentData* f) {
+  const std::string at = BoxContext(b);
+  ByteReader r(payload, b.payload_size());
+  FVV_RETURN_IF_ERROR(ReadTextureParams(b, h, info, &r, &f->texture.params));
+  static const char* const kNames[3] = {"Y", "U", "V"};
+  for (int c = 0; c < 3; ++c) {
+    f->texture.channels[c].planes = r.U8();
+    f->declared_bytes[c] = r.U32();
+    if (r.overrun()) return Corrupt(at + "too short");
+    if (f->texture.channels[c].planes > kMaxBitplanes) {
+      return Corrupt(at + "channel " + kNames[c] + ": " +
+                     std::to_string(f->texture.channels[c].planes) + " bitplanes (at most " +
+                     std::to_string(kMaxBitplanes) + ")");
+    }
+  }
+  return CheckFullyRead(r, b);
+}
+
+// The chunks of a chunked fragment (SPEC.md 3.5.1), from `data` (the 'txck'
+// payload bytes delivered, `whole` when that is all of it): each chunk wholly
+// delivered is checked (its CRC first) and appended to its channel; a chunk
+// cut by the end of a prefix and what follows are left out.
+Status ReadTextureChunks(const BoxHeader& b, const uint8_t* data, uint64_t delivered, bool whole,
+                         const FragmentReadOptions& options, FragmentData* f) {
+  const std::string at = BoxContext(b);
+  uint64_t total = 0;
+  for (uint32_t n : f->declared_bytes) total += n;
+  if (total > b.payload_size()) {
+    return Corrupt(at + "the head declares " + std::to_string(total) + " texture bytes, " +
+                   std::to_string(b.payload_size()) + " follow");
+  }
+  for (int c = 0; c < 3; ++c) {
+    f->texture.channels[c].data.clear();
+    f->texture.channels[c].data.reserve(f->declared_bytes[c]);
+  }
+  uint64_t pos = 0;
+  while (pos + kChunkHeaderBytes <= delivered) {
+    const uint8_t* p = data + pos;
+    const uint8_t channel = p[0];
+    const uint16_t size = static_cast<uint16_t>(p[1] | (p[2] << 8));
+    if (pos + kChunkHeaderBytes + size > delivered) break;  // cut by the prefix
+    const std::string where = at + "chunk at payload byte " + std::to_string(pos) + ": ";
+    const uint32_t crc =
+        uint32_t{p[3]} | (uint32_t{p[4]} << 8) | (uint32_t{p[5]} << 16) | (uint32_t{p[6]} << 24);
+    if (options.verify_checksum && Crc32c(p + kChunkHeaderBytes, size, Crc32c(p, 3)) != crc) {
+      return Status(StatusCode::kChecksumMismatch, where + "CRC-32C mismatch (chunk is damaged)");
+    }
+    if (channel > 2) return Corrupt(where + "channel " + std::to_string(channel));
+    if (size == 0) return Corrupt(where + "empty");
+    std::vector<uint8_t>& out = f->texture.channels[channel].data;
+    if (out.size() + size > f->declared_bytes[channel]) {
+      return Corrupt(where + "channel " + std::to_string(channel) + " runs past the " +
+                     std::to_string(f->declared_bytes[channel]) + " bytes its head declares");
+    }
+    out.insert(out.end(), p + kChunkHeaderBytes, p + kChunkHeaderBytes + size);
+    f->chunks.push_back({channel, size});
+    pos += kChunkHeaderBytes + size;
+  }
+  if (!whole) return Status::Ok();
+  if (pos != delivered) {
+    return Corrupt(at + "a chunk runs past the end of the fragment at payload byte " +
+                   std::to_string(pos));
+  }
+  for (int c = 0; c < 3; ++c) {
+    if (f->texture.channels[c].data.size() != f->declared_bytes[c]) {
+      return Corrupt(at + "channel " + std::to_string(c) + "'s chunks hold " +
+                     std::to_string(f->texture.channels[c].data.size()) + " bytes, its head " +
+                     "declares " + std::to_string(f->declared_bytes[c]));
+    }
+  }
+  return Status::Ok();
 }
 
 // 'ptex' (SPEC.md 9.8): the kernel, every stream's size, the streams.
@@ -246,24 +450,68 @@ Status ReadFragment(const BoxHeader& box, const uint8_t* payload, const FileHead
                          std::to_string(LimitsOf(h).max_fragment_bytes) + ")");
   }
   *f = FragmentData();
+  const bool chunked = (h.tools & kToolTextureChunks) != 0;
+  f->chunked = chunked;
+  const uint64_t payload_size = box.payload_size();
+  uint64_t available = payload_size;  // payload bytes delivered
+  if (options.delivered != 0 && options.delivered < box.size) {
+    if (!chunked || options.delivered < box.header_size) {
+      return Truncated(at + "only the first " + std::to_string(options.delivered) + " of its " +
+                       std::to_string(box.size) + " bytes" +
+                       (chunked ? "" : " (a prefix decodes only with texture-chunks)"));
+    }
+    available = options.delivered - box.header_size;
+  }
   // Pass 1: the sub-box structure and the checksum, so damage anywhere is
-  // reported as a checksum failure before any payload is interpreted.
+  // reported as a checksum failure before any payload is interpreted. A
+  // chunked fragment's head ends with the header of 'txck', whose chunks
+  // follow to the end of the fragment (SPEC.md 3.5.1).
   struct SubBox {
     BoxHeader header;
     const uint8_t* payload;
   };
   std::vector<SubBox> subs;
-  BoxIterator it(payload, static_cast<size_t>(box.payload_size()), box.offset + box.header_size,
-                 "fragment");
-  while (!it.done()) {
-    SubBox s;
-    FVV_RETURN_IF_ERROR(it.Next(&s.header, &s.payload));
+  BoxHeader chunks_box;
+  bool have_chunks = false;
+  const uint64_t base = box.offset + box.header_size;
+  for (uint64_t pos = 0; pos < payload_size;) {
+    const std::string head_cut = at + "the prefix of " + std::to_string(options.delivered) +
+                                 " bytes ends inside the fragment's head";
+    if (pos >= available) return Truncated(head_cut);
+    StatusOr<BoxHeader> parsed =
+        ParseBoxHeader(payload + pos, static_cast<size_t>(available - pos), base + pos, "fragment");
+    if (!parsed.ok() && parsed.status().code() == StatusCode::kTruncated &&
+        available < payload_size) {
+      return Truncated(head_cut);
+    }
+    FVV_RETURN_IF_ERROR(parsed.status());
+    const BoxHeader b = *parsed;
+    if (b.size > payload_size - pos) {
+      return Corrupt("fragment: " + BoxContext(b) + "size " + std::to_string(b.size) +
+                     " runs past the end of its parent (" + std::to_string(payload_size - pos) +
+                     " bytes left)");
+    }
     if (subs.size() == 64) return Corrupt(at + "more than 64 sub-boxes");
-    subs.push_back(s);
+    if (chunked && b.type == box::kTextureChunks) {
+      if (pos + b.size != payload_size) {
+        return Corrupt(BoxContext(b) + "must be the fragment's last sub-box");
+      }
+      if (b.version != 0)
+        return Unsupported(BoxContext(b) + "version " + std::to_string(b.version));
+      chunks_box = b;
+      have_chunks = true;
+      f->head_bytes = box.header_size + pos + b.header_size;
+      break;
+    }
+    if (b.size > available - pos) return Truncated(head_cut);
+    subs.push_back({b, payload + pos + b.header_size});
+    pos += b.size;
   }
   if (subs.empty() || subs.back().header.type != box::kChecksum) {
-    return Corrupt(at + "does not end with an 'fcrc' checksum box");
+    return Corrupt(at + (chunked ? "does not have an 'fcrc' checksum box just before 'txck'"
+                                 : "does not end with an 'fcrc' checksum box"));
   }
+  if (chunked && !have_chunks) return Corrupt(at + "no 'txck' after its 'fcrc'");
   {
     const BoxHeader& b = subs.back().header;
     // The checksum box's own header is outside what it covers, so it is fixed.
@@ -298,9 +546,17 @@ Status ReadFragment(const BoxHeader& box, const uint8_t* payload, const FileHead
       FVV_RETURN_IF_ERROR(once(!f->motion.empty()));
       if (n == 0) return Corrupt(BoxContext(b) + "empty");
       f->motion.assign(p, p + n);
+    } else if (b.type == box::kTextureHead) {
+      FVV_RETURN_IF_ERROR(once(have_texture));
+      if (!chunked) return Corrupt(BoxContext(b) + "without the texture-chunks tool in the header");
+      FVV_RETURN_IF_ERROR(ReadTextureHead(b, p, h, f->info, f));
+      have_texture = true;
     } else if (b.type == box::kTexture || b.type == box::kPredictiveTexture) {
       const bool predictive = b.type == box::kPredictiveTexture;
       FVV_RETURN_IF_ERROR(once(have_texture));
+      if (chunked) {
+        return Corrupt(BoxContext(b) + "in a stream with texture-chunks (its texture is 'txhd')");
+      }
       if (predictive != ((h.tools & kToolPredictiveTexture) != 0)) {
         return Corrupt(BoxContext(b) + (predictive ? "without" : "with") +
                        " the predictive-texture tool in the header");
@@ -337,7 +593,9 @@ Status ReadFragment(const BoxHeader& box, const uint8_t* payload, const FileHead
   }
   if (!have_header) return Corrupt(at + "no 'fghd'");
   if (!have_texture) {
-    return Corrupt(at + ((h.tools & kToolPredictiveTexture) ? "no 'ptex'" : "no 'texr'"));
+    return Corrupt(at + (chunked                              ? "no 'txhd'"
+                         : (h.tools & kToolPredictiveTexture) ? "no 'ptex'"
+                                                              : "no 'texr'"));
   }
   const bool wants_motion = f->info.first_camera == 0;
   if (wants_motion != !f->motion.empty()) {
@@ -350,7 +608,26 @@ Status ReadFragment(const BoxHeader& box, const uint8_t* payload, const FileHead
   if (!f->vertex_visibility.empty() && !(h.tools & kToolVertexVisibility)) {
     return Corrupt(at + "'vvis' without the vertex-visibility tool in the header");
   }
-  return Status::Ok();
+  if (!chunked) return Status::Ok();
+  const uint64_t chunks_at = chunks_box.offset - base + chunks_box.header_size;
+  return ReadTextureChunks(chunks_box, payload + chunks_at, available - chunks_at,
+                           available == payload_size, options, f);
+}
+
+StatusOr<std::array<uint64_t, 3>> ChunkedPrefixBytes(const FragmentData& f, uint64_t prefix) {
+  std::array<uint64_t, 3> bytes{};
+  if (prefix != 0 && prefix < f.head_bytes) {
+    return Truncated("fragment " + std::to_string(f.info.gop_index) + ": a prefix of " +
+                     std::to_string(prefix) + " bytes ends inside its head of " +
+                     std::to_string(f.head_bytes));
+  }
+  uint64_t end = f.head_bytes;
+  for (const TextureChunk& c : f.chunks) {
+    end += kChunkHeaderBytes + c.size;
+    if (prefix != 0 && end > prefix) break;
+    bytes[c.channel] += c.size;
+  }
+  return bytes;
 }
 
 }  // namespace fvv

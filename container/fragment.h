@@ -2,10 +2,13 @@
 // decodable on its own. Sub-boxes: 'fghd' (first), 'motn' (in the fragment of
 // camera range 0), 'texr' (or 'ptex' with the predictive-texture tool),
 // 'mask' and 'vvis' when the header declares those tools, and 'fcrc' (last):
-// CRC-32C of every payload byte before it.
+// CRC-32C of every payload byte before it. With texture-chunks (SPEC.md 3.5.1)
+// the texture is a head 'txhd' before 'fcrc' and the chunks' box 'txck' after
+// it, so that every prefix of the box past its head decodes.
 #ifndef FVV_CONTAINER_FRAGMENT_H_
 #define FVV_CONTAINER_FRAGMENT_H_
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -32,6 +35,15 @@ struct FragmentInfo {
   }
 };
 
+// One chunk of a chunked texture (SPEC.md 3.5.1): the next `size` bytes of
+// channel `channel` (0 Y, 1 U, 2 V).
+struct TextureChunk {
+  uint8_t channel = 0;
+  uint16_t size = 0;
+};
+// Bytes of a chunk before its data: channel u8, size u16, crc u32.
+constexpr uint32_t kChunkHeaderBytes = 7;
+
 // A fragment's coded payloads, as the writer takes them and the reader returns
 // them (decoding the payloads is the decoder's job).
 struct FragmentData {
@@ -44,7 +56,29 @@ struct FragmentData {
   MaskCoding mask_mode = MaskCoding::kContext;  // how `masks` is coded (mode 2: version 2)
   std::vector<uint8_t> vertex_visibility;       // coded; empty = absent
   uint32_t checksum = 0;                        // filled by the reader
+
+  // Texture in chunks (tool bit 21, SPEC.md 3.5.1), as the reader found it
+  // (the writer follows the header's tools). The reader fills the rest: `texture` holds the chunks
+  // it was given whole, `chunks` lists them in stream order, `declared_bytes` are the channels'
+  // whole sizes and `head_bytes` the box's bytes before the first chunk. For the writer, `chunks`
+  // is the order to write (empty: its own).
+  bool chunked = false;
+  std::vector<TextureChunk> chunks;
+  std::array<uint32_t, 3> declared_bytes{};
+  uint64_t head_bytes = 0;
 };
+
+// The chunk order the writer uses when FragmentData::chunks is empty: the
+// channels interleaved in the order of the encoder's RD hulls (ChannelStream::
+// rd), steepest first, so that every prefix is near the allocation the encoder
+// would make for its bytes; equal shares of the channels without hulls. Chunks
+// of about 2 % of the texture (a prefix wastes at most one).
+std::vector<TextureChunk> PlanTextureChunks(const EncodedBlock& texture);
+
+// Of a chunked fragment read whole: each channel's bytes in the chunks that lie
+// wholly within the box's first `prefix` bytes (0, or the box's size or more:
+// all). Truncated when the prefix ends inside the head (SPEC.md 3.5.1).
+StatusOr<std::array<uint64_t, 3>> ChunkedPrefixBytes(const FragmentData& f, uint64_t prefix);
 
 // The coding tools (FileHeader::tools bits) a texture coded with these
 // parameters uses; the header must declare all of them. frac_bits is
@@ -59,19 +93,30 @@ uint8_t TextureVersion(uint32_t tools);
 // The format version a stream needs: that of its tools, and 2 for mask mode 2.
 uint16_t RequiredFormatVersion(uint32_t tools, MaskCoding mask_coding);
 
-// Texture bytes of a fragment (whichever texture box it has).
+// Texture bytes of a fragment (whichever texture box it has; with chunks, all
+// its head declares, also where only a prefix was read).
 uint64_t TextureBytes(const FragmentData& f);
 
 // The fragment info the header's GOP grid gives to fragment `gop_index`.
 StatusOr<FragmentInfo> FragmentInfoFor(const FileHeader& h, uint32_t gop_index);
 
-std::vector<uint8_t> WriteFragmentBox(const FragmentData& f);
+// `chunked`: the texture in 'txhd' and chunks (the header's texture-chunks
+// tool), else in 'texr'. `head_bytes` (optional) receives the box's bytes
+// before its first chunk (the whole box when not chunked).
+std::vector<uint8_t> WriteFragmentBox(const FragmentData& f, bool chunked,
+                                      uint64_t* head_bytes = nullptr);
 
 struct FragmentReadOptions {
   bool verify_checksum = true;
+  // Bytes of the box delivered, from its first byte (a prefix fetched over the
+  // network); 0 = all. Only a chunked fragment decodes from a prefix: any
+  // other shorter than its box is Truncated, and so is a prefix that ends
+  // inside a chunked fragment's head.
+  uint64_t delivered = 0;
 };
 // Parses a 'frag' payload, checking it against the header (GOP grid, declared
-// tools, level limits) and its checksum.
+// tools, level limits) and its checksums. `payload` holds the box's payload,
+// or with options.delivered, that many bytes of the box less its header.
 Status ReadFragment(const BoxHeader& box, const uint8_t* payload, const FileHeader& h,
                     const FragmentReadOptions& options, FragmentData* f);
 

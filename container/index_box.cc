@@ -4,7 +4,9 @@
 
 namespace fvv {
 
-std::vector<uint8_t> WriteIndexBox(const std::vector<IndexEntry>& entries) {
+uint8_t IndexVersion(uint32_t tools) { return (tools & kToolTextureChunks) ? 1 : 0; }
+
+std::vector<uint8_t> WriteIndexBox(const std::vector<IndexEntry>& entries, uint8_t version) {
   ByteWriter w;
   w.U32(static_cast<uint32_t>(entries.size()));
   for (const IndexEntry& e : entries) {
@@ -14,17 +16,24 @@ std::vector<uint8_t> WriteIndexBox(const std::vector<IndexEntry>& entries) {
     w.U16(e.camera_count);
     w.U64(e.offset);
     w.U64(e.size);
+    if (version >= 1) w.U32(e.head_size);
   }
-  return MakeBox(box::kIndex, 0, 0, w.bytes());
+  return MakeBox(box::kIndex, version, 0, w.bytes());
 }
 
 Status ReadIndex(const BoxHeader& box, const uint8_t* payload, const FileHeader& h,
                  std::vector<IndexEntry>* entries) {
   const std::string at = BoxContext(box);
-  if (box.version != 0) return Unsupported(at + "version " + std::to_string(box.version));
+  if (box.version > 1) return Unsupported(at + "version " + std::to_string(box.version));
+  if (box.version != IndexVersion(h.tools)) {
+    return Corrupt(at + "version " + std::to_string(box.version) + " in a stream " +
+                   (box.version == 0 ? "with" : "without") + " texture-chunks (version " +
+                   std::to_string(IndexVersion(h.tools)) + ")");
+  }
+  const size_t entry_bytes = kIndexEntryBytes + (box.version >= 1 ? 4 : 0);
   ByteReader r(payload, box.payload_size());
   const uint32_t count = r.U32();
-  if (uint64_t{count} * kIndexEntryBytes != r.remaining()) {
+  if (uint64_t{count} * entry_bytes != r.remaining()) {
     return Corrupt(at + std::to_string(count) + " entries do not fill the " +
                    std::to_string(r.remaining()) + " bytes of the box");
   }
@@ -46,7 +55,12 @@ Status ReadIndex(const BoxHeader& box, const uint8_t* payload, const FileHeader&
     e.camera_count = r.U16();
     e.offset = r.U64();
     e.size = r.U64();
+    if (box.version >= 1) e.head_size = r.U32();
     const std::string en = at + "entry " + std::to_string(i) + ": ";
+    if (box.version >= 1 && (e.head_size < kMinBoxHeaderSize || e.head_size > e.size)) {
+      return Corrupt(en + "head of " + std::to_string(e.head_size) + " bytes in a fragment of " +
+                     std::to_string(e.size));
+    }
     FVV_RETURN_IF_ERROR(
         CheckGridCell(h, e.first_frame, e.frame_count, e.first_camera, e.camera_count, en));
     if (i > 0) {

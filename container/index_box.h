@@ -19,10 +19,16 @@ struct IndexEntry {
   uint16_t camera_count = 0;
   uint64_t offset = 0;  // of the 'frag' box, from the start of the file
   uint64_t size = 0;    // of the whole 'frag' box
+  // Version 1 (texture-chunks): the box's bytes before its first texture chunk,
+  // the least prefix that decodes (SPEC.md 3.5.1); 0 where unknown (an index
+  // rebuilt by walking a stream without one).
+  uint32_t head_size = 0;
 };
-constexpr size_t kIndexEntryBytes = 26;
+constexpr size_t kIndexEntryBytes = 26;  // version 0; version 1 adds head_size u32
 
-std::vector<uint8_t> WriteIndexBox(const std::vector<IndexEntry>& entries);
+// The 'indx' version of a stream with these tools: 1 with texture-chunks.
+uint8_t IndexVersion(uint32_t tools);
+std::vector<uint8_t> WriteIndexBox(const std::vector<IndexEntry>& entries, uint8_t version);
 // Checks entries against the header: GOP alignment, ranges, ascending offsets.
 Status ReadIndex(const BoxHeader& box, const uint8_t* payload, const FileHeader& header,
                  std::vector<IndexEntry>* entries);

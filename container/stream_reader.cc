@@ -51,7 +51,8 @@ StatusOr<ReaderEvent> StreamReader::Fail(Status s) {
 Status StreamReader::CheckFragmentAgainstIndex(uint64_t offset, uint64_t size) {
   if (!info_.has_index) return Status::Ok();
   const size_t i = seen_.size() - 1;
-  if (i >= info_.index.size() || info_.index[i].offset != offset || info_.index[i].size != size) {
+  if (i >= info_.index.size() || info_.index[i].offset != offset || info_.index[i].size != size ||
+      info_.index[i].head_size != seen_[i].head_size) {
     return Corrupt("index entry " + std::to_string(i) +
                    " does not point at the fragment at offset " + std::to_string(offset));
   }
@@ -83,7 +84,8 @@ StatusOr<ReaderEvent> StreamReader::Next() {
     }
     if (info_.has_index) {
       for (size_t i = 0; i < seen_.size(); ++i) {
-        if (info_.index[i].offset != seen_[i].offset || info_.index[i].size != seen_[i].size) {
+        if (info_.index[i].offset != seen_[i].offset || info_.index[i].size != seen_[i].size ||
+            info_.index[i].head_size != seen_[i].head_size) {
           return Fail(Corrupt("index entry " + std::to_string(i) + " disagrees with fragment at " +
                               std::to_string(seen_[i].offset)));
         }
@@ -145,6 +147,7 @@ StatusOr<ReaderEvent> StreamReader::Next() {
       e.size = b.size;
       e.first_frame = fragment_.info.first_frame;
       e.frame_count = fragment_.info.frame_count;
+      e.head_size = fragment_.chunked ? static_cast<uint32_t>(fragment_.head_bytes) : 0;
       if (!seen_.empty()) {
         s = CheckSpanOrder(info_.header, seen_.back().first_frame, seen_.back().frame_count,
                            e.first_frame, e.frame_count, BoxContext(b));

@@ -65,7 +65,7 @@ Status StreamWriter::WriteHeaderBoxes() {
   if (info_.header.frame_count != 0) {
     const uint64_t entries = info_.expected_fragments();
     std::vector<IndexEntry> blank(entries);
-    const std::vector<uint8_t> reserved = WriteIndexBox(blank);
+    const std::vector<uint8_t> reserved = WriteIndexBox(blank, IndexVersion(info_.header.tools));
     reserved_index_offset_ = sink_->size() + out.size();
     append(reserved);
   }
@@ -99,7 +99,9 @@ Status StreamWriter::AddFragment(const FragmentData& f) {
   if (((h.tools & kToolMasks) != 0) != !f.masks.empty()) {
     return InvalidArgument("writer: masks must be present exactly when the masks tool is declared");
   }
-  const std::vector<uint8_t> bytes = WriteFragmentBox(f);
+  uint64_t head_bytes = 0;
+  const std::vector<uint8_t> bytes =
+      WriteFragmentBox(f, (h.tools & kToolTextureChunks) != 0, &head_bytes);
   if (bytes.size() - kMinBoxHeaderSize > LimitsOf(h).max_fragment_bytes) {
     return LimitExceeded("writer: fragment " + std::to_string(gop) + " of " +
                          std::to_string(bytes.size()) + " bytes exceeds level " +
@@ -112,6 +114,7 @@ Status StreamWriter::AddFragment(const FragmentData& f) {
   e.camera_count = f.info.camera_count;
   e.offset = sink_->size();
   e.size = bytes.size();
+  e.head_size = (h.tools & kToolTextureChunks) ? head_bytes : 0;
   FVV_RETURN_IF_ERROR(sink_->Append(bytes.data(), bytes.size()));
   index_.push_back(e);
   frames_seen_ = std::max(frames_seen_, f.info.first_frame + f.info.frame_count);
@@ -131,7 +134,7 @@ Status StreamWriter::Finish() {
                            std::to_string(info_.expected_fragments()) +
                            " needed for the declared frames and cameras");
   }
-  const std::vector<uint8_t> index = WriteIndexBox(index_);
+  const std::vector<uint8_t> index = WriteIndexBox(index_, IndexVersion(h.tools));
   uint64_t index_offset;
   if (reserved_index_offset_ != 0) {  // fast start: same entry count as reserved
     index_offset = reserved_index_offset_;

@@ -113,6 +113,14 @@ int Run(const std::string& dir) {
          o->predictive = true;
        }},
       {"masks_mixing", [](SampleStreamOptions* o) { o->mask_coding = MaskCoding::kMixing; }},
+      {"texture_chunks",
+       [](SampleStreamOptions* o) {
+         o->frac_bits_97 = kFracBits97;
+         o->coder = EntropyCoder::kQuadtree;
+         o->weights = BandWeights::kOwnBand;
+         o->sample_frac = 3;
+         o->texture_chunks = true;
+       }},
       {"end_index_vvis",
        [](SampleStreamOptions* o) {
          o->fast_start = false;
@@ -132,6 +140,7 @@ int Run(const std::string& dir) {
     put("fuzz_decode", v.name, Prefixed({0}, *bytes));
     put("fuzz_stream_reader", v.name, Prefixed({7}, *bytes));
     put("fuzz_decoder_api", v.name, Prefixed({100, 0}, *bytes));
+    put("fuzz_decoder_ranges", v.name, Prefixed({3, 128}, *bytes));
     const FragmentData& f = stream->fragments[0];
     const uint8_t mode = static_cast<uint8_t>((o.motion_coder == MotionCoder::kZstd ? 1 : 0) |
                                               ((o.key_interval - 1) << 1));

@@ -9,7 +9,8 @@ cd "$(dirname "$0")/.."
 build=${1:?usage: fuzz/run_all.sh BUILD SECONDS}
 seconds=${2:?usage: fuzz/run_all.sh BUILD SECONDS}
 targets=(fuzz_stream_reader fuzz_motion fuzz_mask fuzz_block fuzz_decode fuzz_decoder_api
-  fuzz_bvh fuzz_gltf fuzz_capture_json fuzz_calibration fuzz_block_round_trip fuzz_poses fuzz_features
+  fuzz_decoder_ranges fuzz_bvh fuzz_gltf fuzz_capture_json fuzz_calibration fuzz_block_round_trip
+  fuzz_poses fuzz_features
   fuzz_prepared fuzz_image)
 runs=$build/fuzz-runs crashes=$build/fuzz-crashes
 rm -rf "$runs" && mkdir -p "$runs" "$crashes"

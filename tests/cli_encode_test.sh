@@ -57,31 +57,39 @@ tex_a=$(grep -o '"texture": [0-9]*' "$dir/summary.json" | head -1 | grep -o '[0-
 tex_b=$(grep "textures  " <<<"$out" | awk '{print $2}')
 [ "$tex_a" = "$tex_b" ] || fail "texture bytes differ: $tex_a vs $tex_b"
 
-# Format versions: the defaults write version 10 (the model on a grid); with
-# --model-floats version 7 (3 fractional sample bits, own-band weights, SPIHT
+# Format versions: the defaults write version 11 (the texture in chunks, the
+# model on a grid); --whole-texture version 10 with the same samples; with
+# --whole-texture --model-floats version 7 (3 fractional sample bits, own-band weights, SPIHT
 # coder arith3, 9/7 precision 5, mask mode 2); then --sample-bits 0 writes version 6, --weights axis version 5, with --coder
 # arith2 version 4, --coder arith version 3; --coder arith --precision 2
 # --mask-coder context what version 1 decoders read.
-"$fvv" info "$dir/b.fvv" | grep -q "format version 10" || fail "default format version: $("$fvv" info "$dir/b.fvv" | head -1)"
+"$fvv" info "$dir/b.fvv" | grep -q "format version 11" || fail "default format version: $("$fvv" info "$dir/b.fvv" | head -1)"
+"$fvv" info "$dir/b.fvv" | grep -q "texture-chunks" || fail "default tools: $("$fvv" info "$dir/b.fvv" | grep tools)"
+out=$("$fvv" encode "$dir/cap" -o "$dir/v10.fvv" --atlas 128 --gop-frames 2 --textures "$dir/tex" \
+  --whole-texture -q 2>&1) || fail "encode --whole-texture: $out"
+"$fvv" info "$dir/v10.fvv" | grep -q "format version 10" || fail "whole-texture format version: $("$fvv" info "$dir/v10.fvv" | head -1)"
+"$fvv" decode "$dir/b.fvv" -o "$dir/b_dec" >/dev/null 2>&1 || fail "decode of the chunked stream"
+"$fvv" decode "$dir/v10.fvv" -o "$dir/v10_dec" >/dev/null 2>&1 || fail "decode of the whole-texture stream"
+diff -r "$dir/b_dec" "$dir/v10_dec" >/dev/null || fail "chunks and texr decode differently"
 "$fvv" info "$dir/b.fvv" | grep -q "quantised-model" || fail "default tools: $("$fvv" info "$dir/b.fvv" | grep tools)"
 "$fvv" info "$dir/b.fvv" | grep -q "model: .*on a grid: positions 0.1221 mm" || fail "default model: $("$fvv" info "$dir/b.fvv" | grep model:)"
 out=$("$fvv" encode "$dir/cap" -o "$dir/v7.fvv" --atlas 128 --gop-frames 2 --textures "$dir/tex" \
-  --model-floats -q 2>&1) || fail "encode --model-floats: $out"
+  --whole-texture --model-floats -q 2>&1) || fail "encode --model-floats: $out"
 "$fvv" info "$dir/v7.fvv" | grep -q "format version 7" || fail "model-floats format version: $("$fvv" info "$dir/v7.fvv" | head -1)"
 "$fvv" info "$dir/v7.fvv" | grep -q "on a grid" && fail "model-floats model: $("$fvv" info "$dir/v7.fvv" | grep model:)"
 [ "$(stat -c %s "$dir/v7.fvv")" -gt "$(stat -c %s "$dir/b.fvv")" ] || fail "the float model is not the larger stream"
 # 4:2:0: bilinear chroma (format version 9) unless the older rule is asked for.
 out=$("$fvv" encode "$dir/cap" -o "$dir/c420.fvv" --atlas 128 --gop-frames 2 --textures "$dir/tex" \
   --chroma 420 -q 2>&1) || fail "encode --chroma 420: $out"
-"$fvv" info "$dir/c420.fvv" | grep -q "format version 10" || fail "chroma 420 format version: $("$fvv" info "$dir/c420.fvv" | head -1)"
+"$fvv" info "$dir/c420.fvv" | grep -q "format version 11" || fail "chroma 420 format version: $("$fvv" info "$dir/c420.fvv" | head -1)"
 "$fvv" info "$dir/c420.fvv" | grep -q "chroma-420.*chroma-bilinear" || fail "chroma 420 tools: $("$fvv" info "$dir/c420.fvv" | grep tools)"
 out=$("$fvv" encode "$dir/cap" -o "$dir/c420n.fvv" --atlas 128 --gop-frames 2 --textures "$dir/tex" \
-  --model-floats --chroma 420-nearest -q 2>&1) || fail "encode --chroma 420-nearest: $out"
+  --whole-texture --model-floats --chroma 420-nearest -q 2>&1) || fail "encode --chroma 420-nearest: $out"
 "$fvv" info "$dir/c420n.fvv" | grep -q "format version 7" || fail "chroma 420-nearest format version: $("$fvv" info "$dir/c420n.fvv" | head -1)"
 "$fvv" info "$dir/c420n.fvv" | grep -q "chroma-bilinear" && fail "chroma 420-nearest tools: $("$fvv" info "$dir/c420n.fvv" | grep tools)"
 "$fvv" info "$dir/b.fvv" | grep -q "sample-precision" || fail "default tools: $("$fvv" info "$dir/b.fvv" | grep tools)"
 out=$("$fvv" encode "$dir/cap" -o "$dir/v6.fvv" --atlas 128 --gop-frames 2 --textures "$dir/tex" \
-  --model-floats --sample-bits 0 -q 2>&1) || fail "encode --sample-bits 0: $out"
+  --whole-texture --model-floats --sample-bits 0 -q 2>&1) || fail "encode --sample-bits 0: $out"
 "$fvv" info "$dir/v6.fvv" | grep -q "format version 6" || fail "sample-bits 0 format version: $("$fvv" info "$dir/v6.fvv" | head -1)"
 "$fvv" info "$dir/v6.fvv" | grep -q "sample-precision" && fail "sample-bits 0 tools: $("$fvv" info "$dir/v6.fvv" | grep tools)"
 out=$("$fvv" encode "$dir/cap" -o "$dir/bad.fvv" --atlas 128 --textures "$dir/tex" --sample-bits 5 2>&1) &&
@@ -90,18 +98,18 @@ grep -q "sample-bits" <<<"$out" || fail "--sample-bits 5 message: $out"
 "$fvv" info "$dir/b.fvv" | grep -q "spiht-arith3" || fail "default tools: $("$fvv" info "$dir/b.fvv" | grep tools)"
 "$fvv" info "$dir/b.fvv" | grep -q "own-band-weights" || fail "default tools: $("$fvv" info "$dir/b.fvv" | grep tools)"
 out=$("$fvv" encode "$dir/cap" -o "$dir/v5.fvv" --atlas 128 --gop-frames 2 --textures "$dir/tex" \
-  --model-floats --weights axis -q 2>&1) || fail "encode --weights axis: $out"
+  --whole-texture --model-floats --weights axis -q 2>&1) || fail "encode --weights axis: $out"
 "$fvv" info "$dir/v5.fvv" | grep -q "format version 5" || fail "weights axis format version: $("$fvv" info "$dir/v5.fvv" | head -1)"
 "$fvv" info "$dir/v5.fvv" | grep -q "own-band-weights" && fail "weights axis tools: $("$fvv" info "$dir/v5.fvv" | grep tools)"
 out=$("$fvv" encode "$dir/cap" -o "$dir/v4.fvv" --atlas 128 --gop-frames 2 --textures "$dir/tex" \
-  --model-floats --weights axis --coder arith2 -q 2>&1) || fail "encode --coder arith2: $out"
+  --whole-texture --model-floats --weights axis --coder arith2 -q 2>&1) || fail "encode --coder arith2: $out"
 "$fvv" info "$dir/v4.fvv" | grep -q "format version 4" || fail "coder arith2 format version: $("$fvv" info "$dir/v4.fvv" | head -1)"
 "$fvv" info "$dir/v4.fvv" | grep -q "spiht-arith2" || fail "coder arith2 tools: $("$fvv" info "$dir/v4.fvv" | grep tools)"
 out=$("$fvv" encode "$dir/cap" -o "$dir/v3.fvv" --atlas 128 --gop-frames 2 --textures "$dir/tex" \
-  --model-floats --weights axis --coder arith -q 2>&1) || fail "encode --coder arith: $out"
+  --whole-texture --model-floats --weights axis --coder arith -q 2>&1) || fail "encode --coder arith: $out"
 "$fvv" info "$dir/v3.fvv" | grep -q "format version 3" || fail "coder arith format version: $("$fvv" info "$dir/v3.fvv" | head -1)"
 out=$("$fvv" encode "$dir/cap" -o "$dir/v1.fvv" --atlas 128 --gop-frames 2 --textures "$dir/tex" \
-  --model-floats --weights axis --coder arith --precision 2 --mask-coder context -q 2>&1) || fail "encode --precision 2: $out"
+  --whole-texture --model-floats --weights axis --coder arith --precision 2 --mask-coder context -q 2>&1) || fail "encode --precision 2: $out"
 "$fvv" info "$dir/v1.fvv" | grep -q "format version 1" || fail "precision 2 format version: $("$fvv" info "$dir/v1.fvv" | head -1)"
 "$fvv" decode "$dir/v1.fvv" -o "$dir/v1dec" >/dev/null 2>&1 || fail "decode of the version 1 stream"
 

@@ -250,7 +250,8 @@ TEST(Coverage, EveryVersionToolLevelAndErrorHasACase) {
   for (int v = 1; v <= FVV_FORMAT_VERSION; ++v) EXPECT_TRUE(versions.count(v)) << "version " << v;
   for (int l = 1; l <= 4; ++l) EXPECT_TRUE(levels.count(l)) << "level " << l;
   for (int e = 2; e <= 6; ++e) EXPECT_TRUE(errors.count(e)) << "error code " << e;
-  for (uint32_t bit = 1; bit & kAllKnownTools; bit <<= 1) {
+  for (uint32_t bit = 1; bit != 0; bit <<= 1) {
+    if (!(bit & kAllKnownTools)) continue;
     EXPECT_TRUE(tools.count(CodingToolName(bit))) << "tool " << CodingToolName(bit);
   }
 }

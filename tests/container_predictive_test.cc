@@ -176,7 +176,7 @@ Status ReadEdited(const std::vector<uint8_t>& stream,
   FileHeader h = (*reader)->info().header;
   FragmentData frag = *f;
   edit(&frag, &h);
-  const std::vector<uint8_t> box = WriteFragmentBox(frag);
+  const std::vector<uint8_t> box = WriteFragmentBox(frag, false);
   FVV_ASSIGN_OR_RETURN(const BoxHeader b, ParseBoxHeader(box.data(), box.size(), 0, "test"));
   FVV_RETURN_IF_ERROR(ValidateFileHeader(h));
   FragmentData out;

@@ -477,9 +477,12 @@ TEST_F(EncodeTest, CApiEncodesAndReportsAndRefusesMisuse) {
   fvv_encoder_default_settings(&s);
   EXPECT_EQ(s.mask_mode, uint32_t{FVV_MASKS_NONE});  // players take visibility from the geometry
   EXPECT_EQ(s.quantise_model, 1u);                   // the model on a grid: format version 10
+  EXPECT_EQ(s.texture_chunks, 1u);                   // the texture in chunks: format version 11
   // The texture tools below write the format versions that introduced them
-  // with the model in floats (quantised, every stream is version 10).
+  // with the model in floats and the texture in 'texr' (otherwise every stream
+  // is version 10 or 11).
   s.quantise_model = 0;
+  s.texture_chunks = 0;
   // The coding tools below are compared as they were measured: with masks,
   // each tool at the same texture bytes over the same texels.
   s.mask_mode = FVV_MASKS_CODED;
@@ -582,6 +585,20 @@ TEST_F(EncodeTest, CApiEncodesAndReportsAndRefusesMisuse) {
   EXPECT_NEAR(double(report_v10.texture_bytes), double(report.texture_bytes),
               0.02 * double(report.texture_bytes));
   EXPECT_NEAR(report_v10.psnr_rgb, report.psnr_rgb, 0.2);
+  // The texture in chunks: format version 11, the same samples and texture
+  // bytes; 7 bytes a chunk instead of 'texr''s truncation points, within a
+  // few percent of the stream.
+  s.texture_chunks = 1;
+  fvv_encode_report report_v11;
+  EXPECT_EQ(encode_version("v11", &report_v11), 11u);
+  EXPECT_EQ(report_v11.texture_bytes, report_v10.texture_bytes);
+  EXPECT_EQ(report_v11.psnr_rgb, report_v10.psnr_rgb);
+  EXPECT_NEAR(double(report_v11.file_bytes), double(report_v10.file_bytes),
+              0.03 * double(report_v10.file_bytes));
+  s.texture_chunks = 2;
+  EXPECT_EQ(fvv_encoder_create(&s, &none), FVV_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(fvv_encoder_settings_error()).find("texture_chunks"), std::string::npos);
+  s.texture_chunks = 0;
   s.quantise_model = 2;
   EXPECT_EQ(fvv_encoder_create(&s, &none), FVV_INVALID_ARGUMENT);
   EXPECT_NE(std::string(fvv_encoder_settings_error()).find("quantise_model"), std::string::npos);

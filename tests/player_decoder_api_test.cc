@@ -444,3 +444,182 @@ TEST(DecoderApi, DamagedFragmentIsReportedAndOthersStillDecode) {
 
 }  // namespace
 }  // namespace fvv
+
+namespace fvv {
+namespace {
+
+// A stream with the texture in chunks (format version 11), in memory and as a file.
+struct RangesFixture {
+  std::vector<uint8_t> bytes;
+  std::string path;
+};
+
+RangesFixture ChunkedStream(bool fast_start, const std::string& name) {
+  SampleStreamOptions o = Options();
+  o.coder = EntropyCoder::kQuadtree;
+  o.texture_chunks = true;
+  o.fast_start = fast_start;
+  o.bpp = 3.0;
+  auto s = MakeSampleStream(o);
+  EXPECT_TRUE(s.ok());
+  RangesFixture fx;
+  fx.bytes = *WriteStreamToMemory(s->info, s->fragments);
+  fx.path = ::testing::TempDir() + "/" + name;
+  FILE* f = std::fopen(fx.path.c_str(), "wb");
+  EXPECT_NE(f, nullptr);
+  EXPECT_EQ(std::fwrite(fx.bytes.data(), 1, fx.bytes.size(), f), fx.bytes.size());
+  std::fclose(f);
+  return fx;
+}
+
+// Adds what the decoder asks for, at most 64 bytes of it at a time (a client
+// may fetch less or more), until it is ready; the number of requests.
+int FetchHead(fvv_decoder* dec, const std::vector<uint8_t>& bytes) {
+  int requests = 0;
+  for (;;) {
+    fvv_event event;
+    EXPECT_EQ(fvv_decoder_process(dec, &event), FVV_OK) << fvv_decoder_error(dec);
+    if (event != FVV_EVENT_NEED_MORE_INPUT) {
+      EXPECT_EQ(event, FVV_EVENT_READY);
+      return requests;
+    }
+    uint64_t offset = 0, size = 0;
+    EXPECT_EQ(fvv_decoder_wanted_range(dec, &offset, &size), 1);
+    EXPECT_LE(offset + size, bytes.size());
+    size = std::min<uint64_t>(size, 64);
+    EXPECT_EQ(fvv_decoder_add_range(dec, offset, bytes.data() + offset, size_t(size)), FVV_OK);
+    if (++requests > 1000) {
+      ADD_FAILURE() << "the head never completes";
+      return requests;
+    }
+  }
+}
+
+void ExpectSameViews(const fvv_frame& a, const fvv_frame& b, const char* what) {
+  ASSERT_EQ(a.camera_count, b.camera_count);
+  const size_t n = size_t{a.width} * a.height * 3;
+  for (uint32_t c = 0; c < a.camera_count; ++c) {
+    ASSERT_EQ(a.views[c].pixels == nullptr, b.views[c].pixels == nullptr) << what;
+    if (a.views[c].pixels) {
+      EXPECT_EQ(std::memcmp(a.views[c].pixels, b.views[c].pixels, n), 0)
+          << what << ", camera " << c;
+    }
+  }
+}
+
+TEST(DecoderRanges, FragmentsFetchedAsPrefixesDecodeAsTheFileAtThatBudget) {
+  const RangesFixture fx = ChunkedStream(/*fast_start=*/false, "fvv_ranges_index_end.fvv");
+  DecoderPtr dec = MakeDecoder();
+  ASSERT_EQ(fvv_decoder_open_ranges(dec.get(), fx.bytes.size()), FVV_OK);
+  // Only what it asks for: the header boxes, then the index at the end.
+  const int requests = FetchHead(dec.get(), fx.bytes);
+  EXPECT_GE(requests, 2);
+  fvv_stream_info info;
+  ASSERT_EQ(fvv_decoder_get_info(dec.get(), &info), FVV_OK);
+  EXPECT_EQ(info.format_version, 11u);
+  ASSERT_EQ(fvv_decoder_fragment_count(dec.get()), 6u);  // 3 spans x 2 camera groups
+  std::vector<fvv_fragment_info> frags(6);
+  uint64_t head = 0;
+  for (uint32_t i = 0; i < 6; ++i) {
+    ASSERT_EQ(fvv_decoder_get_fragment(dec.get(), i, &frags[i]), FVV_OK);
+    EXPECT_LT(frags[i].held, frags[i].head_size);  // at most the box header the head walk read
+    EXPECT_LT(frags[i].head_size, frags[i].size);
+    head = std::max(head, frags[i].head_size);
+  }
+  fvv_status status;
+  EXPECT_EQ(frags[2].held, 0u);
+  EXPECT_EQ(DecodeFrame(dec.get(), 5, nullptr, &status), nullptr);
+  EXPECT_EQ(status, FVV_INVALID_ARGUMENT);  // nothing of span 1 fetched yet
+  // A prefix that ends inside the head.
+  ASSERT_EQ(fvv_decoder_add_range(dec.get(), frags[0].offset, fx.bytes.data() + frags[0].offset,
+                                  size_t(frags[0].head_size - 1)),
+            FVV_OK);
+  ASSERT_EQ(fvv_decoder_add_range(dec.get(), frags[1].offset, fx.bytes.data() + frags[1].offset,
+                                  size_t(frags[1].head_size + 40)),
+            FVV_OK);
+  EXPECT_EQ(DecodeFrame(dec.get(), 0, nullptr, &status), nullptr);
+  EXPECT_EQ(status, FVV_TRUNCATED);
+
+  DecoderPtr file = MakeDecoder();
+  ASSERT_EQ(fvv_decoder_open_file(file.get(), fx.path.c_str()), FVV_OK);
+  // The same prefix of each fragment of span 0, then all of them.
+  for (const uint64_t prefix : {head + 200, head + 900, uint64_t{0}}) {
+    for (uint32_t i : {0u, 1u}) {
+      const uint64_t n = prefix == 0 ? frags[i].size : std::min(prefix, frags[i].size);
+      ASSERT_EQ(fvv_decoder_add_range(dec.get(), frags[i].offset, fx.bytes.data() + frags[i].offset,
+                                      size_t(n)),
+                FVV_OK);
+    }
+    fvv_fragment_info held;
+    ASSERT_EQ(fvv_decoder_get_fragment(dec.get(), 0, &held), FVV_OK);
+    EXPECT_EQ(held.held, prefix == 0 ? frags[0].size : std::min(prefix, frags[0].size));
+    FramePtr got = DecodeFrame(dec.get(), 2, nullptr, &status);
+    ASSERT_NE(got, nullptr) << fvv_decoder_error(dec.get());
+    fvv_decode_budget budget{};
+    budget.max_bytes_per_gop = prefix;
+    FramePtr want = DecodeFrame(file.get(), 2, &budget, &status);
+    ASSERT_NE(want, nullptr) << fvv_decoder_error(file.get());
+    ExpectSameViews(*got, *want, prefix == 0 ? "whole" : "prefix");
+    EXPECT_EQ(got->report.bytes_decoded, want->report.bytes_decoded);
+    EXPECT_EQ(got->report.complete, prefix == 0);
+  }
+  // Span 1 with only camera group 0 fetched: camera 0 alone decodes.
+  ASSERT_EQ(fvv_decoder_add_range(dec.get(), frags[2].offset, fx.bytes.data() + frags[2].offset,
+                                  size_t(frags[2].size)),
+            FVV_OK);
+  fvv_decode_budget only0{};
+  only0.camera_mask = 1;
+  FramePtr one = DecodeFrame(dec.get(), 5, &only0, &status);
+  ASSERT_NE(one, nullptr) << fvv_decoder_error(dec.get());
+  EXPECT_NE(one->views[0].pixels, nullptr);
+  EXPECT_EQ(one->views[2].pixels, nullptr);
+  EXPECT_EQ(DecodeFrame(dec.get(), 5, nullptr, &status), nullptr);
+  EXPECT_EQ(status, FVV_INVALID_ARGUMENT);
+}
+
+TEST(DecoderRanges, ADamagedChunkAndAStreamWithoutIndexAreReported) {
+  RangesFixture fx = ChunkedStream(/*fast_start=*/true, "fvv_ranges_front.fvv");
+  {
+    DecoderPtr dec = MakeDecoder();
+    ASSERT_EQ(fvv_decoder_open_ranges(dec.get(), fx.bytes.size()), FVV_OK);
+    FetchHead(dec.get(), fx.bytes);
+    fvv_fragment_info f;
+    ASSERT_EQ(fvv_decoder_get_fragment(dec.get(), 0, &f), FVV_OK);
+    std::vector<uint8_t> damaged(fx.bytes.begin() + f.offset, fx.bytes.begin() + f.offset + f.size);
+    damaged.back() ^= 1;  // the last chunk's data
+    ASSERT_EQ(fvv_decoder_add_range(dec.get(), f.offset, damaged.data(), damaged.size() - 1),
+              FVV_OK);
+    fvv_decode_budget only0{};
+    only0.camera_mask = 1;
+    fvv_status status;
+    EXPECT_NE(DecodeFrame(dec.get(), 0, &only0, &status), nullptr);  // the damage is not held yet
+    ASSERT_EQ(fvv_decoder_add_range(dec.get(), f.offset, damaged.data(), damaged.size()), FVV_OK);
+    EXPECT_EQ(DecodeFrame(dec.get(), 0, &only0, &status), nullptr);
+    EXPECT_EQ(status, FVV_CHECKSUM_MISMATCH);
+    EXPECT_EQ(fvv_decoder_add_range(dec.get(), fx.bytes.size(), fx.bytes.data(), 1),
+              FVV_INVALID_ARGUMENT);  // past the end
+  }
+  // Without an index the fragments cannot be found by ranges.
+  {
+    SampleStreamOptions o = Options();
+    o.fast_start = false;
+    auto s = MakeSampleStream(o);
+    ASSERT_TRUE(s.ok());
+    std::vector<uint8_t> bytes = *WriteStreamToMemory(s->info, s->fragments);
+    uint64_t index_offset = 0;
+    for (int k = 7; k >= 0; --k)
+      index_offset = (index_offset << 8) | bytes[kHeaderIndexOffsetPos + k];
+    bytes.resize(size_t(index_offset));
+    for (int k = 0; k < 8; ++k) bytes[kHeaderIndexOffsetPos + k] = 0;
+    DecoderPtr dec = MakeDecoder();
+    ASSERT_EQ(fvv_decoder_open_ranges(dec.get(), bytes.size()), FVV_OK);
+    ASSERT_EQ(fvv_decoder_add_range(dec.get(), 0, bytes.data(), bytes.size()), FVV_OK);
+    fvv_event event;
+    EXPECT_EQ(fvv_decoder_process(dec.get(), &event), FVV_UNSUPPORTED);
+    EXPECT_NE(std::string(fvv_decoder_error(dec.get())).find("no index"), std::string::npos)
+        << fvv_decoder_error(dec.get());
+  }
+}
+
+}  // namespace
+}  // namespace fvv

@@ -11,6 +11,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
@@ -21,6 +22,7 @@
 #include "conformance/lib/runner.h"
 #include "conformance/sample/sample_stream.h"
 #include "container/file_header.h"
+#include "container/file_reader.h"
 #include "container/writer.h"
 #include "encoder/io/image_io.h"
 #include "fvv/fvv_types.h"
@@ -33,9 +35,13 @@ struct CaseSpec {
   std::vector<std::string> sections;  // beyond the ones every stream exercises
   SampleStreamOptions options;
   std::vector<uint64_t> budgets;  // truncation budgets besides whole streams
+  // The budgets count from the stream's largest fragment head (texture-chunks:
+  // a prefix shorter than a head is an error, SPEC.md 3.5.1).
+  bool budgets_past_head = false;
   // Valid edge cases and invalid streams: edits of the sample stream's boxes.
   std::function<Status(std::vector<EditBox>*)> edit;
   StatusCode error = StatusCode::kOk;  // kOk: the stream is valid
+  uint64_t error_budget = 0;           // invalid: decoded at this budget (0 = whole)
   // Raw cut or damage after joining (truncation, box sizes): applied last.
   std::function<void(std::vector<EditBox>*, std::vector<uint8_t>*)> raw;
 };
@@ -78,7 +84,10 @@ std::vector<std::string> SortedSections(std::vector<std::string> s) {
     for (size_t i = 0; i < section.size();) {
       size_t next = section.find('.', i);
       if (next == std::string::npos) next = section.size();
-      parts.push_back(std::atoi(section.substr(i, next - i).c_str()));
+      const std::string part = section.substr(i, next - i);
+      // Annex parts ("B.2") after the sections.
+      parts.push_back(std::isalpha(static_cast<unsigned char>(part[0])) ? 1000 + part[0]
+                                                                        : std::atoi(part.c_str()));
       i = next + 1;
     }
     return parts;
@@ -161,9 +170,18 @@ Status MakeCase(const CaseSpec& spec, const std::string& dir, bool force) {
   if (spec.error != StatusCode::kOk) {
     c.expect_error = true;
     c.error = spec.error;
+    c.error_bytes_per_fragment = spec.error_budget;
     c.spec_sections = SortedSections(spec.sections);
   }
-  FVV_RETURN_IF_ERROR(BlessCase(&c, spec.budgets, /*force=*/true));
+  std::vector<uint64_t> budgets = spec.budgets;
+  if (spec.budgets_past_head) {
+    MemorySource source(bytes.data(), bytes.size());
+    FVV_ASSIGN_OR_RETURN(const std::unique_ptr<FileReader> reader, FileReader::Open(&source));
+    uint64_t head = 0;
+    for (const IndexEntry& e : reader->info().index) head = std::max<uint64_t>(head, e.head_size);
+    for (uint64_t& b : budgets) b += head;
+  }
+  FVV_RETURN_IF_ERROR(BlessCase(&c, budgets, /*force=*/true));
   std::printf("made     %-34s %7zu bytes\n", spec.name.c_str(), bytes.size());
   return Status::Ok();
 }
@@ -250,7 +268,6 @@ std::vector<CaseSpec> ValidCases() {
       "format version 10: the body model on a grid ('modl' version 1: positions in steps of "
       "2^-13 m, atlas coordinates of 2^-11, 10-bit octahedral normals, 8-bit skin weights)",
       o, {100});
-
   o = Base(8, 3, 32, 32, 4, 3);
   o.masks = false;
   add("no_masks", "no shape masks: every texel used", o, {100});
@@ -448,6 +465,33 @@ std::vector<CaseSpec> ValidCases() {
       "coder 4 with own-band weights and decoded samples with 3 fractional bits, 9/7 with 5 "
       "fractional bits, masks; 2x2 GOP grid",
       encoder_defaults(EntropyCoder::kQuadtree), {1, 64, 700});
+
+  // Format version 11: the texture in chunks (3.5.1); a budget is a prefix of
+  // each fragment, at least the largest head of the stream.
+  {
+    SampleStreamOptions c = encoder_defaults(EntropyCoder::kQuadtree);
+    c.quantise_model = true;
+    c.texture_chunks = true;
+    add("texture_chunks_97",
+        "format version 11: the texture in chunks ('txhd', 'txck'), decoded from prefixes of "
+        "each fragment; coder 4 with the encoder's other defaults, masks; 2x2 GOP grid",
+        c, {0, 150, 600, 1500}, {"3.5.1", "B.2"})
+        ->budgets_past_head = true;
+    c = Base(6, 3, 37, 23, 6, 3);
+    c.kernel = WaveletKernel::kLeGall53;
+    c.coder = EntropyCoder::kQuadtree;
+    c.chroma = ChromaFormat::k420;
+    c.mask_coding = MaskCoding::kMixing;
+    c.vertex_visibility = true;
+    c.fast_start = false;
+    c.texture_chunks = true;
+    add("texture_chunks_53_420_index_end",
+        "format version 11: chunks of a 5/3 4:2:0 texture on an odd atlas in 6-frame x "
+        "3-camera GOPs with vertex visibility, the index (version 1, with the heads' sizes) at "
+        "the end",
+        c, {0, 100, 400}, {"3.5.1", "8", "B.2"})
+        ->budgets_past_head = true;
+  }
 
   // Format version 6: own-band weights ('texr' version 2, 9.3): the 9/7 with
   // coder 3 as the encoder's defaults have it, the 5/3 (power-of-two weights)
@@ -1220,6 +1264,66 @@ std::vector<CaseSpec> InvalidCases() {
     const size_t weights = counts + 8 + 4 + n * (12 + 4 + 8 + 8);
     (*raw)[weights] ^= 1;
   });
+
+  // Format version 11: the texture in chunks (3.5.1).
+  const auto chunked = [](CaseSpec* c) {
+    c->options.texture_chunks = true;
+    return c;
+  };
+  chunked(add("texture_chunks_in_version_10",
+              "the texture-chunks tool (bit 21) in a format version 10 header",
+              StatusCode::kCorrupt, {"3.1", "4", "10"}))
+      ->edit = retool(0, 0, 10);
+  predictive(add("texture_chunks_with_predictive",
+                 "a format version 11 header declaring texture-chunks with predictive-texture",
+                 StatusCode::kCorrupt, {"3.1", "10"}))
+      ->edit = retool(0, kToolTextureChunks, 11);
+  chunked(add("chunks_prefix_inside_head",
+              "a valid chunked stream decoded at a budget of 40 bytes per fragment: every "
+              "prefix ends inside its fragment's head",
+              StatusCode::kTruncated, {"3.5.1", "10", "B.2"}))
+      ->error_budget = 40;
+  chunked(add("chunk_checksum_mismatch",
+              "one byte of the first fragment's last chunk changed (the chunk's CRC-32C no longer "
+              "matches; the head's does)",
+              StatusCode::kChecksumMismatch, {"3.5.1", "10"}))
+      ->edit = [fragment](std::vector<EditBox>* boxes) {
+    return EditChunkedFragment(&fragment(boxes, 0), nullptr,
+                               [](std::vector<uint8_t>* chunks) { chunks->back() ^= 0x10; });
+  };
+  chunked(add("chunk_channel_3",
+              "the first fragment's first chunk names channel 3 (its CRC-32C recomputed)",
+              StatusCode::kCorrupt, {"3.5.1", "10"}))
+      ->edit = [fragment](std::vector<EditBox>* boxes) {
+    return EditChunkedFragment(&fragment(boxes, 0), nullptr, [](std::vector<uint8_t>* chunks) {
+      (*chunks)[0] = 3;
+      RechecksumChunk(chunks, 0);
+    });
+  };
+  chunked(add("chunks_short_of_head",
+              "the first fragment's 'txhd' declares one byte more of channel Y than its chunks "
+              "hold (head checksum recomputed)",
+              StatusCode::kCorrupt, {"3.5.1", "10"}))
+      ->edit = [fragment](std::vector<EditBox>* boxes) {
+    return EditChunkedFragment(
+        &fragment(boxes, 0),
+        [](std::vector<EditBox>* subs) {
+          // After kernel, coder, colour, chroma and the precisions its
+          // version has (9.1): Y's bitplanes, then its size.
+          EditBox& head = (*subs)[FindBox(*subs, box::kTextureHead)];
+          const size_t y_size = 4 + (head.version >= 1) + (head.version >= 3) + 1;
+          StoreLe(&head.payload, y_size, LoadLe(head.payload, y_size, 4) + 1, 4);
+        },
+        nullptr);
+  };
+  chunked(add("index_head_size_wrong",
+              "the index's first entry gives its fragment's head one byte more than it has",
+              StatusCode::kCorrupt, {"3.5.1", "3.6", "10"}))
+      ->edit = [](std::vector<EditBox>* boxes) {
+    std::vector<uint8_t>& index = (*boxes)[FindBox(*boxes, box::kIndex)].payload;
+    StoreLe(&index, 4 + 26, LoadLe(index, 4 + 26, 4) + 1, 4);
+    return Status::Ok();
+  };
   return v;
 }
 

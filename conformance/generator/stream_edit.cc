@@ -76,6 +76,34 @@ Status EditFragment(EditBox* fragment, const std::function<void(std::vector<Edit
   return Status::Ok();
 }
 
+Status EditChunkedFragment(EditBox* fragment,
+                           const std::function<void(std::vector<EditBox>*)>& head,
+                           const std::function<void(std::vector<uint8_t>*)>& chunks) {
+  FVV_ASSIGN_OR_RETURN(std::vector<EditBox> subs, SplitBoxes(fragment->payload));
+  if (subs.size() < 2 || subs.back().type != box::kTextureChunks ||
+      subs[subs.size() - 2].type != box::kChecksum) {
+    return Corrupt("edit: fragment does not end with fcrc and txck");
+  }
+  EditBox chunk_box = subs.back();
+  const EditBox crc_box = subs[subs.size() - 2];
+  subs.resize(subs.size() - 2);
+  if (head) head(&subs);
+  if (chunks) chunks(&chunk_box.payload);
+  std::vector<uint8_t> payload = JoinBoxes(subs);
+  std::vector<uint8_t> crc(4);
+  StoreLe(&crc, 0, Crc32c(payload.data(), payload.size()), 4);
+  AppendBox(box::kChecksum, crc_box.version, crc_box.flags, crc, &payload);
+  AppendBox(chunk_box.type, chunk_box.version, chunk_box.flags, chunk_box.payload, &payload);
+  fragment->payload = std::move(payload);
+  return Status::Ok();
+}
+
+void RechecksumChunk(std::vector<uint8_t>* chunks, size_t at) {
+  const size_t size = size_t(LoadLe(*chunks, at + 1, 2));
+  const uint8_t* p = chunks->data() + at;
+  StoreLe(chunks, at + 3, Crc32c(p + 7, size, Crc32c(p, 3)), 4);
+}
+
 Status DropIndex(std::vector<EditBox>* boxes) {
   const int index = FindBox(*boxes, box::kIndex);
   if (index >= 0) boxes->erase(boxes->begin() + index);

@@ -35,6 +35,14 @@ Status EditFragment(EditBox* fragment, const std::function<void(std::vector<Edit
 // Removes the index box and clears the header's index_offset (readers then
 // rebuild the index by scanning), so that boxes can move.
 Status DropIndex(std::vector<EditBox>* boxes);
+// Edits a chunked fragment (texture-chunks, SPEC.md 3.5.1): `head` gets its
+// sub-boxes before 'fcrc', `chunks` the payload of 'txck'; the head's checksum
+// is recomputed (the chunks' own are the edit's business: RechecksumChunk).
+Status EditChunkedFragment(EditBox* fragment,
+                           const std::function<void(std::vector<EditBox>*)>& head,
+                           const std::function<void(std::vector<uint8_t>*)>& chunks);
+// Recomputes the CRC-32C of the chunk that starts at `at` in a 'txck' payload.
+void RechecksumChunk(std::vector<uint8_t>* chunks, size_t at);
 
 // Little-endian stores into a payload.
 void StoreLe(std::vector<uint8_t>* payload, size_t offset, uint64_t value, int bytes);

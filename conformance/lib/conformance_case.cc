@@ -113,6 +113,7 @@ StatusOr<ConformanceCase> LoadCase(const std::string& dir) {
         return fail("error.name does not match code " + std::to_string(code) + " (\"" +
                     StatusCodeName(c.error) + "\")");
       }
+      c.error_bytes_per_fragment = j.value("bytes_per_fragment", uint64_t{0});
     } else if (expect == "decode") {
       if (j.contains("outputs")) FVV_RETURN_IF_ERROR(ReadHashes(j["outputs"], "outputs", &c.fixed));
       for (const json& b : j.value("budgets", json::array())) {
@@ -152,6 +153,7 @@ Status SaveCase(const ConformanceCase& c) {
   if (c.expect_error) {
     j["expect"] = "error";
     j["error"] = {{"code", static_cast<int>(c.error)}, {"name", StatusCodeName(c.error)}};
+    if (c.error_bytes_per_fragment != 0) j["bytes_per_fragment"] = c.error_bytes_per_fragment;
   } else {
     j["expect"] = "decode";
     if (!c.fixed.empty()) j["outputs"] = c.fixed;

@@ -40,8 +40,10 @@ struct ConformanceCase {
   // vertex visibility), then the samples per budget (the first is 0 = whole).
   OutputHashes fixed;
   std::vector<BudgetExpectation> budgets;
-  // Invalid streams.
+  // Invalid streams, and the budget they are decoded at (0 = whole streams; a
+  // budget that ends inside a chunked fragment's head is the error).
   StatusCode error = StatusCode::kOk;
+  uint64_t error_bytes_per_fragment = 0;
 
   std::string stream_path() const { return dir + "/" + stream; }
   bool blessed() const { return expect_error || !budgets.empty(); }

@@ -85,6 +85,11 @@ class SpanEmitter {
     if (span_.empty()) return Status::Ok();
     GopBudget budget;
     budget.max_bytes = options_.bytes_per_fragment;
+    // A budget is the prefix of each fragment delivered (SPEC.md Annex B.2):
+    // one that ends inside a chunked fragment's head is Truncated.
+    for (const FragmentData& f : span_) {
+      if (f.chunked) FVV_RETURN_IF_ERROR(ChunkedPrefixBytes(f, budget.max_bytes).status());
+    }
     FVV_ASSIGN_OR_RETURN(const auto gop,
                          DecodeGop(info, span_, budget, pool_.runner(), pool_.size()));
     for (const DecodedFrame& frame : gop->motion) {

@@ -73,6 +73,7 @@ std::string RunReference(const ConformanceCase& c, const std::vector<uint8_t>& s
     o.path = path;
     o.threads = options.threads;
     if (c.expect_error) {
+      o.bytes_per_fragment = c.error_bytes_per_fragment;
       const auto got = ReferenceDecodeHashes(stream, o);
       if (got.ok()) return std::string(PathName(path)) + ": decoded a stream it must reject";
       if (got.status().code() != c.error) {
@@ -193,7 +194,11 @@ std::string RunWithExternal(const ConformanceCase& c, const RunOptions& options,
                             std::string* note) {
   const std::string stream = c.stream_path();
   if (c.expect_error) {
-    const ExternalRun r = RunExternal(options, stream, 0);
+    if (c.error_bytes_per_fragment != 0 && options.decoder.find("{bytes}") == std::string::npos) {
+      return "the case decodes at a budget of " + std::to_string(c.error_bytes_per_fragment) +
+             " bytes per fragment, and the decoder command has no {bytes}";
+    }
+    const ExternalRun r = RunExternal(options, stream, c.error_bytes_per_fragment);
     if (!r.error.empty()) return r.error + r.log_tail;
     if (r.timed_out) return "decoder ran past " + std::to_string(options.timeout_seconds) + " s";
     if (r.exit_code == 0) return "decoder accepted a stream it must reject";
@@ -313,6 +318,7 @@ Status BlessCase(ConformanceCase* c, const std::vector<uint64_t>& budgets, bool 
   c->stream_sha256 = Sha256Hex(stream);
   ReferenceDecodeOptions o;
   if (c->expect_error) {
+    o.bytes_per_fragment = c->error_bytes_per_fragment;
     for (const ReadPath path : {ReadPath::kRandomAccess, ReadPath::kStreaming}) {
       o.path = path;
       const auto got = ReferenceDecodeHashes(stream, o);

@@ -234,6 +234,7 @@ StatusOr<SampleStream> MakeSampleStream(const SampleStreamOptions& o,
   if (o.key_interval > 1) h.tools |= kToolMotionInterpolation;
   if (o.motion_coder == MotionCoder::kZstd) h.tools |= kToolMotionZstd;
   if (o.quantise_model) h.tools |= kToolQuantisedModel;
+  if (o.texture_chunks) h.tools |= kToolTextureChunks;
   if (o.predictive) {
     if (!o.masks) return InvalidArgument("sample: the predictive texture needs masks");
     if (o.chroma != ChromaFormat::k444) return InvalidArgument("sample: predictive is 4:4:4");

@@ -51,7 +51,8 @@ struct SampleStreamOptions {
   // The body model on the reference encoder's grid ('modl' version 1, format
   // version 10); floats by default, as the released cases have them.
   bool quantise_model = false;
-  bool fast_start = true;  // declare the frame count up front (index at the front)
+  bool texture_chunks = false;  // 'txhd' + chunks (format version 11)
+  bool fast_start = true;       // declare the frame count up front (index at the front)
   uint8_t level = 1;
   uint32_t frame_rate_num = 25, frame_rate_den = 1;
   Metadata metadata = {{"title", "fvv sample stream"}, {"generator", "fvv sample"}};

@@ -34,6 +34,7 @@ fvv::Status ToSettings(const fvv_encoder_settings& c, fvv::EncoderSettings* s) {
     return InvalidArgument("sample_bits is not 0.." + std::to_string(fvv::kMaxSampleFrac));
   if (c.prune > 1) return InvalidArgument("prune is not 0 or 1");
   if (c.quantise_model > 1) return InvalidArgument("quantise_model is not 0 or 1");
+  if (c.texture_chunks > 1) return InvalidArgument("texture_chunks is not 0 or 1");
   if (!(c.least_blend_share >= 0 && c.least_blend_share <= 1))
     return InvalidArgument("least_blend_share is not 0..1");
   if (c.chroma > FVV_CHROMA_420_NEAREST) return InvalidArgument("chroma is not an fvv_chroma");
@@ -63,6 +64,7 @@ fvv::Status ToSettings(const fvv_encoder_settings& c, fvv::EncoderSettings* s) {
   s->sample_frac = int(c.sample_bits);
   s->prune_isolated = c.prune != 0;
   s->quantise_model = c.quantise_model != 0;
+  s->texture_chunks = c.texture_chunks != 0;
   s->least_blend_share = c.least_blend_share;
   s->chroma = c.chroma == FVV_CHROMA_444 ? fvv::ChromaFormat::k444 : fvv::ChromaFormat::k420;
   s->chroma_upsampling = c.chroma == FVV_CHROMA_420_NEAREST ? fvv::ChromaUpsampling::kNearest
@@ -112,6 +114,7 @@ void fvv_encoder_default_settings(fvv_encoder_settings* settings) {
   settings->sample_bits = fvv::kDefaultSampleFrac;
   settings->prune = 1;
   settings->quantise_model = 1;
+  settings->texture_chunks = 1;
   settings->least_blend_share = fvv::EncoderSettings{}.least_blend_share;
   settings->coder = FVV_CODER_ARITH3;
   settings->chroma = FVV_CHROMA_444;

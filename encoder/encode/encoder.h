@@ -139,6 +139,12 @@ struct EncoderSettings {
   // floats). The encoder resamples with the model as decoded. false stores
   // floats, what format versions 1 to 9 decoders read.
   bool quantise_model = true;
+  // The texture in chunks ('txhd' + 'txck', format version 11): any prefix of
+  // a fragment past its head decodes, so a player fetches the bytes its
+  // bandwidth allows with one HTTP range. The same samples, a few hundred
+  // bytes more per fragment (docs/encoder.md). false writes 'texr', what
+  // format versions 1 to 10 decoders read. Not with the predictive texture.
+  bool texture_chunks = true;
   uint32_t threads = 2;
   Metadata metadata;
 

@@ -233,6 +233,9 @@ Status Session::FillHeader(FileHeader* h) const {
   if (s_.key_interval > 1) h->tools |= kToolMotionInterpolation;
   if (s_.motion_coder == MotionCoder::kZstd) h->tools |= kToolMotionZstd;
   if (model_.quantisation.quantised) h->tools |= kToolQuantisedModel;
+  if (s_.texture_chunks && s_.texture_codec != TextureCodec::kPredictive) {
+    h->tools |= kToolTextureChunks;
+  }
   h->format_version = RequiredFormatVersion(h->tools, s_.mask_coding);
   // The lowest level whose limits hold the stream.
   for (const LevelLimits& l : AllLevels()) {

@@ -34,6 +34,17 @@
  *   fvv_decoder_push_end(dec);                       // no more bytes: then process to
  * FVV_EVENT_END
  *
+ * Usage, byte ranges (a web page fetching with HTTP Range requests; the stream needs an index):
+ *
+ *   fvv_decoder_open_ranges(dec, stream_size);       // from the server's Content-Range
+ *   fvv_decoder_add_range(dec, 0, first, first_size); // e.g. the first 256 KiB
+ *   while (fvv_decoder_process(dec, &event) == FVV_OK && event == FVV_EVENT_NEED_MORE_INPUT) {
+ *     fvv_decoder_wanted_range(dec, &offset, &size);  // fetch (at least) these bytes, add them
+ *   }
+ *   // FVV_EVENT_READY: for each GOP fragment the view needs (fvv_decoder_get_fragment), fetch a
+ *   // prefix of its bytes of at least head_size and add it; fvv_decoder_decode_frame decodes
+ *   // from what has been added. Fetch more of a fragment later and the frame decodes better.
+ *
  * Frames are decoded a GOP (all frames and cameras of a time span) at a time and kept, so
  * consecutive frames cost nothing extra; with settings.decode_ahead the next GOP is decoded on a
  * worker thread while the caller uses the current one.
@@ -83,8 +94,39 @@ typedef enum {
   FVV_EVENT_END = 3              /* the whole stream has been read */
 } fvv_event;
 FVV_EXPORT fvv_status fvv_decoder_process(fvv_decoder* decoder, fvv_event* event);
-/* Frames [0, n) are decodable now (all of them after open_file). */
+/* Frames [0, n) are decodable now (all of them after open_file, and after open_ranges once
+   FVV_EVENT_READY came). */
 FVV_EXPORT uint32_t fvv_decoder_frames_available(const fvv_decoder* decoder);
+
+/* Byte ranges: random access over a stream of `stream_size` bytes of which only the ranges added
+ * are known. fvv_decoder_process returns FVV_EVENT_NEED_MORE_INPUT until the header boxes and the
+ * index have been added (then FVV_EVENT_READY); a stream without an index is FVV_UNSUPPORTED here
+ * (push it instead). Ranges may come in any order and overlap; bytes already added are kept.
+ * No GOP is decoded ahead: the caller decides what is fetched and decoded. */
+FVV_EXPORT fvv_status fvv_decoder_open_ranges(fvv_decoder* decoder, uint64_t stream_size);
+FVV_EXPORT fvv_status fvv_decoder_add_range(fvv_decoder* decoder, uint64_t offset,
+                                            const uint8_t* data, size_t size);
+/* Before FVV_EVENT_READY: the bytes the header boxes or the index need next (1), or 0 when the
+   decoder needs none it knows of. Fetching more than asked saves requests. */
+FVV_EXPORT int fvv_decoder_wanted_range(const fvv_decoder* decoder, uint64_t* offset,
+                                        uint64_t* size);
+
+/* The GOP fragments of a stream opened by file or by ranges, in index order (time span, then
+   camera group): fragment (frame / gop_frames) * groups + camera / gop_cameras holds a frame and
+   camera, groups = ceil(camera_count / gop_cameras). */
+typedef struct {
+  uint32_t first_frame, frame_count;
+  uint32_t first_camera, camera_count;
+  uint64_t offset, size; /* the fragment's bytes in the stream */
+  uint64_t head_size;    /* the shortest prefix that decodes: the fragment's head in streams with
+                            the texture in chunks (format version 11, SPEC.md 3.5.1), any longer
+                            prefix decoding more of its texture; = size in older streams, which
+                            decode whole fragments only */
+  uint64_t held;         /* bytes of it the decoder holds from its first on (= size for a file) */
+} fvv_fragment_info;
+FVV_EXPORT uint32_t fvv_decoder_fragment_count(const fvv_decoder* decoder);
+FVV_EXPORT fvv_status fvv_decoder_get_fragment(const fvv_decoder* decoder, uint32_t index,
+                                               fvv_fragment_info* fragment);
 
 typedef struct {
   uint32_t format_version;
@@ -133,7 +175,12 @@ typedef enum {
 } fvv_pixel_format;
 
 typedef struct {
-  uint64_t max_bytes_per_gop; /* texture bytes to decode per GOP fragment; 0 = all */
+  uint64_t max_bytes_per_gop; /* texture bytes to decode per GOP fragment; 0 = all. In streams
+                                 with the texture in chunks (format version 11): the prefix of each
+                                 fragment decoded, head included (SPEC.md Annex B.2); less than a
+                                 fragment's head_size decodes its head (motion, masks) and none of
+                                 its texture. (Bytes held, with open_ranges, are another matter:
+                                 fewer than a head is FVV_TRUNCATED.) */
   double max_ms_per_gop;      /* time for the GOP's embedded-stream (SPIHT) decoding, after which
                                  it stops with what it has; set-up and the inverse transform come
                                  on top. 0 = no limit. GOPs of the predictive texture (format

@@ -117,6 +117,11 @@ typedef struct {
      8-bit skin weights; less than half the bytes of its floats). 0: 32-bit floats, what format
      versions 1..9 decoders read. */
   uint32_t quantise_model;
+  /* 1 (default): the texture in chunks (format version 11), so that any prefix of a GOP fragment
+     past its head decodes: a player fetches what its bandwidth allows with one HTTP range request.
+     The same samples, a few hundred bytes more per fragment. 0: 'texr', what format versions 1..10
+     decoders read. Ignored with the predictive texture. */
+  uint32_t texture_chunks;
   /* Without masks (FVV_MASKS_NONE): a texel a camera did not see but a player may take from it is
      coded, with the seeing cameras' colour, only where that camera can weigh at least this share
      of the reference player's blend from some viewpoint; elsewhere it is left to the coder's fill

@@ -142,6 +142,52 @@ fvv_status fvv_decoder_open_file(fvv_decoder* d, const char* path) {
   return Report(d, d->impl.OpenFile(path));
 }
 
+fvv_status fvv_decoder_open_ranges(fvv_decoder* d, uint64_t stream_size) {
+  if (!d) return FVV_INVALID_ARGUMENT;
+  return Report(d, d->impl.OpenRanges(stream_size));
+}
+
+fvv_status fvv_decoder_add_range(fvv_decoder* d, uint64_t offset, const uint8_t* data,
+                                 size_t size) {
+  if (!d || (!data && size > 0)) return Misuse(d, "add_range: NULL argument");
+  return Report(d, d->impl.AddRange(offset, data, size));
+}
+
+int fvv_decoder_wanted_range(const fvv_decoder* d, uint64_t* offset, uint64_t* size) {
+  if (!d || !offset || !size) return 0;
+  return d->impl.WantedRange(offset, size) ? 1 : 0;
+}
+
+uint32_t fvv_decoder_fragment_count(const fvv_decoder* d) {
+  if (!d || !d->impl.ready() || !d->impl.random_access()) return 0;
+  return static_cast<uint32_t>(d->impl.info().index.size());
+}
+
+fvv_status fvv_decoder_get_fragment(const fvv_decoder* cd, uint32_t index, fvv_fragment_info* out) {
+  fvv_decoder* d = const_cast<fvv_decoder*>(cd);
+  if (const fvv_status s = RequireReady(d, out, "get_fragment"); s != FVV_OK) return s;
+  if (!d->impl.random_access()) {
+    return Misuse(d, "get_fragment: a pushed stream has no fragment ranges");
+  }
+  const std::vector<fvv::IndexEntry>& index_entries = d->impl.info().index;
+  if (index >= index_entries.size()) {
+    return Misuse(d, ("get_fragment: fragment " + std::to_string(index) + " of " +
+                      std::to_string(index_entries.size()))
+                         .c_str());
+  }
+  const fvv::IndexEntry& e = index_entries[index];
+  *out = fvv_fragment_info{};
+  out->first_frame = e.first_frame;
+  out->frame_count = e.frame_count;
+  out->first_camera = e.first_camera;
+  out->camera_count = e.camera_count;
+  out->offset = e.offset;
+  out->size = e.size;
+  out->head_size = e.head_size != 0 ? e.head_size : e.size;
+  out->held = d->impl.FragmentBytesHeld(index);
+  return FVV_OK;
+}
+
 fvv_status fvv_decoder_push(fvv_decoder* d, const uint8_t* data, size_t size) {
   if (!d || (!data && size > 0)) return Misuse(d, "push: NULL argument");
   return Report(d, d->impl.Push(data, size));

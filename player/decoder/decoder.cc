@@ -28,8 +28,9 @@ uint32_t Decoder::span_count() const {
 }
 
 Status Decoder::OpenFile(const std::string& path) {
-  if (file_ || stream_) return InvalidArgument("the decoder already has an input");
-  FVV_ASSIGN_OR_RETURN(source_, FileSource::Open(path));
+  if (source_ || stream_) return InvalidArgument("the decoder already has an input");
+  FVV_ASSIGN_OR_RETURN(std::unique_ptr<FileSource> file, FileSource::Open(path));
+  source_ = std::move(file);
   auto reader = FileReader::Open(source_.get());
   if (!reader.ok()) {
     source_.reset();
@@ -41,8 +42,60 @@ Status Decoder::OpenFile(const std::string& path) {
   return Status::Ok();
 }
 
+Status Decoder::OpenRanges(uint64_t stream_size) {
+  if (source_ || stream_) return InvalidArgument("the decoder already has an input");
+  if (stream_size == 0) return InvalidArgument("a stream of 0 bytes");
+  auto fetched = std::make_unique<FetchedSource>(stream_size);
+  fetched_ = fetched.get();
+  source_ = std::move(fetched);
+  // The player decides what to fetch and decode next: nothing decodes ahead
+  // on bytes that may still grow.
+  settings_.decode_ahead = 0;
+  return Status::Ok();
+}
+
+Status Decoder::AddRange(uint64_t offset, const uint8_t* data, size_t size) {
+  if (!fetched_) return InvalidArgument("add_range without open_ranges");
+  FVV_RETURN_IF_ERROR(fetched_->Add(offset, data, size));
+  if (!file_) return Status::Ok();
+  // A GOP decoded from fewer bytes of a fragment these reach is decoded again.
+  const uint64_t end = offset + size;
+  const auto touched = [&](const std::shared_ptr<const DecodedGop>& gop) {
+    if (!gop) return false;
+    const uint32_t groups = info().header.camera_groups();
+    for (uint32_t g = 0; g < groups; ++g) {
+      const IndexEntry& e = info().index[size_t{gop->span} * groups + g];
+      if (offset < e.offset + e.size && end > e.offset) return true;
+    }
+    return false;
+  };
+  WaitDecodeAhead();
+  if (ahead_.valid()) {
+    auto done = ahead_.get();
+    if (done.ok()) parked_ = std::move(done).value();
+  }
+  if (touched(cache_)) cache_.reset();
+  if (touched(parked_)) parked_.reset();
+  return Status::Ok();
+}
+
+bool Decoder::WantedRange(uint64_t* offset, uint64_t* size) const {
+  if (!fetched_ || file_) return false;
+  if (!fetched_->missing(offset, size)) return false;
+  // The header boxes are read one box at a time: asking for 64 KiB from the
+  // first byte missing saves most of the requests (a model is ~130 KB).
+  *size = std::min(fetched_->size() - *offset, std::max<uint64_t>(*size, uint64_t{64} << 10));
+  return true;
+}
+
+uint64_t Decoder::FragmentBytesHeld(size_t fragment) const {
+  const IndexEntry& e = info().index[fragment];
+  return fetched_ ? std::min(e.size, fetched_->HeldFrom(e.offset)) : e.size;
+}
+
 Status Decoder::Push(const uint8_t* data, size_t size) {
-  if (file_) return InvalidArgument("push after open_file: a decoder has one input");
+  if (source_)
+    return InvalidArgument("push after open_file or open_ranges: a decoder has one input");
   if (stream_ended_) return InvalidArgument("push after push_end");
   if (!stream_) stream_ = std::make_unique<StreamReader>();
   if (size > 0) stream_->Push(data, size);
@@ -50,7 +103,7 @@ Status Decoder::Push(const uint8_t* data, size_t size) {
 }
 
 Status Decoder::PushEnd() {
-  if (file_) return InvalidArgument("push_end after open_file");
+  if (source_) return InvalidArgument("push_end after open_file or open_ranges");
   if (!stream_) stream_ = std::make_unique<StreamReader>();
   stream_->Finish();
   stream_ended_ = true;
@@ -58,6 +111,16 @@ Status Decoder::PushEnd() {
 }
 
 StatusOr<fvv_event> Decoder::Process() {
+  if (fetched_ && !file_) {
+    // The header boxes and the index, as far as the ranges fetched reach.
+    auto reader = FileReader::Open(fetched_, {}, /*require_index=*/true);
+    uint64_t offset, size;
+    if (!reader.ok() && fetched_->missing(&offset, &size)) return FVV_EVENT_NEED_MORE_INPUT;
+    FVV_RETURN_IF_ERROR(reader.status());
+    file_ = std::move(reader).value();
+    ready_ = true;
+    frames_available_ = file_->info().frames();
+  }
   if (!file_ && !stream_) return FVV_EVENT_NEED_MORE_INPUT;  // streaming starts empty
   if (file_) {
     if (!ready_reported_) {
@@ -110,13 +173,30 @@ StatusOr<fvv_event> Decoder::Process() {
   }
 }
 
-Status Decoder::SpanFragments(uint32_t span, std::vector<FragmentData>* out) {
+Status Decoder::SpanFragments(uint32_t span, const GopBudget& budget,
+                              std::vector<FragmentData>* out) {
   const FileHeader& h = info().header;
   const uint32_t groups = h.camera_groups();
   out->clear();
   for (uint32_t g = 0; g < groups; ++g) {
     const uint32_t index = span * groups + g;
-    if (file_) {
+    if (fetched_) {
+      const IndexEntry& e = info().index[index];
+      if (g > 0 && !budget.WantsGroup(e.first_camera, e.camera_count)) {
+        FragmentData cell;  // not decoded: its grid cell is all DecodeGop reads
+        cell.info = {index, e.first_frame, e.frame_count, e.first_camera, e.camera_count};
+        out->push_back(std::move(cell));
+        continue;
+      }
+      const uint64_t held = FragmentBytesHeld(index);
+      if (held == 0) {
+        return InvalidArgument("fragment " + std::to_string(index) + " (bytes " +
+                               std::to_string(e.offset) + " to " +
+                               std::to_string(e.offset + e.size) + ") has not been fetched");
+      }
+      FVV_ASSIGN_OR_RETURN(FragmentData f, file_->ReadFragment(index, held));
+      out->push_back(std::move(f));
+    } else if (file_) {
       FVV_ASSIGN_OR_RETURN(FragmentData f, file_->ReadFragment(index));
       out->push_back(std::move(f));
     } else {
@@ -133,7 +213,7 @@ Status Decoder::SpanFragments(uint32_t span, std::vector<FragmentData>* out) {
 
 StatusOr<std::shared_ptr<DecodedGop>> Decoder::DecodeSpan(uint32_t span, const GopBudget& budget) {
   std::vector<FragmentData> fragments;
-  FVV_RETURN_IF_ERROR(SpanFragments(span, &fragments));
+  FVV_RETURN_IF_ERROR(SpanFragments(span, budget, &fragments));
   samples_->SetLimit(3 * fragments.size());
   return DecodeGop(info(), fragments, budget, pool_.runner(), pool_.size(), samples_);
 }
@@ -145,7 +225,7 @@ void Decoder::StartBackgroundDecode(uint32_t span, const GopBudget& budget, bool
     return;  // not all of it has arrived
   }
   std::vector<FragmentData> fragments;
-  if (!SpanFragments(span, &fragments).ok()) return;  // reported when it is asked for
+  if (!SpanFragments(span, budget, &fragments).ok()) return;  // reported when asked for
   ahead_span_ = span;
   ahead_budget_ = budget;
   const StreamInfo* si = &info();

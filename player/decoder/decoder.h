@@ -1,6 +1,7 @@
 // The decoder behind the C API (include/fvv/fvv_decoder.h): input by file
-// (random access through the index) or by pushed bytes (streaming), a cache of
-// the last decoded GOP, and decode-ahead of the next one on a worker thread.
+// (random access through the index), by byte ranges fetched piecemeal (random
+// access over what has arrived) or by pushed bytes (streaming), a cache of the
+// last decoded GOP, and decode-ahead of the next one on a worker thread.
 #ifndef FVV_PLAYER_DECODER_DECODER_H_
 #define FVV_PLAYER_DECODER_DECODER_H_
 
@@ -11,6 +12,7 @@
 
 #include "codec/base/sample_pool.h"
 #include "codec/base/thread_pool.h"
+#include "container/fetched_source.h"
 #include "container/file_reader.h"
 #include "container/stream_reader.h"
 #include "fvv/fvv_decoder.h"
@@ -24,6 +26,14 @@ class Decoder {
   ~Decoder();
 
   Status OpenFile(const std::string& path);
+  // Byte ranges: the stream's size, then its bytes as they arrive (any order).
+  Status OpenRanges(uint64_t stream_size);
+  Status AddRange(uint64_t offset, const uint8_t* data, size_t size);
+  // The range the header boxes or index still need (false: none).
+  bool WantedRange(uint64_t* offset, uint64_t* size) const;
+  // Bytes of `fragment` held from its first on (ranges input; all of it otherwise).
+  uint64_t FragmentBytesHeld(size_t fragment) const;
+  bool random_access() const { return file_ != nullptr; }
   Status Push(const uint8_t* data, size_t size);
   Status PushEnd();
   StatusOr<fvv_event> Process();
@@ -40,7 +50,9 @@ class Decoder {
   bool Ready(uint32_t frame, const GopBudget& budget);
 
  private:
-  Status SpanFragments(uint32_t span, std::vector<FragmentData>* out);
+  // The span's fragments, camera group 0 first. With ranges input, the
+  // groups `budget` leaves out are their grid cells only (nothing fetched).
+  Status SpanFragments(uint32_t span, const GopBudget& budget, std::vector<FragmentData>* out);
   StatusOr<std::shared_ptr<DecodedGop>> DecodeSpan(uint32_t span, const GopBudget& budget);
   // The budget with its camera mask widened to whole camera groups (0 when
   // that is every camera), so that masks compare by what a decode holds.
@@ -60,8 +72,9 @@ class Decoder {
   bool ready_ = false, ready_reported_ = false, end_reported_ = false;
   uint32_t frames_available_ = 0, frames_reported_ = 0;
 
-  // Random access.
-  std::unique_ptr<FileSource> source_;
+  // Random access: a file, or the ranges fetched of a stream.
+  std::unique_ptr<ByteSource> source_;
+  FetchedSource* fetched_ = nullptr;  // source_, with ranges input
   std::unique_ptr<FileReader> file_;
   // Streaming.
   std::unique_ptr<StreamReader> stream_;

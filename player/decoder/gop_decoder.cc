@@ -61,6 +61,22 @@ StatusOr<Block> DecodePredictiveFragment(const FragmentData& f, const Shape4D& s
   return block;
 }
 
+// How much of fragment `f`'s texture a byte budget decodes: Annex B.2's
+// split of max_bytes texture bytes over the channels, or with chunks, what the
+// fragment's first max_bytes bytes hold of each channel (SPEC.md 3.5.1). A
+// budget is a cap on what is decoded, not bytes delivered: one shorter than a
+// chunked fragment's head decodes the head (motion, masks) and no texture.
+Status ApplyByteBudget(const FragmentData& f, uint64_t max_bytes, DecodeBudget* b) {
+  if (!f.chunked) {
+    b->max_bytes = max_bytes;
+    return Status::Ok();
+  }
+  b->max_bytes = 0;
+  const uint64_t prefix = max_bytes == 0 ? 0 : std::max(max_bytes, f.head_bytes);
+  FVV_ASSIGN_OR_RETURN(b->channel_max_bytes, ChunkedPrefixBytes(f, prefix));
+  return Status::Ok();
+}
+
 // A fragment's coded masks, decoded into `out` (sized here).
 Status DecodeFragmentMasks(const FragmentData& f, const Shape4D& shape, std::vector<uint8_t>* out) {
   out->resize(shape.count());
@@ -121,7 +137,8 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
     const FragmentData& f = fragments[i];
     if (!gop->decoded[i]) return;  // a camera the player does not blend now
     DecodeBudget b;
-    b.max_bytes = budget.max_bytes;
+    statuses[i] = ApplyByteBudget(f, budget.max_bytes, &b);
+    if (!statuses[i].ok()) return;
     b.floor_share = budget.floor_share;
     b.sample_pool = gop->sample_pool.get();
     if (budget.max_ms > 0 && parallel) {
@@ -177,9 +194,7 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
     // budget: every fragment's channels and masks are tasks of their own, the
     // large ones first, so the threads run out of work together at the span's
     // end (whole fragments per thread leave one idle for half a fragment).
-    DecodeBudget whole;
-    whole.max_bytes = budget.max_bytes;
-    whole.sample_pool = gop->sample_pool.get();
+    std::vector<DecodeBudget> whole(n);
     std::vector<BlockDecode> blocks(n);
     std::vector<Status> mask_statuses(n);
     enum Kind : uint8_t { kY, kU, kV, kMasks, kWhole };
@@ -189,7 +204,9 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
         tasks.emplace_back(i, kWhole);  // 'ptex': its masks come first, in one task
         continue;
       }
-      statuses[i] = blocks[i].Start(fragments[i].texture, whole);
+      whole[i].sample_pool = gop->sample_pool.get();
+      statuses[i] = ApplyByteBudget(fragments[i], budget.max_bytes, &whole[i]);
+      if (statuses[i].ok()) statuses[i] = blocks[i].Start(fragments[i].texture, whole[i]);
       if (!statuses[i].ok()) continue;
       for (Kind k : {kY, kU, kV}) tasks.emplace_back(i, k);
       if (!fragments[i].masks.empty()) tasks.emplace_back(i, kMasks);
@@ -234,7 +251,10 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
     for (int c = 0; c < 3; ++c) {
       gop->bitplanes[c] = std::min(gop->bitplanes[c], report.planes_completed[c]);
     }
-    gop->complete = gop->complete && report.complete;
+    // A chunked fragment read from a prefix lacks the chunks after it.
+    gop->complete =
+        gop->complete && report.complete &&
+        (!fragments[i].chunked || fragments[i].texture.total_bytes() == TextureBytes(fragments[i]));
     // The stream's 4:2:0 rule (tool bit 18, SPEC.md 9.7) goes with its samples.
     if (info.header.tools & kToolChromaBilinear) {
       gop->textures[i].upsampling = ChromaUpsampling::kBilinear;

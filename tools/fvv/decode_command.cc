@@ -119,6 +119,20 @@ int RunDecode(const DecodeArgs& a) {
     return Fail("--frames " + a.frames +
                 ": not a range A:B within 0:" + std::to_string(frames - 1));
   }
+  // --bytes is the prefix of each fragment a decoder is given (SPEC.md Annex
+  // B.2): with the texture in chunks, one that ends inside a fragment's head is
+  // Truncated, as the conformance suite has it (the library's budget would
+  // decode the head alone).
+  for (uint32_t i = 0; a.bytes != 0 && i < fvv_decoder_fragment_count(dec.get()); ++i) {
+    fvv_fragment_info f;
+    if (fvv_decoder_get_fragment(dec.get(), i, &f) != FVV_OK || f.head_size == f.size) continue;
+    if (a.bytes < f.head_size) {
+      Fail(a.input + ": --bytes " + std::to_string(a.bytes) + " ends inside fragment " +
+           std::to_string(i) + "'s head of " + std::to_string(f.head_size) +
+           " bytes (a prefix decodes from the end of its head on, SPEC.md 3.5.1)");
+      return StreamErrorExit(FVV_TRUNCATED);
+    }
+  }
   if (Status s = MakeDirectories(a.output_dir); !s.ok()) return Fail(s.ToString());
   fvv_decode_budget budget{};
   budget.max_bytes_per_gop = a.bytes;
@@ -204,7 +218,9 @@ void AddDecodeCommand(CLI::App* app, int* exit_code) {
   d->add_option("file", args->input, ".fvv stream")->required()->check(CLI::ExistingFile);
   d->add_option("-o,--output", args->output_dir, "Output directory")->required();
   auto* bytes = d->add_option("--bytes", args->bytes,
-                              "Decode at most this many texture bytes of each GOP fragment");
+                              "Decode at most this many texture bytes of each GOP fragment "
+                              "(with the texture in chunks, format version 11: the first this "
+                              "many bytes of each fragment, its head included)");
   d->add_option("--max-ms", args->max_ms, "Stop each GOP's texture decoding after this many ms")
       ->excludes(bytes)
       ->check(CLI::PositiveNumber);

@@ -30,7 +30,8 @@ struct EncodeArgs {
   uint32_t atlas = 512, threads = 2;
   uint16_t gop_frames = 8, gop_cameras = 1, key_interval = 1;
   bool masks = false, no_masks = false, extract = false, fixed_shape = false, quiet = false,
-       refine_shape = false, no_fallback = false, no_prune = false, model_floats = false;
+       refine_shape = false, no_fallback = false, no_prune = false, model_floats = false,
+       whole_texture = false;
   int margin = 2;
   double agreement = EncoderSettings{}.agreement.max_difference;
   double smooth = TrackCaptureOptions{}.smoothing.sigma_frames;
@@ -83,6 +84,7 @@ int RunEncode(const EncodeArgs& a) {
   s.fill.iterations = a.fill_iterations;
   s.prune_isolated = !a.no_prune;
   s.quantise_model = !a.model_floats;
+  s.texture_chunks = !a.whole_texture;
   if (a.texture_codec == "predictive") {
     // Its defaults: all cameras in one GOP (it predicts across them) and the
     // 5/3 kernel (better than the 9/7 with BISK: docs/encoder.md).
@@ -229,6 +231,10 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
   e->add_flag("--model-floats", a->model_floats,
               "Store the body model as 32-bit floats (what format versions 1 to 9 decoders "
               "read) instead of on a grid (0.12 mm positions, 10-bit normals, 8-bit weights)");
+  e->add_flag("--whole-texture", a->whole_texture,
+              "Write each fragment's texture as one 'texr' box (what format versions 1 to 10 "
+              "decoders read) instead of in chunks, where any prefix of a fragment past its "
+              "head decodes (format version 11; a few hundred bytes more per fragment)");
   e->add_option("--motion-coder", a->motion_coder, "Motion track entropy coder")
       ->check(CLI::IsMember({"arith", "zstd"}))
       ->capture_default_str();

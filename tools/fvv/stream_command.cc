@@ -140,6 +140,11 @@ int RunInfo(const InfoArgs& a) {
             {"bytes", s.data.size()}, {"bitplanes", s.planes}, {"truncation_points", points}};
       }
       g["texture_codec"] = f->predictive ? "predictive" : "spiht";
+      if (f->chunked) {
+        // The texture in chunks (SPEC.md 3.5.1): the least prefix that decodes.
+        g["head_bytes"] = f->head_bytes;
+        g["chunks"] = f->chunks.size();
+      }
       g["motion_bytes"] = f->motion.size();
       g["mask_bytes"] = f->masks.size();
       if (!f->masks.empty()) g["mask_mode"] = static_cast<int>(f->mask_mode);
@@ -199,7 +204,8 @@ int RunInfo(const InfoArgs& a) {
       kbps(texture), kbps(motion), kbps(masks), kbps(visibility), kbps((*source)->size()));
   std::printf("  %-5s %-9s %-7s %9s %9s %7s %7s  %s\n", "gop", "frames", "cameras", "offset",
               "bytes", "motion", "masks",
-              "Y/U/V bytes (bitplanes, truncation points; predictive: T00, R0, R bytes)");
+              "Y/U/V bytes (bitplanes, truncation points; predictive: T00, R0, R bytes; in "
+              "chunks: the head and the chunks)");
   for (const auto& g : j["gops"]) {
     std::printf("  %-5d %4d+%-4d %3d+%-3d %9llu %9llu ", g["gop"].get<int>(),
                 g["frames"][0].get<int>(), g["frames"][1].get<int>(), g["cameras"][0].get<int>(),
@@ -225,6 +231,10 @@ int RunInfo(const InfoArgs& a) {
                   g["texture"][c]["bitplanes"].get<int>(),
                   g["texture"][c]["truncation_points"].size());
     }
+    if (g.contains("chunks")) {
+      std::printf("  head %llu, %llu chunks", g["head_bytes"].get<unsigned long long>(),
+                  g["chunks"].get<unsigned long long>());
+    }
     std::printf("  %s\n", g["status"].get<std::string>().c_str());
   }
   if (damaged) {
@@ -241,7 +251,7 @@ struct SampleArgs {
   CodecOptionArgs codec;
   std::string motion_coder = "arith", texture_codec = "spiht", mask_coder = "context";
   std::vector<uint32_t> atlas{64, 64}, gop{8, 8};
-  bool no_masks = false, end_index = false;
+  bool no_masks = false, end_index = false, texture_chunks = false;
   unsigned threads = 0;
 };
 
@@ -262,6 +272,7 @@ int RunSample(SampleArgs a) {
   a.o.gop_cameras = static_cast<uint16_t>(a.gop[1]);
   a.o.masks = !a.no_masks;
   a.o.fast_start = !a.end_index;
+  a.o.texture_chunks = a.texture_chunks;
   if (a.o.lossless && a.o.kernel == WaveletKernel::kCdf97) a.o.kernel = WaveletKernel::kLeGall53;
   ThreadPool pool(a.threads);
   const auto start = std::chrono::steady_clock::now();
@@ -335,6 +346,9 @@ void AddStreamCommands(CLI::App* app, int* exit_code) {
       ->check(CLI::Range(1, 256));
   s->add_flag("--end-index", smp->end_index,
               "Index at the end (frame count not declared up front)");
+  s->add_flag("--texture-chunks", smp->texture_chunks,
+              "The texture in chunks (format version 11): any prefix of a fragment past its "
+              "head decodes");
   s->add_option("--level", smp->o.level, "Level (1-4)")
       ->capture_default_str()
       ->check(CLI::Range(1, 4));
