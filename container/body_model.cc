@@ -1,10 +1,10 @@
 #include "container/body_model.h"
 
-#include <zstd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+
+#include "container/zstd_frame.h"
 
 namespace fvv {
 
@@ -39,8 +39,6 @@ std::vector<DofRef> Skeleton::Dofs() const {
 namespace {
 
 constexpr size_t kMaxBoneNameBytes = 255;
-constexpr uint8_t kCompressionNone = 0;
-constexpr uint8_t kCompressionZstd = 1;
 // Bytes per vertex of the mesh arrays: version 0 (positions, normals, uvs as
 // f32, joints, weights, segment) and version 1 (positions and uvs as u32
 // differences, normals as two u16 codes).
@@ -49,19 +47,7 @@ constexpr uint64_t kGridVertexBytes = 12 + 4 + 8 + 8 + 8 + 1;
 
 // Floats and integers are stored column-wise with their bytes split into planes
 // (all first bytes, then all second bytes, ...): similar bytes sit together, which
-// roughly halves what zstd leaves of a mesh.
-template <typename T>
-void PutPlanes(const std::vector<T>& values, ByteWriter* w) {
-  static_assert(sizeof(T) == 2 || sizeof(T) == 4, "16- or 32-bit values");
-  std::vector<uint8_t> raw(values.size() * sizeof(T));
-  for (size_t i = 0; i < values.size(); ++i) {
-    uint8_t b[sizeof(T)];
-    std::memcpy(b, &values[i], sizeof(T));  // little-endian hosts only (checked in CMake)
-    for (size_t k = 0; k < sizeof(T); ++k) raw[k * values.size() + i] = b[k];
-  }
-  w->Bytes(raw);
-}
-
+// roughly halves what zstd leaves of a mesh (body_model_enc.cc writes them).
 template <typename T>
 bool GetPlanes(ByteReader* r, size_t count, std::vector<T>* values) {
   const uint8_t* p = r->Bytes(count * sizeof(T));
@@ -76,13 +62,6 @@ bool GetPlanes(ByteReader* r, size_t count, std::vector<T>* values) {
 }
 
 template <typename T, size_t N>
-std::vector<T> Column(const std::vector<std::array<T, N>>& v, size_t k) {
-  std::vector<T> c(v.size());
-  for (size_t i = 0; i < v.size(); ++i) c[i] = v[i][k];
-  return c;
-}
-
-template <typename T, size_t N>
 bool GetColumns(ByteReader* r, size_t count, std::vector<std::array<T, N>>* out) {
   out->resize(count);
   std::vector<T> c;
@@ -93,106 +72,7 @@ bool GetColumns(ByteReader* r, size_t count, std::vector<std::array<T, N>>* out)
   return true;
 }
 
-void PutSkeleton(const Skeleton& skeleton, ByteWriter* w) {
-  w->U16(static_cast<uint32_t>(skeleton.bones.size()));
-  for (const Bone& b : skeleton.bones) {
-    w->Str(b.name);
-    w->I16(b.parent);
-    for (float v : b.rest_translation) w->F32(v);
-    for (float v : b.rest_rotation) w->F32(v);
-    w->U8(static_cast<uint8_t>(b.order));
-    w->U8(b.dof_mask);
-    for (int k = 0; k < kDofKinds; ++k) {
-      if (b.dof_mask & (1u << k)) {
-        w->F32(b.dof_min[k]);
-        w->F32(b.dof_max[k]);
-      }
-    }
-  }
-}
-
-// Triangle corners as differences from the same corner of the previous
-// triangle (mod 2^32): neighbouring triangles share nearby vertices.
-void PutTriangles(const std::vector<std::array<uint32_t, 3>>& triangles, ByteWriter* w) {
-  for (size_t k = 0; k < 3; ++k) {
-    std::vector<uint32_t> d(triangles.size());
-    uint32_t prev = 0;
-    for (size_t i = 0; i < triangles.size(); ++i) {
-      d[i] = triangles[i][k] - prev;
-      prev = triangles[i][k];
-    }
-    PutPlanes(d, w);
-  }
-}
-
-uint32_t ZigZag(int64_t d) { return uint32_t((uint64_t(d) << 1) ^ uint64_t(d >> 63)); }
 int64_t UnZigZag(uint32_t z) { return int64_t(z >> 1) ^ -int64_t(z & 1); }
-
-// A column of values on a grid of 2^-exponent, as differences from the
-// previous vertex's value (zig-zag, so small steps either way have small codes).
-std::vector<uint32_t> GridDeltas(const std::vector<float>& values, int exponent) {
-  std::vector<uint32_t> d(values.size());
-  int64_t prev = 0;
-  for (size_t i = 0; i < values.size(); ++i) {
-    const int64_t q = int64_t(GridSteps(values[i], exponent));
-    d[i] = ZigZag(q - prev);
-    prev = q;
-  }
-  return d;
-}
-
-std::vector<uint8_t> SerialiseModel(const BodyModel& model) {
-  ByteWriter w;
-  PutSkeleton(model.skeleton, &w);
-  const Mesh& m = model.mesh;
-  w.U32(static_cast<uint32_t>(m.positions.size()));
-  w.U32(static_cast<uint32_t>(m.triangles.size()));
-  for (size_t k = 0; k < 3; ++k) PutPlanes(Column(m.positions, k), &w);
-  for (size_t k = 0; k < 3; ++k) PutPlanes(Column(m.normals, k), &w);
-  for (size_t k = 0; k < 2; ++k) PutPlanes(Column(m.uvs, k), &w);
-  for (size_t k = 0; k < kMaxInfluences; ++k) PutPlanes(Column(m.joints, k), &w);
-  for (size_t k = 0; k < kMaxInfluences; ++k) PutPlanes(Column(m.weights, k), &w);
-  w.Bytes(m.segments);
-  PutTriangles(m.triangles, &w);
-  return std::move(w.bytes());
-}
-
-// model_data of 'modl' version 1 (SPEC.md 3.3.1); the mesh taken to the grid's
-// nearest values, which for a QuantiseModel'd mesh are its own.
-std::vector<uint8_t> SerialiseQuantisedModel(const BodyModel& model) {
-  const ModelQuantisation& q = model.quantisation;
-  ByteWriter w;
-  PutSkeleton(model.skeleton, &w);
-  const Mesh& m = model.mesh;
-  const size_t n = m.positions.size();
-  w.U32(static_cast<uint32_t>(n));
-  w.U32(static_cast<uint32_t>(m.triangles.size()));
-  w.U8(q.position_exponent);
-  w.U8(q.uv_exponent);
-  w.U8(q.normal_bits);
-  w.U8(q.weight_bits);
-  for (size_t k = 0; k < 3; ++k)
-    PutPlanes(GridDeltas(Column(m.positions, k), q.position_exponent), &w);
-  std::vector<uint16_t> codes[2] = {std::vector<uint16_t>(n), std::vector<uint16_t>(n)};
-  for (size_t i = 0; i < n; ++i) {
-    const std::array<uint32_t, 2> c = EncodeOctahedralNormal(m.normals[i], q.normal_bits);
-    codes[0][i] = uint16_t(c[0]);
-    codes[1][i] = uint16_t(c[1]);
-  }
-  PutPlanes(codes[0], &w);
-  PutPlanes(codes[1], &w);
-  for (size_t k = 0; k < 2; ++k) PutPlanes(GridDeltas(Column(m.uvs, k), q.uv_exponent), &w);
-  for (size_t k = 0; k < kMaxInfluences; ++k) PutPlanes(Column(m.joints, k), &w);
-  std::vector<std::array<uint16_t, kMaxInfluences>> weights(n);
-  for (size_t i = 0; i < n; ++i) {
-    const std::array<uint32_t, 4> qw = QuantiseWeights(m.weights[i], q.weight_bits);
-    for (int k = 0; k < kMaxInfluences; ++k) weights[i][k] = uint16_t(qw[k]);
-  }
-  for (size_t k = 0; k < kMaxInfluences; ++k) PutPlanes(Column(weights, k), &w);
-  w.Bytes(m.segments);
-  PutTriangles(m.triangles, &w);
-  return std::move(w.bytes());
-}
 
 // Upper bound of a raw model's size under `limits`: caps the allocation before
 // decompression (version 1 stores less per vertex than version 0).
@@ -416,35 +296,11 @@ Status ValidateBodyModel(const BodyModel& model, const LevelLimits* limits) {
   return Status::Ok();
 }
 
-std::vector<uint8_t> WriteModelBox(const BodyModel& model) {
-  const bool quantised = model.quantisation.quantised;
-  const std::vector<uint8_t> raw =
-      quantised ? SerialiseQuantisedModel(model) : SerialiseModel(model);
-  std::vector<uint8_t> packed(ZSTD_compressBound(raw.size()));
-  // The zstd frame carries its content checksum: damage to the model is detected.
-  ZSTD_CCtx* cctx = ZSTD_createCCtx();
-  ZSTD_CCtx_setParameter(cctx, ZSTD_c_compressionLevel, 19);
-  ZSTD_CCtx_setParameter(cctx, ZSTD_c_checksumFlag, 1);
-  const size_t n = ZSTD_compress2(cctx, packed.data(), packed.size(), raw.data(), raw.size());
-  ZSTD_freeCCtx(cctx);
-  ByteWriter w;
-  if (ZSTD_isError(n) || n >= raw.size() + 4) {
-    w.U8(kCompressionNone);
-    w.U32(static_cast<uint32_t>(raw.size()));
-    w.Bytes(raw);
-  } else {
-    w.U8(kCompressionZstd);
-    w.U32(static_cast<uint32_t>(raw.size()));
-    w.Bytes(packed.data(), n);
-  }
-  return MakeBox(box::kModel, quantised ? 1 : 0, kBoxFlagEssential, w.bytes());
-}
-
 Status ReadModel(const BoxHeader& box, const uint8_t* payload, const LevelLimits& limits,
                  BodyModel* model) {
   const std::string at = BoxContext(box);
   if (box.version > 1) return Unsupported(at + "version " + std::to_string(box.version));
-  ByteReader r(payload, box.payload_size());
+  ByteReader r(payload, box.payload_bytes());
   const uint8_t compression = r.U8();
   const uint32_t raw_size = r.U32();
   if (r.overrun()) return Corrupt(at + "too short");
@@ -461,15 +317,13 @@ Status ReadModel(const BoxHeader& box, const uint8_t* payload, const LevelLimits
   if (compression != kCompressionZstd) {
     return Unsupported(at + "compression method " + std::to_string(compression));
   }
-  const unsigned long long content = ZSTD_getFrameContentSize(data, size);
-  if (content == ZSTD_CONTENTSIZE_ERROR || content != raw_size) {
+  const StatusOr<uint64_t> content = ZstdContentSize(data, size);
+  if (!content.ok() || *content != raw_size) {
     return Corrupt(at + "zstd frame does not declare raw_size " + std::to_string(raw_size));
   }
   std::vector<uint8_t> raw(raw_size);
-  const size_t n = ZSTD_decompress(raw.data(), raw.size(), data, size);
-  if (ZSTD_isError(n) || n != raw_size) {
-    return Corrupt(at + "zstd: " + (ZSTD_isError(n) ? ZSTD_getErrorName(n) : "short output"));
-  }
+  const Status unpacked = ZstdDecompress(data, size, &raw);
+  if (!unpacked.ok()) return Corrupt(at + unpacked.message());
   return ParseRawModel(raw.data(), raw.size(), limits, box, model);
 }
 

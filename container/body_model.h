@@ -85,8 +85,13 @@ struct BodyModel {
 // weights, array sizes). `limits` may be null (no level limits).
 Status ValidateBodyModel(const BodyModel& model, const LevelLimits* limits);
 
+// How 'modl' stores its model data (SPEC.md 3.3): as it is, or one zstd frame.
+constexpr uint8_t kCompressionNone = 0;
+constexpr uint8_t kCompressionZstd = 1;
+
 // Version 1 when model.quantisation says so (the mesh's values taken to the
-// nearest point of its grid), else version 0.
+// nearest point of its grid), else version 0. The writer is body_model_enc.cc,
+// in the encoder's container library.
 std::vector<uint8_t> WriteModelBox(const BodyModel& model);
 Status ReadModel(const BoxHeader& box, const uint8_t* payload, const LevelLimits& limits,
                  BodyModel* model);

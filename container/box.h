@@ -55,6 +55,9 @@ struct BoxHeader {
   uint32_t flags = 0;
 
   uint64_t payload_size() const { return size - header_size; }
+  // The payload's size once it is held in memory, where it fits size_t (a
+  // 32-bit size_t in WebAssembly: readers allocate within the level's limits).
+  size_t payload_bytes() const { return static_cast<size_t>(size - header_size); }
   bool essential() const { return (flags & kBoxFlagEssential) != 0; }
 };
 

@@ -75,7 +75,7 @@ Status ReadCameras(const BoxHeader& box, const uint8_t* payload, uint32_t expect
   if (box.version != 0) {
     return Unsupported(BoxContext(box) + "version " + std::to_string(box.version));
   }
-  ByteReader r(payload, box.payload_size());
+  ByteReader r(payload, box.payload_bytes());
   const uint32_t count = r.U16();
   if (count != expected_count) {
     return Corrupt(BoxContext(box) + std::to_string(count) + " cameras, the header declares " +

@@ -206,7 +206,7 @@ Status ReadFileHeader(const BoxHeader& box, const uint8_t* payload, FileHeader* 
     return Unsupported(BoxContext(box) + "version " + std::to_string(box.version) +
                        " (this decoder reads version 0)");
   }
-  ByteReader r(payload, box.payload_size());
+  ByteReader r(payload, box.payload_bytes());
   h->format_version = r.U16();
   h->profile = static_cast<Profile>(r.U8());
   h->level = r.U8();

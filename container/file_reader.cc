@@ -85,6 +85,10 @@ Status FileReader::ReadHeaderBoxes() {
   uint64_t offset = 0;
   std::vector<uint8_t> payload;
   while (offset < size) {
+    // Past a fast-start index, the first fragment is where it says: the
+    // header boxes end there (a reader over fetched ranges needs no byte of
+    // the fragment to know it).
+    if (info_.has_index && !info_.index.empty() && offset == info_.index[0].offset) break;
     FVV_ASSIGN_OR_RETURN(const BoxHeader h, ReadBoxHeaderAt(offset));
     if (!info_.has_header && h.type != box::kFileHeader) {
       return Corrupt("not an fvv file: it starts with box '" + FourCCString(h.type) +

@@ -245,7 +245,7 @@ Status ReadFragmentHeader(const BoxHeader& b, const uint8_t* payload, const File
                           FragmentInfo* info) {
   const std::string at = BoxContext(b);
   if (b.version != 0) return Unsupported(at + "version " + std::to_string(b.version));
-  ByteReader r(payload, b.payload_size());
+  ByteReader r(payload, b.payload_bytes());
   info->gop_index = r.U32();
   info->first_frame = r.U32();
   info->frame_count = r.U16();
@@ -313,7 +313,7 @@ Status ReadTextureParams(const BoxHeader& b, const FileHeader& h, const Fragment
 Status ReadTexture(const BoxHeader& b, const uint8_t* payload, const FileHeader& h,
                    const FragmentInfo& info, EncodedBlock* texture) {
   const std::string at = BoxContext(b);
-  ByteReader r(payload, b.payload_size());
+  ByteReader r(payload, b.payload_bytes());
   FVV_RETURN_IF_ERROR(ReadTextureParams(b, h, info, &r, &texture->params));
   static const char* const kNames[3] = {"Y", "U", "V"};
   for (int c = 0; c < 3; ++c) {
@@ -330,7 +330,7 @@ Status ReadTexture(const BoxHeader& b, const uint8_t* payload, const FileHeader&
 Status ReadTextureHead(const BoxHeader& b, const uint8_t* payload, const FileHeader& h,
                        const FragmentInfo& info, FragmentData* f) {
   const std::string at = BoxContext(b);
-  ByteReader r(payload, b.payload_size());
+  ByteReader r(payload, b.payload_bytes());
   FVV_RETURN_IF_ERROR(ReadTextureParams(b, h, info, &r, &f->texture.params));
   static const char* const kNames[3] = {"Y", "U", "V"};
   for (int c = 0; c < 3; ++c) {
@@ -406,7 +406,7 @@ Status ReadPredictiveTexture(const BoxHeader& b, const uint8_t* payload, const F
                              const FragmentInfo& info, PredictiveStreams* texture) {
   const std::string at = BoxContext(b);
   if (b.version != 0) return Unsupported(at + "version " + std::to_string(b.version));
-  ByteReader r(payload, b.payload_size());
+  ByteReader r(payload, b.payload_bytes());
   const uint8_t kernel = r.U8();
   if (r.overrun()) return Corrupt(at + "too short");
   if (kernel > 2) return Corrupt(at + "unknown wavelet kernel " + std::to_string(kernel));

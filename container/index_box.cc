@@ -31,7 +31,7 @@ Status ReadIndex(const BoxHeader& box, const uint8_t* payload, const FileHeader&
                    std::to_string(IndexVersion(h.tools)) + ")");
   }
   const size_t entry_bytes = kIndexEntryBytes + (box.version >= 1 ? 4 : 0);
-  ByteReader r(payload, box.payload_size());
+  ByteReader r(payload, box.payload_bytes());
   const uint32_t count = r.U32();
   if (uint64_t{count} * entry_bytes != r.remaining()) {
     return Corrupt(at + std::to_string(count) + " entries do not fill the " +
@@ -124,7 +124,7 @@ std::vector<uint8_t> WriteMetadataBox(const Metadata& metadata) {
 Status ReadMetadata(const BoxHeader& box, const uint8_t* payload, Metadata* metadata) {
   const std::string at = BoxContext(box);
   if (box.version != 0) return Unsupported(at + "version " + std::to_string(box.version));
-  ByteReader r(payload, box.payload_size());
+  ByteReader r(payload, box.payload_bytes());
   const uint32_t count = r.U16();
   if (uint64_t{count} * 4 > r.remaining()) return Corrupt(at + "too short for its entries");
   metadata->clear();

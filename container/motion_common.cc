@@ -58,7 +58,7 @@ Status ValidateMotionParams(const MotionParams& p) {
 Status ReadMotionParams(const BoxHeader& box, const uint8_t* payload, MotionParams* p) {
   if (box.version != 0)
     return Unsupported(BoxContext(box) + "version " + std::to_string(box.version));
-  ByteReader r(payload, box.payload_size());
+  ByteReader r(payload, box.payload_bytes());
   p->rotation_step = r.U32();
   p->translation_step_um = r.U32();
   p->coder = static_cast<MotionCoder>(r.U8());

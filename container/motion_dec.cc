@@ -1,7 +1,7 @@
 // Motion track decoder (SPEC.md 6.3, 6.4).
-#include <zstd.h>
 
 #include "container/motion_common.h"
+#include "container/zstd_frame.h"
 
 namespace fvv {
 namespace motion {
@@ -91,15 +91,13 @@ Status DecodeMotion(const BoxHeader& box, const uint8_t* payload, const Skeleton
   } else {
     // The byte form needs at most one byte per flag and 5 per residual.
     const uint64_t bound = uint64_t{coded.size()} * (skeleton.bones.size() + dof_count * 6) + 16;
-    const unsigned long long content = ZSTD_getFrameContentSize(data, size);
-    if (content == ZSTD_CONTENTSIZE_ERROR || content == ZSTD_CONTENTSIZE_UNKNOWN ||
-        content > bound) {
+    const StatusOr<uint64_t> content = ZstdContentSize(data, size);
+    if (!content.ok() || *content > bound) {
       return Corrupt(at + "zstd frame size missing or beyond what " + std::to_string(frame_count) +
                      " frames can need");
     }
-    std::vector<uint8_t> raw(static_cast<size_t>(content));
-    const size_t n = ZSTD_decompress(raw.data(), raw.size(), data, size);
-    if (ZSTD_isError(n) || n != raw.size()) return Corrupt(at + "zstd data does not decode");
+    std::vector<uint8_t> raw(static_cast<size_t>(*content));
+    if (!ZstdDecompress(data, size, &raw).ok()) return Corrupt(at + "zstd data does not decode");
     motion::ByteReaderSide r(raw.data(), raw.size());
     ok = motion::TraverseMotion(r, skeleton, p, predictor, &coded) && r.fully_read();
   }

@@ -24,6 +24,7 @@ BELOW = {
     "player/render": ["player/decoder"],
     "player/playback": ["codec/base"],
     "player/export": ["player/decoder"],
+    "player/web": ["player/decoder"],  # the decoder library's WebAssembly module
     "encoder/io": ["codec/base"],
     "encoder/body": ["container", "encoder/io"],
     "encoder/import": ["encoder/body"],
@@ -37,6 +38,7 @@ BELOW = {
     "conformance/generator": ["conformance/lib", "conformance/sample"],
     "tools/synth": ["encoder/encode", "player/render", "conformance/sample"],
     "tools/play": ["player/render", "player/playback", "encoder/io"],
+    "tools/web": ["conformance/lib"],  # the conformance decoder built for Node too
     "tools/fvv": ["tools/synth", "tools/play", "conformance/generator", "player/export"],
     "tests": ["tools/fvv", "fuzz"],  # the robustness tests share fuzz/decode_all
     "bench": ["tools/fvv"],

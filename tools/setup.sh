@@ -22,6 +22,7 @@ packages=(
   stress-ng gnuplot-nox  # bench/run_playback_load_bench.sh: the load on the cores, the plot
   chromium  # headless browser tests (tools/web/browser_harness.mjs): three.js on exported glTF
   parallel  # GNU parallel: shards of an encode side by side (bench/run_shard_bench.sh, docs/scale-out.md)
+  emscripten  # the decoder library in WebAssembly (player/web/CMakeLists.txt)
 )
 
 missing=()
@@ -44,11 +45,12 @@ else
   $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 # The npm client installs the web tools (tools/web/package-lock.json): the
-# Khronos glTF validator, three.js and puppeteer-core (which drives the chromium
-# above; it downloads no browser of its own).
+# Khronos glTF validator, three.js, puppeteer-core (which drives the chromium
+# above; it downloads no browser of its own) and fzstd, the zstd decompressor of
+# the WebAssembly decoder.
 web="$(dirname "$0")/web"
 if [ ! -d "$web/node_modules/gltf-validator" ] || [ ! -d "$web/node_modules/three" ] ||
-   [ ! -d "$web/node_modules/puppeteer-core" ]; then
+   [ ! -d "$web/node_modules/puppeteer-core" ] || [ ! -d "$web/node_modules/fzstd" ]; then
   echo "setup: installing tools/web (npm ci)"
   npm ci --prefix "$web" --no-audit --no-fund --loglevel=error
 fi

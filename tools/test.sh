@@ -3,10 +3,10 @@
 # clang and warnings as errors under AddressSanitizer + UndefinedBehaviorSanitizer
 # with libFuzzer's coverage (one build serves the suites and the fuzz targets),
 # and runs the suites in parallel (the slowest tracking tests in an optimised
-# build, below); then the threaded modules' tests under ThreadSanitizer, then
-# every fuzz target for a fixed time.
+# build, below); then the decoder in WebAssembly in Node, then the threaded
+# modules' tests under ThreadSanitizer, then every fuzz target for a fixed time.
 # Usage: tools/test.sh   (build dirs: build-asan/, build/ for those three,
-# build-tsan/)
+# build-wasm/, build-tsan/)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 # Each stage's end and the time so far, to see where a slow run spent it.
@@ -54,12 +54,24 @@ slow+='ShapeRefinementTest\.FeaturePointsCorrectAPoseError$|^cli_shards$|^cli_re
 slow+='SightingSides\.InARigOfTwelveTryingTheCamerasThatStandOutDecidesAsTryingAll$)'
 CC=cc CXX=c++ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DFVV_WERROR=ON >/dev/null
 cmake --build build -j2 --target track_test encode_shards_test track_person_observer_test track_sighting_sides_test \
-  shape_refinement_test fvv
+  shape_refinement_test fvv conformance_decode
 stage "optimised build"
 ctest --test-dir build-asan -j2 --output-on-failure -E "$slow"
 stage "sanitizer suites"
 ctest --test-dir build -j2 --output-on-failure -R "$slow"
 stage "optimised suites"
+
+# The decoder library in WebAssembly (player/web/CMakeLists.txt, Debian's
+# emscripten, no threads): the conformance suite in Node against the released
+# expectations, bit for bit, and its JavaScript API against the native decoder.
+emcmake cmake -S player/web -B build-wasm -G Ninja >/dev/null
+cmake --build build-wasm -j2
+stage "WebAssembly build"
+build/tools/fvv/fvv conform conformance/cases -q \
+  --decoder 'node --no-experimental-fetch build-wasm/conformance_decode.js {stream} {out} {bytes}'
+tests/web_decoder_test.sh build/tools/fvv/fvv build/tools/conformance_decode build-wasm \
+  build-wasm/web_decoder_test
+stage "WebAssembly decoder in Node"
 
 # ThreadSanitizer on what runs threads: the codec's pool and parallel coding,
 # the decoder's workers and its C API under threads, the encoder session (its

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "codec/base/threads.h"
+
 namespace fvv {
 namespace {
 // The job whose task this thread runs (the innermost, where tasks nest).
@@ -10,6 +12,7 @@ thread_local const void* current_job = nullptr;
 
 ThreadPool::ThreadPool(unsigned threads) {
   if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+  if (!kThreadsAvailable) threads = 1;  // the caller's thread runs every task
   for (unsigned i = 1; i < threads; ++i) workers_.emplace_back([this] { WorkerLoop(); });
 }
 

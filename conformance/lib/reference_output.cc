@@ -1,18 +1,13 @@
 #include "conformance/lib/reference_output.h"
 
-#include <dirent.h>
-#include <sys/stat.h>
-
 #include <cstdio>
 #include <cstring>
 #include <memory>
 
 #include "codec/base/thread_pool.h"
-#include "conformance/lib/sha256.h"
 #include "container/file_reader.h"
 #include "container/stream_reader.h"
 #include "container/vertex_visibility.h"
-#include "encoder/io/image_io.h"
 #include "player/decoder/gop_decoder.h"
 #include "player/decoder/view_pixels.h"
 
@@ -204,40 +199,6 @@ Status ReferenceDecode(const uint8_t* data, size_t size, const ReferenceDecodeOp
   SpanEmitter emitter(options, sink);
   return options.path == ReadPath::kStreaming ? DecodeStreaming(data, size, &emitter)
                                               : DecodeRandomAccess(data, size, &emitter);
-}
-
-StatusOr<OutputHashes> ReferenceDecodeHashes(const std::vector<uint8_t>& stream,
-                                             const ReferenceDecodeOptions& options) {
-  OutputHashes hashes;
-  FVV_RETURN_IF_ERROR(
-      ReferenceDecode(stream.data(), stream.size(), options,
-                      [&hashes](const std::string& name, const std::vector<uint8_t>& bytes) {
-                        hashes[name] = Sha256Hex(bytes);
-                        return Status::Ok();
-                      }));
-  return hashes;
-}
-
-OutputSink DirectorySink(const std::string& dir) {
-  return [dir](const std::string& name, const std::vector<uint8_t>& bytes) {
-    return WriteFileAtomic(dir + "/" + name, bytes.data(), bytes.size());
-  };
-}
-
-StatusOr<OutputHashes> HashDirectory(const std::string& dir) {
-  std::unique_ptr<DIR, int (*)(DIR*)> d(opendir(dir.c_str()), &closedir);
-  if (!d) return IoError("cannot read directory " + dir);
-  OutputHashes hashes;
-  while (const dirent* entry = readdir(d.get())) {
-    const std::string name = entry->d_name;
-    const std::string path = dir + "/" + name;
-    struct stat st;
-    if (stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) continue;
-    FVV_ASSIGN_OR_RETURN(const std::vector<uint8_t> bytes,
-                         ReadFileBytes(path, kMaxConformanceFileBytes));
-    hashes[name] = Sha256Hex(bytes);
-  }
-  return hashes;
 }
 
 }  // namespace fvv

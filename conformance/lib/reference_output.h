@@ -14,7 +14,12 @@
 // Under a budget of B bytes per fragment, each channel stream c of a fragment is
 // decoded from its first floor(size_c * B / (size_Y + size_U + size_V)) bytes
 // (all of them when B = 0 or B >= the sum); motion, masks and vertex
-// visibility are always decoded whole.
+// visibility are always decoded whole. With the texture in chunks (format
+// version 11) B is the prefix of each fragment delivered: the channels decode
+// from its whole chunks, and a B inside a fragment's head is Truncated.
+//
+// ReferenceDecode is reference_output.cc; the hashes and the directories are
+// output_files.cc (OpenSSL, file I/O), which the WebAssembly build leaves out.
 #ifndef FVV_CONFORMANCE_LIB_REFERENCE_OUTPUT_H_
 #define FVV_CONFORMANCE_LIB_REFERENCE_OUTPUT_H_
 

@@ -1,5 +1,7 @@
 #include "player/decoder/decoder.h"
 
+#include "codec/base/threads.h"
+
 namespace fvv {
 namespace {
 
@@ -226,6 +228,13 @@ void Decoder::StartBackgroundDecode(uint32_t span, const GopBudget& budget, bool
   }
   std::vector<FragmentData> fragments;
   if (!SpanFragments(span, budget, &fragments).ok()) return;  // reported when asked for
+  if (!kThreadsAvailable) {
+    // No background: a prefetch asked for decodes now, and its GOP waits parked.
+    if (!requested) return;
+    auto done = DecodeGop(info(), fragments, budget, pool_.runner(), pool_.size(), samples_);
+    if (done.ok()) parked_ = std::move(done).value();
+    return;
+  }
   ahead_span_ = span;
   ahead_budget_ = budget;
   const StreamInfo* si = &info();

@@ -5,6 +5,7 @@
 #include <future>
 #include <thread>
 
+#include "codec/base/threads.h"
 #include "codec/block_codec.h"
 #include "codec/mask.h"
 #include "codec/predictive_texture.h"
@@ -156,6 +157,11 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
       size_t left = 0;  // fragments still to decode, this one included
       for (size_t k = i; k < n; ++k) left += gop->decoded[k] ? 1 : 0;
       b.max_ms = std::max(0.001, (budget.max_ms - spent) / static_cast<double>(left));
+      if (!kThreadsAvailable) {
+        // One thread: the channels in turn, each with a third of the time.
+        b.channel_runner = SerialRunner;
+        b.max_ms /= 3;
+      }
     }
     std::vector<uint8_t>& masks = gop->masks[i];
     const Shape4D shape = f.info.TextureShape(info.header);
@@ -177,11 +183,11 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
     }
     std::future<Status> masks_done;
     Status mask_status;
-    if (!f.masks.empty() && masks_async) {
+    if (!f.masks.empty() && masks_async && kThreadsAvailable) {
       masks_done = std::async(std::launch::async, decode_masks);
     }
     auto decoded = DecodeBlock(f.texture, b, inner, &reports[i]);
-    if (!f.masks.empty()) mask_status = masks_async ? masks_done.get() : decode_masks();
+    if (!f.masks.empty()) mask_status = masks_done.valid() ? masks_done.get() : decode_masks();
     if (!decoded.ok()) {
       statuses[i] = decoded.status();
     } else {

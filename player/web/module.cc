@@ -1,0 +1,33 @@
+// The WebAssembly module of the decoder library: the C API of
+// include/fvv/fvv_decoder.h and nothing more (player/web/CMakeLists.txt exports
+// its functions; player/web/fvv_decoder_api.mjs is the JavaScript over them).
+#include <cstddef>
+#include <cstdint>
+
+#include "fvv/fvv_decoder.h"
+
+// fvv_decoder_api.mjs reads and writes the C API's structs at these offsets
+// (wasm32); a change to a struct fails the build here, not the page.
+static_assert(sizeof(void*) == 4 && sizeof(size_t) == 4, "a wasm32 build");
+static_assert(sizeof(fvv_decoder_settings) == 24 && offsetof(fvv_decoder_settings, decode_ahead) == 16,
+              "fvv_decoder_settings");
+static_assert(sizeof(fvv_stream_info) == 60, "fvv_stream_info: 15 u32");
+static_assert(sizeof(fvv_fragment_info) == 48 && offsetof(fvv_fragment_info, offset) == 16 &&
+                  offsetof(fvv_fragment_info, head_size) == 32,
+              "fvv_fragment_info");
+static_assert(sizeof(fvv_decode_budget) == 40 && offsetof(fvv_decode_budget, format) == 16 &&
+                  offsetof(fvv_decode_budget, camera_mask) == 24 &&
+                  offsetof(fvv_decode_budget, floor_share) == 32,
+              "fvv_decode_budget");
+static_assert(sizeof(fvv_frame) == 96 && offsetof(fvv_frame, views) == 32 &&
+                  offsetof(fvv_frame, report) == 40,
+              "fvv_frame");
+static_assert(offsetof(fvv_decode_report, bitplanes) == 16 &&
+                  offsetof(fvv_decode_report, decode_ms) == 32 &&
+                  offsetof(fvv_decode_report, complete) == 40,
+              "fvv_decode_report");
+static_assert(sizeof(fvv_view) == 8, "fvv_view");
+static_assert(sizeof(fvv_model) == 44 && offsetof(fvv_model, triangles) == 40, "fvv_model");
+static_assert(sizeof(fvv_camera) == 208 && offsetof(fvv_camera, fx) == 16 &&
+                  offsetof(fvv_camera, rotation) == 88 && offsetof(fvv_camera, centre) == 184,
+              "fvv_camera");

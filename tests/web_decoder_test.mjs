@@ -1,0 +1,113 @@
+// The WebAssembly decoder through its JavaScript API, in Node: a stream opened
+// by byte ranges as a page fetches it (the head as the decoder asks, then each
+// fragment as a prefix), decoded to the same RGB as the native reference
+// decoder's conformance output at that prefix; fetching more of a fragment
+// decodes better; the errors a page meets come back as FvvError statuses.
+//
+//   node web_decoder_test.mjs BUILD_WASM_DIR STREAM NATIVE_OUT_DIR PREFIX WHOLE_OUT_DIR
+// NATIVE_OUT_DIR: tools/conformance_decode's output for STREAM at PREFIX bytes
+// per fragment; WHOLE_OUT_DIR: at 0 (whole fragments).
+import { readFileSync } from 'node:fs';
+import path from 'node:path';
+import { createRequire } from 'node:module';
+import { decompress } from '../tools/web/node_modules/fzstd/esm/index.mjs';
+import { FvvDecoder, FvvError } from '../player/web/fvv_decoder_api.mjs';
+
+const [buildDir, streamPath, prefixDir, prefixArg, wholeDir] = process.argv.slice(2);
+const prefix = Number(prefixArg);
+let failures = 0;
+const check = (ok, what) => {
+  if (!ok) {
+    console.error(`FAIL: ${what}`);
+    ++failures;
+  }
+};
+const same = (a, b) => a.length === b.length && a.every((v, i) => v === b[i]);
+const rgbFile = (dir, frame, camera) =>
+  readFileSync(path.join(dir, `rgb_${String(frame).padStart(6, '0')}_${String(camera).padStart(3, '0')}.bin`));
+const expectError = (fn, status, what) => {
+  try {
+    fn();
+    check(false, `${what}: no error`);
+  } catch (e) {
+    check(e instanceof FvvError && e.status === status, `${what}: ${e.message} (status ${e.status}, want ${status})`);
+  }
+};
+
+const stream = readFileSync(streamPath);
+// The module built for Node (fvv_decoder_node.cjs; pages load fvv_decoder.mjs).
+const moduleFactory = createRequire(import.meta.url)(path.resolve(buildDir, 'fvv_decoder_node.cjs'));
+const dec = await FvvDecoder.create({ moduleFactory, zstd: decompress });
+dec.openRanges(stream.length);
+// What the decoder asks for, 4 KiB of it at a time: the head boxes and the index.
+let requests = 0;
+for (let event; (event = dec.process()) === 'need'; ++requests) {
+  const want = dec.wantedRange();
+  check(want !== null && want.offset + want.size <= stream.length, 'wantedRange within the stream');
+  const n = Math.min(want.size, 4096);
+  dec.addRange(want.offset, stream.subarray(want.offset, want.offset + n));
+  if (requests > 500) throw new Error('the head never completes');
+}
+const info = dec.info();
+check(info.formatVersion === 11, `format version ${info.formatVersion}`);
+check(dec.framesAvailable() === info.frameCount, 'every frame available');
+const model = dec.model();
+check(model.positions.length === info.vertexCount * 3 && model.triangles.length === info.triangleCount * 3,
+  'model arrays');
+check(dec.camera(0).width > 0, 'camera 0');
+const groups = Math.ceil(info.cameraCount / info.gopCameras);
+const firstFragment = dec.fragment(0).offset;
+dec.destroy();
+
+// A page that knows where the fragments start fetches the head in one range:
+// everything before the first fragment (a fast-start stream's index included).
+const dec2 = await FvvDecoder.create({ moduleFactory, zstd: decompress });
+dec2.openRanges(stream.length);
+dec2.addRange(0, stream.subarray(0, firstFragment));
+check(dec2.process() === 'ready', 'a fast-start head in one range');
+const span0 = Array.from({ length: groups }, (_, g) => dec2.fragment(g));
+check(span0.every((f) => f.held === 0), 'no byte of a fragment held yet');
+
+// Before any fragment of span 0 is held: an error, not a crash.
+expectError(() => dec2.decodeFrame(0), 1 /* INVALID_ARGUMENT */, 'frame of fragments not fetched');
+// Each fragment of span 0 fetched as a prefix, then decoded: the native RGB.
+for (const f of span0) {
+  const n = Math.min(prefix, f.size);
+  check(f.headSize < n, `fragment ${f.index}: head ${f.headSize} within the prefix ${n}`);
+  dec2.addRange(f.offset, stream.subarray(f.offset, f.offset + n));
+}
+let frame = dec2.decodeFrame(0);
+for (let c = 0; c < info.cameraCount; ++c) {
+  check(same(frame.views[c].pixels, rgbFile(prefixDir, 0, c)), `frame 0 camera ${c} at the prefix`);
+}
+check(!frame.report.complete, 'a prefix is not the whole texture');
+// The rest of the fragments: the whole decode.
+for (const f of span0) dec2.addRange(f.offset, stream.subarray(f.offset, f.offset + f.size));
+frame = dec2.decodeFrame(1);
+for (let c = 0; c < info.cameraCount; ++c) {
+  check(same(frame.views[c].pixels, rgbFile(wholeDir, 1, c)), `frame 1 camera ${c} whole`);
+}
+check(frame.report.complete, 'whole fragments decode completely');
+// Camera 0 alone of span 1, fetched whole; the other cameras left out.
+const f1 = dec2.fragment(groups);
+dec2.addRange(f1.offset, stream.subarray(f1.offset, f1.offset + f1.size));
+frame = dec2.decodeFrame(info.gopFrames, { cameras: [0] });
+check(frame.views[0].pixels !== null && same(frame.views[0].pixels, rgbFile(wholeDir, info.gopFrames, 0)),
+  'camera 0 alone');
+check(frame.views[info.cameraCount - 1].pixels === null, 'a camera left out has no pixels');
+// A damaged chunk among the bytes held.
+const damaged = new Uint8Array(stream.subarray(f1.offset, f1.offset + f1.size));
+damaged[damaged.length - 1] ^= 1;
+const other = await FvvDecoder.create({ moduleFactory, zstd: decompress });
+other.openRanges(stream.length);
+other.addRange(0, stream.subarray(0, firstFragment));
+check(other.process() === 'ready', 'the head again');
+other.addRange(f1.offset, damaged);
+expectError(() => other.decodeFrame(info.gopFrames, { cameras: [0] }), 6 /* CHECKSUM_MISMATCH */,
+  'a damaged chunk');
+expectError(() => other.addRange(stream.length, new Uint8Array(1)), 1, 'a range past the end');
+other.destroy();
+dec2.destroy();
+console.log(`${failures ? 'FAILED' : 'passed'}: ${info.frameCount} frames, ${info.cameraCount} cameras, ` +
+  `head in ${requests} requests of 4 KiB`);
+process.exit(failures ? 1 : 0);

@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# The WebAssembly decoder in Node (tests/web_decoder_test.mjs): a sample stream
+# with the texture in chunks, the native reference decoder's conformance output
+# at a prefix and whole, and the JavaScript API against them.
+# Usage: web_decoder_test.sh FVV CONFORMANCE_DECODE BUILD_WASM_DIR WORK_DIR
+set -euo pipefail
+fvv=$1 native=$2 wasm=$3 dir=$4
+here=$(cd "$(dirname "$0")" && pwd)
+rm -rf "$dir" && mkdir -p "$dir/prefix" "$dir/whole"
+"$fvv" sample -o "$dir/s.fvv" --frames 10 --cameras 3 --atlas 48 40 --gop 4 1 --coder arith4 \
+  --bpp 3 --texture-chunks >/dev/null
+"$native" "$dir/s.fvv" "$dir/prefix" 900
+"$native" "$dir/s.fvv" "$dir/whole" 0
+node --no-experimental-fetch "$here/web_decoder_test.mjs" "$wasm" "$dir/s.fvv" "$dir/prefix" 900 "$dir/whole"
