@@ -93,6 +93,14 @@ uint32_t ProfileTools(Profile profile) { return profile == Profile::kMain ? kAll
 
 const LevelLimits& LimitsOf(const FileHeader& h) { return *FindLevel(h.level); }
 
+Status CheckGopSamplesClaim(const FileHeader& h, uint64_t max_gop_samples) {
+  const uint64_t samples = uint64_t{h.atlas_width} * h.atlas_height * h.gop_frames * h.gop_cameras;
+  if (max_gop_samples == 0 || samples <= max_gop_samples) return Status::Ok();
+  return LimitExceeded("file header: GOPs of " + std::to_string(samples) +
+                       " samples, more than this decoder holds (" +
+                       std::to_string(max_gop_samples) + "; SPEC.md 5.1)");
+}
+
 std::vector<uint8_t> WriteFileHeaderBox(const FileHeader& h) {
   ByteWriter w;
   w.U16(h.format_version);

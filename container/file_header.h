@@ -100,6 +100,9 @@ Status ReadFileHeader(const BoxHeader& box, const uint8_t* payload, FileHeader* 
 // writes what a reader would reject.
 Status ValidateFileHeader(const FileHeader& h);
 const LevelLimits& LimitsOf(const FileHeader& h);  // h must be valid
+// A decoder's claim by limits (SPEC.md 5.1): LimitExceeded when the stream's
+// GOPs hold more than `max_gop_samples` samples (0: no claim beyond the level).
+Status CheckGopSamplesClaim(const FileHeader& h, uint64_t max_gop_samples);
 
 }  // namespace fvv
 

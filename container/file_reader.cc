@@ -219,6 +219,11 @@ StatusOr<FragmentData> FileReader::ReadFragment(size_t i, uint64_t bytes) {
   if (h.size > MaxTopLevelBoxSize(info_, h.type)) {
     return LimitExceeded(BoxContext(h) + "fragment larger than the level allows");
   }
+  if (options_.max_fragment_bytes != 0 && h.payload_size() > options_.max_fragment_bytes) {
+    return LimitExceeded(BoxContext(h) + "fragment of " + std::to_string(h.size) +
+                         " bytes, more than this decoder holds (" +
+                         std::to_string(options_.max_fragment_bytes) + ")");
+  }
   FragmentReadOptions options = options_;
   const uint64_t delivered = bytes == 0 || bytes >= h.size ? h.size : bytes;
   if (delivered < h.size) options.delivered = delivered;

@@ -449,6 +449,10 @@ Status ReadFragment(const BoxHeader& box, const uint8_t* payload, const FileHead
     return LimitExceeded(at + std::to_string(box.payload_size()) + " bytes (level allows " +
                          std::to_string(LimitsOf(h).max_fragment_bytes) + ")");
   }
+  if (options.max_fragment_bytes != 0 && box.payload_size() > options.max_fragment_bytes) {
+    return LimitExceeded(at + std::to_string(box.payload_size()) + " bytes (this decoder holds " +
+                         std::to_string(options.max_fragment_bytes) + ")");
+  }
   *f = FragmentData();
   const bool chunked = (h.tools & kToolTextureChunks) != 0;
   f->chunked = chunked;

@@ -113,6 +113,9 @@ struct FragmentReadOptions {
   // other shorter than its box is Truncated, and so is a prefix that ends
   // inside a chunked fragment's head.
   uint64_t delivered = 0;
+  // The decoder's claim (SPEC.md 5.1): fragments of more payload bytes are
+  // LimitExceeded before they are buffered or read; 0 = the level's limit.
+  uint64_t max_fragment_bytes = 0;
 };
 // Parses a 'frag' payload, checking it against the header (GOP grid, declared
 // tools, level limits) and its checksums. `payload` holds the box's payload,

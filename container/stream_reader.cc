@@ -125,6 +125,12 @@ StatusOr<ReaderEvent> StreamReader::Next() {
     return Fail(LimitExceeded(BoxContext(b) + "size " + std::to_string(b.size) + " exceeds the " +
                               std::to_string(cap) + " bytes this level allows for it"));
   }
+  if (b.type == box::kFragment && options_.max_fragment_bytes != 0 &&
+      b.payload_size() > options_.max_fragment_bytes) {
+    return Fail(LimitExceeded(BoxContext(b) + "size " + std::to_string(b.size) +
+                              " exceeds the fragment bytes this decoder holds (" +
+                              std::to_string(options_.max_fragment_bytes) + ")"));
+  }
   if (available < b.size) {
     if (finished_) {
       return Fail(Truncated(BoxContext(b) + "stream ends " + std::to_string(b.size - available) +

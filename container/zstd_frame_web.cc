@@ -7,21 +7,20 @@
 #include "container/zstd_frame.h"
 
 // Decompresses src into dst; the bytes written, or -1 when the data does not
-// decode or does not fit.
-EM_JS(int, fvv_web_zstd_decompress, (const uint8_t* src, int src_size, uint8_t* dst, int dst_size),
-      {
-        try {
-          const out = Module.fvvZstdDecompress(HEAPU8.subarray(src, src + src_size),
-                                               HEAPU8.subarray(dst, dst + dst_size));
-          if (out.byteOffset != = dst || out.length > dst_size) {
-            if (out.length > dst_size) return -1;
-            HEAPU8.set(out, dst);
-          }
-          return out.length;
-        } catch (e) {
-          return -1;
-        }
-      });
+// decode or does not fit. (JavaScript: clang-format would space its operators.)
+// clang-format off
+EM_JS(int, fvv_web_zstd_decompress, (const uint8_t* src, int src_size, uint8_t* dst, int dst_size), {
+  try {
+    const out = Module.fvvZstdDecompress(HEAPU8.subarray(src, src + src_size),
+                                         HEAPU8.subarray(dst, dst + dst_size));
+    if (out.length > dst_size) return -1;
+    if (out.byteOffset != dst) HEAPU8.set(out, dst);
+    return out.length;
+  } catch (e) {
+    return -1;
+  }
+});
+// clang-format on
 
 namespace fvv {
 namespace {

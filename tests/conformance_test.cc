@@ -145,6 +145,24 @@ TEST(Runner, AnInvalidStreamMustGiveItsOwnCode) {
   EXPECT_NE(r.detail.find("expected corrupt"), std::string::npos) << r.detail;
 }
 
+// SPEC.md 5.1: a case above the decoder's claimed level is reported as
+// beyond it, not run, neither passed nor failed; a case within it runs.
+TEST(Runner, CasesBeyondTheDecodersClaimAreReportedAsSuch) {
+  const ConformanceCase high = Load(kSuite + "/level3_limits");
+  ASSERT_EQ(high.level, 3);
+  RunOptions o;
+  o.max_level = 2;
+  const CaseResult r = RunCase(high, o);
+  EXPECT_FALSE(r.passed);
+  EXPECT_TRUE(r.beyond_claim);
+  EXPECT_NE(r.detail.find("beyond the decoder's claim"), std::string::npos) << r.detail;
+  o.max_level = 3;
+  EXPECT_TRUE(RunCase(high, o).passed);
+  const CaseResult low = RunCase(Load(kSuite + "/gop_1x1"), o);
+  EXPECT_TRUE(low.passed);
+  EXPECT_FALSE(low.beyond_claim);
+}
+
 RunOptions External(const std::string& command) {
   RunOptions o;
   o.decoder = command;

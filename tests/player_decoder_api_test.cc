@@ -17,6 +17,7 @@
 #include "container/writer.h"
 #include "fvv/fvv_decoder.hpp"
 #include "player/decoder/c_api_internal.h"
+#include "tests/sample_stream_file.h"
 
 extern "C" int fvv_public_headers_compile_as_c(void);
 
@@ -618,6 +619,85 @@ TEST(DecoderRanges, ADamagedChunkAndAStreamWithoutIndexAreReported) {
     EXPECT_EQ(fvv_decoder_process(dec.get(), &event), FVV_UNSUPPORTED);
     EXPECT_NE(std::string(fvv_decoder_error(dec.get())).find("no index"), std::string::npos)
         << fvv_decoder_error(dec.get());
+  }
+}
+
+}  // namespace
+}  // namespace fvv
+
+namespace fvv {
+namespace {
+
+// A decoder's claim by limits (SPEC.md 5.1): a stream whose level is high for
+// its camera count alone decodes under a claim of level 2's memory; one whose
+// GOPs or fragments exceed the claim is LimitExceeded from every input, before
+// anything it sizes is allocated.
+TEST(DecoderClaim, LimitsOnGopSamplesAndFragmentBytesAreTheStreamsOwn) {
+  fvv_decoder_settings claim;
+  fvv_decoder_default_settings(&claim);
+  EXPECT_EQ(claim.max_gop_samples, 0u);
+  EXPECT_EQ(claim.max_fragment_bytes, 0u);
+  claim.max_gop_samples = uint64_t{1} << 26;
+  claim.max_fragment_bytes = uint64_t{32} << 20;
+  // 31 cameras: level 3 for its camera count; GOPs of 4 frames x 1 camera x 32x24.
+  SampleStreamOptions o = Options();
+  o.cameras = 31;
+  o.gop_cameras = 1;
+  o.level = 3;
+  const std::string studio = WriteSampleStreamFile(o, "fvv_claim_31_cameras.fvv");
+  {
+    DecoderPtr dec = MakeDecoder(&claim);
+    ASSERT_EQ(fvv_decoder_open_file(dec.get(), studio.c_str()), FVV_OK)
+        << fvv_decoder_error(dec.get());
+    fvv_stream_info info;
+    ASSERT_EQ(fvv_decoder_get_info(dec.get(), &info), FVV_OK);
+    EXPECT_EQ(info.level, 3u);
+    fvv_status status;
+    EXPECT_NE(DecodeFrame(dec.get(), 5, nullptr, &status), nullptr) << fvv_decoder_error(dec.get());
+  }
+  // GOPs of 4 frames x 2 cameras x 32x24 = 6144 samples, against a claim of 6000.
+  const Fixture& fx = Shared();
+  claim.max_gop_samples = 6000;
+  {
+    DecoderPtr dec = MakeDecoder(&claim);
+    EXPECT_EQ(fvv_decoder_open_file(dec.get(), fx.path.c_str()), FVV_LIMIT_EXCEEDED);
+    EXPECT_NE(std::string(fvv_decoder_error(dec.get())).find("this decoder holds"),
+              std::string::npos)
+        << fvv_decoder_error(dec.get());
+  }
+  {
+    DecoderPtr dec = MakeDecoder(&claim);
+    ASSERT_EQ(fvv_decoder_push(dec.get(), fx.bytes.data(), fx.bytes.size()), FVV_OK);
+    fvv_event event = FVV_EVENT_NEED_MORE_INPUT;
+    EXPECT_EQ(fvv_decoder_process(dec.get(), &event), FVV_LIMIT_EXCEEDED);
+  }
+  {
+    DecoderPtr dec = MakeDecoder(&claim);
+    ASSERT_EQ(fvv_decoder_open_ranges(dec.get(), fx.bytes.size()), FVV_OK);
+    ASSERT_EQ(fvv_decoder_add_range(dec.get(), 0, fx.bytes.data(), fx.bytes.size()), FVV_OK);
+    fvv_event event;
+    EXPECT_EQ(fvv_decoder_process(dec.get(), &event), FVV_LIMIT_EXCEEDED);
+  }
+  // Fragments larger than the claim: the file opens, the frame does not decode.
+  claim.max_gop_samples = 6144;
+  claim.max_fragment_bytes = 100;
+  {
+    DecoderPtr dec = MakeDecoder(&claim);
+    ASSERT_EQ(fvv_decoder_open_file(dec.get(), fx.path.c_str()), FVV_OK);
+    fvv_status status;
+    EXPECT_EQ(DecodeFrame(dec.get(), 0, nullptr, &status), nullptr);
+    EXPECT_EQ(status, FVV_LIMIT_EXCEEDED);
+  }
+  {
+    DecoderPtr dec = MakeDecoder(&claim);
+    ASSERT_EQ(fvv_decoder_push(dec.get(), fx.bytes.data(), fx.bytes.size()), FVV_OK);
+    fvv_status s = FVV_OK;
+    for (int i = 0; i < 100 && s == FVV_OK; ++i) {
+      fvv_event event;
+      s = fvv_decoder_process(dec.get(), &event);
+      if (s == FVV_OK && event == FVV_EVENT_NEED_MORE_INPUT) break;
+    }
+    EXPECT_EQ(s, FVV_LIMIT_EXCEEDED);
   }
 }
 

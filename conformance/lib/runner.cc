@@ -253,6 +253,11 @@ CaseResult RunCase(const ConformanceCase& c, const RunOptions& options) {
                   " is not one this build knows (1.." + std::to_string(FVV_FORMAT_VERSION) + ")");
   }
   if (!c.blessed()) return finish("test.json has no expectations (run fvv conform --bless)");
+  if (options.max_level != 0 && c.level > options.max_level) {
+    result.beyond_claim = true;
+    return finish("level " + std::to_string(c.level) + ", beyond the decoder's claim (level " +
+                  std::to_string(options.max_level) + ")");
+  }
   auto stream = ReadFileBytes(c.stream_path(), kMaxConformanceFileBytes);
   if (!stream.ok()) return finish(stream.status().ToString());
   if (c.stream_sha256.empty() || Sha256Hex(*stream) != c.stream_sha256) {

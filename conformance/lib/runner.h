@@ -23,12 +23,16 @@ struct RunOptions {
   unsigned timeout_seconds = 300;  // external: per decoder run; longer is a hang
   unsigned threads = 2;            // reference decoder
   std::string work_dir = "/tmp";   // where external outputs go (removed after)
+  // The decoder's claim (SPEC.md 5.1): cases whose stream declares a higher
+  // level are beyond it, reported as such and not run; 0 = every level.
+  int max_level = 0;
 };
 
 struct CaseResult {
   std::string name;
   bool passed = false;
-  std::string detail;  // why it failed; notes when it passed
+  bool beyond_claim = false;  // not run: its level is above RunOptions::max_level
+  std::string detail;         // why it failed; notes when it passed
   double seconds = 0;
 };
 

@@ -72,6 +72,16 @@ typedef struct {
   uint32_t threads;          /* worker threads for decoding; 0 = one per core */
   uint64_t memory_cap_bytes; /* bound on buffered input and decoded GOPs; 0 = 1 GiB */
   int decode_ahead;          /* non-zero: decode the next GOP in the background */
+  /* The decoder's claim by limits (SPEC.md 5.1), beside the level limits every stream obeys: a
+     stream whose GOPs hold more samples (atlas width x height x GOP frames x GOP cameras), or
+     whose fragments more bytes, is FVV_LIMIT_EXCEEDED when its header (or the fragment) is read,
+     before anything it sizes is allocated, whatever level it declares. What the decoder needs is
+     about 16 bytes per GOP sample plus the fragment bytes (SPEC.md 5). 0 = the stream's level's
+     limit. The WebAssembly build's JavaScript claims 2^26 samples and 32 MiB (level 2's): a page
+     holds 4 GiB, and a 31-camera stream of small GOPs, level 3 for its camera count alone, plays.
+   */
+  uint64_t max_gop_samples;
+  uint64_t max_fragment_bytes;
 } fvv_decoder_settings;
 
 FVV_EXPORT void fvv_decoder_default_settings(fvv_decoder_settings* settings);

@@ -118,6 +118,8 @@ void fvv_decoder_default_settings(fvv_decoder_settings* settings) {
   settings->threads = 0;
   settings->memory_cap_bytes = 0;
   settings->decode_ahead = 1;
+  settings->max_gop_samples = 0;
+  settings->max_fragment_bytes = 0;
 }
 
 fvv_status fvv_decoder_create(const fvv_decoder_settings* settings, fvv_decoder** decoder) {

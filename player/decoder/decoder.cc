@@ -22,6 +22,12 @@ Decoder::~Decoder() { WaitDecodeAhead(); }
 
 const StreamInfo& Decoder::info() const { return file_ ? file_->info() : stream_->info(); }
 
+FragmentReadOptions Decoder::ReadOptions() const {
+  FragmentReadOptions o;
+  o.max_fragment_bytes = settings_.max_fragment_bytes;
+  return o;
+}
+
 uint32_t Decoder::span_count() const {
   const FileHeader& h = info().header;
   // A live stream's spans are those of the frames that have arrived.
@@ -33,10 +39,15 @@ Status Decoder::OpenFile(const std::string& path) {
   if (source_ || stream_) return InvalidArgument("the decoder already has an input");
   FVV_ASSIGN_OR_RETURN(std::unique_ptr<FileSource> file, FileSource::Open(path));
   source_ = std::move(file);
-  auto reader = FileReader::Open(source_.get());
+  auto reader = FileReader::Open(source_.get(), ReadOptions());
   if (!reader.ok()) {
     source_.reset();
     return Status(reader.status().code(), path + ": " + reader.status().message());
+  }
+  const Status claim = CheckGopSamplesClaim((*reader)->info().header, settings_.max_gop_samples);
+  if (!claim.ok()) {
+    source_.reset();
+    return Status(claim.code(), path + ": " + claim.message());
   }
   file_ = std::move(reader).value();
   ready_ = true;
@@ -99,14 +110,14 @@ Status Decoder::Push(const uint8_t* data, size_t size) {
   if (source_)
     return InvalidArgument("push after open_file or open_ranges: a decoder has one input");
   if (stream_ended_) return InvalidArgument("push after push_end");
-  if (!stream_) stream_ = std::make_unique<StreamReader>();
+  if (!stream_) stream_ = std::make_unique<StreamReader>(ReadOptions());
   if (size > 0) stream_->Push(data, size);
   return Status::Ok();
 }
 
 Status Decoder::PushEnd() {
   if (source_) return InvalidArgument("push_end after open_file or open_ranges");
-  if (!stream_) stream_ = std::make_unique<StreamReader>();
+  if (!stream_) stream_ = std::make_unique<StreamReader>(ReadOptions());
   stream_->Finish();
   stream_ended_ = true;
   return Status::Ok();
@@ -115,10 +126,11 @@ Status Decoder::PushEnd() {
 StatusOr<fvv_event> Decoder::Process() {
   if (fetched_ && !file_) {
     // The header boxes and the index, as far as the ranges fetched reach.
-    auto reader = FileReader::Open(fetched_, {}, /*require_index=*/true);
+    auto reader = FileReader::Open(fetched_, ReadOptions(), /*require_index=*/true);
     uint64_t offset, size;
     if (!reader.ok() && fetched_->missing(&offset, &size)) return FVV_EVENT_NEED_MORE_INPUT;
     FVV_RETURN_IF_ERROR(reader.status());
+    FVV_RETURN_IF_ERROR(CheckGopSamplesClaim((*reader)->info().header, settings_.max_gop_samples));
     file_ = std::move(reader).value();
     ready_ = true;
     frames_available_ = file_->info().frames();
@@ -169,6 +181,11 @@ StatusOr<fvv_event> Decoder::Process() {
         break;
       }
       default:
+        if (si.has_header && !claim_checked_) {
+          // Before any fragment is buffered (SPEC.md 5.1).
+          FVV_RETURN_IF_ERROR(CheckGopSamplesClaim(si.header, settings_.max_gop_samples));
+          claim_checked_ = true;
+        }
         ready_ = si.has_header && si.has_cameras && si.has_model && si.has_motion;
         break;
     }

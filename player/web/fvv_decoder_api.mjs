@@ -31,21 +31,28 @@ export class FvvError extends Error {
 export class FvvDecoder {
   // moduleUrl: where the build's fvv_decoder.mjs is; or moduleFactory, its
   // default export. zstd: a zstd decompressor (data, out) => Uint8Array, such
-  // as fzstd's decompress. threads / memoryCap: fvv_decoder_settings.
-  static async create({ moduleUrl, moduleFactory, zstd, memoryCap = 0 } = {}) {
+  // as fzstd's decompress. memoryCap, maxGopSamples, maxFragmentBytes:
+  // fvv_decoder_settings; the claim (SPEC.md 5.1) defaults to level 2's GOP
+  // samples and fragment bytes, about 1.1 GiB of the 4 GiB a page addresses.
+  static async create({
+    moduleUrl, moduleFactory, zstd, memoryCap = 0, maxGopSamples = 2 ** 26,
+    maxFragmentBytes = 32 * 2 ** 20,
+  } = {}) {
     if (!zstd) throw new Error('FvvDecoder.create needs a zstd decompressor (fzstd.decompress)');
     const factory = moduleFactory ?? (await import(moduleUrl)).default;
     const m = await factory({ fvvZstdDecompress: zstd });
-    return new FvvDecoder(m, memoryCap);
+    return new FvvDecoder(m, { memoryCap, maxGopSamples, maxFragmentBytes });
   }
 
-  constructor(m, memoryCap) {
+  constructor(m, { memoryCap, maxGopSamples, maxFragmentBytes }) {
     this.m = m;
-    const settings = m._malloc(24);
+    const settings = m._malloc(40);
     m._fvv_decoder_default_settings(settings);
     m.HEAPU32[settings >> 2] = 1;  // one thread: this build has none to start
     if (memoryCap) this.#setU64(settings + 8, memoryCap);
     m.HEAP32[(settings + 16) >> 2] = 0;  // nothing decoded ahead: the caller schedules
+    this.#setU64(settings + 24, maxGopSamples);
+    this.#setU64(settings + 32, maxFragmentBytes);
     const out = m._malloc(4);
     const status = m._fvv_decoder_create(settings, out);
     this.handle = m.HEAPU32[out >> 2];

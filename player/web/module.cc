@@ -9,7 +9,10 @@
 // fvv_decoder_api.mjs reads and writes the C API's structs at these offsets
 // (wasm32); a change to a struct fails the build here, not the page.
 static_assert(sizeof(void*) == 4 && sizeof(size_t) == 4, "a wasm32 build");
-static_assert(sizeof(fvv_decoder_settings) == 24 && offsetof(fvv_decoder_settings, decode_ahead) == 16,
+static_assert(sizeof(fvv_decoder_settings) == 40 &&
+                  offsetof(fvv_decoder_settings, decode_ahead) == 16 &&
+                  offsetof(fvv_decoder_settings, max_gop_samples) == 24 &&
+                  offsetof(fvv_decoder_settings, max_fragment_bytes) == 32,
               "fvv_decoder_settings");
 static_assert(sizeof(fvv_stream_info) == 60, "fvv_stream_info: 15 u32");
 static_assert(sizeof(fvv_fragment_info) == 48 && offsetof(fvv_fragment_info, offset) == 16 &&
