@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # The WebAssembly decoder in Node (tests/web_decoder_test.mjs): a sample stream
 # with the texture in chunks, the native reference decoder's conformance output
-# at a prefix and whole, and the JavaScript API against them.
+# at a prefix and whole, and the JavaScript API against them, in Node and in
+# headless chromium (tests/web_browser_decode_test.mjs: the stream by HTTP
+# Range requests).
 # Usage: web_decoder_test.sh FVV CONFORMANCE_DECODE BUILD_WASM_DIR WORK_DIR
 set -euo pipefail
 fvv=$1 native=$2 wasm=$3 dir=$4
@@ -12,3 +14,4 @@ rm -rf "$dir" && mkdir -p "$dir/prefix" "$dir/whole"
 "$native" "$dir/s.fvv" "$dir/prefix" 900
 "$native" "$dir/s.fvv" "$dir/whole" 0
 node --no-experimental-fetch "$here/web_decoder_test.mjs" "$wasm" "$dir/s.fvv" "$dir/prefix" 900 "$dir/whole"
+node "$here/web_browser_decode_test.mjs" "$wasm" "$dir/s.fvv" "$dir/whole"

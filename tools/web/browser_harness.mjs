@@ -1,10 +1,11 @@
 // The headless-browser harness fvv's web tests share: a static HTTP server on
-// 127.0.0.1 (an ephemeral port) over the directories given, Debian's chromium
+// 127.0.0.1 (an ephemeral port) over the directories given, with byte ranges,
+// no caching and the cross-origin isolation headers, Debian's chromium
 // driven by puppeteer-core, and a guarantee that both are gone when the work is
 // done or fails (the browser closed, then killed; the server closed).
 //
 //   import { withBrowser } from './browser_harness.mjs';
-//   await withBrowser({ '/web/': webDir, '/data/': dataDir }, async ({ page, base }) => {
+//   await withBrowser({ '/web/': webDir, '/data/': dataDir }, async ({ page, base, requests }) => {
 //     await page.goto(base + '/web/view_gltf.html?...');
 //   });
 import { createReadStream, statSync } from 'node:fs';
@@ -15,33 +16,79 @@ import puppeteer from 'puppeteer-core';
 const TYPES = {
   '.html': 'text/html', '.js': 'text/javascript', '.mjs': 'text/javascript',
   '.json': 'application/json', '.glb': 'model/gltf-binary', '.gltf': 'model/gltf+json',
-  '.bin': 'application/octet-stream', '.png': 'image/png',
+  '.bin': 'application/octet-stream', '.png': 'image/png', '.wasm': 'application/wasm',
+  '.fvv': 'application/octet-stream',
 };
 
 // Serves GET /PREFIX/rest from mounts[PREFIX]/rest; nothing outside the mounts.
-function serve(mounts) {
+// As a static server or CDN does for a page fetching a stream: single byte
+// ranges ("Range: bytes=A-B", "A-", "-N") answered 206 with Content-Range, a
+// range past the end 416; no caching, so every fetch reaches the server; and
+// the cross-origin isolation headers (COOP, COEP) that a page needs for
+// SharedArrayBuffer. Every request is recorded in `log` (path, range, status,
+// bytes sent).
+function serve(mounts, log) {
   const server = createServer((req, res) => {
     const url = decodeURIComponent(new URL(req.url, 'http://127.0.0.1').pathname);
+    const entry = { path: url, range: req.headers.range ?? null, status: 404, bytes: 0 };
+    log.push(entry);
+    const headers = {
+      'Cache-Control': 'no-store',
+      'Cross-Origin-Opener-Policy': 'same-origin',
+      'Cross-Origin-Embedder-Policy': 'require-corp',
+      'Cross-Origin-Resource-Policy': 'same-origin',
+      'Accept-Ranges': 'bytes',
+    };
     for (const [prefix, dir] of Object.entries(mounts)) {
       if (!url.startsWith(prefix)) continue;
       const file = path.resolve(dir, url.slice(prefix.length));
       if (!file.startsWith(path.resolve(dir) + path.sep)) break;
+      let size;
       try {
-        if (!statSync(file).isFile()) break;
+        const st = statSync(file);
+        if (!st.isFile()) break;
+        size = st.size;
       } catch {
         break;
       }
-      res.writeHead(200, { 'Content-Type': TYPES[path.extname(file)] ?? 'application/octet-stream' });
-      createReadStream(file).pipe(res);
+      headers['Content-Type'] = TYPES[path.extname(file)] ?? 'application/octet-stream';
+      let first = 0, last = size - 1;
+      const m = /^bytes=(\d*)-(\d*)$/.exec(req.headers.range ?? '');
+      if (req.headers.range && m && (m[1] !== '' || m[2] !== '')) {
+        if (m[1] === '') {
+          first = Math.max(0, size - Number(m[2]));
+        } else {
+          first = Number(m[1]);
+          if (m[2] !== '') last = Math.min(last, Number(m[2]));
+        }
+        if (first >= size || first > last) {
+          entry.status = 416;
+          res.writeHead(416, { ...headers, 'Content-Range': `bytes */${size}` }).end();
+          return;
+        }
+        entry.status = 206;
+        headers['Content-Range'] = `bytes ${first}-${last}/${size}`;
+      } else {
+        entry.status = 200;
+      }
+      headers['Content-Length'] = String(last - first + 1);
+      entry.bytes = last - first + 1;
+      res.writeHead(entry.status, headers);
+      if (req.method === 'HEAD' || size === 0) {
+        res.end();
+        return;
+      }
+      createReadStream(file, { start: first, end: last }).pipe(res);
       return;
     }
-    res.writeHead(404).end('not found');
+    res.writeHead(404, headers).end('not found');
   });
   return new Promise((resolve) => server.listen(0, '127.0.0.1', () => resolve(server)));
 }
 
 export async function withBrowser(mounts, work, { timeoutMs = 60000 } = {}) {
-  const server = await serve(mounts);
+  const requests = [];
+  const server = await serve(mounts, requests);
   const base = `http://127.0.0.1:${server.address().port}`;
   let browser;
   const timer = setTimeout(() => {
@@ -62,7 +109,7 @@ export async function withBrowser(mounts, work, { timeoutMs = 60000 } = {}) {
     const page = await browser.newPage();
     page.on('console', (m) => console.log(`page: ${m.text()}`));
     page.on('pageerror', (e) => console.error(`page error: ${e.message}`));
-    return await work({ page, base });
+    return await work({ page, base, requests });
   } finally {
     clearTimeout(timer);
     if (browser) {
