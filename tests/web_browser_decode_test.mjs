@@ -1,7 +1,8 @@
 // The WebAssembly decoder in a real browser (Debian's chromium, headless): a
 // page fetches a stream with HTTP Range requests from the harness's server on
 // 127.0.0.1 (the head as the decoder asks, then span 0's fragments whole),
-// decodes frame 0 through the JavaScript API, and its RGB must be the native
+// decodes frame 0 through the JavaScript API, on the page and in a Web Worker
+// (fvv_decoder_worker.mjs), and its RGB must be the native
 // reference decoder's conformance output, byte for byte. The server's log
 // must show only range requests (206) for the stream, and the page must be
 // cross-origin isolated (the headers threads will need).
@@ -24,10 +25,15 @@ const streamUrl = '/data/' + path.basename(streamPath);
 
 const result = await withBrowser(mounts, async ({ page, base, requests }) => {
   await page.goto(base + '/web/fvv_decoder_api.mjs');  // any page of the origin
-  const out = await page.evaluate(async (url) => {
+  // The same fetches and decode on the page's thread and in a Web Worker.
+  const run = (inWorker) => page.evaluate(async (url, worker) => {
     const { FvvDecoder } = await import('/web/fvv_decoder_api.mjs');
+    const { FvvDecoderWorker } = await import('/web/fvv_decoder_worker_client.mjs');
     const { decompress } = await import('/fzstd/index.mjs');
-    const dec = await FvvDecoder.create({ moduleUrl: '/wasm/fvv_decoder.mjs', zstd: decompress });
+    const dec = worker
+      ? await FvvDecoderWorker.create('/web/fvv_decoder_worker.mjs',
+          { moduleUrl: '/wasm/fvv_decoder.mjs', zstdUrl: '/fzstd/index.mjs' })
+      : await FvvDecoder.create({ moduleUrl: '/wasm/fvv_decoder.mjs', zstd: decompress });
     const get = async (offset, size) => {
       const r = await fetch(url, { headers: { Range: `bytes=${offset}-${offset + size - 1}` } });
       if (r.status !== 206) throw new Error(`range request answered ${r.status}`);
@@ -35,23 +41,26 @@ const result = await withBrowser(mounts, async ({ page, base, requests }) => {
                bytes: new Uint8Array(await r.arrayBuffer()) };
     };
     const first = await get(0, 4096);
-    dec.openRanges(first.total);
-    dec.addRange(0, first.bytes);
-    while (dec.process() === 'need') {
-      const want = dec.wantedRange();
-      dec.addRange(want.offset, (await get(want.offset, want.size)).bytes);
+    await dec.openRanges(first.total);
+    await dec.addRange(0, first.bytes);
+    while ((await dec.process()) === 'need') {
+      const want = await dec.wantedRange();
+      await dec.addRange(want.offset, (await get(want.offset, want.size)).bytes);
     }
-    const info = dec.info();
+    const info = await dec.info();
     const groups = Math.ceil(info.cameraCount / info.gopCameras);
     for (let g = 0; g < groups; ++g) {
-      const f = dec.fragment(g);
-      dec.addRange(f.offset, (await get(f.offset, f.size)).bytes);
+      const f = await dec.fragment(g);
+      await dec.addRange(f.offset, (await get(f.offset, f.size)).bytes);
     }
-    const frame = dec.decodeFrame(0);
-    dec.destroy();
+    const frame = await dec.decodeFrame(0);
+    await dec.destroy();
+    if (worker) dec.terminate();
     return { isolated: crossOriginIsolated, cameras: info.cameraCount,
              views: frame.views.map((v) => Array.from(v.pixels)) };
-  }, base + streamUrl);
+  }, base + streamUrl, inWorker);
+  const out = await run(false);
+  out.worker = await run(true);
   return { ...out, requests: requests.filter((r) => r.path === streamUrl) };
 }, { timeoutMs: 90000 });
 
@@ -60,12 +69,16 @@ const check = (ok, what) => { if (!ok) { console.error(`FAIL: ${what}`); ++failu
 check(result.isolated, 'the page is cross-origin isolated');
 check(result.requests.length >= 2 && result.requests.every((r) => r.status === 206 && r.range),
   `only range requests for the stream: ${JSON.stringify(result.requests)}`);
-for (let c = 0; c < result.cameras; ++c) {
-  const want = readFileSync(path.join(wholeDir, `rgb_000000_${String(c).padStart(3, '0')}.bin`));
-  const got = result.views[c];
-  check(got.length === want.length && got.every((v, i) => v === want[i]), `frame 0 camera ${c}`);
+for (const [where, views] of [['page', result.views], ['worker', result.worker.views]]) {
+  for (let c = 0; c < result.cameras; ++c) {
+    const want = readFileSync(path.join(wholeDir, `rgb_000000_${String(c).padStart(3, '0')}.bin`));
+    const got = views[c];
+    check(got.length === want.length && got.every((v, i) => v === want[i]),
+      `frame 0 camera ${c}, decoded on the ${where}`);
+  }
 }
 console.log(`${failures ? 'FAILED' : 'passed'}: frame 0 of ${result.cameras} cameras in chromium, ` +
+  'on the page and in a Web Worker, ' +
   `${result.requests.length} range requests, ` +
   `${result.requests.reduce((n, r) => n + r.bytes, 0)} bytes`);
 process.exit(failures ? 1 : 0);
