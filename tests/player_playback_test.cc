@@ -5,6 +5,7 @@
 
 #include <algorithm>
 
+#include "player/playback/fetch_plan.h"
 #include "player/playback/playback_controller.h"
 
 namespace fvv {
@@ -166,6 +167,51 @@ TEST(PlaybackController, FasterPlaybackTightensTheBudget) {
   EXPECT_NEAR(pc.target_ms(), 160 - 2, 1e-9);
   EXPECT_NEAR(pc.fixed_ms(), 100, 1e-9);
   EXPECT_NEAR(pc.NextMaxMs(), 58, 1e-9);
+}
+
+}  // namespace
+}  // namespace fvv
+
+namespace fvv {
+namespace {
+
+// A GOP fetched over HTTP: every fragment its head, then the same share of
+// every fragment's texture, never more than the bandwidth's budget in all.
+TEST(FetchPlan, HeadsFirstThenTheSameShareOfEveryTextureWithinTheBudget) {
+  const std::vector<FragmentSizes> gop = {{300, 20300}, {99, 10099}, {99, 5099}};
+  // Whole fragments when the budget holds them.
+  EXPECT_EQ(PlanPrefixes(gop, 40000), (std::vector<uint64_t>{20300, 10099, 5099}));
+  // Heads only when even they exceed it (the caller waits for them).
+  EXPECT_EQ(PlanPrefixes(gop, 300), (std::vector<uint64_t>{300, 99, 99}));
+  // In between: 7000 bytes past the heads, of 35000 texture bytes, is a fifth of each.
+  const std::vector<uint64_t> p = PlanPrefixes(gop, 498 + 7000);
+  EXPECT_EQ(p, (std::vector<uint64_t>{300 + 4000, 99 + 2000, 99 + 1000}));
+  for (uint64_t budget = 0; budget < 40000; budget += 777) {
+    const std::vector<uint64_t> q = PlanPrefixes(gop, budget);
+    uint64_t sum = 0;
+    for (size_t i = 0; i < q.size(); ++i) {
+      EXPECT_GE(q[i], gop[i].head);
+      EXPECT_LE(q[i], gop[i].size);
+      sum += q[i];
+    }
+    EXPECT_LE(sum, std::max<uint64_t>(budget, 498)) << budget;
+    EXPECT_GE(sum + 3, std::min<uint64_t>(std::max<uint64_t>(budget, 498), 35498)) << budget;
+  }
+  EXPECT_TRUE(PlanPrefixes({}, 1000).empty());
+}
+
+TEST(FetchPlan, TheBandwidthFollowsTheFetchesAndSetsTheBudget) {
+  BandwidthEstimate b;
+  EXPECT_EQ(b.bytes_per_second(), 0);
+  b.Measured(62500, 1.0);  // 0.5 Mbit/s
+  EXPECT_DOUBLE_EQ(b.bytes_per_second(), 62500);
+  b.Measured(125000, 1.0);  // the network doubles: the estimate moves 30 % of the way
+  EXPECT_DOUBLE_EQ(b.bytes_per_second(), 62500 * 0.7 + 125000 * 0.3);
+  b.Measured(1000, 0);  // no time: ignored
+  EXPECT_DOUBLE_EQ(b.bytes_per_second(), 62500 * 0.7 + 125000 * 0.3);
+  // 0.5 Mbit/s over an 8-frame GOP at 25 fps: 90 % of 20000 bytes.
+  EXPECT_EQ(GopFetchBudget(62500, 8 / 25.0), 18000u);
+  EXPECT_EQ(GopFetchBudget(0, 0.32), 0u);
 }
 
 }  // namespace

@@ -95,6 +95,15 @@ frame = dec2.decodeFrame(info.gopFrames, { cameras: [0] });
 check(frame.views[0].pixels !== null && same(frame.views[0].pixels, rgbFile(wholeDir, info.gopFrames, 0)),
   'camera 0 alone');
 check(frame.views[info.cameraCount - 1].pixels === null, 'a camera left out has no pixels');
+// The fetch policy compiled into the module: heads first, then the same
+// share of every fragment's texture, within the budget; the bandwidth's budget.
+const plan = dec2.planPrefixes(span0, span0.reduce((n, f) => n + f.headSize, 0) + 1000);
+check(plan.every((p, i) => p >= span0[i].headSize && p <= span0[i].size), `plan ${plan}`);
+check(plan.reduce((n, p) => n + p, 0) <= span0.reduce((n, f) => n + f.headSize, 0) + 1000, 'plan within budget');
+check(same(dec2.planPrefixes(span0, 1e9), span0.map((f) => f.size)), 'whole fragments when they fit');
+check(dec2.gopFetchBudget(62500, 0.32) === 18000, 'a GOP at 0.5 Mbit/s');
+check(dec2.bandwidthAfter(0, 62500, 1) === 62500 && dec2.bandwidthAfter(62500, 125000, 1) === 62500 * 0.7 + 125000 * 0.3,
+  'the bandwidth estimate');
 // A damaged chunk among the bytes held.
 const damaged = new Uint8Array(stream.subarray(f1.offset, f1.offset + f1.size));
 damaged[damaged.length - 1] ^= 1;

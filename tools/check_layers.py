@@ -21,10 +21,10 @@ BELOW = {
     "codec": ["codec/base"],
     "container": ["codec"],
     "player/decoder": ["container"],
-    "player/render": ["player/decoder"],
-    "player/playback": ["codec/base"],
+    "player/render": ["player/playback"],
+    "player/playback": ["player/decoder"],  # the loop drives the C API; the policy alone sees numbers
     "player/export": ["player/decoder"],
-    "player/web": ["player/decoder"],  # the decoder library's WebAssembly module
+    "player/web": ["player/playback"],  # the decoder library and the fetch policy in WebAssembly
     "encoder/io": ["codec/base"],
     "encoder/body": ["container", "encoder/io"],
     "encoder/import": ["encoder/body"],

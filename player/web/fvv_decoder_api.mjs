@@ -155,6 +155,30 @@ export class FvvDecoder {
     };
   }
 
+  // The fetch policy (player/playback/fetch_plan.h, compiled into the module):
+  // the prefix of each fragment ({ headSize, size }) to fetch within `budget`
+  // bytes; the bandwidth after a fetch; the bytes a GOP's fetch may take.
+  planPrefixes(fragments, budget) {
+    const m = this.m, n = fragments.length;
+    const p = m._malloc(Math.max(1, 24 * n));
+    try {
+      fragments.forEach((f, i) => {
+        this.#setU64(p + 8 * i, f.headSize);
+        this.#setU64(p + 8 * (n + i), f.size);
+      });
+      m._fvv_web_plan_prefixes(p, p + 8 * n, n, BigInt(budget), p + 16 * n);
+      return fragments.map((_, i) => this.#u64(p + 8 * (2 * n + i)));
+    } finally {
+      m._free(p);
+    }
+  }
+  bandwidthAfter(bytesPerSecond, bytes, seconds) {
+    return this.m._fvv_web_bandwidth_after(bytesPerSecond, BigInt(bytes), seconds);
+  }
+  gopFetchBudget(bytesPerSecond, gopSeconds) {
+    return Number(this.m._fvv_web_gop_fetch_budget(bytesPerSecond, gopSeconds));
+  }
+
   // Decodes frame `index` (fvv_decoder_decode_frame). options: maxBytes (per
   // fragment), maxMs, floorShare, format ('rgb' or 'yuv'), cameras (indices to
   // decode; all when absent). The views of cameras left out have null pixels.

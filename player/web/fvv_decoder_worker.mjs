@@ -11,7 +11,7 @@ import { FvvDecoder } from './fvv_decoder_api.mjs';
 // The FvvDecoder methods a page may call (fvv_decoder_worker_client.mjs).
 const METHODS = new Set(['openRanges', 'addRange', 'push', 'pushEnd', 'process', 'wantedRange',
   'framesAvailable', 'info', 'camera', 'model', 'fragmentCount', 'fragment', 'decodeFrame',
-  'destroy']);
+  'planPrefixes', 'bandwidthAfter', 'gopFetchBudget', 'destroy']);
 let decoder = null;
 
 self.onmessage = async ({ data: { id, method, args } }) => {

@@ -47,7 +47,7 @@ export class FvvDecoderWorker {
 }
 for (const method of ['openRanges', 'addRange', 'push', 'pushEnd', 'process', 'wantedRange',
                       'framesAvailable', 'info', 'camera', 'model', 'fragmentCount', 'fragment',
-                      'decodeFrame', 'destroy']) {
+                      'decodeFrame', 'planPrefixes', 'bandwidthAfter', 'gopFetchBudget', 'destroy']) {
   FvvDecoderWorker.prototype[method] = function (...args) {
     return this.call(method, ...args);
   };

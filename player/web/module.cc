@@ -1,10 +1,16 @@
 // The WebAssembly module of the decoder library: the C API of
-// include/fvv/fvv_decoder.h and nothing more (player/web/CMakeLists.txt exports
-// its functions; player/web/fvv_decoder_api.mjs is the JavaScript over them).
+// include/fvv/fvv_decoder.h, and the player's fetch policy
+// (player/playback/fetch_plan.h) compiled in so that the page runs the same
+// code as any native streaming player (player/web/CMakeLists.txt exports the
+// functions; player/web/fvv_decoder_api.mjs is the JavaScript over them).
+#include <emscripten.h>
+
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "fvv/fvv_decoder.h"
+#include "player/playback/fetch_plan.h"
 
 // fvv_decoder_api.mjs reads and writes the C API's structs at these offsets
 // (wasm32); a change to a struct fails the build here, not the page.
@@ -34,3 +40,32 @@ static_assert(sizeof(fvv_model) == 44 && offsetof(fvv_model, triangles) == 40, "
 static_assert(sizeof(fvv_camera) == 208 && offsetof(fvv_camera, fx) == 16 &&
                   offsetof(fvv_camera, rotation) == 88 && offsetof(fvv_camera, centre) == 184,
               "fvv_camera");
+
+extern "C" {
+
+// The prefix of each of `count` fragments (heads[i], sizes[i]) to fetch within
+// `budget` bytes, into prefixes[i] (fvv::PlanPrefixes).
+EMSCRIPTEN_KEEPALIVE void fvv_web_plan_prefixes(const uint64_t* heads, const uint64_t* sizes,
+                                                uint32_t count, uint64_t budget,
+                                                uint64_t* prefixes) {
+  std::vector<fvv::FragmentSizes> fragments(count);
+  for (uint32_t i = 0; i < count; ++i) fragments[i] = {heads[i], sizes[i]};
+  const std::vector<uint64_t> plan = fvv::PlanPrefixes(fragments, budget);
+  for (uint32_t i = 0; i < count; ++i) prefixes[i] = plan[i];
+}
+
+// The smoothed bandwidth after a fetch of `bytes` in `seconds`, from the
+// estimate `rate` before it (fvv::BandwidthEstimate; 0 before any fetch).
+EMSCRIPTEN_KEEPALIVE double fvv_web_bandwidth_after(double rate, uint64_t bytes, double seconds) {
+  fvv::BandwidthEstimate b(rate);
+  b.Measured(bytes, seconds);
+  return b.bytes_per_second();
+}
+
+// The bytes a GOP's fetch may take (fvv::GopFetchBudget).
+EMSCRIPTEN_KEEPALIVE uint64_t fvv_web_gop_fetch_budget(double bytes_per_second,
+                                                       double gop_seconds) {
+  return fvv::GopFetchBudget(bytes_per_second, gop_seconds);
+}
+
+}  // extern "C"

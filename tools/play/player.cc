@@ -15,7 +15,7 @@
 #include "fvv/fvv_decoder.hpp"
 #include "player/render/hud.h"
 #include "player/render/renderer.h"
-#include "tools/play/playback_loop.h"
+#include "player/playback/playback_loop.h"
 
 namespace fvv {
 namespace {

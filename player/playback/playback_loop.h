@@ -3,8 +3,8 @@
 // PlaybackController, the cameras the view blends, the wait when a GOP is not
 // decoded in time (playback slows instead of skipping), and what it measured.
 // It draws nothing: the caller renders the frame it returns.
-#ifndef FVV_TOOLS_PLAY_PLAYBACK_LOOP_H_
-#define FVV_TOOLS_PLAY_PLAYBACK_LOOP_H_
+#ifndef FVV_PLAYER_PLAYBACK_PLAYBACK_LOOP_H_
+#define FVV_PLAYER_PLAYBACK_PLAYBACK_LOOP_H_
 
 #include <glm/glm.hpp>
 #include <vector>
@@ -87,4 +87,4 @@ class PlaybackLoop {
 
 }  // namespace fvv
 
-#endif  // FVV_TOOLS_PLAY_PLAYBACK_LOOP_H_
+#endif  // FVV_PLAYER_PLAYBACK_PLAYBACK_LOOP_H_

@@ -1,4 +1,4 @@
-#include "tools/play/playback_loop.h"
+#include "player/playback/playback_loop.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <string>
 #include <utility>
 
-#include "player/render/renderer.h"
+#include "player/playback/view_cameras.h"
 
 namespace fvv {
 
