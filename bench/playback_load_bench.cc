@@ -26,9 +26,9 @@
 #include <vector>
 
 #include "fvv/fvv_decoder.hpp"
+#include "player/playback/playback_loop.h"
 #include "player/render/headless.h"
 #include "player/render/renderer.h"
-#include "player/playback/playback_loop.h"
 
 namespace {
 

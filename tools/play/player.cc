@@ -13,9 +13,9 @@
 
 #include "encoder/io/image_io.h"
 #include "fvv/fvv_decoder.hpp"
+#include "player/playback/playback_loop.h"
 #include "player/render/hud.h"
 #include "player/render/renderer.h"
-#include "player/playback/playback_loop.h"
 
 namespace fvv {
 namespace {
