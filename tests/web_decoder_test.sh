@@ -3,7 +3,9 @@
 # with the texture in chunks, the native reference decoder's conformance output
 # at a prefix and whole, and the JavaScript API against them, in Node and in
 # headless chromium (tests/web_browser_decode_test.mjs: the stream by HTTP
-# Range requests).
+# Range requests; tests/web_stream_faults_test.mjs: player/web/fvv_stream.mjs
+# cleanly and under a 404, a server that ignores Range, a connection closed
+# mid-fragment, a damaged and a cut stream).
 # Usage: web_decoder_test.sh FVV CONFORMANCE_DECODE BUILD_WASM_DIR WORK_DIR
 set -euo pipefail
 fvv=$1 native=$2 wasm=$3 dir=$4
@@ -15,3 +17,5 @@ rm -rf "$dir" && mkdir -p "$dir/prefix" "$dir/whole"
 "$native" "$dir/s.fvv" "$dir/whole" 0
 node --no-experimental-fetch "$here/web_decoder_test.mjs" "$wasm" "$dir/s.fvv" "$dir/prefix" 900 "$dir/whole"
 node "$here/web_browser_decode_test.mjs" "$wasm" "$dir/s.fvv" "$dir/whole"
+mkdir -p "$dir/faults"
+node "$here/web_stream_faults_test.mjs" "$wasm" "$dir/s.fvv" "$dir/whole" "$dir/faults"

@@ -117,7 +117,8 @@ FVV_EXPORT fvv_status fvv_decoder_open_ranges(fvv_decoder* decoder, uint64_t str
 FVV_EXPORT fvv_status fvv_decoder_add_range(fvv_decoder* decoder, uint64_t offset,
                                             const uint8_t* data, size_t size);
 /* Before FVV_EVENT_READY: the bytes the header boxes or the index need next (1), or 0 when the
-   decoder needs none it knows of. Fetching more than asked saves requests. */
+   decoder needs none it knows of: the box it is reading and 4 KiB more, for the next boxes'
+   headers. Fetching more than asked saves requests. */
 FVV_EXPORT int fvv_decoder_wanted_range(const fvv_decoder* decoder, uint64_t* offset,
                                         uint64_t* size);
 

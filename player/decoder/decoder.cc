@@ -95,9 +95,11 @@ Status Decoder::AddRange(uint64_t offset, const uint8_t* data, size_t size) {
 bool Decoder::WantedRange(uint64_t* offset, uint64_t* size) const {
   if (!fetched_ || file_) return false;
   if (!fetched_->missing(offset, size)) return false;
-  // The header boxes are read one box at a time: asking for 64 KiB from the
-  // first byte missing saves most of the requests (a model is ~130 KB).
-  *size = std::min(fetched_->size() - *offset, std::max<uint64_t>(*size, uint64_t{64} << 10));
+  // The header boxes are read one box at a time: the box asked for and 4 KiB
+  // more, for the next boxes' headers (and the small ones whole), saves most
+  // requests without running on into the fragments, which the player fetches
+  // as prefixes.
+  *size = std::min(fetched_->size() - *offset, *size + (uint64_t{4} << 10));
   return true;
 }
 

@@ -22,7 +22,8 @@ const FORMATS = { rgb: 0, yuv: 1 };
 
 export class FvvError extends Error {
   constructor(status, name, message) {
-    super(`${name}: ${message}`);
+    // The decoder's messages begin with the status's name already.
+    super(message.startsWith(name) ? message : `${name}: ${message}`);
     this.status = status;
     this.statusName = name;
   }

@@ -26,11 +26,15 @@ const TYPES = {
 // range past the end 416; no caching, so every fetch reaches the server; and
 // the cross-origin isolation headers (COOP, COEP) that a page needs for
 // SharedArrayBuffer. Every request is recorded in `log` (path, range, status,
-// bytes sent).
-function serve(mounts, log) {
+// bytes sent). `faults` maps a path to what goes wrong there, as it does on
+// real servers: { ignoreRange: true } answers every request with the whole
+// file (200), { closeAfter: N, from: F } sends the first N bytes of every
+// answer to a range from byte F on, and then drops the connection.
+function serve(mounts, log, faults = {}) {
   const server = createServer((req, res) => {
     const url = decodeURIComponent(new URL(req.url, 'http://127.0.0.1').pathname);
     const entry = { path: url, range: req.headers.range ?? null, status: 404, bytes: 0 };
+    const fault = faults[url] ?? {};
     log.push(entry);
     const headers = {
       'Cache-Control': 'no-store',
@@ -54,7 +58,7 @@ function serve(mounts, log) {
       headers['Content-Type'] = TYPES[path.extname(file)] ?? 'application/octet-stream';
       let first = 0, last = size - 1;
       const m = /^bytes=(\d*)-(\d*)$/.exec(req.headers.range ?? '');
-      if (req.headers.range && m && (m[1] !== '' || m[2] !== '')) {
+      if (req.headers.range && m && (m[1] !== '' || m[2] !== '') && !fault.ignoreRange) {
         if (m[1] === '') {
           first = Math.max(0, size - Number(m[2]));
         } else {
@@ -78,6 +82,15 @@ function serve(mounts, log) {
         res.end();
         return;
       }
+      if (fault.closeAfter !== undefined && first >= (fault.from ?? 0) &&
+          fault.closeAfter < last - first + 1) {
+        // The promised length, then the connection dropped part way.
+        entry.bytes = fault.closeAfter;
+        const cut = createReadStream(file, { start: first, end: first + fault.closeAfter - 1 });
+        cut.on('end', () => setTimeout(() => res.destroy(), 50));
+        cut.pipe(res, { end: false });
+        return;
+      }
       createReadStream(file, { start: first, end: last }).pipe(res);
       return;
     }
@@ -86,9 +99,9 @@ function serve(mounts, log) {
   return new Promise((resolve) => server.listen(0, '127.0.0.1', () => resolve(server)));
 }
 
-export async function withBrowser(mounts, work, { timeoutMs = 60000 } = {}) {
+export async function withBrowser(mounts, work, { timeoutMs = 60000, faults = {} } = {}) {
   const requests = [];
-  const server = await serve(mounts, requests);
+  const server = await serve(mounts, requests, faults);
   const base = `http://127.0.0.1:${server.address().port}`;
   let browser;
   const timer = setTimeout(() => {

@@ -1,0 +1,171 @@
+// A stream on a static HTTP server, as a page plays it: the header boxes and
+// the index by Range requests, then for each GOP a prefix of each fragment the
+// view needs, as long as the bandwidth measured allows (the fetch plan compiled
+// into the module: player/playback/fetch_plan.h). Works with an FvvDecoder or
+// the Web Worker's FvvDecoderWorker (every call is awaited).
+//
+//   const stream = await FvvStream.open(url, decoder, { onNotice: (text) => ... });
+//   await stream.fetchGop(0, [0, 1]);          // GOP 0 for cameras 0 and 1
+//   const frame = await stream.frame(0, [0, 1]);
+//
+// Faults end in an FvvStreamError whose message says what happened (not
+// found, the server's answer, a damaged or cut stream), never a hang: every
+// request has a timeout. What arrived before a connection closed is kept:
+// the decoder verifies it chunk by chunk (SPEC.md 3.5.1).
+
+export class FvvStreamError extends Error {}
+
+
+export class FvvStream {
+  // headBytes: the first request's length (the decoder asks for more as it needs).
+  static async open(url, decoder, { timeoutMs = 10000, onNotice = () => {}, headBytes = 1 << 16 } = {}) {
+    const s = new FvvStream(url, decoder, timeoutMs, onNotice);
+    await s.#openHead(headBytes);
+    return s;
+  }
+
+  constructor(url, decoder, timeoutMs, onNotice) {
+    this.url = url;
+    this.decoder = decoder;
+    this.timeoutMs = timeoutMs;
+    this.notice = onNotice;
+    this.bandwidth = 0;       // bytes per second, measured
+    this.fetched = 0;         // every byte fetched, heads included
+    this.wholeFile = false;   // the server ignored Range: the whole stream is held
+  }
+
+  // Bytes [offset, offset + size) of the stream: { bytes, total, complete }.
+  // `complete` is false when the connection closed early (what came is kept).
+  async #get(offset, size) {
+    const controller = new AbortController();
+    const timer = setTimeout(() => controller.abort(), this.timeoutMs);
+    const started = performance.now();
+    let response;
+    try {
+      response = await fetch(this.url, {
+        headers: { Range: `bytes=${offset}-${offset + size - 1}` }, signal: controller.signal,
+        cache: 'no-store',
+      });
+    } catch (e) {
+      clearTimeout(timer);
+      throw new FvvStreamError(`${this.url}: no answer (${e.name === 'AbortError' ? 'timed out' : e.message})`);
+    }
+    if (response.status === 404) {
+      clearTimeout(timer);
+      throw new FvvStreamError(`${this.url}: not found (404)`);
+    }
+    if (response.status !== 206 && response.status !== 200) {
+      clearTimeout(timer);
+      throw new FvvStreamError(`${this.url}: the server answered ${response.status}`);
+    }
+    const parts = [];
+    let received = 0, complete = true;
+    try {
+      const reader = response.body.getReader();
+      for (;;) {
+        const { done, value } = await reader.read();
+        if (done) break;
+        parts.push(value);
+        received += value.length;
+      }
+    } catch {
+      complete = false;  // closed mid-body: keep what came
+    } finally {
+      clearTimeout(timer);
+    }
+    const bytes = new Uint8Array(received);
+    let at = 0;
+    for (const p of parts) {
+      bytes.set(p, at);
+      at += p.length;
+    }
+    this.fetched += received;
+    const seconds = (performance.now() - started) / 1000;
+    if (received > 0 && seconds > 0) {
+      this.bandwidth = await this.decoder.bandwidthAfter(this.bandwidth, received, seconds);
+    }
+    if (response.status === 200) {
+      // A server that ignores Range sends the whole stream: it is all held now.
+      return { bytes, total: received, whole: true, complete };
+    }
+    const range = /^bytes (\d+)-(\d+)\/(\d+)$/.exec(response.headers.get('Content-Range') ?? '');
+    if (!range || Number(range[1]) !== offset) {
+      throw new FvvStreamError(`${this.url}: a range answer without a matching Content-Range`);
+    }
+    const expected = Number(range[2]) - Number(range[1]) + 1;
+    return { bytes, total: Number(range[3]), whole: false, complete: complete && received === expected };
+  }
+
+  async #call(method, ...args) {
+    try {
+      return await this.decoder[method](...args);
+    } catch (e) {
+      throw new FvvStreamError(`${this.url}: ${e.message}`);
+    }
+  }
+
+  async #openHead(headBytes) {
+    const first = await this.#get(0, headBytes);
+    await this.#call('openRanges', first.total);
+    await this.#call('addRange', 0, first.bytes);
+    if (first.whole) {
+      this.wholeFile = true;
+      this.notice('the server does not answer Range requests: the whole stream was fetched');
+    }
+    for (let guard = 0; ; ++guard) {
+      const event = await this.#call('process');
+      if (event !== 'need') break;
+      const want = await this.#call('wantedRange');
+      if (!want || guard > 1000) throw new FvvStreamError(`${this.url}: the stream's head never completes`);
+      const part = await this.#get(want.offset, want.size);
+      if (part.bytes.length === 0) throw new FvvStreamError(`${this.url}: the stream ends before its head does`);
+      await this.#call('addRange', want.offset, part.bytes);
+    }
+    this.info = await this.#call('info');
+    this.groups = Math.ceil(this.info.cameraCount / this.info.gopCameras);
+    this.gopSeconds = this.info.gopFrames / this.info.frameRate;
+  }
+
+  // The fragments of GOP `span` for `cameras` (indices; all when absent):
+  // camera group 0 always (it carries the motion).
+  async fragmentsFor(span, cameras) {
+    const groups = new Set([0]);
+    for (const c of cameras ?? [...Array(this.info.cameraCount).keys()]) {
+      groups.add(Math.floor(c / this.info.gopCameras));
+    }
+    const out = [];
+    for (const g of [...groups].sort((a, b) => a - b)) {
+      out.push(await this.#call('fragment', span * this.groups + g));
+    }
+    return out;
+  }
+
+  // Fetches GOP `span` for `cameras`: each fragment's prefix as the fetch plan
+  // gives it for `budget` bytes (default: what the bandwidth allows while a
+  // GOP plays; unmeasured, whole fragments). Returns the bytes fetched.
+  async fetchGop(span, cameras, budget) {
+    if (this.wholeFile) return 0;
+    const fragments = await this.fragmentsFor(span, cameras);
+    const allowed = budget ?? (this.bandwidth > 0
+      ? await this.#call('gopFetchBudget', this.bandwidth, this.gopSeconds) : Number.MAX_SAFE_INTEGER);
+    const plan = await this.#call('planPrefixes', fragments, allowed);
+    let fetched = 0;
+    for (let i = 0; i < fragments.length; ++i) {
+      const f = fragments[i];
+      const want = plan[i] - f.held;
+      if (want <= 0) continue;
+      const part = await this.#get(f.offset + f.held, want);
+      if (part.bytes.length > 0) await this.#call('addRange', f.offset + f.held, part.bytes);
+      fetched += part.bytes.length;
+      if (!part.complete) {
+        this.notice(`the connection closed ${part.bytes.length} of ${want} bytes into fragment ` +
+                    `${f.index}: it decodes from what arrived`);
+      }
+    }
+    return fetched;
+  }
+
+  async frame(index, cameras) {
+    return this.#call('decodeFrame', index, cameras ? { cameras } : {});
+  }
+}
