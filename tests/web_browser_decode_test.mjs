@@ -14,7 +14,10 @@ import { fileURLToPath } from 'node:url';
 import { withBrowser } from '../tools/web/browser_harness.mjs';
 
 const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..');
+// FVV_WEB_SERVER: the base URL of a server already serving these paths
+// (tests/web_lighttpd_test.sh), instead of the harness's own.
 const [buildDir, streamPath, wholeDir] = process.argv.slice(2);
+const external = process.env.FVV_WEB_SERVER;
 const mounts = {
   '/wasm/': path.resolve(buildDir),
   '/web/': path.join(root, 'player/web'),
@@ -61,13 +64,15 @@ const result = await withBrowser(mounts, async ({ page, base, requests }) => {
   }, base + streamUrl, inWorker);
   const out = await run(false);
   out.worker = await run(true);
-  return { ...out, requests: requests.filter((r) => r.path === streamUrl) };
-}, { timeoutMs: 90000 });
+  return { ...out, requests: requests?.filter((r) => r.path === streamUrl) ?? null };
+}, { timeoutMs: 90000, server: external });
 
 let failures = 0;
 const check = (ok, what) => { if (!ok) { console.error(`FAIL: ${what}`); ++failures; } };
 check(result.isolated, 'the page is cross-origin isolated');
-check(result.requests.length >= 2 && result.requests.every((r) => r.status === 206 && r.range),
+// The page itself refuses any answer but 206; the harness's log says so too.
+check(result.requests === null ||
+      (result.requests.length >= 2 && result.requests.every((r) => r.status === 206 && r.range)),
   `only range requests for the stream: ${JSON.stringify(result.requests)}`);
 for (const [where, views] of [['page', result.views], ['worker', result.worker.views]]) {
   for (let c = 0; c < result.cameras; ++c) {
@@ -78,7 +83,7 @@ for (const [where, views] of [['page', result.views], ['worker', result.worker.v
   }
 }
 console.log(`${failures ? 'FAILED' : 'passed'}: frame 0 of ${result.cameras} cameras in chromium, ` +
-  'on the page and in a Web Worker, ' +
-  `${result.requests.length} range requests, ` +
-  `${result.requests.reduce((n, r) => n + r.bytes, 0)} bytes`);
+  `on the page and in a Web Worker, from ${external ?? 'the harness'}` +
+  (result.requests ? `, ${result.requests.length} range requests, ` +
+    `${result.requests.reduce((n, r) => n + r.bytes, 0)} bytes` : ''));
 process.exit(failures ? 1 : 0);

@@ -71,6 +71,8 @@ build/tools/fvv/fvv conform conformance/cases -q \
   --decoder 'node --no-experimental-fetch build-wasm/conformance_decode.js {stream} {out} {bytes}'
 tests/web_decoder_test.sh build/tools/fvv/fvv build/tools/conformance_decode build-wasm \
   build-wasm/web_decoder_test
+tests/web_lighttpd_test.sh build-wasm/web_decoder_test/s.fvv build-wasm/web_decoder_test/whole \
+  build-wasm build-wasm/web_lighttpd_test
 stage "WebAssembly decoder in Node"
 
 # ThreadSanitizer on what runs threads: the codec's pool and parallel coding,

@@ -99,10 +99,13 @@ function serve(mounts, log, faults = {}) {
   return new Promise((resolve) => server.listen(0, '127.0.0.1', () => resolve(server)));
 }
 
-export async function withBrowser(mounts, work, { timeoutMs = 60000, faults = {} } = {}) {
-  const requests = [];
-  const server = await serve(mounts, requests, faults);
-  const base = `http://127.0.0.1:${server.address().port}`;
+// `server`: the base URL of a server already running (lighttpd with
+// tools/web/lighttpd.conf, serving the same paths) instead of the harness's
+// own; `requests` is then null.
+export async function withBrowser(mounts, work, { timeoutMs = 60000, faults = {}, server: external } = {}) {
+  const requests = external ? null : [];
+  const server = external ? null : await serve(mounts, requests, faults);
+  const base = external ?? `http://127.0.0.1:${server.address().port}`;
   let browser;
   const timer = setTimeout(() => {
     console.error(`browser harness: no result within ${timeoutMs} ms`);
@@ -130,6 +133,6 @@ export async function withBrowser(mounts, work, { timeoutMs = 60000, faults = {}
       await browser.close().catch(() => {});
       if (child && child.exitCode === null) child.kill('SIGKILL');
     }
-    await new Promise((resolve) => server.close(resolve));
+    if (server) await new Promise((resolve) => server.close(resolve));
   }
 }
