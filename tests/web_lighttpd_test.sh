@@ -9,6 +9,7 @@ set -euo pipefail
 stream=$1 whole=$2 wasm=$3 dir=$4
 root=$(cd "$(dirname "$0")/.." && pwd)
 rm -rf "$dir" && mkdir -p "$dir/site/data"
+dir=$(cd "$dir" && pwd)  # lighttpd takes an absolute document root
 ln -s "$(cd "$wasm" && pwd)" "$dir/site/wasm"
 ln -s "$root/player/web" "$dir/site/web"
 ln -s "$root/tools/web/node_modules/fzstd/esm" "$dir/site/fzstd"
