@@ -33,18 +33,27 @@ Status FetchedSource::Add(uint64_t offset, const uint8_t* data, size_t n) {
   missing_ = false;
   if (n == 0) return Status::Ok();
   uint64_t first = offset, end = offset + n;
-  // Merge with every range that overlaps or touches [first, end).
+  // The ranges the new bytes overlap or touch.
   auto it = ranges_.upper_bound(first);
   if (it != ranges_.begin() && std::prev(it)->first + std::prev(it)->second.size() >= first) --it;
-  std::vector<uint8_t> merged;
   std::vector<std::map<uint64_t, std::vector<uint8_t>>::iterator> absorbed;
   for (; it != ranges_.end() && it->first <= end; ++it) absorbed.push_back(it);
+  if (absorbed.size() == 1 && absorbed[0]->first <= first) {
+    // The common case (a fragment or the head fetched piece by piece): a
+    // range grows at its end, without copying what it holds.
+    std::vector<uint8_t>& held = absorbed[0]->second;
+    const uint64_t held_end = absorbed[0]->first + held.size();
+    if (end > held_end) {
+      held.insert(held.end(), data + static_cast<size_t>(held_end - offset), data + n);
+      held_ += end - held_end;
+    }
+    return Status::Ok();
+  }
   if (!absorbed.empty()) {
     first = std::min(first, absorbed.front()->first);
-    const auto& last = absorbed.back();
-    end = std::max(end, last->first + last->second.size());
+    end = std::max(end, absorbed.back()->first + absorbed.back()->second.size());
   }
-  merged.resize(static_cast<size_t>(end - first));
+  std::vector<uint8_t> merged(static_cast<size_t>(end - first));
   std::memcpy(merged.data() + (offset - first), data, n);
   for (auto& a : absorbed) {  // bytes held win: they were there first
     std::memcpy(merged.data() + (a->first - first), a->second.data(), a->second.size());

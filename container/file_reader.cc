@@ -51,6 +51,7 @@ StatusOr<std::unique_ptr<FileReader>> FileReader::Open(ByteSource* source,
                                                        bool require_index) {
   std::unique_ptr<FileReader> r(new FileReader(source, options));
   FVV_RETURN_IF_ERROR(r->ReadHeaderBoxes());
+  FVV_RETURN_IF_ERROR(CheckGopSamplesClaim(r->info_.header, options.max_gop_samples));
   if (require_index && !r->info_.has_index && r->info_.header.index_offset == 0) {
     return Unsupported(
         "the stream has no index ('indx'), so its fragments cannot be found without reading "

@@ -478,15 +478,17 @@ Status ReadFragment(const BoxHeader& box, const uint8_t* payload, const FileHead
   BoxHeader chunks_box;
   bool have_chunks = false;
   const uint64_t base = box.offset + box.header_size;
+  const auto head_cut = [&] {
+    return Truncated(at + "the prefix of " + std::to_string(options.delivered) +
+                     " bytes ends inside the fragment's head");
+  };
   for (uint64_t pos = 0; pos < payload_size;) {
-    const std::string head_cut = at + "the prefix of " + std::to_string(options.delivered) +
-                                 " bytes ends inside the fragment's head";
-    if (pos >= available) return Truncated(head_cut);
+    if (pos >= available) return head_cut();
     StatusOr<BoxHeader> parsed =
         ParseBoxHeader(payload + pos, static_cast<size_t>(available - pos), base + pos, "fragment");
     if (!parsed.ok() && parsed.status().code() == StatusCode::kTruncated &&
         available < payload_size) {
-      return Truncated(head_cut);
+      return head_cut();
     }
     FVV_RETURN_IF_ERROR(parsed.status());
     const BoxHeader b = *parsed;
@@ -507,7 +509,7 @@ Status ReadFragment(const BoxHeader& box, const uint8_t* payload, const FileHead
       f->head_bytes = box.header_size + pos + b.header_size;
       break;
     }
-    if (b.size > available - pos) return Truncated(head_cut);
+    if (b.size > available - pos) return head_cut();
     subs.push_back({b, payload + pos + b.header_size});
     pos += b.size;
   }

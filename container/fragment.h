@@ -113,9 +113,12 @@ struct FragmentReadOptions {
   // other shorter than its box is Truncated, and so is a prefix that ends
   // inside a chunked fragment's head.
   uint64_t delivered = 0;
-  // The decoder's claim (SPEC.md 5.1): fragments of more payload bytes are
-  // LimitExceeded before they are buffered or read; 0 = the level's limit.
+  // The decoder's claim (SPEC.md 5.1), which the readers hold a stream to:
+  // fragments of more payload bytes are LimitExceeded before they are
+  // buffered or read, and so is a header whose GOPs hold more samples; 0 =
+  // the level's limit.
   uint64_t max_fragment_bytes = 0;
+  uint64_t max_gop_samples = 0;
 };
 // Parses a 'frag' payload, checking it against the header (GOP grid, declared
 // tools, level limits) and its checksums. `payload` holds the box's payload,

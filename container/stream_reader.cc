@@ -173,6 +173,9 @@ StatusOr<ReaderEvent> StreamReader::Next() {
                           std::to_string(info_.header.index_offset)));
     }
     Status s = ApplyTopLevelBox(b, payload, &info_);
+    if (s.ok() && b.type == box::kFileHeader) {
+      s = CheckGopSamplesClaim(info_.header, options_.max_gop_samples);
+    }
     if (!s.ok()) return Fail(s);
     event = b.type == box::kFileHeader     ? ReaderEvent::kHeader
             : b.type == box::kCameras      ? ReaderEvent::kCameras

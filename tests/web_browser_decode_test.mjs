@@ -1,6 +1,7 @@
 // The WebAssembly decoder in a real browser (Debian's chromium, headless): a
-// page fetches a stream with HTTP Range requests from the harness's server on
-// 127.0.0.1 (the head as the decoder asks, then span 0's fragments whole),
+// page fetches a stream with HTTP Range requests (player/web/fvv_stream.mjs)
+// from the harness's server on 127.0.0.1 (the head as the decoder asks, then
+// span 0's fragments whole),
 // decodes frame 0 through the JavaScript API, on the page and in a Web Worker
 // (fvv_decoder_worker.mjs), and its RGB must be the native
 // reference decoder's conformance output, byte for byte. The server's log
@@ -32,30 +33,17 @@ const result = await withBrowser(mounts, async ({ page, base, requests }) => {
   const run = (inWorker) => page.evaluate(async (url, worker) => {
     const { FvvDecoder } = await import('/web/fvv_decoder_api.mjs');
     const { FvvDecoderWorker } = await import('/web/fvv_decoder_worker_client.mjs');
+    const { FvvStream } = await import('/web/fvv_stream.mjs');
     const { decompress } = await import('/fzstd/index.mjs');
     const dec = worker
       ? await FvvDecoderWorker.create('/web/fvv_decoder_worker.mjs',
           { moduleUrl: '/wasm/fvv_decoder.mjs', zstdUrl: '/fzstd/index.mjs' })
       : await FvvDecoder.create({ moduleUrl: '/wasm/fvv_decoder.mjs', zstd: decompress });
-    const get = async (offset, size) => {
-      const r = await fetch(url, { headers: { Range: `bytes=${offset}-${offset + size - 1}` } });
-      if (r.status !== 206) throw new Error(`range request answered ${r.status}`);
-      return { total: Number(r.headers.get('Content-Range').split('/')[1]),
-               bytes: new Uint8Array(await r.arrayBuffer()) };
-    };
-    const first = await get(0, 4096);
-    await dec.openRanges(first.total);
-    await dec.addRange(0, first.bytes);
-    while ((await dec.process()) === 'need') {
-      const want = await dec.wantedRange();
-      await dec.addRange(want.offset, (await get(want.offset, want.size)).bytes);
-    }
-    const info = await dec.info();
-    const groups = Math.ceil(info.cameraCount / info.gopCameras);
-    for (let g = 0; g < groups; ++g) {
-      const f = await dec.fragment(g);
-      await dec.addRange(f.offset, (await get(f.offset, f.size)).bytes);
-    }
+    // The stream client every page uses: the head by Range requests as the
+    // decoder asks, then span 0's fragments whole.
+    const stream = await FvvStream.open(url, dec, { headBytes: 4096 });
+    const info = stream.info;
+    await stream.fetchGop(0, undefined, Number.MAX_SAFE_INTEGER);
     const frame = await dec.decodeFrame(0);
     await dec.destroy();
     if (worker) dec.terminate();

@@ -25,6 +25,7 @@ const StreamInfo& Decoder::info() const { return file_ ? file_->info() : stream_
 FragmentReadOptions Decoder::ReadOptions() const {
   FragmentReadOptions o;
   o.max_fragment_bytes = settings_.max_fragment_bytes;
+  o.max_gop_samples = settings_.max_gop_samples;
   return o;
 }
 
@@ -43,11 +44,6 @@ Status Decoder::OpenFile(const std::string& path) {
   if (!reader.ok()) {
     source_.reset();
     return Status(reader.status().code(), path + ": " + reader.status().message());
-  }
-  const Status claim = CheckGopSamplesClaim((*reader)->info().header, settings_.max_gop_samples);
-  if (!claim.ok()) {
-    source_.reset();
-    return Status(claim.code(), path + ": " + claim.message());
   }
   file_ = std::move(reader).value();
   ready_ = true;
@@ -73,22 +69,22 @@ Status Decoder::AddRange(uint64_t offset, const uint8_t* data, size_t size) {
   if (!file_) return Status::Ok();
   // A GOP decoded from fewer bytes of a fragment these reach is decoded again.
   const uint64_t end = offset + size;
-  const auto touched = [&](const std::shared_ptr<const DecodedGop>& gop) {
-    if (!gop) return false;
+  const auto touched = [&](uint32_t span) {
     const uint32_t groups = info().header.camera_groups();
     for (uint32_t g = 0; g < groups; ++g) {
-      const IndexEntry& e = info().index[size_t{gop->span} * groups + g];
+      const IndexEntry& e = info().index[size_t{span} * groups + g];
       if (offset < e.offset + e.size && end > e.offset) return true;
     }
     return false;
   };
-  WaitDecodeAhead();
-  if (ahead_.valid()) {
-    auto done = ahead_.get();
-    if (done.ok()) parked_ = std::move(done).value();
+  // A prefetch under way of a span these bytes reach decodes from fewer:
+  // its result is dropped (the others' wait for their callers).
+  if (ahead_.valid() && touched(ahead_span_)) {
+    auto stale = ahead_.get();
+    (void)stale;
   }
-  if (touched(cache_)) cache_.reset();
-  if (touched(parked_)) parked_.reset();
+  if (cache_ && touched(cache_->span)) cache_.reset();
+  if (parked_ && touched(parked_->span)) parked_.reset();
   return Status::Ok();
 }
 
@@ -132,7 +128,6 @@ StatusOr<fvv_event> Decoder::Process() {
     uint64_t offset, size;
     if (!reader.ok() && fetched_->missing(&offset, &size)) return FVV_EVENT_NEED_MORE_INPUT;
     FVV_RETURN_IF_ERROR(reader.status());
-    FVV_RETURN_IF_ERROR(CheckGopSamplesClaim((*reader)->info().header, settings_.max_gop_samples));
     file_ = std::move(reader).value();
     ready_ = true;
     frames_available_ = file_->info().frames();
@@ -183,11 +178,6 @@ StatusOr<fvv_event> Decoder::Process() {
         break;
       }
       default:
-        if (si.has_header && !claim_checked_) {
-          // Before any fragment is buffered (SPEC.md 5.1).
-          FVV_RETURN_IF_ERROR(CheckGopSamplesClaim(si.header, settings_.max_gop_samples));
-          claim_checked_ = true;
-        }
         ready_ = si.has_header && si.has_cameras && si.has_model && si.has_motion;
         break;
     }

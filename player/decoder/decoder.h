@@ -64,7 +64,7 @@ class Decoder {
   void StartBackgroundDecode(uint32_t span, const GopBudget& budget, bool requested);
   void WaitDecodeAhead();
   uint32_t span_count() const;
-  // The readers' options: the settings' claim on fragment bytes.
+  // The readers' options: the settings' claim (SPEC.md 5.1).
   FragmentReadOptions ReadOptions() const;
 
   fvv_decoder_settings settings_;
@@ -81,7 +81,6 @@ class Decoder {
   // Streaming.
   std::unique_ptr<StreamReader> stream_;
   bool stream_ended_ = false;
-  bool claim_checked_ = false;                 // the header against settings_.max_gop_samples
   std::map<uint32_t, FragmentData> buffered_;  // by GOP index
   uint64_t buffered_bytes_ = 0;
 
