@@ -159,7 +159,8 @@ bool Play(const std::string& path, double floor_share, double seconds, LoadAt lo
   if (fvv_decoder_open_file(dec.get(), path.c_str()) != FVV_OK) return false;
   fvv_stream_info info;
   fvv_decoder_get_info(dec.get(), &info);
-  fvv::PlaybackLoop loop(dec.get(), info, fvv::CameraCentres(dec.get()), floor_share);
+  fvv::DecoderFrameSource source(dec.get());
+  fvv::PlaybackLoop loop(&source, info, fvv::CameraCentres(dec.get()), floor_share);
   const double fps = double(info.frame_rate_num) / info.frame_rate_den;
   std::vector<uint8_t> rgb;
   int cores = -1;
@@ -180,12 +181,12 @@ bool Play(const std::string& path, double floor_share, double seconds, LoadAt lo
     const auto now = Clock::now();
     const double dt = std::chrono::duration<double>(now - last).count();
     last = now;
-    auto next = loop.Advance(dt, eye, target);
-    if (!next.ok()) {
-      std::fprintf(stderr, "playback_load_bench: %s\n", next.status().ToString().c_str());
+    const fvv::Status advanced = loop.Advance(dt, eye, target);
+    if (!advanced.ok()) {
+      std::fprintf(stderr, "playback_load_bench: %s\n", advanced.ToString().c_str());
       return false;
     }
-    const fvv_frame* frame = *next;
+    const fvv_frame* frame = source.frame();
     const uint32_t f = loop.frame_index();
     const fvv::RenderView view = ViewOf(*frame, f, info.frame_count);
     eye = view.eye;

@@ -10,17 +10,31 @@
 
 namespace fvv {
 
-PlaybackLoop::PlaybackLoop(fvv_decoder* decoder, const fvv_stream_info& info,
+PlaybackLoop::PlaybackLoop(FrameSource* source, const fvv_stream_info& info,
                            std::vector<glm::vec3> centres, double floor_share)
-    : dec_(decoder),
+    : source_(source),
       info_(info),
       centres_(std::move(centres)),
       fps_(double(info.frame_rate_num) / info.frame_rate_den),
       control_(fps_, info.gop_frames, floor_share) {}
 
-const fvv_decode_report& PlaybackLoop::report() const {
-  static const fvv_decode_report kNone{};
-  return frame_ ? frame_->report : kNone;
+const fvv_decode_report& PlaybackLoop::report() const { return report_; }
+
+void PlaybackLoop::FetchMeasured(uint64_t bytes, double seconds) {
+  bandwidth_.Measured(bytes, seconds);
+  stats_.bytes_fetched += bytes;
+}
+
+uint64_t PlaybackLoop::FetchBudget() const {
+  const double rate = bandwidth_.bytes_per_second();
+  if (rate <= 0) return 0;
+  return std::max<uint64_t>(1, GopFetchBudget(rate, info_.gop_frames / (fps_ * transport_.speed)));
+}
+
+void PlaybackLoop::Seek(uint32_t frame) {
+  if (info_.frame_count == 0) return;
+  transport_.playhead = std::min(frame, info_.frame_count - 1);
+  waiting_ = true;
 }
 
 uint64_t PlaybackLoop::ViewMask(const glm::vec3& eye, const glm::vec3& target) {
@@ -55,24 +69,27 @@ void PlaybackLoop::PrefetchFirstGop(const glm::vec3& eye, const glm::vec3& targe
   wrap_asked_ = true;
   wrap_mask_ = ViewMask(eye, target);
   wrap_mask_set_ = true;
-  fvv_decode_budget first = Budget();
-  first.camera_mask = wrap_mask_;
-  fvv_decoder_prefetch(dec_, 0, &first);
+  GopRequest first = Request();
+  first.budget.camera_mask = wrap_mask_;
+  source_->Prefetch(0, first);
 }
 
-fvv_decode_budget PlaybackLoop::Budget() const {
-  fvv_decode_budget budget{};
-  budget.max_ms_per_gop = control_.NextMaxMs();
-  budget.floor_share = control_.floor_share();
-  budget.camera_mask = gop_mask_;
-  return budget;
+GopRequest PlaybackLoop::Request() const {
+  GopRequest request;
+  request.budget.max_ms_per_gop = control_.NextMaxMs();
+  request.budget.floor_share = control_.floor_share();
+  request.budget.camera_mask = gop_mask_;
+  request.fetch_bytes = FetchBudget();
+  return request;
 }
 
-StatusOr<const fvv_frame*> PlaybackLoop::Advance(double dt, const glm::vec3& eye,
+Status PlaybackLoop::Advance(double dt, const glm::vec3& eye,
                                                  const glm::vec3& target) {
   Transport& t = transport_;
   const uint32_t frames = info_.frame_count;
-  if (t.playing) {
+  // A playhead waiting for a frame (the first, a late GOP's, a seek's) starts
+  // from it once it is there, rather than from where the wait's time took it.
+  if (t.playing && !waiting_) {
     t.playhead += dt * fps_ * t.speed;
     if (t.playhead >= frames) {
       t.playhead = t.loop ? std::fmod(t.playhead, double(frames)) : frames - 1;
@@ -90,37 +107,46 @@ StatusOr<const fvv_frame*> PlaybackLoop::Advance(double dt, const glm::vec3& eye
     gop_mask_ = mask_gop_ == 0 && wrap_mask_set_ ? wrap_mask_ : ViewMask(eye, target);
     wrap_mask_set_ = false;
   }
-  fvv_decode_budget budget = Budget();
+  const GopRequest request = Request();
   on_screen_s_ += dt;
-  if (f != shown_ && frame_ && !fvv_decoder_frame_ready(dec_, f, &budget)) {
+  if (f != shown_ && has_frame() && !source_->Ready(f, request)) {
     // Its GOP is still decoding: keep showing the current frame (the view
     // stays interactive) and hold the playhead, so that playback slows down
-    // rather than skipping frames or showing them untextured.
-    fvv_decoder_prefetch(dec_, f, &budget);
+    // rather than skipping frames or showing them untextured. It waits at the
+    // frame wanted, so a seek is not lost while its GOP comes.
+    source_->Prefetch(f, request);
     if (t.playing) wait_ms_ += 1000 * dt;
+    t.playhead = f;
+    waiting_ = true;
     f = shown_;
-    t.playhead = shown_ + 0.999;
   }
   // Looping: the first GOP is decoded ahead as soon as the last one is, so that
   // it has more time than a short last GOP's few frames (decoding ahead itself
   // stops at the stream's end).
-  if (frame_ && shown_ / info_.gop_frames + 1 == LastGop() &&
-      fvv_decoder_frame_ready(dec_, LastGop() * info_.gop_frames, &budget)) {
+  if (has_frame() && shown_ / info_.gop_frames + 1 == LastGop() &&
+      source_->Ready(LastGop() * info_.gop_frames, request)) {
     PrefetchFirstGop(eye, target);
   }
-  changed_ = f != shown_;
-  if (!changed_) return frame_.get();
-  FramePtr next = DecodeFrame(dec_, f, &budget);
-  if (!next) {
-    return Internal("frame " + std::to_string(f) + ": " + fvv_decoder_error(dec_));
+  changed_ = false;
+  if (f == shown_) {
+    if (shown_ == uint32_t(t.playhead)) waiting_ = false;
+    return Status::Ok();
   }
+  fvv_decode_report r{};
+  FVV_ASSIGN_OR_RETURN(const bool taken, source_->Take(f, request, &r));
+  if (!taken) {  // the first frame, not there yet: the playhead waits at it
+    t.playhead = f;
+    waiting_ = true;
+    return Status::Ok();
+  }
+  changed_ = true;
+  waiting_ = false;
   if (shown_ != UINT32_MAX && t.playing) {
     stats_.frames_advanced += f > shown_ ? f - shown_ : f + frames - shown_;
     if (on_screen_s_ > 2.0 / (fps_ * t.speed)) ++stats_.stalls;
   }
   on_screen_s_ = 0;
-  frame_ = std::move(next);
-  const fvv_decode_report& r = frame_->report;
+  report_ = r;
   const uint32_t gop = f / info_.gop_frames;
   if (gop != last_gop_) {
     last_gop_ = gop;
@@ -141,7 +167,7 @@ StatusOr<const fvv_frame*> PlaybackLoop::Advance(double dt, const glm::vec3& eye
   }
   if (r.bytes_available > 0 && r.bytes_decoded == 0) ++stats_.frames_without_texture;
   shown_ = f;
-  return frame_.get();
+  return Status::Ok();
 }
 
 void PlaybackLoop::FrameDrawn(double draw_ms) {

@@ -224,6 +224,7 @@ export class FvvDecoder {
         bytesDecoded: this.#u64(r), bytesAvailable: this.#u64(r + 8),
         bitplanes: Array.from(u.subarray((r + 16) >> 2, ((r + 16) >> 2) + 3)),
         decodeMs: m.HEAPF64[(r + 32) >> 3], complete: m.HEAP32[(r + 40) >> 2] !== 0,
+        maxMs: m.HEAPF64[(r + 48) >> 3],
       },
     };
   }

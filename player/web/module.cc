@@ -33,7 +33,8 @@ static_assert(sizeof(fvv_frame) == 96 && offsetof(fvv_frame, views) == 32 &&
               "fvv_frame");
 static_assert(offsetof(fvv_decode_report, bitplanes) == 16 &&
                   offsetof(fvv_decode_report, decode_ms) == 32 &&
-                  offsetof(fvv_decode_report, complete) == 40,
+                  offsetof(fvv_decode_report, complete) == 40 &&
+                  offsetof(fvv_decode_report, max_ms_per_gop) == 48,
               "fvv_decode_report");
 static_assert(sizeof(fvv_view) == 8, "fvv_view");
 static_assert(sizeof(fvv_model) == 44 && offsetof(fvv_model, triangles) == 40, "fvv_model");

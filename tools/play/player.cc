@@ -233,7 +233,8 @@ int RunPlayer(const PlayerOptions& o) {
     glfwTerminate();
     return Fail((!s.ok() ? s : !renderer.ok() ? renderer.status() : hud.status()).ToString());
   }
-  PlaybackLoop loop(dec.get(), info, centres, o.floor_share);
+  DecoderFrameSource source(dec.get());
+  PlaybackLoop loop(&source, info, centres, o.floor_share);
   loop.all_cameras = o.all_cameras;
   loop.transport().loop = o.loop;
   State state;
@@ -262,12 +263,9 @@ int RunPlayer(const PlayerOptions& o) {
     const auto now = Clock::now();
     const double dt = std::chrono::duration<double>(now - last).count();
     last = now;
-    StatusOr<const fvv_frame*> next = loop.Advance(dt, last_eye, last_target);
-    if (!next.ok()) {
-      s = next.status();
-      break;
-    }
-    const fvv_frame* frame = *next;
+    s = loop.Advance(dt, last_eye, last_target);
+    if (!s.ok()) break;
+    const fvv_frame* frame = source.frame();
     int fb_w, fb_h;
     glfwGetFramebufferSize(window, &fb_w, &fb_h);
     const bool last_frame =

@@ -1,0 +1,360 @@
+// The web player: a stream on any static HTTP server, played in a canvas.
+// The playback loop is the module's (FvvPlayback: playhead, waits, time and
+// fetch budgets, the cameras a GOP decodes); this file only carries out what
+// it asks: fetch a GOP's fragment prefixes (FvvStream), decode them in the
+// Web Worker, draw the frame it shows with Renderer II in WebGL 2
+// (FvvRenderer), and turn the viewer's input into the view.
+//
+//   const player = await FvvPlayer.open(canvas, 'take.fvv', { onNotice, onError });
+//   player.play(); player.pause(); player.seek(frame); player.step(+1);
+//   player.stats();   // what the HUD shows
+//
+// A stream without an index cannot be fetched by ranges: it plays from the
+// start as it downloads, whole fragments, without seeking (onNotice says so).
+
+import { FvvDecoderWorker } from './fvv_decoder_worker_client.mjs';
+import { FvvPlayback } from './fvv_playback.mjs';
+import { FvvRenderer } from './fvv_renderer.mjs';
+import { FvvStream, FvvStreamError } from './fvv_stream.mjs';
+import { lookAtView, orbitView } from './fvv_view.mjs';
+
+const here = (name) => new URL(name, import.meta.url).href;
+// GOPs of decoded frames kept (the one shown, the ones fetched ahead).
+const CACHED_GOPS = 4;
+
+export class FvvPlayer {
+  // options: moduleUrl, workerUrl, zstdUrl, shaderUrl (defaults: beside this
+  // file, as the build lays the site out), onNotice(text), onError(error),
+  // autoplay (true), loop (true).
+  static async open(canvas, url, options = {}) {
+    const p = new FvvPlayer(canvas, options);
+    try {
+      await p.#open(url);
+    } catch (e) {
+      p.destroy();
+      throw e;
+    }
+    return p;
+  }
+
+  constructor(canvas, options) {
+    this.canvas = canvas;
+    this.options = {
+      moduleUrl: here('./fvv_decoder.mjs'), workerUrl: here('./fvv_decoder_worker.mjs'),
+      zstdUrl: here('./fzstd/index.mjs'), shaderUrl: here('./shaders/'), autoplay: true, loop: true,
+      onNotice: () => {}, onError: () => {}, ...options,
+    };
+    const gl = canvas.getContext('webgl2', { antialias: false, preserveDrawingBuffer: true });
+    if (!gl) throw new Error('this browser has no WebGL 2');
+    this.gl = gl;
+    this.gops = new Map();    // GOP -> decoded frames
+    this.busy = false;        // a GOP request being served
+    this.error = null;
+    this.orbit = { yaw: 0, pitch: 0.11, distance: 3.5, fovDeg: 40 };
+    this.viewDirty = true;
+    this.hud = { fps: 0, drawMs: 0, webglMs: 0, lastGopBytes: 0, lastGopBudget: 0, lastCameras: [] };
+    this.drawTimes = [];
+  }
+
+  async #open(url) {
+    const o = this.options;
+    this.worker = await FvvDecoderWorker.create(o.workerUrl, { moduleUrl: o.moduleUrl, zstdUrl: o.zstdUrl });
+    try {
+      this.stream = await FvvStream.open(url, this.worker, { onNotice: o.onNotice });
+      this.sequential = false;
+    } catch (e) {
+      if (!/has no index/.test(e.message)) throw e;
+      o.onNotice('this stream has no index: it plays from the start as it downloads, whole ' +
+                 'fragments, and cannot seek (fvv index adds one)');
+      // A fresh decoder for the pushed bytes: the other one was opened for ranges.
+      this.worker.terminate();
+      this.worker = await FvvDecoderWorker.create(o.workerUrl, { moduleUrl: o.moduleUrl, zstdUrl: o.zstdUrl });
+      this.stream = await SequentialStream.open(url, this.worker, o.onNotice);
+      this.sequential = true;
+    }
+    const info = this.stream.info;
+    this.info = info;
+    this.cameras = [];
+    for (let c = 0; c < info.cameraCount; ++c) this.cameras.push(await this.worker.camera(c));
+    const model = await this.worker.model();
+    this.playback = await FvvPlayback.create({
+      moduleUrl: o.moduleUrl, info, centres: this.cameras.map((c) => c.centre),
+    });
+    this.playback.setTransport({ playing: o.autoplay, loop: o.loop && !this.sequential, speed: 1 });
+    this.renderer = await FvvRenderer.create(this.gl, {
+      shaderUrl: o.shaderUrl, model, cameras: this.cameras, info, playback: this.playback,
+    });
+    this.last = performance.now();
+    this.running = true;
+    this.#attachInput();
+    this.tick = (now) => this.#frame(now);
+    requestAnimationFrame(this.tick);
+  }
+
+  destroy() {
+    this.running = false;
+    this.detachInput?.();
+    this.playback?.destroy();
+    this.worker?.terminate();
+  }
+
+  play() { this.#transport({ playing: true }); }
+  pause() { this.#transport({ playing: false }); }
+  get playing() { return this.playback.state().playing; }
+  seek(frame) {
+    if (this.sequential) return;
+    this.playback.seek(Math.max(0, Math.min(this.info.frameCount - 1, Math.round(frame))));
+  }
+  step(delta) {
+    this.pause();
+    const s = this.playback.state();
+    this.seek((s.hasFrame ? s.frame : 0) + delta);
+  }
+  #transport(change) {
+    const s = this.playback.state();
+    this.playback.setTransport({ playing: s.playing, loop: this.options.loop && !this.sequential,
+                                 speed: 1, ...change });
+  }
+
+  // The view: the orbit round the actor, or a fixed one (eye, target, fovDeg).
+  setView(view) {
+    this.fixedView = view;
+    this.viewDirty = true;
+  }
+  #view() {
+    const aspect = this.canvas.width / this.canvas.height;
+    const target = this.renderer.actor ?? [0, 1, 0];
+    if (this.fixedView) return lookAtView(this.fixedView.eye, this.fixedView.target, this.fixedView.fovDeg ?? 40, aspect);
+    return orbitView(target, { ...this.orbit, aspect });
+  }
+
+  stats() {
+    const s = this.playback.state();
+    return { ...s, ...this.hud, frameCount: this.info.frameCount, error: this.error?.message ?? null,
+             sequential: this.sequential };
+  }
+
+  // One tick of the page: move the playhead, serve what the loop asks, draw.
+  #frame(now) {
+    if (!this.running) return;
+    const dt = Math.min(0.25, (now - this.last) / 1000);
+    this.last = now;
+    const tickStart = performance.now();
+    try {
+      const view = this.#view();
+      this.playback.advance(dt, view.eye, view.target);
+      this.#serve();
+      const s = this.playback.state();
+      if (s.hasFrame && (s.changed || this.viewDirty || !this.shownFrame)) {
+        const frames = this.gops.get(Math.floor(s.frame / this.info.gopFrames));
+        const frame = frames?.[s.frame % this.info.gopFrames];
+        if (frame) {
+          const t0 = performance.now();
+          if (frame !== this.shownFrame) this.renderer.setFrame(frame);
+          this.shownFrame = frame;
+          this.hud.lastCameras = this.renderer.draw(this.#view(), this.canvas.width, this.canvas.height);
+          this.gl.finish();  // the frame's WebGL time, not only its commands'
+          const ms = performance.now() - t0;
+          this.hud.webglMs = 0.9 * this.hud.webglMs + 0.1 * ms;
+          this.playback.frameDrawn(ms);
+          this.viewDirty = false;
+          this.drawTimes.push(now);
+        }
+      }
+      while (this.drawTimes.length && this.drawTimes[0] < now - 1000) this.drawTimes.shift();
+      this.hud.ticks = (this.hud.ticks ?? 0) + 1;
+      this.hud.tickMs = (this.hud.tickMs ?? 0) + performance.now() - tickStart;
+      this.hud.fps = this.drawTimes.length;
+    } catch (e) {
+      this.#fail(e);
+    }
+    requestAnimationFrame(this.tick);
+  }
+
+  #fail(e) {
+    if (this.error) return;
+    this.error = e;
+    this.pause();
+    this.options.onError(e);
+  }
+
+  // Serves the loop's next GOP request: its fragments' prefixes as the loop's
+  // fetch budget allows, then each frame decoded in the worker.
+  async #serve() {
+    if (this.busy || this.error) return;
+    const r = this.playback.nextRequest();
+    if (!r) return;
+    this.busy = true;
+    try {
+      const t0 = performance.now();
+      const fetched = await this.stream.fetchGop(r.gop, r.cameras,
+        r.fetchBytes > 0 ? r.fetchBytes : Number.MAX_SAFE_INTEGER);
+      if (fetched > 0) this.playback.fetchMeasured(fetched, (performance.now() - t0) / 1000);
+      this.hud.lastGopBytes = fetched;
+      this.hud.lastGopBudget = r.fetchBytes;
+      const first = r.gop * this.info.gopFrames;
+      const count = Math.min(this.info.gopFrames, this.info.frameCount - first);
+      const frames = [];
+      for (let f = first; f < first + count; ++f) {
+        frames.push(await this.worker.decodeFrame(f, {
+          cameras: r.cameras, maxMs: r.maxMs, floorShare: r.floorShare,
+        }));
+      }
+      this.gops.set(r.gop, frames);
+      this.playback.deliver(r.gop, frames[0].report);
+      this.hud.report = frames[0].report;
+      this.#evict();
+    } catch (e) {
+      this.playback.failed(r.gop);
+      this.#fail(e instanceof FvvStreamError ? e : new Error(`GOP ${r.gop}: ${e.message}`));
+    } finally {
+      this.busy = false;
+    }
+  }
+
+  // Keeps the GOP shown and those next in playing order (round the loop's end).
+  #evict() {
+    const s = this.playback.state();
+    const shown = s.hasFrame ? Math.floor(s.frame / this.info.gopFrames) : 0;
+    const n = Math.ceil(this.info.frameCount / this.info.gopFrames);
+    const ahead = (g) => (g - shown + n) % n;
+    const gops = [...this.gops.keys()].sort((a, b) => ahead(a) - ahead(b));
+    for (const g of gops.slice(CACHED_GOPS)) {
+      this.gops.delete(g);
+      this.playback.forget(g);
+    }
+  }
+
+  // A still of `frame` from a fixed view, decoded whole (or each fragment
+  // cut at `bytes`) for every camera, as `fvv render --path` draws it: for
+  // comparing the page with the native renderer. Returns top-down RGB8.
+  async still(frame, view, { bytes = 0 } = {}) {
+    this.pause();
+    this.running = false;
+    const gop = Math.floor(frame / this.info.gopFrames);
+    await this.stream.fetchGop(gop, undefined, Number.MAX_SAFE_INTEGER);
+    const decoded = await this.worker.decodeFrame(frame, { maxBytes: bytes });
+    this.renderer.setFrame(decoded);
+    const w = this.canvas.width, h = this.canvas.height;
+    this.renderer.draw(lookAtView(view.eye, view.target, view.fovDeg ?? 40, w / h), w, h);
+    return this.renderer.readRgb(w, h);
+  }
+
+  // Orbit by dragging (mouse, pen or one finger), zoom by the wheel or a pinch.
+  #attachInput() {
+    const c = this.canvas, pointers = new Map();
+    let pinch = 0;
+    const down = (e) => {
+      c.setPointerCapture(e.pointerId);
+      pointers.set(e.pointerId, [e.clientX, e.clientY]);
+    };
+    const move = (e) => {
+      const before = pointers.get(e.pointerId);
+      if (!before) return;
+      pointers.set(e.pointerId, [e.clientX, e.clientY]);
+      if (pointers.size === 1) {
+        this.orbit.yaw -= (e.clientX - before[0]) * 0.01;
+        this.orbit.pitch = Math.max(-1.2, Math.min(1.2, this.orbit.pitch + (e.clientY - before[1]) * 0.01));
+      } else if (pointers.size === 2) {
+        const [a, b] = [...pointers.values()];
+        const d = Math.hypot(a[0] - b[0], a[1] - b[1]);
+        if (pinch > 0) this.#zoom(pinch / d);
+        pinch = d;
+      }
+      this.fixedView = null;
+      this.viewDirty = true;
+    };
+    const up = (e) => {
+      pointers.delete(e.pointerId);
+      pinch = 0;
+    };
+    const wheel = (e) => {
+      e.preventDefault();
+      this.#zoom(Math.exp(e.deltaY * 0.001));
+    };
+    c.style.touchAction = 'none';
+    c.addEventListener('pointerdown', down);
+    c.addEventListener('pointermove', move);
+    c.addEventListener('pointerup', up);
+    c.addEventListener('pointercancel', up);
+    c.addEventListener('wheel', wheel, { passive: false });
+    this.detachInput = () => {
+      c.removeEventListener('pointerdown', down);
+      c.removeEventListener('pointermove', move);
+      c.removeEventListener('pointerup', up);
+      c.removeEventListener('pointercancel', up);
+      c.removeEventListener('wheel', wheel);
+    };
+  }
+  #zoom(factor) {
+    this.orbit.distance = Math.max(0.5, Math.min(20, this.orbit.distance * factor));
+    this.fixedView = null;
+    this.viewDirty = true;
+  }
+}
+
+// A stream without an index, fetched whole in one request and pushed to the
+// decoder in order as it arrives (the decoder's streaming input): GOPs play
+// as their bytes come; FvvStream's interface, without ranges.
+class SequentialStream {
+  static async open(url, worker, onNotice) {
+    const s = new SequentialStream(url, worker, onNotice);
+    await s.#start();
+    return s;
+  }
+  constructor(url, worker, onNotice) {
+    this.url = url;
+    this.worker = worker;
+    this.notice = onNotice;
+    this.fetched = 0;
+    this.available = 0;
+    this.ended = false;
+    this.waiters = [];
+  }
+  async #start() {
+    const response = await fetch(this.url, { cache: 'no-store' });
+    if (!response.ok) throw new FvvStreamError(`${this.url}: the server answered ${response.status}`);
+    this.reader = response.body.getReader();
+    while (!this.info) {
+      if (!(await this.#pump())) throw new FvvStreamError(`${this.url}: the stream ends before its head does`);
+    }
+    this.#pumpAll();
+  }
+  // Pushes the next piece; false at the end.
+  async #pump() {
+    const { done, value } = await this.reader.read();
+    if (done) {
+      await this.worker.pushEnd();
+    } else {
+      this.fetched += value.length;
+      await this.worker.push(value);
+    }
+    for (let event; (event = await this.worker.process()) !== 'need';) {
+      if (event === 'ready' && !this.info) this.info = await this.worker.info();
+      if (event === 'end') break;
+    }
+    this.available = await this.worker.framesAvailable();
+    for (const w of this.waiters.splice(0)) w();
+    return !done;
+  }
+  async #pumpAll() {
+    try {
+      while (await this.#pump());
+    } catch (e) {
+      this.error = e;
+    }
+    this.ended = true;
+    for (const w of this.waiters.splice(0)) w();
+  }
+  // Waits until the GOP's frames decode; returns the bytes fetched meanwhile.
+  async fetchGop(span) {
+    const before = this.fetched;
+    const last = Math.min((span + 1) * this.info.gopFrames, this.info.frameCount);
+    while (this.available < last) {
+      if (this.error) throw new FvvStreamError(`${this.url}: ${this.error.message}`);
+      if (this.ended) throw new FvvStreamError(`${this.url}: the stream ends at frame ${this.available}`);
+      await new Promise((resolve) => this.waiters.push(resolve));
+    }
+    return this.fetched - before;
+  }
+}

@@ -1,0 +1,161 @@
+// The playback loop over GOPs fetched and decoded outside it (the web
+// player's arrangement, player/playback/requested_gops.h): what it asks for,
+// in what order, with how many bytes; that it waits rather than skips; that a
+// seek survives the wait for its GOP.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "player/playback/playback_loop.h"
+#include "player/playback/requested_gops.h"
+
+namespace fvv {
+namespace {
+
+constexpr double kFps = 25;
+constexpr uint32_t kGopFrames = 8, kFrames = 40;  // 5 GOPs
+
+fvv_stream_info Info() {
+  fvv_stream_info info{};
+  info.frame_count = kFrames;
+  info.frame_rate_num = 25;
+  info.frame_rate_den = 1;
+  info.camera_count = 4;
+  info.gop_frames = kGopFrames;
+  info.gop_cameras = 1;
+  return info;
+}
+
+std::vector<glm::vec3> Ring() {
+  return {{2, 1, 0}, {0, 1, 2}, {-2, 1, 0}, {0, 1, -2}};
+}
+
+fvv_decode_report Whole() {
+  fvv_decode_report r{};
+  r.bytes_decoded = r.bytes_available = 1000;
+  r.complete = 1;
+  r.decode_ms = 10;
+  return r;
+}
+
+struct Rig {
+  RequestedGops gops{kFrames, kGopFrames};
+  PlaybackLoop loop{&gops, Info(), Ring()};
+  glm::vec3 eye{0, 1, 3}, target{0, 1, 0};
+  Status Tick(double dt = 1 / kFps) { return loop.Advance(dt, eye, target); }
+  // Serves the request in flight at once; returns its GOP (or -1).
+  int Serve() {
+    uint32_t gop;
+    GopRequest r;
+    if (!gops.NextRequest(&gop, &r)) return -1;
+    gops.Deliver(gop, Whole());
+    return int(gop);
+  }
+};
+
+TEST(PlaybackLoopOverRequests, WaitsForTheFirstGopThenFetchesAhead) {
+  Rig rig;
+  ASSERT_TRUE(rig.Tick().ok());
+  EXPECT_FALSE(rig.loop.has_frame());
+  uint32_t gop = 99;
+  GopRequest request;
+  ASSERT_TRUE(rig.gops.NextRequest(&gop, &request));
+  EXPECT_EQ(gop, 0u);
+  EXPECT_EQ(request.fetch_bytes, 0u) << "nothing measured yet: whole fragments";
+  // The view at +z needs the cameras facing it, not the one behind the actor.
+  EXPECT_TRUE(request.budget.camera_mask & (1u << 1));
+  EXPECT_FALSE(request.budget.camera_mask & (1u << 3));
+  uint32_t other;
+  EXPECT_FALSE(rig.gops.NextRequest(&other, &request)) << "one request in flight at a time";
+  for (int i = 0; i < 10; ++i) ASSERT_TRUE(rig.Tick().ok());
+  EXPECT_FALSE(rig.loop.has_frame());
+  rig.gops.Deliver(0, Whole());
+  ASSERT_TRUE(rig.Tick().ok());
+  ASSERT_TRUE(rig.loop.has_frame());
+  EXPECT_EQ(rig.loop.frame_index(), 0u) << "the playhead waited at the first frame";
+  EXPECT_EQ(rig.Serve(), 1);
+  EXPECT_EQ(rig.Serve(), 2);
+  EXPECT_EQ(rig.Serve(), -1) << "at most RequestedGops::kAhead GOPs past the one shown";
+}
+
+TEST(PlaybackLoopOverRequests, FetchBytesFollowTheMeasuredBandwidth) {
+  Rig rig;
+  ASSERT_TRUE(rig.Tick().ok());
+  rig.loop.FetchMeasured(62500, 1.0);  // 0.5 Mbit/s
+  rig.Serve();
+  ASSERT_TRUE(rig.Tick().ok());
+  uint32_t gop;
+  GopRequest request;
+  // GOP 1 was asked for with the request of GOP 0's frame; the next ask
+  // carries the bandwidth. A GOP plays 0.32 s: at most that many seconds of it.
+  ASSERT_TRUE(rig.gops.NextRequest(&gop, &request));
+  rig.gops.Deliver(gop, Whole());
+  for (int i = 0; i < 8; ++i) ASSERT_TRUE(rig.Tick().ok());
+  while (rig.gops.NextRequest(&gop, &request)) rig.gops.Deliver(gop, Whole());
+  const uint64_t budget = rig.loop.FetchBudget();
+  EXPECT_GT(budget, 0.8 * 62500 * 0.32);
+  EXPECT_LE(budget, 62500 * 0.32);
+  rig.loop.FetchMeasured(625000, 1.0);
+  EXPECT_GT(rig.loop.FetchBudget(), 2 * budget) << "a faster network, more bytes";
+  EXPECT_EQ(rig.loop.stats().bytes_fetched, 62500u + 625000u);
+}
+
+TEST(PlaybackLoopOverRequests, ALateGopHoldsThePlayheadInsteadOfSkipping) {
+  Rig rig;
+  ASSERT_TRUE(rig.Tick().ok());
+  rig.Serve();  // GOP 0
+  ASSERT_TRUE(rig.Tick().ok());
+  // GOP 1 is late: nothing is served for a second.
+  for (int i = 0; i < 25; ++i) ASSERT_TRUE(rig.Tick().ok());
+  EXPECT_EQ(rig.loop.frame_index(), kGopFrames - 1) << "the last frame of GOP 0 stays";
+  EXPECT_EQ(rig.loop.stats().frames_advanced, kGopFrames - 1);
+  rig.Serve();  // GOP 1 arrives
+  ASSERT_TRUE(rig.Tick().ok());
+  EXPECT_EQ(rig.loop.frame_index(), kGopFrames) << "played on from where it waited";
+  EXPECT_EQ(rig.loop.stats().stalls, 1u);
+}
+
+TEST(PlaybackLoopOverRequests, ASeekWaitsForItsGopAndIsNotLost) {
+  Rig rig;
+  ASSERT_TRUE(rig.Tick().ok());
+  rig.Serve();
+  ASSERT_TRUE(rig.Tick().ok());
+  rig.loop.transport().playing = false;
+  rig.loop.Seek(35);  // GOP 4, never asked for
+  ASSERT_TRUE(rig.Tick().ok());
+  EXPECT_EQ(rig.loop.frame_index(), 0u);
+  uint32_t gop;
+  GopRequest request;
+  // What was queued ahead of the old playhead comes after the seek's GOP.
+  ASSERT_TRUE(rig.gops.NextRequest(&gop, &request));
+  EXPECT_EQ(gop, 4u);
+  for (int i = 0; i < 5; ++i) ASSERT_TRUE(rig.Tick().ok());
+  rig.gops.Deliver(gop, Whole());
+  ASSERT_TRUE(rig.Tick().ok());
+  EXPECT_EQ(rig.loop.frame_index(), 35u);
+}
+
+TEST(PlaybackLoopOverRequests, AFailedOrForgottenGopIsAskedForAgain) {
+  Rig rig;
+  ASSERT_TRUE(rig.Tick().ok());
+  rig.Serve();
+  ASSERT_TRUE(rig.Tick().ok());
+  rig.loop.transport().playing = false;
+  uint32_t gop;
+  GopRequest request;
+  ASSERT_TRUE(rig.gops.NextRequest(&gop, &request));
+  ASSERT_EQ(gop, 1u);
+  rig.gops.Failed(gop);  // the fetch failed: not held, not in flight
+  ASSERT_EQ(rig.Serve(), 2);
+  rig.gops.Forget(2);  // the embedding's cache dropped it
+  EXPECT_FALSE(rig.gops.Held(2));
+  rig.loop.Seek(8);
+  ASSERT_TRUE(rig.Tick().ok());
+  EXPECT_EQ(rig.Serve(), 1);
+  ASSERT_TRUE(rig.Tick().ok());
+  EXPECT_EQ(rig.loop.frame_index(), 8u);
+  EXPECT_EQ(rig.Serve(), 2) << "asked for again, as the GOP ahead";
+}
+
+}  // namespace
+}  // namespace fvv
