@@ -63,7 +63,8 @@ stage "optimised suites"
 
 # The decoder library in WebAssembly (player/web/CMakeLists.txt, Debian's
 # emscripten, no threads): the conformance suite in Node against the released
-# expectations, bit for bit, and its JavaScript API against the native decoder.
+# expectations, bit for bit, and its JavaScript API against the native decoder;
+# the web player's page (player/web/index.html) against fvv render and faults.
 emcmake cmake -S player/web -B build-wasm -G Ninja >/dev/null
 cmake --build build-wasm -j2
 stage "WebAssembly build"
@@ -73,7 +74,8 @@ tests/web_decoder_test.sh build/tools/fvv/fvv build/tools/conformance_decode bui
   build-wasm/web_decoder_test
 tests/web_lighttpd_test.sh build-wasm/web_decoder_test/s.fvv build-wasm/web_decoder_test/whole \
   build-wasm build-wasm/web_lighttpd_test
-stage "WebAssembly decoder in Node"
+tests/web_player_test.sh build/tools/fvv/fvv build-wasm/site build-wasm/web_player_test
+stage "WebAssembly decoder in Node, the web player in chromium"
 
 # ThreadSanitizer on what runs threads: the codec's pool and parallel coding,
 # the decoder's workers and its C API under threads, the encoder session (its

@@ -225,12 +225,17 @@ export class FvvPlayer {
     }
   }
 
-  // A still of `frame` from a fixed view, decoded whole (or each fragment
-  // cut at `bytes`) for every camera, as `fvv render --path` draws it: for
-  // comparing the page with the native renderer. Returns top-down RGB8.
-  async still(frame, view, { bytes = 0 } = {}) {
+  // A still of `frame` from a fixed view (eye, target, fovDeg), decoded whole
+  // (or each fragment's texture cut at `bytes`) for every camera, as `fvv
+  // render --path` draws it, at width x height: for comparing the page with
+  // the native renderer. Stops playback. Returns top-down RGB8.
+  async still(frame, view, { bytes = 0, width, height } = {}) {
     this.pause();
     this.running = false;
+    if (width && height) {
+      this.canvas.width = width;
+      this.canvas.height = height;
+    }
     const gop = Math.floor(frame / this.info.gopFrames);
     await this.stream.fetchGop(gop, undefined, Number.MAX_SAFE_INTEGER);
     const decoded = await this.worker.decodeFrame(frame, { maxBytes: bytes });

@@ -1,0 +1,127 @@
+// The web player (player/web/index.html) in headless chromium, served by the
+// harness on 127.0.0.1 with byte ranges:
+// - it plays a stream: the playhead moves through several GOPs, every frame
+//   shown textured, the fetches all range requests;
+// - a still of a frame from a fixed view matches `fvv render --path` of the
+//   same frame, view and size (>= 35 dB over the actor: the same decoder, the
+//   same shaders), for a stream with masks and one without (depth maps);
+// - a missing, damaged or cut stream, and a server that drops connections
+//   or ignores Range: the page says what happened and never hangs; what
+//   decodes still plays.
+//
+//   node web_player_test.mjs SITE_DIR WORK_DIR
+// WORK_DIR holds masks.fvv, depth.fvv, damaged.fvv, cut.fvv, path.json and
+// the native stills native_masks.png and native_depth.png (web_player_test.sh).
+import { readFileSync, writeFileSync } from 'node:fs';
+import path from 'node:path';
+import { withBrowser } from '../tools/web/browser_harness.mjs';
+
+const [siteDir, work] = process.argv.slice(2);
+const STILL_FRAME = 5, WIDTH = 640, HEIGHT = 480, MIN_PSNR = 35;
+const key = JSON.parse(readFileSync(path.join(work, 'path.json'))).keyframes[0];
+const view = { eye: key.eye, target: key.target, fovDeg: key.fov };
+let failures = 0;
+const check = (ok, what) => {
+  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}`);
+  if (!ok) ++failures;
+};
+
+// Opens the page on `stream`; resolves when it plays or says why it cannot.
+async function open(page, base, stream, { autoplay = true } = {}) {
+  await page.goto(`${base}/site/index.html?stream=../data/${stream}&autoplay=${autoplay ? 1 : 0}`);
+  await page.waitForFunction(() => window.fvvPlayer || window.fvvError, { timeout: 30000 });
+}
+const stats = (page) => page.evaluate(() => window.fvvPlayer?.stats() ?? null);
+const message = (page) => page.evaluate(() => ({
+  text: document.getElementById('message').textContent,
+  error: document.getElementById('message').className === 'error',
+  notice: document.getElementById('notice').textContent,
+}));
+// Waits until `done(stats)` or `ms` pass; the last stats.
+async function waitFor(page, done, ms) {
+  const until = Date.now() + ms;
+  let s;
+  do {
+    await new Promise((r) => setTimeout(r, 250));
+    s = await stats(page);
+  } while (s && !done(s) && Date.now() < until);
+  return s;
+}
+
+function psnrOverActor(a, b, background) {
+  let se = 0, n = 0;
+  for (let i = 0; i < a.length; i += 3) {
+    const isActor = [0, 1, 2].some((k) => Math.abs(b[i + k] - background[k]) > 2) ||
+                    [0, 1, 2].some((k) => Math.abs(a[i + k] - background[k]) > 2);
+    if (!isActor) continue;
+    for (let k = 0; k < 3; ++k) se += (a[i + k] - b[i + k]) ** 2;
+    n += 3;
+  }
+  return { psnr: n === 0 ? 0 : se === 0 ? 99 : 10 * Math.log10((255 * 255 * n) / se), pixels: n / 3 };
+}
+
+const mounts = { '/site/': path.resolve(siteDir), '/data/': path.resolve(work) };
+const faults = {
+  '/data/dropped.fvv': { closeAfter: 3000, from: 200000 },
+  '/data/whole.fvv': { ignoreRange: true },
+};
+await withBrowser(mounts, async ({ page, base, requests }) => {
+  await page.setViewport({ width: 480, height: 400 });
+
+  for (const kind of ['masks', 'depth']) {
+    await open(page, base, `${kind}.fvv`);
+    const s = await waitFor(page, (t) => t.framesAdvanced >= 12, 30000);
+    check(s && !s.error && s.framesAdvanced >= 12,
+      `${kind}: plays (${s?.framesAdvanced} frames advanced, ${s?.framesDrawn} drawn, ${s?.fps} fps, error ${s?.error})`);
+    check(s && s.framesWithoutTexture === 0, `${kind}: no frame shown untextured`);
+    const shot = `${work}/page_${kind}_playing.png`;
+    await page.screenshot({ path: shot });
+    // The still against fvv render's (the PNG decoded by the page's own image decoder).
+    const out = await page.evaluate(async (frame, v, w, h, pngUrl) => {
+      const rgb = await window.fvvPlayer.still(frame, v, { width: w, height: h });
+      const img = new Image();
+      img.src = pngUrl;
+      await img.decode();
+      const c = new OffscreenCanvas(w, h).getContext('2d');
+      c.drawImage(img, 0, 0);
+      const rgba = c.getImageData(0, 0, w, h).data;
+      const native = new Uint8Array(w * h * 3);
+      for (let i = 0; i < w * h; ++i) native.set(rgba.subarray(4 * i, 4 * i + 3), 3 * i);
+      return { page: Array.from(rgb), native: Array.from(native) };
+    }, STILL_FRAME, view, WIDTH, HEIGHT, `../data/native_${kind}.png`);
+    const bg = [0.12, 0.12, 0.14].map((v) => Math.round(v * 255));
+    const { psnr, pixels } = psnrOverActor(Uint8Array.from(out.page), Uint8Array.from(out.native), bg);
+    writeFileSync(`${work}/page_${kind}_still.rgb`, Uint8Array.from(out.page));
+    writeFileSync(`${work}/native_${kind}_still.rgb`, Uint8Array.from(out.native));
+    check(pixels > 2000 && psnr >= MIN_PSNR,
+      `${kind}: the page's still of frame ${STILL_FRAME} against fvv render's: ${psnr.toFixed(2)} dB over ${pixels} actor pixels (>= ${MIN_PSNR})`);
+  }
+  const streamRequests = requests.filter((r) => r.path.startsWith('/data/') && r.path.endsWith('.fvv'));
+  check(streamRequests.length > 4 && streamRequests.every((r) => r.status === 206 && r.range),
+    `the streams came by range requests only (${streamRequests.length})`);
+
+  // Faults: each ends in the page saying so, within the wait, not in a hang.
+  const cases = [
+    ['missing.fvv', 'a missing stream', (m) => m.error && /404|not found/i.test(m.text)],
+    ['damaged.fvv', 'a damaged stream', (m) => m.error && /checksum|corrupt/i.test(m.text)],
+    ['cut.fvv', 'a cut stream', (m) => m.error && /truncat|ends|cut/i.test(m.text)],
+  ];
+  for (const [stream, what, said] of cases) {
+    await open(page, base, stream);
+    await waitFor(page, (t) => t.error !== null, 20000);
+    const m = await message(page);
+    check(said(m), `${what}: the page says "${m.text}"`);
+  }
+  for (const [stream, what] of [['dropped.fvv', 'connections dropped mid-fragment'],
+                                ['whole.fvv', 'a server that ignores Range']]) {
+    await open(page, base, stream);
+    const s = await waitFor(page, (t) => t.framesAdvanced >= 8 || t.error !== null, 30000);
+    const m = await message(page);
+    check(s && (s.framesAdvanced >= 8 || s.error) && (m.notice.length > 0 || m.error),
+      `${what}: ${s?.error ? 'stopped: ' + s.error : `plays (${s?.framesAdvanced} frames)`}; notice "${m.notice}"`);
+    await page.screenshot({ path: `${work}/page_${path.basename(stream, '.fvv')}.png` });
+  }
+}, { timeoutMs: 300000, faults });
+
+console.log(failures ? `FAILED: ${failures} checks` : 'passed: the web player');
+process.exit(failures ? 1 : 0);
