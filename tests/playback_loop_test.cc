@@ -157,5 +157,25 @@ TEST(PlaybackLoopOverRequests, AFailedOrForgottenGopIsAskedForAgain) {
   EXPECT_EQ(rig.Serve(), 2) << "asked for again, as the GOP ahead";
 }
 
+TEST(PlaybackLoopOverRequests, TheNextFetchStartsWhileAGopDecodes) {
+  Rig rig;
+  ASSERT_TRUE(rig.Tick().ok());
+  rig.Serve();
+  ASSERT_TRUE(rig.Tick().ok());  // frame 0 shown: GOPs 1 and 2 asked for
+  uint32_t gop, next;
+  GopRequest request;
+  ASSERT_TRUE(rig.gops.NextRequest(&gop, &request));
+  EXPECT_FALSE(rig.gops.NextRequest(&next, &request)) << "one fetch at a time";
+  rig.gops.Fetched(gop);
+  ASSERT_TRUE(rig.gops.NextRequest(&next, &request)) << "fetching goes on while GOP 1 decodes";
+  EXPECT_EQ(next, gop + 1);
+  rig.loop.Seek(8);
+  ASSERT_TRUE(rig.Tick().ok());
+  EXPECT_FALSE(rig.gops.NextRequest(&next, &request)) << "a GOP decoding is not asked for again";
+  rig.gops.Deliver(gop, Whole());
+  ASSERT_TRUE(rig.Tick().ok());
+  EXPECT_EQ(rig.loop.frame_index(), 8u);
+}
+
 }  // namespace
 }  // namespace fvv

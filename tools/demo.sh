@@ -7,7 +7,8 @@
 # motion) and prints the encoder's summary; encodes it again in two shards side
 # by side and joins them into the same bytes; inspects, decodes and renders the
 # stream with Renderer II and the capture itself with Renderer I (projective
-# texturing); plays it for 4 s with both cores busy; exports the actor as glTF
+# texturing); plays it for 4 s with both cores busy, and in the web player in
+# headless chromium; exports the actor as glTF
 # and BVH and shows it with three.js in headless Chromium; on the real capture in ../shared/data (where present) imports the
 # studio calibration, brings the cameras in step, and tracks, encodes and renders
 # one camera held out; prints figures and outputs.
@@ -102,6 +103,10 @@ xvfb-run -a -s "-screen 0 1280x720x24" $fvv play "$out/capture.fvv" --seconds 4 
   --screenshot "$out/play_loaded.png" | tail -1 || { kill "$load"; exit 1; }
 kill "$load" 2>/dev/null || true
 wait "$load" 2>/dev/null || true
+echo "== the web player: the decoder in WebAssembly, Renderer II in WebGL 2, the stream by HTTP ranges (docs/web.md)"
+emcmake cmake -S player/web -B build-wasm -G Ninja >/dev/null
+cmake --build build-wasm -j2 | tail -1
+node tools/web/screenshot_player.mjs build-wasm/site "$out/capture.fvv" "$out/web_player.png" 6
 echo "== Renderer I: the capture itself, projectively textured from its camera images with the tracked poses"
 $fvv render "$out/capture" --renderer projective --poses "$out/poses.json" -o "$out/render_projective" \
   --size 320x240 --first 30 --contact-sheet 12
@@ -163,6 +168,7 @@ echo "         poses.json), $out/render_orbit and $out/render_camera2 (render_fF
 echo "         $out/render_orbit/contact_sheet.png (12 novel views of frame 30),"
 echo "         $out/export (actor.glb for Blender, three.js, Unity; motion.bvh; three.png: three.js's view),"
 echo "         $out/play_loaded.png (fvv play's last frame and HUD with both cores busy),"
+echo "         $out/web_player.png (the web player's page in headless chromium, HUD included),"
 echo "         $out/render_projective (Renderer I: contact sheet, held-out camera 0's view of frames 30-33;"
 echo "         $out/render_heldout is Renderer II's, $out/capture/truth/heldout/held00 the truth),"
 echo "         $out/shape/capture (the bumpy actor's synthetic capture the shape table measured),"
@@ -176,3 +182,6 @@ echo "         $out/real_poses.json (all four cameras tracked, frames 30-59: cam
 echo "         $out/real_heldout (camera cam02 held out: poses, stream, renders, contact_sheet.png,"
 echo "         real_bench.json),"
 echo "         $out/still_arith3.fvb and $out/still_arith4.fvb (one atlas frame, coders 3 and 4)"
+echo
+echo "the web player on this stream, in your browser: tools/web/serve.sh $out/capture.fvv"
+echo "  then open http://127.0.0.1:8080/index.html?stream=streams/capture.fvv (docs/web.md)"

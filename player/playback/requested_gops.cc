@@ -9,7 +9,7 @@ RequestedGops::RequestedGops(uint32_t frame_count, uint32_t gop_frames)
       gop_frames_(std::max(1u, gop_frames)) {}
 
 void RequestedGops::Ask(uint32_t gop, const GopRequest& request, bool urgent) {
-  if (gop >= gops_ || held_.count(gop) || gop == in_flight_) return;
+  if (gop >= gops_ || held_.count(gop) || gop == in_flight_ || decoding_.count(gop)) return;
   auto it = std::find_if(queue_.begin(), queue_.end(),
                          [gop](const Pending& p) { return p.gop == gop; });
   if (it != queue_.end()) {
@@ -58,8 +58,15 @@ bool RequestedGops::NextRequest(uint32_t* gop, GopRequest* request) {
   return true;
 }
 
+void RequestedGops::Fetched(uint32_t gop) {
+  if (gop != in_flight_) return;
+  in_flight_ = UINT32_MAX;
+  decoding_.insert(gop);
+}
+
 void RequestedGops::Deliver(uint32_t gop, const fvv_decode_report& report) {
   held_[gop] = report;
+  decoding_.erase(gop);
   if (gop == in_flight_) in_flight_ = UINT32_MAX;
   // The network stays busy: the next GOP, while it is within reach of the one shown.
   if (gop + 1 < gops_ && gop + 1 <= shown_gop_ + kAhead) Ask(gop + 1, last_, false);
@@ -67,6 +74,7 @@ void RequestedGops::Deliver(uint32_t gop, const fvv_decode_report& report) {
 
 void RequestedGops::Failed(uint32_t gop) {
   if (gop == in_flight_) in_flight_ = UINT32_MAX;
+  decoding_.erase(gop);
 }
 
 void RequestedGops::Forget(uint32_t gop) { held_.erase(gop); }

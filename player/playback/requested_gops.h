@@ -1,7 +1,8 @@
 // A frame source fed from outside the loop: the loop's asks become requests
-// that the embedding serves one at a time (fetch the GOP's fragments as far as
-// the request's bytes allow, decode them under its budget) and answers with
-// Deliver. The web player drives it from JavaScript (player/web/module.cc);
+// that the embedding serves (fetch the GOP's fragments as far as the request's
+// bytes allow, decode them under its budget) and answers with Deliver. One GOP
+// is fetched at a time; once its bytes are in (Fetched) the next fetch may
+// start while it decodes, so the network does not wait for the decoder. The web player drives it from JavaScript (player/web/module.cc);
 // the decoded pixels stay with the embedding, the loop needs only the reports.
 //
 // Fetching runs ahead of the playhead: each GOP delivered asks for the next,
@@ -13,6 +14,7 @@
 #include <cstdint>
 #include <deque>
 #include <map>
+#include <set>
 
 #include "player/playback/frame_source.h"
 
@@ -30,12 +32,14 @@ class RequestedGops : public FrameSource {
   StatusOr<bool> Take(uint32_t frame, const GopRequest& request,
                       fvv_decode_report* report) override;
 
-  // The next request to serve, taken off the queue (it is then in flight);
-  // false when there is none or one is in flight already.
+  // The next request to serve, taken off the queue (it is then being
+  // fetched); false when there is none or a fetch is under way.
   bool NextRequest(uint32_t* gop, GopRequest* request);
-  // The GOP in flight arrived, decoded: the loop can take its frames.
+  // The GOP's bytes are in: the next request may be fetched while it decodes.
+  void Fetched(uint32_t gop);
+  // The GOP arrived, decoded: the loop can take its frames.
   void Deliver(uint32_t gop, const fvv_decode_report& report);
-  // The GOP in flight could not be served: it is asked for again when needed.
+  // The GOP could not be served: it is asked for again when needed.
   void Failed(uint32_t gop);
   // The embedding dropped a GOP's frames (its cache is full).
   void Forget(uint32_t gop);
@@ -54,7 +58,8 @@ class RequestedGops : public FrameSource {
   uint32_t gop_frames_;
   std::deque<Pending> queue_;
   std::map<uint32_t, fvv_decode_report> held_;
-  uint32_t in_flight_ = UINT32_MAX;
+  uint32_t in_flight_ = UINT32_MAX;  // being fetched
+  std::set<uint32_t> decoding_;      // fetched, not yet delivered
   uint32_t shown_gop_ = 0;
   GopRequest last_{};  // the request of the GOP shown: the one the GOPs ahead take
 };

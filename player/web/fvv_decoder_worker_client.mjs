@@ -21,7 +21,9 @@ export class FvvDecoderWorker {
       this.pending.delete(data.id);
       if (!p) return;
       if (data.error) {
-        const e = new Error(`${data.error.statusName}: ${data.error.message}`);
+        const { statusName, message } = data.error;
+        // The decoder's messages begin with their status's name already.
+        const e = new Error(message.startsWith(statusName) ? message : `${statusName}: ${message}`);
         e.status = data.error.status;
         p.reject(e);
       } else {

@@ -7,6 +7,7 @@
 //   const pb = await FvvPlayback.create({ moduleUrl, info, centres });
 //   pb.advance(dt, eye, target);  const s = pb.state();   // s.frame, s.changed ...
 //   const r = pb.nextRequest();   // { gop, cameras, maxMs, floorShare, fetchBytes } or null
+//   pb.fetched(r.gop);            // its bytes are in: the next fetch may start
 //   pb.deliver(r.gop, frame.report);
 
 const STATE = [
@@ -77,6 +78,7 @@ export class FvvPlayback {
     this.m._fvv_web_playback_deliver(this.handle, gop, report.bytesDecoded, report.bytesAvailable,
       report.decodeMs, report.maxMs ?? 0, report.complete ? 1 : 0, y, u, v);
   }
+  fetched(gop) { this.m._fvv_web_playback_fetched(this.handle, gop); }
   failed(gop) { this.m._fvv_web_playback_failed(this.handle, gop); }
   forget(gop) { this.m._fvv_web_playback_forget(this.handle, gop); }
   held(gop) { return this.m._fvv_web_playback_held(this.handle, gop) !== 0; }

@@ -25,7 +25,8 @@ const CACHED_GOPS = 4;
 export class FvvPlayer {
   // options: moduleUrl, workerUrl, zstdUrl, shaderUrl (defaults: beside this
   // file, as the build lays the site out), onNotice(text), onError(error),
-  // autoplay (true), loop (true).
+  // onGop({ gop, cameras, fetched, fetchBytes, seconds, frames }) after each
+  // GOP is decoded, autoplay (true), loop (true).
   static async open(canvas, url, options = {}) {
     const p = new FvvPlayer(canvas, options);
     try {
@@ -44,11 +45,11 @@ export class FvvPlayer {
       zstdUrl: here('./fzstd/index.mjs'), shaderUrl: here('./shaders/'), autoplay: true, loop: true,
       onNotice: () => {}, onError: () => {}, ...options,
     };
-    const gl = canvas.getContext('webgl2', { antialias: false, preserveDrawingBuffer: true });
+    const gl = canvas.getContext('webgl2', { antialias: false });
     if (!gl) throw new Error('this browser has no WebGL 2');
     this.gl = gl;
     this.gops = new Map();    // GOP -> decoded frames
-    this.busy = false;        // a GOP request being served
+    this.fetching = false;    // a GOP's fragments being fetched
     this.error = null;
     this.orbit = { yaw: 0, pitch: 0.11, distance: 3.5, fovDeg: 40 };
     this.viewDirty = true;
@@ -60,7 +61,7 @@ export class FvvPlayer {
     const o = this.options;
     this.worker = await FvvDecoderWorker.create(o.workerUrl, { moduleUrl: o.moduleUrl, zstdUrl: o.zstdUrl });
     try {
-      this.stream = await FvvStream.open(url, this.worker, { onNotice: o.onNotice });
+      this.stream = await FvvStream.open(url, this.worker, { onNotice: o.onNotice, headBytes: o.headBytes ?? 16384 });
       this.sequential = false;
     } catch (e) {
       if (!/has no index/.test(e.message)) throw e;
@@ -81,6 +82,10 @@ export class FvvPlayer {
       moduleUrl: o.moduleUrl, info, centres: this.cameras.map((c) => c.centre),
     });
     this.playback.setTransport({ playing: o.autoplay, loop: o.loop && !this.sequential, speed: 1 });
+    // The head's fetches measured the network first: the first GOP's budget.
+    if (this.stream.fetched > 0 && this.stream.fetchSeconds > 0) {
+      this.playback.fetchMeasured(this.stream.fetched, this.stream.fetchSeconds);
+    }
     this.renderer = await FvvRenderer.create(this.gl, {
       shaderUrl: o.shaderUrl, model, cameras: this.cameras, info, playback: this.playback,
     });
@@ -178,20 +183,35 @@ export class FvvPlayer {
     this.options.onError(e);
   }
 
-  // Serves the loop's next GOP request: its fragments' prefixes as the loop's
-  // fetch budget allows, then each frame decoded in the worker.
+  // Serves the loop's GOP requests in two stages, so that the network never
+  // waits for the decoder: the fetch of one GOP's fragment prefixes (as the
+  // loop's fetch budget allows), then its frames decoded in the worker while
+  // the next GOP is fetched.
   async #serve() {
-    if (this.busy || this.error) return;
+    if (this.fetching || this.error) return;
     const r = this.playback.nextRequest();
     if (!r) return;
-    this.busy = true;
+    this.fetching = true;
     try {
-      const t0 = performance.now();
       const fetched = await this.stream.fetchGop(r.gop, r.cameras,
         r.fetchBytes > 0 ? r.fetchBytes : Number.MAX_SAFE_INTEGER);
-      if (fetched > 0) this.playback.fetchMeasured(fetched, (performance.now() - t0) / 1000);
+      const seconds = this.stream.lastFetchSeconds;
+      if (fetched > 0 && seconds > 0) this.playback.fetchMeasured(fetched, seconds);
       this.hud.lastGopBytes = fetched;
       this.hud.lastGopBudget = r.fetchBytes;
+      this.playback.fetched(r.gop);
+      this.decodes = (this.decodes ?? Promise.resolve()).then(() => this.#decode(r, fetched, seconds));
+    } catch (e) {
+      this.playback.failed(r.gop);
+      this.#fail(e instanceof FvvStreamError ? e : new Error(`GOP ${r.gop}: ${e.message}`));
+    } finally {
+      this.fetching = false;
+    }
+  }
+
+  async #decode(r, fetched, seconds) {
+    if (this.error) return;
+    try {
       const first = r.gop * this.info.gopFrames;
       const count = Math.min(this.info.gopFrames, this.info.frameCount - first);
       const frames = [];
@@ -202,13 +222,13 @@ export class FvvPlayer {
       }
       this.gops.set(r.gop, frames);
       this.playback.deliver(r.gop, frames[0].report);
+      this.options.onGop?.({ gop: r.gop, cameras: r.cameras, fetched, fetchBytes: r.fetchBytes,
+                             seconds, frames });
       this.hud.report = frames[0].report;
       this.#evict();
     } catch (e) {
       this.playback.failed(r.gop);
-      this.#fail(e instanceof FvvStreamError ? e : new Error(`GOP ${r.gop}: ${e.message}`));
-    } finally {
-      this.busy = false;
+      this.#fail(new Error(`GOP ${r.gop}: ${e.message}`));
     }
   }
 

@@ -31,6 +31,7 @@ export class FvvStream {
     this.notice = onNotice;
     this.bandwidth = 0;       // bytes per second, measured
     this.fetched = 0;         // every byte fetched, heads included
+    this.fetchSeconds = 0;    // the time those fetches took, request to last byte
     this.wholeFile = false;   // the server ignored Range: the whole stream is held
   }
 
@@ -81,6 +82,7 @@ export class FvvStream {
     }
     this.fetched += received;
     const seconds = (performance.now() - started) / 1000;
+    this.fetchSeconds += seconds;
     if (received > 0 && seconds > 0) {
       this.bandwidth = await this.decoder.bandwidthAfter(this.bandwidth, received, seconds);
     }
@@ -142,19 +144,27 @@ export class FvvStream {
 
   // Fetches GOP `span` for `cameras`: each fragment's prefix as the fetch plan
   // gives it for `budget` bytes (default: what the bandwidth allows while a
-  // GOP plays; unmeasured, whole fragments). Returns the bytes fetched.
+  // GOP plays; unmeasured, whole fragments). The fragments' requests go out
+  // together; their bytes reach the decoder once all are in. Returns the
+  // bytes fetched; lastFetchSeconds is the time from the first request to the
+  // last byte.
   async fetchGop(span, cameras, budget) {
+    this.lastFetchSeconds = 0;
     if (this.wholeFile) return 0;
     const fragments = await this.fragmentsFor(span, cameras);
     const allowed = budget ?? (this.bandwidth > 0
       ? await this.#call('gopFetchBudget', this.bandwidth, this.gopSeconds) : Number.MAX_SAFE_INTEGER);
     const plan = await this.#call('planPrefixes', fragments, allowed);
-    let fetched = 0;
-    for (let i = 0; i < fragments.length; ++i) {
-      const f = fragments[i];
+    const started = performance.now();
+    const parts = await Promise.all(fragments.map((f, i) => {
       const want = plan[i] - f.held;
-      if (want <= 0) continue;
-      const part = await this.#get(f.offset + f.held, want);
+      return want > 0 ? this.#get(f.offset + f.held, want).then((part) => ({ f, want, part })) : null;
+    }));
+    this.lastFetchSeconds = (performance.now() - started) / 1000;
+    let fetched = 0;
+    for (const p of parts) {
+      if (!p) continue;
+      const { f, want, part } = p;
       if (part.bytes.length > 0) await this.#call('addRange', f.offset + f.held, part.bytes);
       fetched += part.bytes.length;
       if (!part.complete) {

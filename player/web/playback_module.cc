@@ -129,6 +129,9 @@ EMSCRIPTEN_KEEPALIVE void fvv_web_playback_deliver(WebPlayback* p, uint32_t gop,
   p->gops.Deliver(gop, r);
 }
 
+EMSCRIPTEN_KEEPALIVE void fvv_web_playback_fetched(WebPlayback* p, uint32_t gop) {
+  p->gops.Fetched(gop);
+}
 EMSCRIPTEN_KEEPALIVE void fvv_web_playback_failed(WebPlayback* p, uint32_t gop) {
   p->gops.Failed(gop);
 }
