@@ -69,6 +69,7 @@ TEST(PlaybackLoopOverRequests, WaitsForTheFirstGopThenFetchesAhead) {
   EXPECT_FALSE(rig.gops.NextRequest(&other, &request)) << "one request in flight at a time";
   for (int i = 0; i < 10; ++i) ASSERT_TRUE(rig.Tick().ok());
   EXPECT_FALSE(rig.loop.has_frame());
+  EXPECT_EQ(rig.loop.stats().waits, 0u) << "the wait for the first frame is the start-up";
   rig.gops.Deliver(0, Whole());
   ASSERT_TRUE(rig.Tick().ok());
   ASSERT_TRUE(rig.loop.has_frame());
@@ -113,6 +114,7 @@ TEST(PlaybackLoopOverRequests, ALateGopHoldsThePlayheadInsteadOfSkipping) {
   ASSERT_TRUE(rig.Tick().ok());
   EXPECT_EQ(rig.loop.frame_index(), kGopFrames) << "played on from where it waited";
   EXPECT_EQ(rig.loop.stats().stalls, 1u);
+  EXPECT_EQ(rig.loop.stats().waits, 1u) << "one wait, however many ticks it lasted";
 }
 
 TEST(PlaybackLoopOverRequests, ASeekWaitsForItsGopAndIsNotLost) {

@@ -20,6 +20,7 @@ for kind in masks depth; do
     -o "$dir/native_$kind" >/dev/null
   cp "$dir/native_$kind/render_f00005.png" "$dir/native_$kind.png"
 done
+cp "$here/../conformance/cases/live/stream.fvv" "$dir/live.fvv"  # no index
 cp "$dir/depth.fvv" "$dir/dropped.fvv"
 cp "$dir/depth.fvv" "$dir/whole.fvv"
 # Damaged: a byte well inside the first fragment's chunks; cut: the last 40 % gone.

@@ -116,6 +116,7 @@ Status PlaybackLoop::Advance(double dt, const glm::vec3& eye,
     // frame wanted, so a seek is not lost while its GOP comes.
     source_->Prefetch(f, request);
     if (t.playing) wait_ms_ += 1000 * dt;
+    if (t.playing && !waiting_) ++stats_.waits;
     t.playhead = f;
     waiting_ = true;
     f = shown_;

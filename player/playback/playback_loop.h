@@ -34,6 +34,9 @@ struct PlaybackStats {
   uint64_t bytes_decoded = 0, bytes_available = 0;
   uint64_t frames_without_texture = 0;  // shown with no texture byte decoded
   uint64_t stalls = 0;                  // frames on screen for more than 2 frame times
+  // Times the playhead was held for a GOP not there yet, after the first frame
+  // (a stall the source caused, where `stalls` also counts a slow display).
+  uint64_t waits = 0;
   uint64_t bytes_fetched = 0;           // as the embedding reported its fetches
   double decode_ms = 0;
 };

@@ -20,6 +20,16 @@
 const EVENTS = ['need', 'ready', 'frames', 'end'];
 const FORMATS = { rgb: 0, yuv: 1 };
 
+// The module's instantiation from a WebAssembly.Module compiled already (on
+// the page, and handed to its worker), instead of fetching and compiling the
+// .wasm once more: emscripten's instantiateWasm hook.
+export function instantiateFrom(wasmModule) {
+  return (imports, receive) => {
+    WebAssembly.instantiate(wasmModule, imports).then((instance) => receive(instance, wasmModule));
+    return {};
+  };
+}
+
 export class FvvError extends Error {
   constructor(status, name, message) {
     // The decoder's messages begin with the status's name already.
@@ -35,13 +45,16 @@ export class FvvDecoder {
   // as fzstd's decompress. memoryCap, maxGopSamples, maxFragmentBytes:
   // fvv_decoder_settings; the claim (SPEC.md 5.1) defaults to level 2's GOP
   // samples and fragment bytes, about 1.1 GiB of the 4 GiB a page addresses.
+  // wasmModule: the module's .wasm compiled already (WebAssembly.Module).
   static async create({
-    moduleUrl, moduleFactory, zstd, memoryCap = 0, maxGopSamples = 2 ** 26,
+    moduleUrl, moduleFactory, wasmModule, zstd, memoryCap = 0, maxGopSamples = 2 ** 26,
     maxFragmentBytes = 32 * 2 ** 20,
   } = {}) {
     if (!zstd) throw new Error('FvvDecoder.create needs a zstd decompressor (fzstd.decompress)');
     const factory = moduleFactory ?? (await import(moduleUrl)).default;
-    const m = await factory({ fvvZstdDecompress: zstd });
+    const m = await factory({
+      fvvZstdDecompress: zstd, ...(wasmModule ? { instantiateWasm: instantiateFrom(wasmModule) } : {}),
+    });
     return new FvvDecoder(m, { memoryCap, maxGopSamples, maxFragmentBytes });
   }
 
@@ -141,6 +154,12 @@ export class FvvDecoder {
     };
   }
 
+  // Fragments [first, first + count) at once (one message to a worker).
+  fragments(first, count) {
+    const out = [];
+    for (let i = first; i < Math.min(first + count, this.fragmentCount()); ++i) out.push(this.fragment(i));
+    return out;
+  }
   fragmentCount() {
     return this.m._fvv_decoder_fragment_count(this.handle);
   }

@@ -4,13 +4,14 @@
 // answered { id, result } or { id, error: { status, statusName, message } };
 // the decoded views' pixel buffers are transferred, not copied.
 //
-// The first message is { id, method: 'create', args: [{ moduleUrl, zstdUrl, ...settings }] }:
-// the worker imports the module and fzstd from those URLs.
+// The first message is { id, method: 'create', args: [{ moduleUrl, zstdUrl, wasmModule,
+// ...settings }] }: the worker imports the module and fzstd from those URLs
+// (and instantiates wasmModule, when the page compiled it, rather than the .wasm).
 import { FvvDecoder } from './fvv_decoder_api.mjs';
 
 // The FvvDecoder methods a page may call (fvv_decoder_worker_client.mjs).
 const METHODS = new Set(['openRanges', 'addRange', 'push', 'pushEnd', 'process', 'wantedRange',
-  'framesAvailable', 'info', 'camera', 'model', 'fragmentCount', 'fragment', 'decodeFrame',
+  'framesAvailable', 'info', 'camera', 'model', 'fragmentCount', 'fragment', 'fragments', 'decodeFrame',
   'planPrefixes', 'bandwidthAfter', 'gopFetchBudget', 'destroy']);
 let decoder = null;
 

@@ -48,7 +48,7 @@ export class FvvDecoderWorker {
   }
 }
 for (const method of ['openRanges', 'addRange', 'push', 'pushEnd', 'process', 'wantedRange',
-                      'framesAvailable', 'info', 'camera', 'model', 'fragmentCount', 'fragment',
+                      'framesAvailable', 'info', 'camera', 'model', 'fragmentCount', 'fragment', 'fragments',
                       'decodeFrame', 'planPrefixes', 'bandwidthAfter', 'gopFetchBudget', 'destroy']) {
   FvvDecoderWorker.prototype[method] = function (...args) {
     return this.call(method, ...args);

@@ -10,19 +10,26 @@
 //   pb.fetched(r.gop);            // its bytes are in: the next fetch may start
 //   pb.deliver(r.gop, frame.report);
 
+import { instantiateFrom } from './fvv_decoder_api.mjs';
+
 const STATE = [
   'hasFrame', 'frame', 'changed', 'playhead', 'playing', 'bytesPerSecond', 'fetchBudget',
   'stalls', 'framesWithoutTexture', 'gops', 'bytesFetched', 'decodeMs', 'nextMaxMs',
   'belowRealTime', 'framesDrawn', 'framesAdvanced', 'bytesDecoded', 'bytesAvailable',
   'gopBytesDecoded', 'gopBytesAvailable', 'gopDecodeMs', 'lumaPlanes', 'cbPlanes', 'crPlanes',
+  'waits',
 ];
 
 export class FvvPlayback {
   // info: FvvDecoder.info(); centres: the cameras' centres ([x, y, z] each).
-  static async create({ moduleUrl, moduleFactory, info, centres, floorShare = 0 }) {
+  // wasmModule: the module's .wasm compiled already (WebAssembly.Module).
+  static async create({ moduleUrl, moduleFactory, wasmModule, info, centres, floorShare = 0 }) {
     const factory = moduleFactory ?? (await import(moduleUrl)).default;
     // The loop decodes nothing: no zstd frame reaches this instance.
-    const m = await factory({ fvvZstdDecompress: () => { throw new Error('no decoding here'); } });
+    const m = await factory({
+      fvvZstdDecompress: () => { throw new Error('no decoding here'); },
+      ...(wasmModule ? { instantiateWasm: instantiateFrom(wasmModule) } : {}),
+    });
     return new FvvPlayback(m, info, centres, floorShare);
   }
 
@@ -87,6 +94,29 @@ export class FvvPlayback {
   seek(frame) { this.m._fvv_web_playback_seek(this.handle, frame); }
   setTransport({ playing, loop, speed }) {
     this.m._fvv_web_playback_set_transport(this.handle, playing ? 1 : 0, loop ? 1 : 0, speed ?? 1);
+  }
+
+  // The fetch plan (player/playback/fetch_plan.h): the prefix of each
+  // fragment ({ headSize, size }) to fetch within `budget` bytes.
+  planPrefixes(fragments, budget) {
+    const m = this.m, n = fragments.length;
+    const p = m._malloc(Math.max(1, 24 * n));
+    const u64 = (at) => m.HEAPU32[at >> 2] + m.HEAPU32[(at >> 2) + 1] * 2 ** 32;
+    const setU64 = (at, v) => {
+      const big = BigInt(Math.min(v, Number.MAX_SAFE_INTEGER));
+      m.HEAPU32[at >> 2] = Number(big & 0xffffffffn);
+      m.HEAPU32[(at >> 2) + 1] = Number(big >> 32n);
+    };
+    try {
+      fragments.forEach((f, i) => {
+        setU64(p + 8 * i, f.headSize);
+        setU64(p + 8 * (n + i), f.size);
+      });
+      m._fvv_web_plan_prefixes(p, p + 8 * n, n, BigInt(Math.min(budget, Number.MAX_SAFE_INTEGER)), p + 16 * n);
+      return fragments.map((_, i) => u64(p + 8 * (2 * n + i)));
+    } finally {
+      m._free(p);
+    }
   }
 
   // The renderer's constants (container/geometric_visibility.h).

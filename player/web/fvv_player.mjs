@@ -12,21 +12,32 @@
 // A stream without an index cannot be fetched by ranges: it plays from the
 // start as it downloads, whole fragments, without seeking (onNotice says so).
 
-import { FvvDecoderWorker } from './fvv_decoder_worker_client.mjs';
+import { FvvDecoderPool } from './fvv_decoder_pool.mjs';
 import { FvvPlayback } from './fvv_playback.mjs';
 import { FvvRenderer } from './fvv_renderer.mjs';
 import { FvvStream, FvvStreamError } from './fvv_stream.mjs';
 import { lookAtView, orbitView } from './fvv_view.mjs';
 
 const here = (name) => new URL(name, import.meta.url).href;
+const DEFAULTS = () => ({
+  moduleUrl: here('./fvv_decoder.mjs'), workerUrl: here('./fvv_decoder_worker.mjs'),
+  zstdUrl: here('./fzstd/index.mjs'), shaderUrl: here('./shaders/'), autoplay: true, loop: true,
+  onNotice: () => {}, onError: () => {},
+  // Decoder workers, each decoding its share of a frame's cameras: half the
+  // cores, the rest left to drawing (with software WebGL on two cores, a
+  // second decoder slowed playback: docs/web.md).
+  decoders: Number(new URLSearchParams(location.search).get('decoders')) ||
+    Math.max(1, Math.min(4, Math.floor((navigator.hardwareConcurrency ?? 2) / 2))),
+});
 // GOPs of decoded frames kept (the one shown, the ones fetched ahead).
 const CACHED_GOPS = 4;
 
 export class FvvPlayer {
   // options: moduleUrl, workerUrl, zstdUrl, shaderUrl (defaults: beside this
-  // file, as the build lays the site out), onNotice(text), onError(error),
-  // onGop({ gop, cameras, fetched, fetchBytes, seconds, frames }) after each
-  // GOP is decoded, autoplay (true), loop (true).
+  // file, as the build lays the site out), prepared (FvvPlayer.prepare's),
+  // onNotice(text), onError(error), onGop({ gop, cameras, fetched,
+  // fetchBytes, seconds, whole, frames }) after each GOP is decoded (whole:
+  // its fragments were fetched whole), autoplay (true), loop (true).
   static async open(canvas, url, options = {}) {
     const p = new FvvPlayer(canvas, options);
     try {
@@ -38,13 +49,24 @@ export class FvvPlayer {
     return p;
   }
 
+  // What a page can ready before it has a stream: the module compiled once
+  // (the page's loop and the worker's decoder instantiate it) and the worker
+  // started. A player opened with it fetches nothing but the stream.
+  static async prepare(options = {}) {
+    const o = { ...DEFAULTS(), ...options };
+    const wasmUrl = new URL(o.moduleUrl.replace(/\.mjs$/, '.wasm'), location.href);
+    const response = await fetch(wasmUrl);
+    if (!response.ok) throw new Error(`${wasmUrl}: the server answered ${response.status}`);
+    const wasmModule = await WebAssembly.compileStreaming(response);
+    const worker = await FvvDecoderPool.create(o.workerUrl,
+      { moduleUrl: o.moduleUrl, zstdUrl: o.zstdUrl, wasmModule }, o.decoders);
+    await import(o.moduleUrl);
+    return { wasmModule, worker, used: false };
+  }
+
   constructor(canvas, options) {
     this.canvas = canvas;
-    this.options = {
-      moduleUrl: here('./fvv_decoder.mjs'), workerUrl: here('./fvv_decoder_worker.mjs'),
-      zstdUrl: here('./fzstd/index.mjs'), shaderUrl: here('./shaders/'), autoplay: true, loop: true,
-      onNotice: () => {}, onError: () => {}, ...options,
-    };
+    this.options = { ...DEFAULTS(), ...options };
     const gl = canvas.getContext('webgl2', { antialias: false });
     if (!gl) throw new Error('this browser has no WebGL 2');
     this.gl = gl;
@@ -55,21 +77,29 @@ export class FvvPlayer {
     this.viewDirty = true;
     this.hud = { fps: 0, drawMs: 0, webglMs: 0, lastGopBytes: 0, lastGopBudget: 0, lastCameras: [] };
     this.drawTimes = [];
+    this.pixel = new Uint8Array(4);
+    this.drawCount = 0;
   }
 
   async #open(url) {
     const o = this.options;
-    this.worker = await FvvDecoderWorker.create(o.workerUrl, { moduleUrl: o.moduleUrl, zstdUrl: o.zstdUrl });
+    // A prepared worker serves one player; a second player starts its own.
+    const prepared = o.prepared && !o.prepared.used ? o.prepared : null;
+    if (prepared) prepared.used = true;
+    this.wasmModule = o.prepared?.wasmModule;
+    this.worker = prepared?.worker ?? await FvvDecoderPool.create(o.workerUrl,
+      { moduleUrl: o.moduleUrl, zstdUrl: o.zstdUrl, wasmModule: this.wasmModule }, o.decoders);
     try {
       this.stream = await FvvStream.open(url, this.worker, { onNotice: o.onNotice, headBytes: o.headBytes ?? 16384 });
       this.sequential = false;
     } catch (e) {
       if (!/has no index/.test(e.message)) throw e;
       o.onNotice('this stream has no index: it plays from the start as it downloads, whole ' +
-                 'fragments, and cannot seek (fvv index adds one)');
+                 'fragments, and cannot seek');
       // A fresh decoder for the pushed bytes: the other one was opened for ranges.
       this.worker.terminate();
-      this.worker = await FvvDecoderWorker.create(o.workerUrl, { moduleUrl: o.moduleUrl, zstdUrl: o.zstdUrl });
+      this.worker = await FvvDecoderPool.create(o.workerUrl,
+        { moduleUrl: o.moduleUrl, zstdUrl: o.zstdUrl, wasmModule: this.wasmModule }, o.decoders);
       this.stream = await SequentialStream.open(url, this.worker, o.onNotice);
       this.sequential = true;
     }
@@ -79,7 +109,7 @@ export class FvvPlayer {
     for (let c = 0; c < info.cameraCount; ++c) this.cameras.push(await this.worker.camera(c));
     const model = await this.worker.model();
     this.playback = await FvvPlayback.create({
-      moduleUrl: o.moduleUrl, info, centres: this.cameras.map((c) => c.centre),
+      moduleUrl: o.moduleUrl, wasmModule: this.wasmModule, info, centres: this.cameras.map((c) => c.centre),
     });
     this.playback.setTransport({ playing: o.autoplay, loop: o.loop && !this.sequential, speed: 1 });
     // The head's fetches measured the network first: the first GOP's budget.
@@ -144,7 +174,6 @@ export class FvvPlayer {
     if (!this.running) return;
     const dt = Math.min(0.25, (now - this.last) / 1000);
     this.last = now;
-    const tickStart = performance.now();
     try {
       const view = this.#view();
       this.playback.advance(dt, view.eye, view.target);
@@ -158,17 +187,20 @@ export class FvvPlayer {
           if (frame !== this.shownFrame) this.renderer.setFrame(frame);
           this.shownFrame = frame;
           this.hud.lastCameras = this.renderer.draw(this.#view(), this.canvas.width, this.canvas.height);
-          this.gl.finish();  // the frame's WebGL time, not only its commands'
+          // Every 8th frame, the frame's WebGL time, not only its commands':
+          // reading a pixel back waits for the drawing (finish() does not, in
+          // chromium), which would hold up every frame if done on each.
+          const timed = this.drawCount++ % 8 === 0;
+          if (timed) this.gl.readPixels(0, 0, 1, 1, this.gl.RGBA, this.gl.UNSIGNED_BYTE, this.pixel);
           const ms = performance.now() - t0;
-          this.hud.webglMs = 0.9 * this.hud.webglMs + 0.1 * ms;
-          this.playback.frameDrawn(ms);
+          if (timed) this.hud.webglMs = this.hud.webglMs ? 0.7 * this.hud.webglMs + 0.3 * ms : ms;
+          this.hud.webglTotalMs = (this.hud.webglTotalMs ?? 0) + this.hud.webglMs;
+          this.playback.frameDrawn(this.hud.webglMs);
           this.viewDirty = false;
           this.drawTimes.push(now);
         }
       }
       while (this.drawTimes.length && this.drawTimes[0] < now - 1000) this.drawTimes.shift();
-      this.hud.ticks = (this.hud.ticks ?? 0) + 1;
-      this.hud.tickMs = (this.hud.tickMs ?? 0) + performance.now() - tickStart;
       this.hud.fps = this.drawTimes.length;
     } catch (e) {
       this.#fail(e);
@@ -188,30 +220,44 @@ export class FvvPlayer {
   // loop's fetch budget allows), then its frames decoded in the worker while
   // the next GOP is fetched.
   async #serve() {
-    if (this.fetching || this.error) return;
+    if (this.fetching || this.error || !this.running) return;
     const r = this.playback.nextRequest();
     if (!r) return;
     this.fetching = true;
     try {
-      const fetched = await this.stream.fetchGop(r.gop, r.cameras,
-        r.fetchBytes > 0 ? r.fetchBytes : Number.MAX_SAFE_INTEGER);
+      const { fetched, parts, cameras } = await this.stream.fetchGopBytes(r.gop, r.cameras,
+        r.fetchBytes > 0 ? r.fetchBytes : Number.MAX_SAFE_INTEGER, this.playback);
       const seconds = this.stream.lastFetchSeconds;
       if (fetched > 0 && seconds > 0) this.playback.fetchMeasured(fetched, seconds);
       this.hud.lastGopBytes = fetched;
       this.hud.lastGopBudget = r.fetchBytes;
       this.playback.fetched(r.gop);
-      this.decodes = (this.decodes ?? Promise.resolve()).then(() => this.#decode(r, fetched, seconds));
+      const whole = this.stream.lastFetchWhole ?? true;
+      // The bytes reach the worker behind the decode under way, in order.
+      // Cameras whose fragments lost their heads to a closed connection are
+      // left out of this GOP's decode.
+      this.#inOrder(() => this.#decode({ ...r, cameras: cameras ?? r.cameras }, parts, fetched, seconds, whole));
     } catch (e) {
       this.playback.failed(r.gop);
       this.#fail(e instanceof FvvStreamError ? e : new Error(`GOP ${r.gop}: ${e.message}`));
     } finally {
       this.fetching = false;
     }
+    this.#serve();  // the next fetch at once, not at the next frame
   }
 
-  async #decode(r, fetched, seconds) {
+  // Runs `work` after everything queued before it on the worker: fetched
+  // bytes reach the decoder in the order they were planned.
+  #inOrder(work) {
+    const run = (this.decodes ?? Promise.resolve()).then(work);
+    this.decodes = run.catch(() => {});
+    return run;
+  }
+
+  async #decode(r, parts, fetched, seconds, whole) {
     if (this.error) return;
     try {
+      await this.stream.addParts(parts);
       const first = r.gop * this.info.gopFrames;
       const count = Math.min(this.info.gopFrames, this.info.frameCount - first);
       const frames = [];
@@ -223,9 +269,10 @@ export class FvvPlayer {
       this.gops.set(r.gop, frames);
       this.playback.deliver(r.gop, frames[0].report);
       this.options.onGop?.({ gop: r.gop, cameras: r.cameras, fetched, fetchBytes: r.fetchBytes,
-                             seconds, frames });
+                             seconds, whole, frames });
       this.hud.report = frames[0].report;
       this.#evict();
+      this.#serve();  // a delivery may let the loop ask for the next GOP
     } catch (e) {
       this.playback.failed(r.gop);
       this.#fail(new Error(`GOP ${r.gop}: ${e.message}`));
@@ -256,9 +303,12 @@ export class FvvPlayer {
       this.canvas.width = width;
       this.canvas.height = height;
     }
+    // In the decode chain, behind the bytes already fetched for it.
     const gop = Math.floor(frame / this.info.gopFrames);
-    await this.stream.fetchGop(gop, undefined, Number.MAX_SAFE_INTEGER);
-    const decoded = await this.worker.decodeFrame(frame, { maxBytes: bytes });
+    const decoded = await this.#inOrder(async () => {
+      await this.stream.fetchGop(gop, undefined, Number.MAX_SAFE_INTEGER);
+      return this.worker.decodeFrame(frame, { maxBytes: bytes });
+    });
     this.renderer.setFrame(decoded);
     const w = this.canvas.width, h = this.canvas.height;
     this.renderer.draw(lookAtView(view.eye, view.target, view.fovDeg ?? 40, w / h), w, h);
@@ -343,6 +393,15 @@ class SequentialStream {
     while (!this.info) {
       if (!(await this.#pump())) throw new FvvStreamError(`${this.url}: the stream ends before its head does`);
     }
+    if (this.info.frameCount === 0) {
+      // A live stream counts its frames from its fragments: all of them first.
+      this.notice('a live stream: it plays once it has arrived');
+      while (await this.#pump());
+      this.ended = true;
+      this.info = { ...this.info, frameCount: this.available };
+      if (this.available === 0) throw new FvvStreamError(`${this.url}: the stream holds no frame`);
+      return;
+    }
     this.#pumpAll();
   }
   // Pushes the next piece; false at the end.
@@ -371,8 +430,12 @@ class SequentialStream {
     this.ended = true;
     for (const w of this.waiters.splice(0)) w();
   }
-  // Waits until the GOP's frames decode; returns the bytes fetched meanwhile.
   async fetchGop(span) {
+    return (await this.fetchGopBytes(span)).fetched;
+  }
+  async addParts() {}
+  // Waits until the GOP's frames decode: { fetched: the bytes fetched meanwhile }.
+  async fetchGopBytes(span) {
     const before = this.fetched;
     const last = Math.min((span + 1) * this.info.gopFrames, this.info.frameCount);
     while (this.available < last) {
@@ -380,6 +443,6 @@ class SequentialStream {
       if (this.ended) throw new FvvStreamError(`${this.url}: the stream ends at frame ${this.available}`);
       await new Promise((resolve) => this.waiters.push(resolve));
     }
-    return this.fetched - before;
+    return { fetched: this.fetched - before, parts: [] };
   }
 }

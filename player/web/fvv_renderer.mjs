@@ -36,10 +36,15 @@ function compile(gl, type, source, what) {
   return s;
 }
 
-function program(gl, vertex, fragment, what) {
+// WebGL links no program without a fragment shader, even one that only
+// captures vertices by transform feedback.
+const NO_FRAGMENTS = '#version 300 es\nprecision mediump float;\nout vec4 o;\nvoid main() { o = vec4(0.0); }\n';
+
+function program(gl, vertex, fragment, what, feedback) {
   const p = gl.createProgram();
   gl.attachShader(p, compile(gl, gl.VERTEX_SHADER, vertex, what + ' (vertex)'));
-  gl.attachShader(p, compile(gl, gl.FRAGMENT_SHADER, fragment, what + ' (fragment)'));
+  gl.attachShader(p, compile(gl, gl.FRAGMENT_SHADER, fragment ?? NO_FRAGMENTS, what + ' (fragment)'));
+  if (feedback) gl.transformFeedbackVaryings(p, [feedback], gl.SEPARATE_ATTRIBS);
   gl.linkProgram(p);
   if (!gl.getProgramParameter(p, gl.LINK_STATUS)) throw new Error(`${what}: ${gl.getProgramInfoLog(p)}`);
   return p;
@@ -52,9 +57,9 @@ export class FvvRenderer {
       if (!r.ok) throw new Error(`shader ${name}: ${r.status}`);
       return r.text();
     };
-    const [skinning, blend, depth] = await Promise.all(
-      ['skinning.vert', 'renderer.frag', 'camera_depth.frag'].map(load));
-    return new FvvRenderer(gl, { skinning, blend, depth }, model, cameras, info, playback);
+    const [skinning, blend, depthVert, depthFrag] = await Promise.all(
+      ['skinning.vert', 'renderer.frag', 'camera_depth.vert', 'camera_depth.frag'].map(load));
+    return new FvvRenderer(gl, { skinning, blend, depthVert, depthFrag }, model, cameras, info, playback);
   }
 
   constructor(gl, src, model, cameras, info, playback) {
@@ -74,8 +79,9 @@ export class FvvRenderer {
     this.maskProgram = program(gl, toEs(src.skinning), toEs(src.blend), 'renderer');
     this.depthProgram = program(gl, toEs(src.skinning),
       toEs(src.blend, '#define FVV_DEPTH_VISIBILITY 1\n'), 'renderer (depth maps)');
-    this.mapProgram = program(gl, toEs(src.skinning), toEs(src.depth), 'camera depth maps');
-    for (const p of [this.maskProgram, this.depthProgram, this.mapProgram]) {
+    this.mapProgram = program(gl, toEs(src.depthVert), toEs(src.depthFrag), 'camera depth maps');
+    this.skinProgram = program(gl, toEs(src.skinning), null, 'skinning for depth maps', 'v_world');
+    for (const p of [this.maskProgram, this.depthProgram, this.skinProgram]) {
       gl.uniformBlockBinding(p, gl.getUniformBlockIndex(p, 'Bones'), 0);
     }
     gl.uniformBlockBinding(this.depthProgram, gl.getUniformBlockIndex(this.depthProgram, 'DepthCameras'), 1);
@@ -102,6 +108,18 @@ export class FvvRenderer {
     gl.bindVertexArray(null);
     this.vao = vao;
     this.indexCount = model.triangles.length;
+    this.vertexCount = model.positions.length / 3;
+    // The skinned positions the depth maps draw, and their vertex array.
+    this.skinned = gl.createBuffer();
+    gl.bindBuffer(gl.ARRAY_BUFFER, this.skinned);
+    gl.bufferData(gl.ARRAY_BUFFER, this.vertexCount * 12, gl.DYNAMIC_COPY);
+    this.skinnedVao = gl.createVertexArray();
+    gl.bindVertexArray(this.skinnedVao);
+    gl.enableVertexAttribArray(0);
+    gl.vertexAttribPointer(0, 3, gl.FLOAT, false, 12, 0);
+    gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, ibo);
+    gl.bindVertexArray(null);
+    gl.bindBuffer(gl.ARRAY_BUFFER, null);
 
     this.bonesUbo = gl.createBuffer();
     gl.bindBuffer(gl.UNIFORM_BUFFER, this.bonesUbo);
@@ -269,13 +287,24 @@ export class FvvRenderer {
     if (!this.depth) this.#makeDepthMaps();
     const gl = this.gl, d = this.depth;
     const t0 = performance.now();
+    // Skin every vertex once, into `skinned`.
+    gl.useProgram(this.skinProgram);
+    gl.uniform1i(gl.getUniformLocation(this.skinProgram, 'u_skinned'), 1);
+    gl.bindBufferBase(gl.UNIFORM_BUFFER, 0, this.bonesUbo);
+    gl.bindBufferBase(gl.TRANSFORM_FEEDBACK_BUFFER, 0, this.skinned);
+    gl.bindVertexArray(this.vao);
+    gl.enable(gl.RASTERIZER_DISCARD);
+    gl.beginTransformFeedback(gl.POINTS);
+    gl.drawArrays(gl.POINTS, 0, this.vertexCount);
+    gl.endTransformFeedback();
+    gl.disable(gl.RASTERIZER_DISCARD);
+    gl.bindBufferBase(gl.TRANSFORM_FEEDBACK_BUFFER, 0, null);
+    // Each camera's pass draws the skinned vertices.
     gl.bindFramebuffer(gl.FRAMEBUFFER, d.framebuffer);
     gl.viewport(0, 0, d.width, d.height);
     gl.useProgram(this.mapProgram);
-    gl.uniform1i(gl.getUniformLocation(this.mapProgram, 'u_skinned'), 1);
     const viewProj = gl.getUniformLocation(this.mapProgram, 'u_view_proj');
-    gl.bindBufferBase(gl.UNIFORM_BUFFER, 0, this.bonesUbo);
-    gl.bindVertexArray(this.vao);
+    gl.bindVertexArray(this.skinnedVao);
     gl.enable(gl.DEPTH_TEST);
     gl.depthFunc(gl.LESS);
     gl.depthMask(true);

@@ -29,7 +29,8 @@ export class FvvStream {
     this.decoder = decoder;
     this.timeoutMs = timeoutMs;
     this.notice = onNotice;
-    this.bandwidth = 0;       // bytes per second, measured
+    this.bandwidth = 0;       // bytes per second, measured (`measured` folded in)
+    this.measured = [];       // fetches not yet folded in: [bytes, seconds]
     this.fetched = 0;         // every byte fetched, heads included
     this.fetchSeconds = 0;    // the time those fetches took, request to last byte
     this.wholeFile = false;   // the server ignored Range: the whole stream is held
@@ -84,7 +85,8 @@ export class FvvStream {
     const seconds = (performance.now() - started) / 1000;
     this.fetchSeconds += seconds;
     if (received > 0 && seconds > 0) {
-      this.bandwidth = await this.decoder.bandwidthAfter(this.bandwidth, received, seconds);
+      // Folded in later: a fetch's end waits for no decoder.
+      this.measured.push([received, seconds]);
     }
     if (response.status === 200) {
       // A server that ignores Range sends the whole stream: it is all held now.
@@ -126,52 +128,87 @@ export class FvvStream {
     this.info = await this.#call('info');
     this.groups = Math.ceil(this.info.cameraCount / this.info.gopCameras);
     this.gopSeconds = this.info.gopFrames / this.info.frameRate;
+    // Where each fragment is, from the index, once: later fetches ask the
+    // decoder nothing (it may be busy decoding). `held` is kept here.
+    this.fragmentList = await this.#call('fragments', 0, await this.#call('fragmentCount'));
   }
 
   // The fragments of GOP `span` for `cameras` (indices; all when absent):
   // camera group 0 always (it carries the motion).
-  async fragmentsFor(span, cameras) {
+  fragmentsFor(span, cameras) {
     const groups = new Set([0]);
     for (const c of cameras ?? [...Array(this.info.cameraCount).keys()]) {
       groups.add(Math.floor(c / this.info.gopCameras));
     }
-    const out = [];
-    for (const g of [...groups].sort((a, b) => a - b)) {
-      out.push(await this.#call('fragment', span * this.groups + g));
-    }
-    return out;
+    return [...groups].sort((a, b) => a - b).map((g) => {
+      const f = this.fragmentList[span * this.groups + g];
+      if (!f) throw new FvvStreamError(`${this.url}: no fragment for GOP ${span}, camera group ${g}`);
+      return f;
+    });
   }
 
   // Fetches GOP `span` for `cameras`: each fragment's prefix as the fetch plan
   // gives it for `budget` bytes (default: what the bandwidth allows while a
-  // GOP plays; unmeasured, whole fragments). The fragments' requests go out
-  // together; their bytes reach the decoder once all are in. Returns the
-  // bytes fetched; lastFetchSeconds is the time from the first request to the
-  // last byte.
-  async fetchGop(span, cameras, budget) {
+  // GOP plays; unmeasured, whole fragments), the requests together. Returns
+  // { fetched, parts, cameras }: the bytes fetched, and of `cameras` those
+  // whose fragments hold their heads (they decode). The bytes reach the
+  // decoder with addParts(parts), which a player may leave until the decoder
+  // is free, fetching on meanwhile.
+  // lastFetchSeconds is the time from the first request to the last byte,
+  // lastFetchWhole whether the plan took every fragment whole. `planner`
+  // (FvvPlayback, on the page's thread) plans without waiting for the decoder.
+  async fetchGopBytes(span, cameras, budget, planner = this.decoder) {
     this.lastFetchSeconds = 0;
-    if (this.wholeFile) return 0;
-    const fragments = await this.fragmentsFor(span, cameras);
+    this.lastFetchWhole = true;
+    if (this.wholeFile) return { fetched: 0, parts: [] };
+    const fragments = this.fragmentsFor(span, cameras);
+    if (budget === undefined) {
+      for (const [bytes, seconds] of this.measured.splice(0)) {
+        this.bandwidth = await this.#call('bandwidthAfter', this.bandwidth, bytes, seconds);
+      }
+    }
     const allowed = budget ?? (this.bandwidth > 0
       ? await this.#call('gopFetchBudget', this.bandwidth, this.gopSeconds) : Number.MAX_SAFE_INTEGER);
-    const plan = await this.#call('planPrefixes', fragments, allowed);
+    const plan = await planner.planPrefixes(fragments, allowed);
+    this.lastFetchWhole = fragments.every((f, i) => plan[i] >= f.size);
     const started = performance.now();
-    const parts = await Promise.all(fragments.map((f, i) => {
+    const got = await Promise.all(fragments.map((f, i) => {
       const want = plan[i] - f.held;
       return want > 0 ? this.#get(f.offset + f.held, want).then((part) => ({ f, want, part })) : null;
     }));
     this.lastFetchSeconds = (performance.now() - started) / 1000;
     let fetched = 0;
-    for (const p of parts) {
-      if (!p) continue;
-      const { f, want, part } = p;
-      if (part.bytes.length > 0) await this.#call('addRange', f.offset + f.held, part.bytes);
+    const parts = [];
+    for (const g of got) {
+      if (!g) continue;
+      const { f, want, part } = g;
+      if (part.bytes.length > 0) parts.push({ offset: f.offset + f.held, bytes: part.bytes });
+      f.held += part.bytes.length;
       fetched += part.bytes.length;
       if (!part.complete) {
         this.notice(`the connection closed ${part.bytes.length} of ${want} bytes into fragment ` +
                     `${f.index}: it decodes from what arrived`);
       }
     }
+    // The cameras whose fragments decode: each needs its head (a connection
+    // that closed before the head left its camera out); the motion's too.
+    const decodable = new Set(fragments.filter((f) => f.held >= f.headSize).map((f) => f.firstCamera));
+    if (!decodable.has(0)) {  // fragments[0] is camera group 0's, which carries the motion
+      throw new FvvStreamError(`${this.url}: GOP ${span}'s motion did not arrive (camera group 0's head)`);
+    }
+    const all = cameras ?? [...Array(this.info.cameraCount).keys()];
+    const ready = all.filter((c) => decodable.has(c - (c % this.info.gopCameras)));
+    return { fetched, parts, cameras: ready };
+  }
+
+  async addParts(parts) {
+    for (const p of parts) await this.#call('addRange', p.offset, p.bytes);
+  }
+
+  // fetchGopBytes, its bytes given to the decoder: returns the bytes fetched.
+  async fetchGop(span, cameras, budget) {
+    const { fetched, parts } = await this.fetchGopBytes(span, cameras, budget);
+    await this.addParts(parts);
     return fetched;
   }
 

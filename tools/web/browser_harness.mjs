@@ -118,7 +118,10 @@ export async function withBrowser(mounts, work, { timeoutMs = 60000, faults = {}
       headless: true,
       // Software WebGL (SwiftShader) on machines without a GPU; no sandbox for root in CI.
       // No crash reporter: its handler detaches from the browser and outlives it.
-      args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
+      // FVV_CHROMIUM_GL: other flags for WebGL's back end, e.g. Mesa's llvmpipe
+      // through ANGLE's OpenGL in a virtual display (bench/run_web_player_bench.sh).
+      args: ['--no-sandbox',
+             ...(process.env.FVV_CHROMIUM_GL?.split(' ') ?? ['--use-angle=swiftshader', '--enable-unsafe-swiftshader']),
              '--disable-dev-shm-usage', '--hide-scrollbars', '--disable-crash-reporter',
              '--disable-breakpad'],
     });

@@ -3,27 +3,60 @@
 // and prints what its HUD measured. What tools/demo.sh shows of the page.
 //
 //   node tools/web/screenshot_player.mjs SITE_DIR STREAM OUT.png [SECONDS]
+//        [--size WxH (the canvas; default 800x556)] [--json OUT.json]
+import { writeFileSync } from 'node:fs';
 import path from 'node:path';
 import { withBrowser } from './browser_harness.mjs';
 
-const [site, stream, out, seconds = '6'] = process.argv.slice(2);
-if (!out) {
-  console.error('usage: screenshot_player.mjs SITE_DIR STREAM OUT.png [SECONDS]');
+const args = process.argv.slice(2);
+const option = (name, fallback) => {
+  const i = args.indexOf(name);
+  if (i < 0) return fallback;
+  const v = args[i + 1];
+  args.splice(i, 2);
+  return v;
+};
+const [width, height] = option('--size', '800x556').split('x').map(Number);
+const json = option('--json');
+const [site, stream, out, seconds = '6'] = args;
+if (!out || !(width > 0) || !(height > 0)) {
+  console.error('usage: screenshot_player.mjs SITE_DIR STREAM OUT.png [SECONDS] [--size WxH] [--json OUT.json]');
   process.exit(2);
 }
+const CONTROLS = 44;  // the page's control bar under the canvas
 const mounts = { '/site/': path.resolve(site), '/streams/': path.dirname(path.resolve(stream)) };
 const s = await withBrowser(mounts, async ({ page, base }) => {
-  await page.setViewport({ width: 800, height: 600 });
+  await page.setViewport({ width, height: height + CONTROLS });
   await page.goto(`${base}/site/index.html?stream=../streams/${path.basename(stream)}`);
   await page.waitForFunction(() => window.fvvPlayer || window.fvvError, { timeout: 60000 });
+  // Counted from the first frame drawn, as fvv play counts from its first.
+  await page.waitForFunction(() => window.fvvError || window.fvvPlayer?.stats().framesDrawn > 0,
+    { timeout: 60000, polling: 20 });
+  const before = await page.evaluate(() => window.fvvPlayer?.stats() ?? null);
+  const t0 = Date.now();
   await new Promise((r) => setTimeout(r, 1000 * Number(seconds)));
   await page.screenshot({ path: out });
-  return page.evaluate(() => window.fvvPlayer?.stats() ?? { error: window.fvvError });
+  const after = await page.evaluate(() => (window.fvvPlayer
+    ? { ...window.fvvPlayer.stats(), frameRate: window.fvvPlayer.info.frameRate } : { error: window.fvvError }));
+  const renderer = await page.evaluate(() => {
+    const gl = window.fvvPlayer?.gl;
+    const e = gl?.getExtension('WEBGL_debug_renderer_info');
+    return gl ? gl.getParameter(e ? e.UNMASKED_RENDERER_WEBGL : gl.RENDERER) : null;
+  });
+  const wall = (Date.now() - t0) / 1000;
+  return {
+    ...after, renderer, wall_s: wall, canvas: [width, height],
+    drawn_fps: before ? (after.framesDrawn - before.framesDrawn) / wall : 0,
+    webgl_share: before ? (after.webglTotalMs - before.webglTotalMs) / (1000 * wall) : 0,
+    speed: before ? (after.framesAdvanced - before.framesAdvanced) / (wall * after.frameRate) : 0,
+  };
 }, { timeoutMs: 120000 + 1000 * Number(seconds) });
 if (s.error) {
   console.error(`the page did not play ${stream}: ${s.error}`);
   process.exit(1);
 }
-console.log(`web player: ${s.framesAdvanced} frames played in ${seconds} s, ${s.framesDrawn} drawn, ` +
+console.log(`web player: ${s.drawn_fps.toFixed(1)} fps drawn at ${width}x${height} over ${seconds} s, ` +
   `${s.stalls} stalls, ${(s.bytesFetched / 1e6).toFixed(2)} MB fetched by range requests, ` +
-  `WebGL ${s.webglMs.toFixed(1)} ms a frame -> ${out}`);
+  `WebGL ${s.webglMs.toFixed(1)} ms a frame (${(100 * s.webgl_share).toFixed(0)} % of the time) ` +
+  `on ${s.renderer} -> ${out}`);
+if (json) writeFileSync(json, JSON.stringify(s, null, 2));

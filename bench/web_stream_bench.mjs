@@ -1,0 +1,170 @@
+// The web player over a throttled network (a benchmark, not a test): the page
+// (player/web/index.html) in headless chromium plays STREAM from the
+// harness's server on 127.0.0.1 while the DevTools protocol holds the
+// network to each rate, and reports per rate:
+// - start-up: from opening the stream on a page whose code is loaded to its
+//   first frame drawn, and from opening the page with nothing loaded;
+// - after the first frame: waits (the playhead held for a GOP not there
+//   yet) and stalls (frames on screen over two frame times, a slow display's
+//   too);
+// - frames shown without texture (must be none);
+// - bytes per GOP fetched against what the rate allows in a GOP's play time
+//   (every fetched byte counted: heads, index, model, motion);
+// - PSNR of the decoded textures against the whole stream's decode, for the
+//   first frame of every 4th GOP, over the cameras the page decoded;
+// and, unthrottled, whether it fetched whole fragments.
+//
+//   node bench/web_stream_bench.mjs SITE_DIR STREAM [--rates 0.5,1] [--seconds 25]
+//        [--latency-ms 20] [--json OUT]
+import { writeFileSync } from 'node:fs';
+import path from 'node:path';
+import { withBrowser } from '../tools/web/browser_harness.mjs';
+
+const args = process.argv.slice(2);
+const option = (name, fallback) => {
+  const i = args.indexOf(name);
+  return i >= 0 ? args[i + 1] : fallback;
+};
+const [site, stream] = args;
+if (!stream) {
+  console.error('usage: web_stream_bench.mjs SITE_DIR STREAM [--rates 0.5,1] [--seconds 25] ' +
+                '[--latency-ms 20] [--json OUT]');
+  process.exit(2);
+}
+const rates = option('--rates', '0.5,1,0').split(',').map(Number);  // Mbit/s; 0: unthrottled
+const seconds = Number(option('--seconds', '25'));
+const latencyMs = Number(option('--latency-ms', '20'));
+const mounts = { '/site/': path.resolve(site), '/streams/': path.dirname(path.resolve(stream)) };
+const url = `../streams/${path.basename(stream)}`;
+
+async function throttle(cdp, mbit) {
+  await cdp.send('Network.emulateNetworkConditions', {
+    offline: false, latency: mbit > 0 ? latencyMs : 0,
+    downloadThroughput: mbit > 0 ? (mbit * 1e6) / 8 : -1, uploadThroughput: -1,
+  });
+}
+
+// Start-up with nothing loaded: the page, its modules and the stream all
+// come over the throttled network (no-store: nothing is cached).
+async function coldStart(page, base, mbit) {
+  const cdp = await page.createCDPSession();
+  await cdp.send('Network.enable');
+  await throttle(cdp, mbit);
+  const opened = Date.now();
+  await page.goto(`${base}/site/index.html?stream=${url}`);
+  await page.waitForFunction(() => window.fvvPlayer?.stats().framesDrawn > 0 || window.fvvError,
+    { timeout: 120000, polling: 20 });
+  return (Date.now() - opened) / 1000;
+}
+
+async function run(page, base, mbit) {
+  const cdp = await page.createCDPSession();
+  await cdp.send('Network.enable');
+  // The page records each GOP's fetch and keeps the first frame of every 4th
+  // GOP's textures for the comparison with the whole decode.
+  await page.evaluateOnNewDocument(() => {
+    window.benchGops = [];
+    window.benchFrames = new Map();
+    window.fvvOnGop = ({ gop, cameras, fetched, fetchBytes, seconds, whole, frames }) => {
+      window.benchGops.push({ gop, cameras: cameras.length, fetched, fetchBytes, seconds, whole,
+                              at: performance.now() });
+      if (gop % 4 === 0 && !window.benchFrames.has(frames[0].index)) {
+        window.benchFrames.set(frames[0].index, frames[0].views.map((v) => v.pixels));
+      }
+    };
+  });
+  // The page and its module loaded (as for a viewer who opens a second
+  // stream, or a page whose code is cached); then the stream, throttled.
+  await page.goto(`${base}/site/index.html`);
+  if (!(await page.evaluate(() => window.fvvReady))) throw new Error('the page could not load its module');
+  await throttle(cdp, mbit);
+  const opened = Date.now();
+  await page.evaluate((u) => { window.fvvOpen(u); }, url);
+  await page.waitForFunction(() => window.fvvPlayer || window.fvvError, { timeout: 60000, polling: 20 });
+  const error = await page.evaluate(() => window.fvvError ?? null);
+  if (error) throw new Error(`the page cannot play the stream: ${error}`);
+  await page.waitForFunction(() => window.fvvPlayer.stats().framesDrawn > 0, { timeout: 60000, polling: 20 });
+  const startup = (Date.now() - opened) / 1000;
+  const atStart = await page.evaluate(() => window.fvvPlayer.stats());
+  await new Promise((r) => setTimeout(r, seconds * 1000));
+  const end = await page.evaluate(() => window.fvvPlayer.stats());
+  const gops = await page.evaluate(() => window.benchGops);
+  const info = await page.evaluate(() => window.fvvPlayer.info);
+  await throttle(cdp, 0);
+  // The whole decode of the kept frames, on the page's own thread, from the
+  // whole stream fetched unthrottled.
+  const psnr = await page.evaluate(async (streamUrl) => {
+    const { FvvDecoder } = await import('/site/fvv_decoder_api.mjs');
+    const { decompress } = await import('/site/fzstd/index.mjs');
+    const bytes = new Uint8Array(await (await fetch(streamUrl, { cache: 'no-store' })).arrayBuffer());
+    const dec = await FvvDecoder.create({ moduleUrl: '/site/fvv_decoder.mjs', zstd: decompress });
+    dec.openRanges(bytes.length);
+    dec.addRange(0, bytes);
+    while (dec.process() === 'need');
+    const out = [];
+    for (const [index, views] of window.benchFrames) {
+      const whole = dec.decodeFrame(index);
+      let se = 0, n = 0;
+      views.forEach((pixels, c) => {
+        if (!pixels) return;
+        const w = whole.views[c].pixels;
+        for (let i = 0; i < w.length; ++i) se += (pixels[i] - w[i]) ** 2;
+        n += w.length;
+      });
+      out.push(n ? (se === 0 ? 99 : 10 * Math.log10((255 * 255 * n) / se)) : 0);
+    }
+    dec.destroy();
+    return out;
+  }, `/streams/${path.basename(stream)}`);
+  await cdp.detach();
+  const gopSeconds = info.gopFrames / info.frameRate;
+  const allowed = mbit > 0 ? (mbit * 1e6 / 8) * gopSeconds : 0;
+  const played = gops.filter((g) => g.at > 0);
+  const share = played.map((g) => (allowed ? g.fetched / allowed : 0));
+  const wholeFragments = played.every((g) => g.whole);
+  return {
+    mbit, startup_s: startup, seconds,
+    frames_advanced: end.framesAdvanced - atStart.framesAdvanced,
+    frames_drawn: end.framesDrawn - atStart.framesDrawn,
+    stalls_after_start: end.stalls - atStart.stalls,
+    waits_after_start: end.waits - atStart.waits,
+    frames_without_texture: end.framesWithoutTexture,
+    gops: played.length,
+    bytes_fetched: end.bytesFetched,
+    mean_gop_bytes: played.reduce((s, g) => s + g.fetched, 0) / Math.max(1, played.length),
+    allowed_gop_bytes: allowed,
+    mean_share_of_allowed: share.reduce((s, v) => s + v, 0) / Math.max(1, share.length),
+    mean_cameras: played.reduce((s, g) => s + g.cameras, 0) / Math.max(1, played.length),
+    whole_fragments: wholeFragments,
+    psnr_vs_whole_db: psnr.length ? psnr.reduce((s, v) => s + v, 0) / psnr.length : null,
+    psnr_frames: psnr.length,
+    real_time_speed: (end.framesAdvanced - atStart.framesAdvanced) / (seconds * info.frameRate),
+  };
+}
+
+const results = [];
+for (const mbit of rates) {
+  const r = await withBrowser(mounts, async ({ page, base }) => {
+    await page.setViewport({ width: 640, height: 520 });
+    return run(page, base, mbit);
+  }, { timeoutMs: (seconds + 240) * 1000 });
+  r.cold_startup_s = await withBrowser(mounts, async ({ page, base }) => {
+    await page.setViewport({ width: 640, height: 520 });
+    return coldStart(page, base, mbit);
+  }, { timeoutMs: 240000 });
+  results.push(r);
+  const label = mbit > 0 ? `${mbit} Mbit/s` : 'unthrottled';
+  console.log(`${label}: playing ${r.startup_s.toFixed(2)} s after opening the stream ` +
+    `(${r.cold_startup_s.toFixed(2)} s after opening the page with nothing loaded); ` +
+    `after it ${r.waits_after_start} waits for a GOP, ${r.stalls_after_start} frames held over two frame times; ` +
+    `${r.frames_without_texture} frames untextured; ${r.gops} GOPs, ${(r.mean_gop_bytes / 1024).toFixed(1)} KiB each` +
+    (r.allowed_gop_bytes ? ` of ${(r.allowed_gop_bytes / 1024).toFixed(1)} KiB allowed ` +
+      `(${(100 * r.mean_share_of_allowed).toFixed(0)} %)` : '') +
+    `, ${r.mean_cameras.toFixed(1)} cameras; ` +
+    (r.psnr_vs_whole_db === null ? 'no frame kept for' : r.psnr_vs_whole_db >= 99 ? 'identical to'
+      : `${r.psnr_vs_whole_db.toFixed(2)} dB against`) + ` the whole ` +
+    `decode (${r.psnr_frames} frames); ${r.real_time_speed.toFixed(2)}x real time; ` +
+    `${r.frames_drawn} frames drawn in ${seconds} s` + (mbit > 0 ? '' : `; whole fragments: ${r.whole_fragments}`));
+}
+const out = option('--json');
+if (out) writeFileSync(out, JSON.stringify({ stream, latency_ms: latencyMs, results }, null, 2));
