@@ -9,7 +9,9 @@
 //   never hangs; a server that drops connections mid-fragment or ignores
 //   Range: the page plays on from what arrived and says so;
 // - seeking and stepping while paused; a stream without an index plays
-//   from the start as it downloads.
+//   from the start as it downloads;
+// - the three.js adapter: the actor in a three.js scene, drawn as fvv render
+//   draws it.
 //
 //   node web_player_test.mjs SITE_DIR WORK_DIR
 // WORK_DIR holds masks.fvv, depth.fvv, live.fvv, damaged.fvv, cut.fvv, path.json and
@@ -98,6 +100,43 @@ await withBrowser(mounts, async ({ page, base, requests }) => {
     check(pixels > 2000 && psnr >= MIN_PSNR,
       `${kind}: the page's still of frame ${STILL_FRAME} against fvv render's: ${psnr.toFixed(2)} dB over ${pixels} actor pixels (>= ${MIN_PSNR})`);
   }
+  // The three.js adapter: the actor (FvvActor) in a scene of three.js's own
+  // (floor, grid, box), drawn by three's render() in its context: over the
+  // actor, fvv render's still again; around it, three's scene.
+  await page.setViewport({ width: WIDTH, height: HEIGHT });
+  const q = `frame=${STILL_FRAME}&eye=${view.eye.join(',')}&target=${view.target.join(',')}&fov=${view.fovDeg}`;
+  await page.goto(`${base}/site/three.html?stream=../data/depth.fvv&${q}`);
+  await page.waitForFunction(() => window.fvvStill || window.fvvError, { timeout: 60000 });
+  const three = await page.evaluate(() => window.fvvStill ?? { error: window.fvvError });
+  if (three.error) {
+    check(false, `three.js: ${three.error}`);
+  } else {
+    const rgb = new Uint8Array(WIDTH * HEIGHT * 3);
+    for (let y = 0; y < HEIGHT; ++y) {
+      for (let x = 0; x < WIDTH; ++x) {
+        for (let k = 0; k < 3; ++k) rgb[(y * WIDTH + x) * 3 + k] = three.rgba[((HEIGHT - 1 - y) * WIDTH + x) * 4 + k];
+      }
+    }
+    const native = readFileSync(`${work}/native_depth_still.rgb`);
+    const bg = [0.12, 0.12, 0.14].map((v) => Math.round(v * 255));
+    let se = 0, n = 0, scene = 0;
+    for (let i = 0; i < native.length; i += 3) {
+      const actor = [0, 1, 2].some((k) => Math.abs(native[i + k] - bg[k]) > 2);
+      if (!actor) {
+        scene += [0, 1, 2].some((k) => Math.abs(rgb[i + k] - bg[k]) > 8);
+        continue;
+      }
+      for (let k = 0; k < 3; ++k) se += (rgb[i + k] - native[i + k]) ** 2;
+      n += 3;
+    }
+    const psnr = se === 0 ? 99 : 10 * Math.log10((255 * 255 * n) / se);
+    writeFileSync(`${work}/three_still.rgb`, rgb);
+    check(three.frame === STILL_FRAME && psnr >= MIN_PSNR,
+      `three.js: the actor of frame ${three.frame} against fvv render's: ${psnr.toFixed(2)} dB over ${n / 3} pixels`);
+    check(scene > 0.2 * WIDTH * HEIGHT, `three.js drew its own scene around the actor (${scene} pixels)`);
+  }
+  await page.setViewport({ width: 480, height: 400 });
+
   // Seeking goes through the index: paused, a step and a seek to a GOP not
   // fetched yet show exactly the frame asked for.
   await open(page, base, 'masks.fvv', { autoplay: false });

@@ -67,7 +67,10 @@ export class FvvPlayer {
   constructor(canvas, options) {
     this.canvas = canvas;
     this.options = { ...DEFAULTS(), ...options };
-    const gl = canvas.getContext('webgl2', { antialias: false });
+    // options.gl: a WebGL 2 context that another renderer owns (a three.js
+    // scene: fvv_three.mjs); its owner then drives the player (update, draw).
+    this.external = Boolean(options.gl);
+    const gl = options.gl ?? canvas.getContext('webgl2', { antialias: false });
     if (!gl) throw new Error('this browser has no WebGL 2');
     this.gl = gl;
     this.gops = new Map();    // GOP -> decoded frames
@@ -121,9 +124,37 @@ export class FvvPlayer {
     });
     this.last = performance.now();
     this.running = true;
+    if (this.external) return;
     this.#attachInput();
     this.tick = (now) => this.#frame(now);
     requestAnimationFrame(this.tick);
+  }
+
+  // For an owner that draws (options.gl): moves the playhead on by dt
+  // seconds for a viewer at `eye` looking at `target` (the stream's world),
+  // serves what the loop asks and readies the frame to show. True when a
+  // frame is ready to draw.
+  update(dt, eye, target) {
+    if (this.error) return Boolean(this.shownFrame);
+    this.playback.advance(dt, eye, target);
+    this.#serve();
+    const s = this.playback.state();
+    if (!s.hasFrame) return false;
+    const frame = this.gops.get(Math.floor(s.frame / this.info.gopFrames))?.[s.frame % this.info.gopFrames];
+    if (frame && frame !== this.shownFrame) {
+      this.renderer.setFrame(frame);
+      this.shownFrame = frame;
+    }
+    return Boolean(this.shownFrame);
+  }
+
+  // Draws the frame update() readied into the owner's scene: its depth
+  // buffer tested, nothing cleared (FvvRenderer.draw's options).
+  drawInto(view, width, height, options = {}) {
+    if (!this.shownFrame) return [];
+    const blended = this.renderer.draw(view, width, height, { clear: false, ...options });
+    this.playback.frameDrawn(0);
+    return blended;
   }
 
   destroy() {

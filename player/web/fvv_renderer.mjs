@@ -12,7 +12,7 @@
 //   r.setFrame(frame);   // from FvvDecoder.decodeFrame (RGB)
 //   r.draw(view, width, height);   // view: { viewMatrix, projection, eye }
 
-import { cameraViewProjection, multiply } from './fvv_view.mjs';
+import { cameraViewProjection, invert, multiply, transformPoint } from './fvv_view.mjs';
 
 const MAX_CAMERAS = 64;
 const DEPTH_NEAR = 0.05, DEPTH_FAR = 100;  // player/render/camera_depth_maps.cc
@@ -177,29 +177,37 @@ export class FvvRenderer {
   }
 
   // view: { viewMatrix, projection (Float32Array(16), column-major), eye }.
-  // Draws into the bound framebuffer; returns the cameras it blended.
-  draw(view, width, height, { exponent, facingExponent } = {}) {
+  // Draws into `framebuffer` (the canvas by default), cleared to the
+  // background first unless `clear` is false (a scene the actor joins, whose
+  // depth it then tests against); `model` places the actor in that scene
+  // (its world from the stream's). Returns the cameras it blended.
+  draw(view, width, height, { exponent, facingExponent, clear = true, framebuffer = null, model } = {}) {
     if (!this.hasFrame) throw new Error('draw before setFrame');
     const gl = this.gl, k = this.constants;
+    // The eye in the stream's world, where the cameras and the blend are.
+    const eye = model ? transformPoint(invert(model), view.eye) : view.eye;
     // Of the cameras whose textures are here, those the view weighs
     // (player/playback/view_cameras.h, as the native renderer picks them).
-    const blended = this.playback.viewCameras(this.present, view.eye, this.actor);
+    const blended = this.playback.viewCameras(this.present, eye, this.actor);
     if (!this.hasMasks) this.#renderDepthMaps(blended);
-    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, framebuffer);
     gl.viewport(0, 0, width, height);
-    gl.clearColor(...BACKGROUND, 1);
-    gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
+    if (clear) {
+      gl.clearColor(...BACKGROUND, 1);
+      gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
+    }
     gl.enable(gl.DEPTH_TEST);
     gl.depthFunc(gl.LESS);
     const p = this.hasMasks ? this.maskProgram : this.depthProgram;
     gl.useProgram(p);
     const u = (name) => gl.getUniformLocation(p, name);
     gl.uniform1i(u('u_skinned'), 1);
-    gl.uniformMatrix4fv(u('u_view_proj'), false, multiply(view.projection, view.viewMatrix));
+    const viewProj = multiply(view.projection, view.viewMatrix);
+    gl.uniformMatrix4fv(u('u_view_proj'), false, model ? multiply(viewProj, model) : viewProj);
     gl.uniform3fv(u('u_cameras'), this.centres);
     gl.uniform1i(u('u_view_camera_count'), blended.length);
     gl.uniform1iv(u('u_view_cameras'), Int32Array.from(blended.length ? blended : [0]));
-    gl.uniform3fv(u('u_eye'), Float32Array.from(view.eye));
+    gl.uniform3fv(u('u_eye'), Float32Array.from(eye));
     gl.uniform1f(u('u_exponent'), exponent ?? k.viewExponent);
     gl.uniform1f(u('u_angle_epsilon'), k.angleEpsilon);
     gl.uniform1f(u('u_facing_exponent'), facingExponent ?? k.facingExponent);
@@ -318,7 +326,6 @@ export class FvvRenderer {
       this.depthRendered.add(c);
     }
     gl.bindVertexArray(null);
-    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
     this.depthMapMs += performance.now() - t0;
   }
 

@@ -16,6 +16,27 @@ export function multiply(a, b) {
   return out;
 }
 
+// The inverse of a rigid or affine transform (the last row 0 0 0 1).
+export function invert(m) {
+  // The 3x3 part's inverse by cofactors, then the translation.
+  const a = [m[0], m[1], m[2]], b = [m[4], m[5], m[6]], c = [m[8], m[9], m[10]];
+  const bc = cross(b, c), ca = cross(c, a), ab = cross(a, b);
+  const det = dot(a, bc);
+  const r = [bc.map((v) => v / det), ca.map((v) => v / det), ab.map((v) => v / det)];  // rows
+  const out = new Float32Array(16);
+  for (let row = 0; row < 3; ++row) {
+    for (let col = 0; col < 3; ++col) out[col * 4 + row] = r[row][col];
+  }
+  const t = [m[12], m[13], m[14]];
+  for (let row = 0; row < 3; ++row) out[12 + row] = -dot(r[row], t);
+  out[15] = 1;
+  return out;
+}
+
+export function transformPoint(m, p) {
+  return [0, 1, 2].map((r) => m[r] * p[0] + m[4 + r] * p[1] + m[8 + r] * p[2] + m[12 + r]);
+}
+
 const sub = (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
 const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
 const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
