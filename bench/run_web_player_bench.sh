@@ -19,10 +19,10 @@ echo "fvv play: $native"
 native_fps=$(sed -n 's/.*: \([0-9.]*\) fps drawn.*/\1/p' <<<"$native")
 cd "$root/tools/web"
 node screenshot_player.mjs "$root/build-wasm/site" "$stream" "$out/swiftshader.png" "$seconds" \
-  --size "$size" --json "$out/swiftshader.json" | grep -v '^page: '
+  --size "$size" --json "$out/swiftshader.json" --time-frames | grep -v '^page: '
 FVV_CHROMIUM_GL="--use-angle=gl --ignore-gpu-blocklist --enable-gpu" xvfb-run -a \
   -s "-screen 0 $((w + 64))x$((h + 108))x24" node screenshot_player.mjs "$root/build-wasm/site" "$stream" \
-  "$out/llvmpipe.png" "$seconds" --size "$size" --json "$out/llvmpipe.json" | grep -v '^page: '
+  "$out/llvmpipe.png" "$seconds" --size "$size" --json "$out/llvmpipe.json" --time-frames | grep -v '^page: '
 for backend in swiftshader llvmpipe; do
   node -e "
     const s = require('$out/$backend.json');

@@ -2,11 +2,12 @@
 // player's arrangement, player/playback/requested_gops.h): what it asks for,
 // in what order, with how many bytes; that it waits rather than skips; that a
 // seek survives the wait for its GOP.
+#include "player/playback/playback_loop.h"
+
 #include <gtest/gtest.h>
 
 #include <vector>
 
-#include "player/playback/playback_loop.h"
 #include "player/playback/requested_gops.h"
 
 namespace fvv {
@@ -26,9 +27,7 @@ fvv_stream_info Info() {
   return info;
 }
 
-std::vector<glm::vec3> Ring() {
-  return {{2, 1, 0}, {0, 1, 2}, {-2, 1, 0}, {0, 1, -2}};
-}
+std::vector<glm::vec3> Ring() { return {{2, 1, 0}, {0, 1, 2}, {-2, 1, 0}, {0, 1, -2}}; }
 
 fvv_decode_report Whole() {
   fvv_decode_report r{};
@@ -39,16 +38,18 @@ fvv_decode_report Whole() {
 }
 
 struct Rig {
-  RequestedGops gops{kFrames, kGopFrames};
+  RequestedGops gops{kFrames, kGopFrames};  // fetching as far ahead as decoding
   PlaybackLoop loop{&gops, Info(), Ring()};
   glm::vec3 eye{0, 1, 3}, target{0, 1, 0};
   Status Tick(double dt = 1 / kFps) { return loop.Advance(dt, eye, target); }
-  // Serves the request in flight at once; returns its GOP (or -1).
+  // Fetches the next request at once and decodes what is due; returns the
+  // GOP fetched (or -1).
   int Serve() {
-    uint32_t gop;
+    uint32_t gop, decoded;
     GopRequest r;
     if (!gops.NextRequest(&gop, &r)) return -1;
-    gops.Deliver(gop, Whole());
+    gops.Fetched(gop);
+    while (gops.NextDecode(&decoded, &r)) gops.Deliver(decoded, Whole());
     return int(gop);
   }
 };
@@ -82,23 +83,59 @@ TEST(PlaybackLoopOverRequests, WaitsForTheFirstGopThenFetchesAhead) {
 TEST(PlaybackLoopOverRequests, FetchBytesFollowTheMeasuredBandwidth) {
   Rig rig;
   ASSERT_TRUE(rig.Tick().ok());
-  rig.loop.FetchMeasured(62500, 1.0);  // 0.5 Mbit/s
+  EXPECT_EQ(rig.loop.FetchBudget(), 0u) << "nothing measured: whole fragments";
+  rig.loop.FetchMeasured(62500, 1.0);  // 0.5 Mbit/s; a GOP plays 0.32 s
+  const double allowed = 62500 * 0.32;
+  const uint64_t start = rig.loop.FetchBudget();
+  EXPECT_GT(start, 0.5 * allowed) << "a lower share at the start, to get ahead";
+  EXPECT_LT(start, 0.7 * allowed);
+  // GOPs in time: the share rises to 90 % of what the bandwidth brings.
+  for (int i = 0; i < 8 * 4; ++i) {
+    while (rig.Serve() >= 0) {
+    }
+    ASSERT_TRUE(rig.Tick().ok());
+  }
+  const uint64_t steady = rig.loop.FetchBudget();
+  EXPECT_NEAR(steady, 0.9 * allowed, 0.01 * allowed);
+  rig.loop.FetchMeasured(625000, 1.0);
+  EXPECT_GT(rig.loop.FetchBudget(), 2 * steady) << "a faster network, more bytes";
+  EXPECT_EQ(rig.loop.stats().bytes_fetched, 62500u + 625000u);
+}
+
+TEST(PlaybackLoopOverRequests, ALateGopLowersTheNextFetches) {
+  Rig rig;
+  ASSERT_TRUE(rig.Tick().ok());
+  rig.loop.FetchMeasured(62500, 1.0);
+  for (int i = 0; i < 8 * 4; ++i) {
+    while (rig.Serve() >= 0) {
+    }
+    ASSERT_TRUE(rig.Tick().ok());
+  }
+  const uint64_t before = rig.loop.FetchBudget();
+  // Nothing held but the GOP shown, nothing served for a while: the playhead waits.
+  const uint32_t shown = rig.loop.frame_index() / kGopFrames;
+  for (uint32_t g = 0; g < kFrames / kGopFrames; ++g) {
+    if (g != shown) rig.gops.Forget(g);
+  }
+  for (int i = 0; i < 30; ++i) ASSERT_TRUE(rig.Tick().ok());
+  ASSERT_GE(rig.loop.stats().waits, 1u);
+  EXPECT_LT(rig.loop.FetchBudget(), 0.75 * before);
+}
+
+TEST(PlaybackLoopOverRequests, AWaitForTheDecoderLeavesTheFetchesAlone) {
+  Rig rig;
+  ASSERT_TRUE(rig.Tick().ok());
+  rig.loop.FetchMeasured(62500, 1.0);
   rig.Serve();
   ASSERT_TRUE(rig.Tick().ok());
+  const uint64_t before = rig.loop.FetchBudget();
   uint32_t gop;
   GopRequest request;
-  // GOP 1 was asked for with the request of GOP 0's frame; the next ask
-  // carries the bandwidth. A GOP plays 0.32 s: at most that many seconds of it.
   ASSERT_TRUE(rig.gops.NextRequest(&gop, &request));
-  rig.gops.Deliver(gop, Whole());
-  for (int i = 0; i < 8; ++i) ASSERT_TRUE(rig.Tick().ok());
-  while (rig.gops.NextRequest(&gop, &request)) rig.gops.Deliver(gop, Whole());
-  const uint64_t budget = rig.loop.FetchBudget();
-  EXPECT_GT(budget, 0.8 * 62500 * 0.32);
-  EXPECT_LE(budget, 62500 * 0.32);
-  rig.loop.FetchMeasured(625000, 1.0);
-  EXPECT_GT(rig.loop.FetchBudget(), 2 * budget) << "a faster network, more bytes";
-  EXPECT_EQ(rig.loop.stats().bytes_fetched, 62500u + 625000u);
+  rig.gops.Fetched(gop);  // its bytes are in; it decodes for a long time
+  for (int i = 0; i < 30; ++i) ASSERT_TRUE(rig.Tick().ok());
+  ASSERT_EQ(rig.loop.stats().waits, 1u);
+  EXPECT_EQ(rig.loop.FetchBudget(), before) << "the network was not late";
 }
 
 TEST(PlaybackLoopOverRequests, ALateGopHoldsThePlayheadInsteadOfSkipping) {
@@ -177,6 +214,37 @@ TEST(PlaybackLoopOverRequests, TheNextFetchStartsWhileAGopDecodes) {
   rig.gops.Deliver(gop, Whole());
   ASSERT_TRUE(rig.Tick().ok());
   EXPECT_EQ(rig.loop.frame_index(), 8u);
+}
+
+TEST(PlaybackLoopOverRequests, FetchesRunFurtherAheadThanDecodes) {
+  RequestedGops gops(kFrames, kGopFrames, /*fetch_ahead=*/4);
+  PlaybackLoop loop(&gops, Info(), Ring());
+  const glm::vec3 eye{0, 1, 3}, target{0, 1, 0};
+  ASSERT_TRUE(loop.Advance(0.04, eye, target).ok());
+  uint32_t gop;
+  GopRequest r;
+  std::vector<uint32_t> fetched, decoded;
+  auto serve = [&] {
+    while (gops.NextRequest(&gop, &r)) {
+      fetched.push_back(gop);
+      gops.Fetched(gop);
+      while (gops.NextDecode(&gop, &r)) {
+        decoded.push_back(gop);
+        gops.Deliver(gop, Whole());
+      }
+    }
+  };
+  serve();
+  ASSERT_TRUE(loop.Advance(0.04, eye, target).ok());  // frame 0 shown
+  serve();
+  EXPECT_EQ(fetched, (std::vector<uint32_t>{0, 1, 2, 3, 4}));
+  EXPECT_EQ(decoded, (std::vector<uint32_t>{0, 1, 2})) << "decodes stop kAhead past the GOP shown";
+  EXPECT_FALSE(gops.Arriving(3 * kGopFrames)) << "GOP 3's bytes are in";
+  // The playhead reaches GOP 1: GOP 3 decodes from the bytes already there.
+  for (int i = 0; i < 8; ++i) ASSERT_TRUE(loop.Advance(0.04, eye, target).ok());
+  ASSERT_EQ(loop.frame_index(), kGopFrames);
+  ASSERT_TRUE(gops.NextDecode(&gop, &r));
+  EXPECT_EQ(gop, 3u);
 }
 
 }  // namespace

@@ -31,6 +31,9 @@ class FrameSource {
   // GOP is not there yet (and asks for it).
   virtual StatusOr<bool> Take(uint32_t frame, const GopRequest& request,
                               fvv_decode_report* report) = 0;
+  // Whether the frame's GOP is still on its way (not all fetched): a wait for
+  // it is then the network's, not the decoder's. A decoding source has it all.
+  virtual bool Arriving(uint32_t frame) const { return false; }
 };
 
 // The native source: a decoder that decodes ahead by itself.

@@ -28,7 +28,8 @@ void PlaybackLoop::FetchMeasured(uint64_t bytes, double seconds) {
 uint64_t PlaybackLoop::FetchBudget() const {
   const double rate = bandwidth_.bytes_per_second();
   if (rate <= 0) return 0;
-  return std::max<uint64_t>(1, GopFetchBudget(rate, info_.gop_frames / (fps_ * transport_.speed)));
+  return std::max<uint64_t>(
+      1, GopFetchBudget(rate, info_.gop_frames / (fps_ * transport_.speed), fetch_share_));
 }
 
 void PlaybackLoop::Seek(uint32_t frame) {
@@ -83,8 +84,7 @@ GopRequest PlaybackLoop::Request() const {
   return request;
 }
 
-Status PlaybackLoop::Advance(double dt, const glm::vec3& eye,
-                                                 const glm::vec3& target) {
+Status PlaybackLoop::Advance(double dt, const glm::vec3& eye, const glm::vec3& target) {
   Transport& t = transport_;
   const uint32_t frames = info_.frame_count;
   // A playhead waiting for a frame (the first, a late GOP's, a seek's) starts
@@ -115,8 +115,16 @@ Status PlaybackLoop::Advance(double dt, const glm::vec3& eye,
     // rather than skipping frames or showing them untextured. It waits at the
     // frame wanted, so a seek is not lost while its GOP comes.
     source_->Prefetch(f, request);
-    if (t.playing) wait_ms_ += 1000 * dt;
-    if (t.playing && !waiting_) ++stats_.waits;
+    // A wait for bytes still on their way is the network's: the next GOPs
+    // take less of the bandwidth until some are ahead again. A wait for a
+    // GOP being decoded is the decoder's: the controller's budget answers it.
+    const bool network = source_->Arriving(f);
+    if (t.playing && !network) wait_ms_ += 1000 * dt;
+    if (t.playing && network) fetch_late_ = true;
+    if (t.playing && !waiting_) {
+      ++stats_.waits;
+      if (network) fetch_share_ = std::max(kMinFetchShare, fetch_share_ * 0.7);
+    }
     t.playhead = f;
     waiting_ = true;
     f = shown_;
@@ -158,6 +166,9 @@ Status PlaybackLoop::Advance(double dt, const glm::vec3& eye,
     outcome.wait_ms = wait_ms_;
     outcome.frame_ms = frame_ms_;
     control_.Report(outcome);
+    // Back up towards the bandwidth's whole share while GOPs arrive in time.
+    if (!fetch_late_) fetch_share_ = std::min(kMaxFetchShare, fetch_share_ + 0.1);
+    fetch_late_ = false;
     wait_ms_ = 0;
     ++stats_.gops;
     stats_.decode_ms += r.decode_ms;

@@ -37,7 +37,7 @@ struct PlaybackStats {
   // Times the playhead was held for a GOP not there yet, after the first frame
   // (a stall the source caused, where `stalls` also counts a slow display).
   uint64_t waits = 0;
-  uint64_t bytes_fetched = 0;           // as the embedding reported its fetches
+  uint64_t bytes_fetched = 0;  // as the embedding reported its fetches
   double decode_ms = 0;
 };
 
@@ -62,8 +62,9 @@ class PlaybackLoop {
   // last byte). The bandwidth it measures sizes each GOP's fetch_bytes.
   void FetchMeasured(uint64_t bytes, double seconds);
   double bytes_per_second() const { return bandwidth_.bytes_per_second(); }
-  // What the next GOP's fetch may take: what the bandwidth brings while a GOP
-  // plays (0 until a fetch was measured: whole fragments).
+  // What the next GOP's fetch may take: a share of what the bandwidth brings
+  // while a GOP plays, lower at the start and after a GOP came late (0 until
+  // a fetch was measured: whole fragments).
   uint64_t FetchBudget() const;
   // Moves the playhead to `frame` (a seek or a step): shown once its GOP is there.
   void Seek(uint32_t frame);
@@ -95,6 +96,12 @@ class PlaybackLoop {
   PlaybackController control_;
   PlaybackStats stats_;
   BandwidthEstimate bandwidth_;
+  // The share of a GOP's play time its fetch may take: low at the start, so
+  // that GOPs come ahead of the playhead, then up to kMaxFetchShare while
+  // none is late, down after a wait (FetchBudget).
+  static constexpr double kMaxFetchShare = 0.9, kMinFetchShare = 0.4;
+  double fetch_share_ = 0.6;
+  bool fetch_late_ = false;     // the playhead waited for this GOP's bytes
   fvv_decode_report report_{};  // of the frame shown
   uint32_t shown_ = UINT32_MAX, last_gop_ = UINT32_MAX;
   uint32_t mask_gop_ = UINT32_MAX;
@@ -104,7 +111,7 @@ class PlaybackLoop {
   bool wrap_asked_ = false;
   glm::vec3 last_direction_{0.0f};  // from the actor to the eye, when cameras were last picked
   bool changed_ = false;
-  bool waiting_ = true;  // the playhead is held at the frame it wants (the first, at first)
+  bool waiting_ = true;     // the playhead is held at the frame it wants (the first, at first)
   double frame_ms_ = 0;     // smoothed upload + draw time
   double wait_ms_ = 0;      // the playhead's wait for the GOP being waited for
   double on_screen_s_ = 0;  // how long the shown frame has been on screen

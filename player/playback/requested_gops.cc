@@ -4,14 +4,18 @@
 
 namespace fvv {
 
-RequestedGops::RequestedGops(uint32_t frame_count, uint32_t gop_frames)
+RequestedGops::RequestedGops(uint32_t frame_count, uint32_t gop_frames, uint32_t fetch_ahead)
     : gops_(gop_frames ? (frame_count + gop_frames - 1) / gop_frames : 0),
-      gop_frames_(std::max(1u, gop_frames)) {}
+      gop_frames_(std::max(1u, gop_frames)),
+      fetch_ahead_(std::max(kAhead, fetch_ahead)) {}
 
 void RequestedGops::Ask(uint32_t gop, const GopRequest& request, bool urgent) {
-  if (gop >= gops_ || held_.count(gop) || gop == in_flight_ || decoding_.count(gop)) return;
-  auto it = std::find_if(queue_.begin(), queue_.end(),
-                         [gop](const Pending& p) { return p.gop == gop; });
+  if (gop >= gops_ || held_.count(gop) || gop == in_flight_ || fetched_.count(gop) ||
+      gop == decoding_) {
+    return;
+  }
+  auto it =
+      std::find_if(queue_.begin(), queue_.end(), [gop](const Pending& p) { return p.gop == gop; });
   if (it != queue_.end()) {
     if (!urgent || it == queue_.begin()) return;
     queue_.erase(it);
@@ -23,7 +27,7 @@ void RequestedGops::Ask(uint32_t gop, const GopRequest& request, bool urgent) {
     queue_.push_back({gop, request});
   }
   // Requests far behind the newest urgent one are stale (the playhead moved).
-  while (queue_.size() > kAhead + 1) queue_.pop_back();
+  while (queue_.size() > fetch_ahead_ + 1) queue_.pop_back();
 }
 
 bool RequestedGops::Ready(uint32_t frame, const GopRequest&) {
@@ -31,7 +35,8 @@ bool RequestedGops::Ready(uint32_t frame, const GopRequest&) {
 }
 
 void RequestedGops::Prefetch(uint32_t frame, const GopRequest& request) {
-  Ask(frame / gop_frames_, request, /*urgent=*/true);
+  wanted_ = frame / gop_frames_;
+  Ask(wanted_, request, /*urgent=*/true);
 }
 
 StatusOr<bool> RequestedGops::Take(uint32_t frame, const GopRequest& request,
@@ -39,14 +44,21 @@ StatusOr<bool> RequestedGops::Take(uint32_t frame, const GopRequest& request,
   const uint32_t gop = frame / gop_frames_;
   auto it = held_.find(gop);
   if (it == held_.end()) {
+    wanted_ = gop;
     Ask(gop, request, /*urgent=*/true);
     return false;
   }
   *report = it->second;
   shown_gop_ = gop;
+  if (wanted_ == gop) wanted_ = UINT32_MAX;
   last_ = request;
-  for (uint32_t g = gop + 1; g <= gop + kAhead && g < gops_; ++g) Ask(g, request, false);
+  for (uint32_t g = gop + 1; g <= gop + fetch_ahead_ && g < gops_; ++g) Ask(g, request, false);
   return true;
+}
+
+bool RequestedGops::Arriving(uint32_t frame) const {
+  const uint32_t gop = frame / gop_frames_;
+  return !held_.count(gop) && !fetched_.count(gop) && gop != decoding_;
 }
 
 bool RequestedGops::NextRequest(uint32_t* gop, GopRequest* request) {
@@ -55,26 +67,49 @@ bool RequestedGops::NextRequest(uint32_t* gop, GopRequest* request) {
   *request = queue_.front().request;
   queue_.pop_front();
   in_flight_ = *gop;
+  in_flight_request_ = *request;
   return true;
 }
 
 void RequestedGops::Fetched(uint32_t gop) {
   if (gop != in_flight_) return;
+  fetched_[gop] = in_flight_request_;
   in_flight_ = UINT32_MAX;
-  decoding_.insert(gop);
+}
+
+bool RequestedGops::NextDecode(uint32_t* gop, GopRequest* request) {
+  if (decoding_ != UINT32_MAX || fetched_.empty()) return false;
+  // The GOP waited for first, else the nearest ahead of the one shown.
+  auto next = fetched_.find(wanted_);
+  if (next == fetched_.end()) {
+    next = std::min_element(fetched_.begin(), fetched_.end(), [this](const auto& a, const auto& b) {
+      return Ahead(a.first) < Ahead(b.first);
+    });
+    if (Ahead(next->first) > kAhead) return false;
+  }
+  *gop = next->first;
+  *request = next->second;
+  // The cameras it was fetched for; the time the loop gives a decode now.
+  request->budget.max_ms_per_gop = last_.budget.max_ms_per_gop;
+  request->budget.floor_share = last_.budget.floor_share;
+  decoding_ = *gop;
+  fetched_.erase(next);
+  return true;
 }
 
 void RequestedGops::Deliver(uint32_t gop, const fvv_decode_report& report) {
   held_[gop] = report;
-  decoding_.erase(gop);
+  if (gop == decoding_) decoding_ = UINT32_MAX;
   if (gop == in_flight_) in_flight_ = UINT32_MAX;
+  fetched_.erase(gop);
   // The network stays busy: the next GOP, while it is within reach of the one shown.
-  if (gop + 1 < gops_ && gop + 1 <= shown_gop_ + kAhead) Ask(gop + 1, last_, false);
+  if (gop + 1 < gops_ && Ahead(gop + 1) <= fetch_ahead_) Ask(gop + 1, last_, false);
 }
 
 void RequestedGops::Failed(uint32_t gop) {
   if (gop == in_flight_) in_flight_ = UINT32_MAX;
-  decoding_.erase(gop);
+  if (gop == decoding_) decoding_ = UINT32_MAX;
+  fetched_.erase(gop);
 }
 
 void RequestedGops::Forget(uint32_t gop) { held_.erase(gop); }

@@ -1,20 +1,20 @@
 // A frame source fed from outside the loop: the loop's asks become requests
-// that the embedding serves (fetch the GOP's fragments as far as the request's
-// bytes allow, decode them under its budget) and answers with Deliver. One GOP
-// is fetched at a time; once its bytes are in (Fetched) the next fetch may
-// start while it decodes, so the network does not wait for the decoder. The web player drives it from JavaScript (player/web/module.cc);
-// the decoded pixels stay with the embedding, the loop needs only the reports.
+// that the embedding serves in two steps, each one GOP at a time: fetch the
+// GOP's fragments as far as the request's bytes allow (NextRequest, Fetched),
+// then decode them under the loop's budget (NextDecode, Deliver). The web
+// player drives it from JavaScript (player/web/module.cc); the decoded pixels
+// stay with the embedding, the loop needs only the reports.
 //
-// Fetching runs ahead of the playhead: each GOP delivered asks for the next,
-// up to kAhead GOPs past the one shown, so the network is never idle while
-// playback could use what it brings.
+// Fetching runs further ahead of the playhead than decoding: bytes are small
+// and absorb the network's swings, decoded frames are large. Fetches go up to
+// `fetch_ahead` GOPs past the one shown, decodes kAhead, so the network is
+// never idle while playback could use what it brings.
 #ifndef FVV_PLAYER_PLAYBACK_REQUESTED_GOPS_H_
 #define FVV_PLAYER_PLAYBACK_REQUESTED_GOPS_H_
 
 #include <cstdint>
 #include <deque>
 #include <map>
-#include <set>
 
 #include "player/playback/frame_source.h"
 
@@ -22,21 +22,34 @@ namespace fvv {
 
 class RequestedGops : public FrameSource {
  public:
-  // GOPs fetched ahead of the one shown.
+  // GOPs decoded ahead of the one shown.
   static constexpr uint32_t kAhead = 2;
+  // The play time fetched ahead of the GOP shown, at most: bytes enough to
+  // ride out a network's swing of that long.
+  static constexpr double kFetchAheadSeconds = 2.0;
+  static uint32_t FetchAheadFor(double fps, uint32_t gop_frames) {
+    return gop_frames ? uint32_t(kFetchAheadSeconds * fps / gop_frames + 0.999) : kAhead;
+  }
 
-  RequestedGops(uint32_t frame_count, uint32_t gop_frames);
+  // fetch_ahead: GOPs fetched ahead of the one shown (at least kAhead).
+  RequestedGops(uint32_t frame_count, uint32_t gop_frames, uint32_t fetch_ahead = kAhead);
 
   bool Ready(uint32_t frame, const GopRequest& request) override;
   void Prefetch(uint32_t frame, const GopRequest& request) override;
   StatusOr<bool> Take(uint32_t frame, const GopRequest& request,
                       fvv_decode_report* report) override;
+  bool Arriving(uint32_t frame) const override;
 
   // The next request to serve, taken off the queue (it is then being
   // fetched); false when there is none or a fetch is under way.
   bool NextRequest(uint32_t* gop, GopRequest* request);
-  // The GOP's bytes are in: the next request may be fetched while it decodes.
+  // The GOP's bytes are in: the next request may be fetched.
   void Fetched(uint32_t gop);
+  // The next fetched GOP to decode (it is then decoding), with its request:
+  // the cameras it was fetched for, the loop's latest time budget. Only
+  // within kAhead of the GOP shown, or the one the playhead waits for; false
+  // when none is due or one is decoding already.
+  bool NextDecode(uint32_t* gop, GopRequest* request);
   // The GOP arrived, decoded: the loop can take its frames.
   void Deliver(uint32_t gop, const fvv_decode_report& report);
   // The GOP could not be served: it is asked for again when needed.
@@ -54,12 +67,18 @@ class RequestedGops : public FrameSource {
   };
   // Queues `gop` (at the front when urgent) unless held, in flight or queued.
   void Ask(uint32_t gop, const GopRequest& request, bool urgent);
+  // GOPs past the one shown, in playing order (round the end).
+  uint32_t Ahead(uint32_t gop) const { return (gop + gops_ - shown_gop_) % gops_; }
   uint32_t gops_;
   uint32_t gop_frames_;
+  uint32_t fetch_ahead_;
   std::deque<Pending> queue_;
   std::map<uint32_t, fvv_decode_report> held_;
   uint32_t in_flight_ = UINT32_MAX;  // being fetched
-  std::set<uint32_t> decoding_;      // fetched, not yet delivered
+  GopRequest in_flight_request_{};
+  std::map<uint32_t, GopRequest> fetched_;  // fetched, not decoding yet
+  uint32_t decoding_ = UINT32_MAX;          // being decoded
+  uint32_t wanted_ = UINT32_MAX;            // the GOP the playhead waits for
   uint32_t shown_gop_ = 0;
   GopRequest last_{};  // the request of the GOP shown: the one the GOPs ahead take
 };

@@ -8,7 +8,8 @@
 //   pb.advance(dt, eye, target);  const s = pb.state();   // s.frame, s.changed ...
 //   const r = pb.nextRequest();   // { gop, cameras, maxMs, floorShare, fetchBytes } or null
 //   pb.fetched(r.gop);            // its bytes are in: the next fetch may start
-//   pb.deliver(r.gop, frame.report);
+//   const d = pb.nextDecode();    // a fetched GOP due for decoding, or null
+//   pb.deliver(d.gop, frame.report);
 
 import { instantiateFrom } from './fvv_decoder_api.mjs';
 
@@ -71,8 +72,16 @@ export class FvvPlayback {
     return s;
   }
 
+  // The next GOP to fetch: { gop, cameras, maxMs, floorShare, fetchBytes }, or null.
   nextRequest() {
-    if (!this.m._fvv_web_playback_next_request(this.handle, this.out)) return null;
+    return this.#request(this.m._fvv_web_playback_next_request);
+  }
+  // The next fetched GOP to decode (the same fields), or null.
+  nextDecode() {
+    return this.#request(this.m._fvv_web_playback_next_decode);
+  }
+  #request(call) {
+    if (!call(this.handle, this.out)) return null;
     const v = this.m.HEAPF64.subarray(this.out >> 3, (this.out >> 3) + 6);
     const mask = BigInt(v[1]) | (BigInt(v[2]) << 32n);
     const cameras = [];

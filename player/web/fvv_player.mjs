@@ -23,6 +23,8 @@ const DEFAULTS = () => ({
   moduleUrl: here('./fvv_decoder.mjs'), workerUrl: here('./fvv_decoder_worker.mjs'),
   zstdUrl: here('./fzstd/index.mjs'), shaderUrl: here('./shaders/'), autoplay: true, loop: true,
   onNotice: () => {}, onError: () => {},
+  // Time every frame's WebGL work (a benchmark's ?time=frames), not every 8th.
+  timeEveryFrame: new URLSearchParams(location.search).get('time') === 'frames',
   // Decoder workers, each decoding its share of a frame's cameras: half the
   // cores, the rest left to drawing (with software WebGL on two cores, a
   // second decoder slowed playback: docs/web.md).
@@ -75,6 +77,8 @@ export class FvvPlayer {
     this.gl = gl;
     this.gops = new Map();    // GOP -> decoded frames
     this.fetching = false;    // a GOP's fragments being fetched
+    this.decoding = false;    // a GOP being decoded
+    this.fetchedGops = new Map();  // GOP -> its fetch, until it is decoded
     this.error = null;
     this.orbit = { yaw: 0, pitch: 0.11, distance: 3.5, fovDeg: 40 };
     this.viewDirty = true;
@@ -138,6 +142,7 @@ export class FvvPlayer {
     if (this.error) return Boolean(this.shownFrame);
     this.playback.advance(dt, eye, target);
     this.#serve();
+    this.#decodeNext();
     const s = this.playback.state();
     if (!s.hasFrame) return false;
     const frame = this.gops.get(Math.floor(s.frame / this.info.gopFrames))?.[s.frame % this.info.gopFrames];
@@ -209,6 +214,7 @@ export class FvvPlayer {
       const view = this.#view();
       this.playback.advance(dt, view.eye, view.target);
       this.#serve();
+      this.#decodeNext();
       const s = this.playback.state();
       if (s.hasFrame && (s.changed || this.viewDirty || !this.shownFrame)) {
         const frames = this.gops.get(Math.floor(s.frame / this.info.gopFrames));
@@ -218,14 +224,15 @@ export class FvvPlayer {
           if (frame !== this.shownFrame) this.renderer.setFrame(frame);
           this.shownFrame = frame;
           this.hud.lastCameras = this.renderer.draw(this.#view(), this.canvas.width, this.canvas.height);
-          // Every 8th frame, the frame's WebGL time, not only its commands':
+          // Every 8th frame (every frame with options.timeEveryFrame, for
+          // benchmarks), the frame's WebGL time, not only its commands':
           // reading a pixel back waits for the drawing (finish() does not, in
-          // chromium), which would hold up every frame if done on each.
-          const timed = this.drawCount++ % 8 === 0;
+          // chromium), which holds up the frame it is done on.
+          const timed = this.options.timeEveryFrame || this.drawCount++ % 8 === 0;
           if (timed) this.gl.readPixels(0, 0, 1, 1, this.gl.RGBA, this.gl.UNSIGNED_BYTE, this.pixel);
           const ms = performance.now() - t0;
           if (timed) this.hud.webglMs = this.hud.webglMs ? 0.7 * this.hud.webglMs + 0.3 * ms : ms;
-          this.hud.webglTotalMs = (this.hud.webglTotalMs ?? 0) + this.hud.webglMs;
+          this.hud.webglTotalMs = (this.hud.webglTotalMs ?? 0) + (this.options.timeEveryFrame ? ms : this.hud.webglMs);
           this.playback.frameDrawn(this.hud.webglMs);
           this.viewDirty = false;
           this.drawTimes.push(now);
@@ -246,10 +253,10 @@ export class FvvPlayer {
     this.options.onError(e);
   }
 
-  // Serves the loop's GOP requests in two stages, so that the network never
-  // waits for the decoder: the fetch of one GOP's fragment prefixes (as the
-  // loop's fetch budget allows), then its frames decoded in the worker while
-  // the next GOP is fetched.
+  // Serves the loop's requests in two stages, so that the network never
+  // waits for the decoder: fetches of GOPs' fragment prefixes (as the loop's
+  // fetch budget allows), running up to two seconds ahead, and decodes in the
+  // worker of the fetched GOPs the loop says are due (#decodeNext).
   async #serve() {
     if (this.fetching || this.error || !this.running) return;
     const r = this.playback.nextRequest();
@@ -262,18 +269,22 @@ export class FvvPlayer {
       if (fetched > 0 && seconds > 0) this.playback.fetchMeasured(fetched, seconds);
       this.hud.lastGopBytes = fetched;
       this.hud.lastGopBudget = r.fetchBytes;
+      // The bytes reach the worker in the order they were fetched, between
+      // its decodes. Cameras whose fragments lost their heads to a closed
+      // connection are left out of the GOP's decode.
+      this.#inOrder(() => this.stream.addParts(parts)).catch((e) => this.#fail(e));
+      this.fetchedGops.set(r.gop, {
+        fetched, fetchBytes: r.fetchBytes, seconds, whole: this.stream.lastFetchWhole ?? true,
+        cameras: cameras ?? r.cameras,
+      });
       this.playback.fetched(r.gop);
-      const whole = this.stream.lastFetchWhole ?? true;
-      // The bytes reach the worker behind the decode under way, in order.
-      // Cameras whose fragments lost their heads to a closed connection are
-      // left out of this GOP's decode.
-      this.#inOrder(() => this.#decode({ ...r, cameras: cameras ?? r.cameras }, parts, fetched, seconds, whole));
     } catch (e) {
       this.playback.failed(r.gop);
       this.#fail(e instanceof FvvStreamError ? e : new Error(`GOP ${r.gop}: ${e.message}`));
     } finally {
       this.fetching = false;
     }
+    this.#decodeNext();
     this.#serve();  // the next fetch at once, not at the next frame
   }
 
@@ -285,25 +296,43 @@ export class FvvPlayer {
     return run;
   }
 
-  async #decode(r, parts, fetched, seconds, whole) {
+  #decodeNext() {
+    if (this.decoding || this.error || !this.running) return;
+    const d = this.playback.nextDecode();
+    if (!d) return;
+    this.decoding = true;
+    const f = this.fetchedGops.get(d.gop) ?? { fetched: 0, fetchBytes: 0, seconds: 0, whole: true };
+    this.fetchedGops.delete(d.gop);
+    // The cameras whose fragments arrived, of those it was fetched for.
+    const cameras = f.cameras ? d.cameras.filter((c) => f.cameras.includes(c)) : d.cameras;
+    this.#inOrder(() => this.#decode({ ...d, cameras }, f)).finally(() => {
+      this.decoding = false;
+      this.#decodeNext();
+      this.#serve();  // a delivery may let the loop ask for the next GOP
+    });
+  }
+
+  async #decode(r, f) {
     if (this.error) return;
     try {
-      await this.stream.addParts(parts);
       const first = r.gop * this.info.gopFrames;
       const count = Math.min(this.info.gopFrames, this.info.frameCount - first);
       const frames = [];
-      for (let f = first; f < first + count; ++f) {
-        frames.push(await this.worker.decodeFrame(f, {
+      const t0 = performance.now();
+      for (let i = first; i < first + count; ++i) {
+        frames.push(await this.worker.decodeFrame(i, {
           cameras: r.cameras, maxMs: r.maxMs, floorShare: r.floorShare,
         }));
       }
       this.gops.set(r.gop, frames);
-      this.playback.deliver(r.gop, frames[0].report);
-      this.options.onGop?.({ gop: r.gop, cameras: r.cameras, fetched, fetchBytes: r.fetchBytes,
-                             seconds, whole, frames });
+      // The loop's decode time is the worker's whole time for the GOP: its
+      // frames' RGB and their way to the page too, which no budget cuts but
+      // the controller must leave room for.
+      this.playback.deliver(r.gop, { ...frames[0].report, decodeMs: performance.now() - t0 });
+      this.options.onGop?.({ gop: r.gop, cameras: r.cameras, fetched: f.fetched, fetchBytes: f.fetchBytes,
+                             seconds: f.seconds, whole: f.whole, frames });
       this.hud.report = frames[0].report;
       this.#evict();
-      this.#serve();  // a delivery may let the loop ask for the next GOP
     } catch (e) {
       this.playback.failed(r.gop);
       this.#fail(new Error(`GOP ${r.gop}: ${e.message}`));

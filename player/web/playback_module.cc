@@ -8,23 +8,27 @@
 #include <memory>
 #include <vector>
 
+#include "container/geometric_visibility.h"
 #include "player/playback/playback_loop.h"
 #include "player/playback/requested_gops.h"
-#include "container/geometric_visibility.h"
 #include "player/playback/view_cameras.h"
 
 namespace {
 
 struct WebPlayback {
   WebPlayback(const fvv_stream_info& info, std::vector<glm::vec3> centres, double floor_share)
-      : gops(info.frame_count, info.gop_frames), loop(&gops, info, std::move(centres), floor_share) {}
+      : gops(info.frame_count, info.gop_frames,
+             fvv::RequestedGops::FetchAheadFor(double(info.frame_rate_num) / info.frame_rate_den,
+                                               info.gop_frames)),
+        loop(&gops, info, std::move(centres), floor_share) {}
   fvv::RequestedGops gops;
   fvv::PlaybackLoop loop;
 };
 
 std::vector<glm::vec3> Centres(const float* xyz, uint32_t count) {
   std::vector<glm::vec3> centres;
-  for (uint32_t c = 0; c < count; ++c) centres.emplace_back(xyz[3 * c], xyz[3 * c + 1], xyz[3 * c + 2]);
+  for (uint32_t c = 0; c < count; ++c)
+    centres.emplace_back(xyz[3 * c], xyz[3 * c + 1], xyz[3 * c + 2]);
   return centres;
 }
 
@@ -50,9 +54,9 @@ EMSCRIPTEN_KEEPALIVE WebPlayback* fvv_web_playback_create(uint32_t frame_count, 
   info.frame_rate_den = fps_den;
   info.gop_frames = gop_frames;
   info.camera_count = camera_count;
-  return new WebPlayback(info, Centres(centres, camera_count),
-                         floor_share > 0 ? floor_share
-                                         : fvv::PlaybackController::kDefaultFloorShare);
+  return new WebPlayback(
+      info, Centres(centres, camera_count),
+      floor_share > 0 ? floor_share : fvv::PlaybackController::kDefaultFloorShare);
 }
 
 EMSCRIPTEN_KEEPALIVE void fvv_web_playback_destroy(WebPlayback* p) { delete p; }
@@ -104,6 +108,21 @@ EMSCRIPTEN_KEEPALIVE int fvv_web_playback_next_request(WebPlayback* p, double* o
   uint32_t gop;
   fvv::GopRequest r;
   if (!p->gops.NextRequest(&gop, &r)) return 0;
+  out[0] = gop;
+  out[1] = double(uint32_t(r.budget.camera_mask));
+  out[2] = double(uint32_t(r.budget.camera_mask >> 32));
+  out[3] = r.budget.max_ms_per_gop;
+  out[4] = r.budget.floor_share;
+  out[5] = double(r.fetch_bytes);
+  return 1;
+}
+
+// The next fetched GOP to decode: 1 and out as fvv_web_playback_next_request's;
+// 0 when none is due.
+EMSCRIPTEN_KEEPALIVE int fvv_web_playback_next_decode(WebPlayback* p, double* out) {
+  uint32_t gop;
+  fvv::GopRequest r;
+  if (!p->gops.NextDecode(&gop, &r)) return 0;
   out[0] = gop;
   out[1] = double(uint32_t(r.budget.camera_mask));
   out[2] = double(uint32_t(r.budget.camera_mask >> 32));
@@ -179,7 +198,7 @@ EMSCRIPTEN_KEEPALIVE void fvv_web_view_cameras(const float* centres, uint32_t co
 // angle epsilon, view exponent, facing exponent.
 EMSCRIPTEN_KEEPALIVE void fvv_web_render_constants(double* out) {
   namespace gv = fvv::geometric_visibility;
-  const double v[] = {gv::kDepthTolerance, gv::kSlopeTexels,   gv::kMinFacing,     gv::kFullFacing,
+  const double v[] = {gv::kDepthTolerance, gv::kSlopeTexels,  gv::kMinFacing,     gv::kFullFacing,
                       gv::kAngleEpsilon,   gv::kViewExponent, gv::kFacingExponent};
   for (size_t i = 0; i < sizeof(v) / sizeof(v[0]); ++i) out[i] = v[i];
 }

@@ -4,6 +4,7 @@
 //
 //   node tools/web/screenshot_player.mjs SITE_DIR STREAM OUT.png [SECONDS]
 //        [--size WxH (the canvas; default 800x556)] [--json OUT.json]
+//        [--time-frames: WebGL's time taken on every frame, for benchmarks]
 import { writeFileSync } from 'node:fs';
 import path from 'node:path';
 import { withBrowser } from './browser_harness.mjs';
@@ -18,6 +19,8 @@ const option = (name, fallback) => {
 };
 const [width, height] = option('--size', '800x556').split('x').map(Number);
 const json = option('--json');
+const timeFrames = args.includes('--time-frames');
+if (timeFrames) args.splice(args.indexOf('--time-frames'), 1);
 const [site, stream, out, seconds = '6'] = args;
 if (!out || !(width > 0) || !(height > 0)) {
   console.error('usage: screenshot_player.mjs SITE_DIR STREAM OUT.png [SECONDS] [--size WxH] [--json OUT.json]');
@@ -27,7 +30,8 @@ const CONTROLS = 44;  // the page's control bar under the canvas
 const mounts = { '/site/': path.resolve(site), '/streams/': path.dirname(path.resolve(stream)) };
 const s = await withBrowser(mounts, async ({ page, base }) => {
   await page.setViewport({ width, height: height + CONTROLS });
-  await page.goto(`${base}/site/index.html?stream=../streams/${path.basename(stream)}`);
+  await page.goto(`${base}/site/index.html?stream=../streams/${path.basename(stream)}` +
+                  (timeFrames ? '&time=frames' : ''));
   await page.waitForFunction(() => window.fvvPlayer || window.fvvError, { timeout: 60000 });
   // Counted from the first frame drawn, as fvv play counts from its first.
   await page.waitForFunction(() => window.fvvError || window.fvvPlayer?.stats().framesDrawn > 0,
