@@ -15,6 +15,40 @@
 
 export class FvvStreamError extends Error {}
 
+// The parts of a multipart/byteranges body: [{ range (its Content-Range),
+// bytes }]. A body cut short keeps its whole parts and what came of the last.
+function parseMultipart(body, boundary) {
+  const text = new TextDecoder('latin1');
+  const marker = new TextEncoder().encode(`--${boundary}`);
+  const find = (from) => {
+    outer: for (let i = from; i <= body.length - marker.length; ++i) {
+      for (let k = 0; k < marker.length; ++k) if (body[i + k] !== marker[k]) continue outer;
+      return i;
+    }
+    return -1;
+  };
+  const parts = [];
+  for (let at = find(0); at >= 0;) {
+    const headersEnd = (() => {
+      for (let i = at; i + 3 < body.length; ++i) {
+        if (body[i] === 13 && body[i + 1] === 10 && body[i + 2] === 13 && body[i + 3] === 10) return i;
+      }
+      return -1;
+    })();
+    if (headersEnd < 0) break;
+    const headers = text.decode(body.subarray(at, headersEnd));
+    const range = /content-range:\s*(bytes \d+-\d+\/\d+)/i.exec(headers)?.[1];
+    const start = headersEnd + 4;
+    const m = /bytes (\d+)-(\d+)/.exec(range ?? '');
+    // The part's length from its Content-Range: its data may hold the marker's bytes.
+    const length = m ? Number(m[2]) - Number(m[1]) + 1 : 0;
+    parts.push({ range, bytes: body.subarray(start, Math.min(body.length, start + length)) });
+    if (start + length >= body.length) break;
+    at = find(start + length);
+  }
+  return parts;
+}
+
 
 export class FvvStream {
   // headBytes: the first request's length (the decoder asks for more as it needs).
@@ -39,14 +73,29 @@ export class FvvStream {
   // Bytes [offset, offset + size) of the stream: { bytes, total, complete }.
   // `complete` is false when the connection closed early (what came is kept).
   async #get(offset, size) {
+    const { parts, total, whole, complete } = await this.#getRanges([[offset, size]]);
+    if (whole) return { bytes: parts[0].bytes, total, whole, complete };
+    if (parts.length === 0 || parts[0].offset !== offset) {
+      if (parts.length === 0 && !complete) return { bytes: new Uint8Array(0), total, whole, complete };
+      throw new FvvStreamError(`${this.url}: a range answer without a matching Content-Range`);
+    }
+    return { bytes: parts[0].bytes, total, whole, complete: complete && parts[0].bytes.length === size };
+  }
+
+  // Several ranges ([offset, size] each) in one request, as a server answers
+  // them: { parts: [{ offset, bytes }], total, whole, complete, received (the
+  // body's bytes, a multipart's own lines included) }. One range
+  // is a plain 206; several a multipart/byteranges answer (a server may also
+  // merge them into one range, or send the whole stream: 200, `whole`).
+  async #getRanges(ranges) {
     const controller = new AbortController();
     const timer = setTimeout(() => controller.abort(), this.timeoutMs);
     const started = performance.now();
     let response;
     try {
       response = await fetch(this.url, {
-        headers: { Range: `bytes=${offset}-${offset + size - 1}` }, signal: controller.signal,
-        cache: 'no-store',
+        headers: { Range: 'bytes=' + ranges.map(([o, n]) => `${o}-${o + n - 1}`).join(',') },
+        signal: controller.signal, cache: 'no-store',
       });
     } catch (e) {
       clearTimeout(timer);
@@ -60,14 +109,14 @@ export class FvvStream {
       clearTimeout(timer);
       throw new FvvStreamError(`${this.url}: the server answered ${response.status}`);
     }
-    const parts = [];
+    const chunks = [];
     let received = 0, complete = true;
     try {
       const reader = response.body.getReader();
       for (;;) {
         const { done, value } = await reader.read();
         if (done) break;
-        parts.push(value);
+        chunks.push(value);
         received += value.length;
       }
     } catch {
@@ -75,29 +124,39 @@ export class FvvStream {
     } finally {
       clearTimeout(timer);
     }
-    const bytes = new Uint8Array(received);
+    const body = new Uint8Array(received);
     let at = 0;
-    for (const p of parts) {
-      bytes.set(p, at);
-      at += p.length;
+    for (const c of chunks) {
+      body.set(c, at);
+      at += c.length;
     }
-    this.fetched += received;
     const seconds = (performance.now() - started) / 1000;
     this.fetchSeconds += seconds;
-    if (received > 0 && seconds > 0) {
-      // Folded in later: a fetch's end waits for no decoder.
-      this.measured.push([received, seconds]);
-    }
     if (response.status === 200) {
       // A server that ignores Range sends the whole stream: it is all held now.
-      return { bytes, total: received, whole: true, complete };
+      this.fetched += received;
+      if (received > 0 && seconds > 0) this.measured.push([received, seconds]);
+      return { parts: [{ offset: 0, bytes: body }], total: received, whole: true, complete, received };
     }
-    const range = /^bytes (\d+)-(\d+)\/(\d+)$/.exec(response.headers.get('Content-Range') ?? '');
-    if (!range || Number(range[1]) !== offset) {
-      throw new FvvStreamError(`${this.url}: a range answer without a matching Content-Range`);
+    const type = response.headers.get('Content-Type') ?? '';
+    const boundary = /multipart\/byteranges;\s*boundary="?([^";]+)"?/i.exec(type)?.[1];
+    const parts = boundary ? parseMultipart(body, boundary)
+      : [{ range: response.headers.get('Content-Range'), bytes: body }];
+    const out = [];
+    let total = 0, payload = 0;
+    for (const p of parts) {
+      const range = /^bytes (\d+)-(\d+)\/(\d+)$/.exec(p.range ?? '');
+      if (!range) throw new FvvStreamError(`${this.url}: a range answer without a Content-Range`);
+      total = Number(range[3]);
+      const bytes = p.bytes.subarray(0, Number(range[2]) - Number(range[1]) + 1);
+      if (bytes.length < Number(range[2]) - Number(range[1]) + 1) complete = false;
+      out.push({ offset: Number(range[1]), bytes });
+      payload += bytes.length;
     }
-    const expected = Number(range[2]) - Number(range[1]) + 1;
-    return { bytes, total: Number(range[3]), whole: false, complete: complete && received === expected };
+    // Every byte that came counts, the multipart's own lines too.
+    this.fetched += received;
+    if (payload > 0 && seconds > 0) this.measured.push([received, seconds]);
+    return { parts: out, total, whole: false, complete, received };
   }
 
   async #call(method, ...args) {
@@ -171,22 +230,34 @@ export class FvvStream {
       ? await this.#call('gopFetchBudget', this.bandwidth, this.gopSeconds) : Number.MAX_SAFE_INTEGER);
     const plan = await planner.planPrefixes(fragments, allowed);
     this.lastFetchWhole = fragments.every((f, i) => plan[i] >= f.size);
+    const wanted = fragments.map((f, i) => [f, plan[i] - f.held]).filter(([, want]) => want > 0);
     const started = performance.now();
-    const got = await Promise.all(fragments.map((f, i) => {
-      const want = plan[i] - f.held;
-      return want > 0 ? this.#get(f.offset + f.held, want).then((part) => ({ f, want, part })) : null;
-    }));
+    let got = { parts: [], complete: true, whole: false, received: 0 };
+    if (wanted.length > 0) {
+      // One request for the GOP, however many fragments: a request costs a
+      // round trip and its headers, more than a fragment's prefix at times.
+      got = await this.#getRanges(wanted.map(([f, want]) => [f.offset + f.held, want]));
+    }
     this.lastFetchSeconds = (performance.now() - started) / 1000;
-    let fetched = 0;
-    const parts = [];
-    for (const g of got) {
-      if (!g) continue;
-      const { f, want, part } = g;
-      if (part.bytes.length > 0) parts.push({ offset: f.offset + f.held, bytes: part.bytes });
-      f.held += part.bytes.length;
-      fetched += part.bytes.length;
-      if (!part.complete) {
-        this.notice(`the connection closed ${part.bytes.length} of ${want} bytes into fragment ` +
+    if (got.whole) {
+      this.wholeFile = true;
+      for (const f of this.fragmentList) f.held = f.size;
+      this.notice('the server answered a request for several ranges with the whole stream: it is all held now');
+    }
+    // Every byte that came, the multipart's own lines included.
+    const fetched = got.received;
+    const parts = got.parts.filter((p) => p.bytes.length > 0);
+    for (const [f, want] of wanted) {
+      // What the fragment holds now: the bytes from its start on, without a gap.
+      const before = f.held;
+      for (const p of parts) {
+        const end = p.offset + p.bytes.length;
+        if (p.offset <= f.offset + f.held && end > f.offset + f.held) {
+          f.held = Math.min(f.size, end - f.offset);
+        }
+      }
+      if (f.held - before < want) {
+        this.notice(`the connection closed ${f.held - before} of ${want} bytes into fragment ` +
                     `${f.index}: it decodes from what arrived`);
       }
     }
@@ -212,7 +283,15 @@ export class FvvStream {
     return fetched;
   }
 
+  // Decodes frame `index` for `cameras`; by default, the cameras whose
+  // fragments of its GOP hold their heads (what arrived, verified, decodes).
   async frame(index, cameras) {
-    return this.#call('decodeFrame', index, cameras ? { cameras } : {});
+    const span = Math.floor(index / this.info.gopFrames);
+    const fragments = this.wholeFile ? [] : this.fragmentsFor(span);
+    const arrived = this.wholeFile ? undefined : [...Array(this.info.cameraCount).keys()].filter((c) => {
+      const f = fragments.find((x) => x.firstCamera === c - (c % this.info.gopCameras));
+      return f && f.held >= f.headSize;
+    });
+    return this.#call('decodeFrame', index, { cameras: cameras ?? arrived });
   }
 }

@@ -8,7 +8,7 @@
 //   await withBrowser({ '/web/': webDir, '/data/': dataDir }, async ({ page, base, requests }) => {
 //     await page.goto(base + '/web/view_gltf.html?...');
 //   });
-import { createReadStream, statSync } from 'node:fs';
+import { closeSync, createReadStream, openSync, readSync, statSync } from 'node:fs';
 import { createServer } from 'node:http';
 import path from 'node:path';
 import puppeteer from 'puppeteer-core';
@@ -21,9 +21,9 @@ const TYPES = {
 };
 
 // Serves GET /PREFIX/rest from mounts[PREFIX]/rest; nothing outside the mounts.
-// As a static server or CDN does for a page fetching a stream: single byte
-// ranges ("Range: bytes=A-B", "A-", "-N") answered 206 with Content-Range, a
-// range past the end 416; no caching, so every fetch reaches the server; and
+// As a static server or CDN does for a page fetching a stream: byte ranges
+// ("Range: bytes=A-B", "A-", "-N") answered 206 with Content-Range, several
+// ("bytes=A-B,C-D") as multipart/byteranges, a range past the end 416; no caching, so every fetch reaches the server; and
 // the cross-origin isolation headers (COOP, COEP) that a page needs for
 // SharedArrayBuffer. Every request is recorded in `log` (path, range, status,
 // bytes sent). `faults` maps a path to what goes wrong there, as it does on
@@ -56,6 +56,60 @@ function serve(mounts, log, faults = {}) {
         break;
       }
       headers['Content-Type'] = TYPES[path.extname(file)] ?? 'application/octet-stream';
+      // Several ranges: one multipart/byteranges answer, as static servers give
+      // (lighttpd, nginx); a fault's cut then falls in the multipart body.
+      const several = /^bytes=\d+-\d+(,\s*\d+-\d+)+$/.exec(req.headers.range ?? '');
+      if (several && !fault.ignoreRange) {
+        const ranges = req.headers.range.slice(6).split(',').map((r) => r.trim().split('-').map(Number))
+          .filter(([a, b]) => a < size && a <= b).map(([a, b]) => [a, Math.min(b, size - 1)]);
+        if (ranges.length === 0) {
+          entry.status = 416;
+          res.writeHead(416, { ...headers, 'Content-Range': `bytes */${size}` }).end();
+          return;
+        }
+        const boundary = 'fvvharness7c1d';
+        const type = headers['Content-Type'];
+        const pieces = [];
+        for (const [a, b] of ranges) {
+          pieces.push(Buffer.from(`--${boundary}\r\nContent-Type: ${type}\r\n` +
+                                  `Content-Range: bytes ${a}-${b}/${size}\r\n\r\n`));
+          pieces.push({ start: a, end: b });
+          pieces.push(Buffer.from('\r\n'));
+        }
+        pieces.push(Buffer.from(`--${boundary}--\r\n`));
+        const length = pieces.reduce((n, p) => n + (Buffer.isBuffer(p) ? p.length : p.end - p.start + 1), 0);
+        entry.status = 206;
+        entry.bytes = length;
+        res.writeHead(206, { ...headers, 'Content-Type': `multipart/byteranges; boundary=${boundary}`,
+                             'Content-Length': String(length) });
+        const cutAt = fault.closeAfter !== undefined && ranges[0][0] >= (fault.from ?? 0)
+          ? fault.closeAfter : Infinity;
+        (async () => {
+          let sent = 0;
+          for (const p of pieces) {
+            let data = p;
+            if (!Buffer.isBuffer(p)) {
+              data = Buffer.alloc(p.end - p.start + 1);
+              const fd = openSync(file, 'r');
+              try {
+                readSync(fd, data, 0, data.length, p.start);
+              } finally {
+                closeSync(fd);
+              }
+            }
+            if (sent + data.length > cutAt) data = data.subarray(0, cutAt - sent);
+            if (data.length) await new Promise((resolve) => res.write(data, resolve));
+            sent += data.length;
+            if (sent >= cutAt) {
+              entry.bytes = sent;
+              setTimeout(() => res.destroy(), 50);
+              return;
+            }
+          }
+          res.end();
+        })();
+        return;
+      }
       let first = 0, last = size - 1;
       const m = /^bytes=(\d*)-(\d*)$/.exec(req.headers.range ?? '');
       if (req.headers.range && m && (m[1] !== '' || m[2] !== '') && !fault.ignoreRange) {
