@@ -134,6 +134,9 @@ async function run(page, base, mbit) {
     mean_gop_bytes: played.reduce((s, g) => s + g.fetched, 0) / Math.max(1, played.length),
     allowed_gop_bytes: allowed,
     mean_share_of_allowed: share.reduce((s, v) => s + v, 0) / Math.max(1, share.length),
+    // After the first two seconds' GOPs, which start low to get ahead.
+    later_share_of_allowed: share.slice(Math.ceil(2 / gopSeconds)).reduce((s, v) => s + v, 0) /
+      Math.max(1, share.length - Math.ceil(2 / gopSeconds)),
     mean_cameras: played.reduce((s, g) => s + g.cameras, 0) / Math.max(1, played.length),
     whole_fragments: wholeFragments,
     psnr_vs_whole_db: psnr.length ? psnr.reduce((s, v) => s + v, 0) / psnr.length : null,
@@ -159,7 +162,8 @@ for (const mbit of rates) {
     `after it ${r.waits_after_start} waits for a GOP, ${r.stalls_after_start} frames held over two frame times; ` +
     `${r.frames_without_texture} frames untextured; ${r.gops} GOPs, ${(r.mean_gop_bytes / 1024).toFixed(1)} KiB each` +
     (r.allowed_gop_bytes ? ` of ${(r.allowed_gop_bytes / 1024).toFixed(1)} KiB allowed ` +
-      `(${(100 * r.mean_share_of_allowed).toFixed(0)} %)` : '') +
+      `(${(100 * r.mean_share_of_allowed).toFixed(0)} %; ${(100 * r.later_share_of_allowed).toFixed(0)} % after ` +
+      'the first 2 s)' : '') +
     `, ${r.mean_cameras.toFixed(1)} cameras; ` +
     (r.psnr_vs_whole_db === null ? 'no frame kept for' : r.psnr_vs_whole_db >= 99 ? 'identical to'
       : `${r.psnr_vs_whole_db.toFixed(2)} dB against`) + ` the whole ` +

@@ -32,6 +32,16 @@ std::vector<glm::vec3> Centres(const float* xyz, uint32_t count) {
   return centres;
 }
 
+// A GOP request as fvv_playback.mjs reads it: 6 doubles.
+void WriteRequest(uint32_t gop, const fvv::GopRequest& r, double* out) {
+  out[0] = gop;
+  out[1] = double(uint32_t(r.budget.camera_mask));
+  out[2] = double(uint32_t(r.budget.camera_mask >> 32));
+  out[3] = r.budget.max_ms_per_gop;
+  out[4] = r.budget.floor_share;
+  out[5] = double(r.fetch_bytes);
+}
+
 }  // namespace
 
 extern "C" {
@@ -102,18 +112,13 @@ EMSCRIPTEN_KEEPALIVE void fvv_web_playback_state(const WebPlayback* p, double* o
   for (size_t i = 0; i < sizeof(v) / sizeof(v[0]); ++i) out[i] = v[i];
 }
 
-// The next GOP to fetch and decode: 1 and out = {gop, camera mask low 32 bits,
-// high 32 bits, max ms, floor share, fetch bytes}; 0 when none is due.
+// The next GOP to fetch: 1 and out = {gop, camera mask low 32 bits, high 32
+// bits, max ms, floor share, fetch bytes}; 0 when none is due.
 EMSCRIPTEN_KEEPALIVE int fvv_web_playback_next_request(WebPlayback* p, double* out) {
   uint32_t gop;
   fvv::GopRequest r;
   if (!p->gops.NextRequest(&gop, &r)) return 0;
-  out[0] = gop;
-  out[1] = double(uint32_t(r.budget.camera_mask));
-  out[2] = double(uint32_t(r.budget.camera_mask >> 32));
-  out[3] = r.budget.max_ms_per_gop;
-  out[4] = r.budget.floor_share;
-  out[5] = double(r.fetch_bytes);
+  WriteRequest(gop, r, out);
   return 1;
 }
 
@@ -123,12 +128,7 @@ EMSCRIPTEN_KEEPALIVE int fvv_web_playback_next_decode(WebPlayback* p, double* ou
   uint32_t gop;
   fvv::GopRequest r;
   if (!p->gops.NextDecode(&gop, &r)) return 0;
-  out[0] = gop;
-  out[1] = double(uint32_t(r.budget.camera_mask));
-  out[2] = double(uint32_t(r.budget.camera_mask >> 32));
-  out[3] = r.budget.max_ms_per_gop;
-  out[4] = r.budget.floor_share;
-  out[5] = double(r.fetch_bytes);
+  WriteRequest(gop, r, out);
   return 1;
 }
 

@@ -61,6 +61,6 @@ if (s.error) {
 }
 console.log(`web player: ${s.drawn_fps.toFixed(1)} fps drawn at ${width}x${height} over ${seconds} s, ` +
   `${s.stalls} stalls, ${(s.bytesFetched / 1e6).toFixed(2)} MB fetched by range requests, ` +
-  `WebGL ${s.webglMs.toFixed(1)} ms a frame (${(100 * s.webgl_share).toFixed(0)} % of the time) ` +
+  (timeFrames ? `WebGL ${s.webglMs.toFixed(1)} ms a frame (${(100 * s.webgl_share).toFixed(0)} % of the time) ` : '') +
   `on ${s.renderer} -> ${out}`);
 if (json) writeFileSync(json, JSON.stringify(s, null, 2));
