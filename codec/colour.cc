@@ -7,6 +7,10 @@
 #include <immintrin.h>
 #define FVV_COLOUR_AVX2 1
 #endif
+#if defined(__wasm_simd128__)
+#include <wasm_simd128.h>
+#define FVV_COLOUR_WASM_SIMD 1
+#endif
 
 namespace fvv {
 namespace {
@@ -18,8 +22,8 @@ int32_t RoundQ16(int64_t a, int frac) {
   return static_cast<int32_t>((a + (int64_t{1} << (15 - frac))) >> (16 - frac));
 }
 
-#ifdef FVV_COLOUR_AVX2
-// pshufb masks that put channel k of 16 texels at its places in output bytes
+#if defined(FVV_COLOUR_AVX2) || defined(FVV_COLOUR_WASM_SIMD)
+// Byte shuffle masks that put channel k of 16 texels at its places in output bytes
 // [16 j, 16 j + 16) of 48 interleaved ones (0x80: leave zero).
 struct InterleaveMasks {
   alignas(16) uint8_t m[3][3][16];  // [output block j][channel k]
@@ -33,6 +37,9 @@ struct InterleaveMasks {
   }
 };
 constexpr InterleaveMasks kInterleave;
+#endif
+
+#ifdef FVV_COLOUR_AVX2
 
 // 16 int32 lanes (two vectors) clamped to 0..255 by saturating packs, in order.
 __attribute__((target("avx2"))) inline __m128i PackToBytes(__m256i lo, __m256i hi) {
@@ -84,6 +91,48 @@ __attribute__((target("avx2"))) uint32_t YcbcrRowToRgb8Avx2(const int32_t* y, co
 }
 #endif
 
+#ifdef FVV_COLOUR_WASM_SIMD
+// The AVX2 path's arithmetic, 4 lanes at a time, in WebAssembly SIMD (the web
+// player converts every texel of every frame it shows).
+uint32_t YcbcrRowToRgb8WasmSimd(const int32_t* y, const int32_t* u, const int32_t* v, uint32_t n,
+                                uint8_t* out, int frac) {
+  const v128_t k128 = wasm_i32x4_splat(128 << frac), half = wasm_i32x4_splat(1 << (15 + frac));
+  const uint32_t shift = 16 + uint32_t(frac);
+  const v128_t kr = wasm_i32x4_splat(91881), kgb = wasm_i32x4_splat(-22554),
+               kgr = wasm_i32x4_splat(-46802), kb = wasm_i32x4_splat(116130);
+  uint32_t i = 0;
+  for (; i + 16 <= n; i += 16) {
+    v128_t r[4], g[4], b[4];
+    for (int q = 0; q < 4; ++q) {
+      const v128_t Y = wasm_i32x4_add(wasm_i32x4_shl(wasm_v128_load(y + i + 4 * q), 16), half);
+      const v128_t cb = wasm_i32x4_sub(wasm_v128_load(u + i + 4 * q), k128);
+      const v128_t cr = wasm_i32x4_sub(wasm_v128_load(v + i + 4 * q), k128);
+      r[q] = wasm_i32x4_shr(wasm_i32x4_add(Y, wasm_i32x4_mul(kr, cr)), shift);
+      g[q] = wasm_i32x4_shr(
+          wasm_i32x4_add(Y, wasm_i32x4_add(wasm_i32x4_mul(kgb, cb), wasm_i32x4_mul(kgr, cr))),
+          shift);
+      b[q] = wasm_i32x4_shr(wasm_i32x4_add(Y, wasm_i32x4_mul(kb, cb)), shift);
+    }
+    // Saturating narrows clamp to 0..255 as clamp8 does.
+    auto bytes = [](const v128_t* c) {
+      return wasm_u8x16_narrow_i16x8(wasm_i16x8_narrow_i32x4(c[0], c[1]),
+                                     wasm_i16x8_narrow_i32x4(c[2], c[3]));
+    };
+    const v128_t planes[3] = {bytes(r), bytes(g), bytes(b)};
+    for (int j = 0; j < 3; ++j) {
+      // Swizzle indices past 15 (the masks' 0x80) give zero bytes.
+      v128_t block = wasm_i64x2_splat(0);
+      for (int k = 0; k < 3; ++k) {
+        block =
+            wasm_v128_or(block, wasm_i8x16_swizzle(planes[k], wasm_v128_load(kInterleave.m[j][k])));
+      }
+      wasm_v128_store(out + 3 * i + 16 * j, block);
+    }
+  }
+  return i;
+}
+#endif
+
 }  // namespace
 
 void YcbcrRowToRgb8(const int32_t* y, const int32_t* u, const int32_t* v, uint32_t n, uint8_t* rgb,
@@ -92,6 +141,9 @@ void YcbcrRowToRgb8(const int32_t* y, const int32_t* u, const int32_t* v, uint32
 #ifdef FVV_COLOUR_AVX2
   static const bool avx2 = __builtin_cpu_supports("avx2");
   if (avx2) i = YcbcrRowToRgb8Avx2(y, u, v, n, rgb, frac);
+#endif
+#ifdef FVV_COLOUR_WASM_SIMD
+  i = YcbcrRowToRgb8WasmSimd(y, u, v, n, rgb, frac);
 #endif
   for (; i < n; ++i) {
     const Rgb8 p = YuvToRgb(ColourSpace::kYCbCr601, y[i], u[i], v[i], frac);
