@@ -165,6 +165,7 @@ await withBrowser(mounts, async ({ page, base, requests }) => {
     ['missing.fvv', 'a missing stream', (m) => m.error && /404|not found/i.test(m.text)],
     ['damaged.fvv', 'a damaged stream', (m) => m.error && /checksum|corrupt/i.test(m.text)],
     ['cut.fvv', 'a cut stream', (m) => m.error && /truncat|ends|cut/i.test(m.text)],
+    ['empty.fvv', 'an empty file', (m) => m.error && /empty/i.test(m.text)],
   ];
   for (const [stream, what, said] of cases) {
     await open(page, base, stream);

@@ -31,4 +31,5 @@ at=$((offset + size / 2))
 printf '\xA5' | dd of="$dir/damaged.fvv" bs=1 seek="$at" conv=notrunc status=none
 total=$(stat -c %s "$dir/depth.fvv")
 head -c $((total * 6 / 10)) "$dir/depth.fvv" >"$dir/cut.fvv"
+: >"$dir/empty.fvv"
 node "$here/web_player_test.mjs" "$site" "$dir"

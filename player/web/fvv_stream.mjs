@@ -105,6 +105,10 @@ export class FvvStream {
       clearTimeout(timer);
       throw new FvvStreamError(`${this.url}: not found (404)`);
     }
+    if (response.status === 416) {
+      clearTimeout(timer);
+      throw new FvvStreamError(`${this.url}: the stream ends before the bytes asked for (416: empty or cut)`);
+    }
     if (response.status !== 206 && response.status !== 200) {
       clearTimeout(timer);
       throw new FvvStreamError(`${this.url}: the server answered ${response.status}`);
