@@ -3,8 +3,9 @@
 // - it plays a stream: the playhead moves through several GOPs, every frame
 //   shown textured, the fetches all range requests;
 // - a still of a frame from a fixed view matches `fvv render --path` of the
-//   same frame, view and size (>= 35 dB over the actor: the same decoder, the
-//   same shaders), for a stream with masks and one without (depth maps);
+//   same frame, view, size and bytes (>= 35 dB over the actor: the same
+//   decoder, the same shaders), for a stream with masks and one without
+//   (depth maps), whole and at a byte budget;
 // - a missing, damaged or cut stream: the page says what happened and
 //   never hangs; a server that drops connections mid-fragment or ignores
 //   Range: the page plays on from what arrived and says so;
@@ -21,7 +22,7 @@ import path from 'node:path';
 import { withBrowser } from '../tools/web/browser_harness.mjs';
 
 const [siteDir, work] = process.argv.slice(2);
-const STILL_FRAME = 5, WIDTH = 640, HEIGHT = 480, MIN_PSNR = 35;
+const STILL_FRAME = 5, WIDTH = 640, HEIGHT = 480, MIN_PSNR = 35, BYTES = 600;
 const key = JSON.parse(readFileSync(path.join(work, 'path.json'))).keyframes[0];
 const view = { eye: key.eye, target: key.target, fovDeg: key.fov };
 let failures = 0;
@@ -64,12 +65,43 @@ function psnrOverActor(a, b, background) {
   return { psnr: n === 0 ? 0 : se === 0 ? 99 : 10 * Math.log10((255 * 255 * n) / se), pixels: n / 3 };
 }
 
+// A still of the page at `bytes` per fragment (0: whole) against fvv render's
+// (its PNG decoded by the page's own image decoder); returns the page's RGB.
+async function stillAgainst(page, kind, bytes) {
+  const name = bytes ? `${kind}_${bytes}` : kind;
+  await open(page, base0, `${kind}.fvv`, { autoplay: false });
+  await waitFor(page, (t) => t.hasFrame, 20000);
+  const out = await page.evaluate(async (frame, v, w, h, b, pngUrl) => {
+    const rgb = await window.fvvPlayer.still(frame, v, { width: w, height: h, bytes: b });
+    const img = new Image();
+    img.src = pngUrl;
+    await img.decode();
+    const c = new OffscreenCanvas(w, h).getContext('2d');
+    c.drawImage(img, 0, 0);
+    const rgba = c.getImageData(0, 0, w, h).data;
+    const native = new Uint8Array(w * h * 3);
+    for (let i = 0; i < w * h; ++i) native.set(rgba.subarray(4 * i, 4 * i + 3), 3 * i);
+    return { page: Array.from(rgb), native: Array.from(native) };
+  }, STILL_FRAME, view, WIDTH, HEIGHT, bytes, `../data/native_${name}.png`);
+  const bg = [0.12, 0.12, 0.14].map((v) => Math.round(v * 255));
+  const rgb = Uint8Array.from(out.page);
+  const { psnr, pixels } = psnrOverActor(rgb, Uint8Array.from(out.native), bg);
+  writeFileSync(`${work}/page_${name}_still.rgb`, rgb);
+  writeFileSync(`${work}/native_${name}_still.rgb`, Uint8Array.from(out.native));
+  check(pixels > 2000 && psnr >= MIN_PSNR,
+    `${kind}: the page's still of frame ${STILL_FRAME}${bytes ? ` at ${bytes} bytes a fragment` : ''} against ` +
+    `fvv render's: ${psnr.toFixed(2)} dB over ${pixels} actor pixels (>= ${MIN_PSNR})`);
+  return rgb;
+}
+
 const mounts = { '/site/': path.resolve(siteDir), '/data/': path.resolve(work) };
 const faults = {
   '/data/dropped.fvv': { closeAfter: 3000, from: 200000 },
   '/data/whole.fvv': { ignoreRange: true },
 };
+let base0;
 await withBrowser(mounts, async ({ page, base, requests }) => {
+  base0 = base;
   await page.setViewport({ width: 480, height: 400 });
 
   for (const kind of ['masks', 'depth']) {
@@ -80,25 +112,14 @@ await withBrowser(mounts, async ({ page, base, requests }) => {
     check(s && s.framesWithoutTexture === 0, `${kind}: no frame shown untextured`);
     const shot = `${work}/page_${kind}_playing.png`;
     await page.screenshot({ path: shot });
-    // The still against fvv render's (the PNG decoded by the page's own image decoder).
-    const out = await page.evaluate(async (frame, v, w, h, pngUrl) => {
-      const rgb = await window.fvvPlayer.still(frame, v, { width: w, height: h });
-      const img = new Image();
-      img.src = pngUrl;
-      await img.decode();
-      const c = new OffscreenCanvas(w, h).getContext('2d');
-      c.drawImage(img, 0, 0);
-      const rgba = c.getImageData(0, 0, w, h).data;
-      const native = new Uint8Array(w * h * 3);
-      for (let i = 0; i < w * h; ++i) native.set(rgba.subarray(4 * i, 4 * i + 3), 3 * i);
-      return { page: Array.from(rgb), native: Array.from(native) };
-    }, STILL_FRAME, view, WIDTH, HEIGHT, `../data/native_${kind}.png`);
-    const bg = [0.12, 0.12, 0.14].map((v) => Math.round(v * 255));
-    const { psnr, pixels } = psnrOverActor(Uint8Array.from(out.page), Uint8Array.from(out.native), bg);
-    writeFileSync(`${work}/page_${kind}_still.rgb`, Uint8Array.from(out.page));
-    writeFileSync(`${work}/native_${kind}_still.rgb`, Uint8Array.from(out.native));
-    check(pixels > 2000 && psnr >= MIN_PSNR,
-      `${kind}: the page's still of frame ${STILL_FRAME} against fvv render's: ${psnr.toFixed(2)} dB over ${pixels} actor pixels (>= ${MIN_PSNR})`);
+    const whole = await stillAgainst(page, kind, 0);
+    if (kind === 'depth') {
+      // The same at a budget: each fragment's texture cut at BYTES, here and
+      // in fvv render --bytes; unlike the whole still, so the bytes count.
+      const cut = await stillAgainst(page, kind, BYTES);
+      const differ = psnrOverActor(cut, whole, [0.12, 0.12, 0.14].map((v) => Math.round(v * 255))).psnr;
+      check(differ < 32, `depth: the still at ${BYTES} bytes is not the whole one (${differ.toFixed(2)} dB apart)`);
+    }
   }
   // The three.js adapter: the actor (FvvActor) in a scene of three.js's own
   // (floor, grid, box), drawn by three's render() in its context: over the

@@ -20,6 +20,9 @@ for kind in masks depth; do
     -o "$dir/native_$kind" >/dev/null
   cp "$dir/native_$kind/render_f00005.png" "$dir/native_$kind.png"
 done
+"$fvv" render "$dir/depth.fvv" --path "$dir/path.json" --first 5 --last 5 --size 640x480 \
+  --bytes 600 -o "$dir/native_depth_600" >/dev/null
+cp "$dir/native_depth_600/render_f00005.png" "$dir/native_depth_600.png"
 cp "$here/../conformance/cases/live/stream.fvv" "$dir/live.fvv"  # no index
 cp "$dir/depth.fvv" "$dir/dropped.fvv"
 cp "$dir/depth.fvv" "$dir/whole.fvv"
