@@ -198,6 +198,11 @@ export class FvvRenderer {
     }
     gl.enable(gl.DEPTH_TEST);
     gl.depthFunc(gl.LESS);
+    // The body model is closed and wound counter-clockwise: its back faces
+    // are hidden anyway, and a software rasteriser would shade them first
+    // (40 % of the blend pass's time on SwiftShader; 0-2 pixels differ).
+    gl.enable(gl.CULL_FACE);
+    gl.cullFace(gl.BACK);
     const p = this.hasMasks ? this.maskProgram : this.depthProgram;
     gl.useProgram(p);
     const u = (name) => gl.getUniformLocation(p, name);
@@ -228,6 +233,7 @@ export class FvvRenderer {
     gl.bindVertexArray(this.vao);
     gl.drawElements(gl.TRIANGLES, this.indexCount, gl.UNSIGNED_INT, 0);
     gl.bindVertexArray(null);
+    gl.disable(gl.CULL_FACE);
     gl.activeTexture(gl.TEXTURE0);
     return blended;
   }
@@ -316,6 +322,8 @@ export class FvvRenderer {
     gl.enable(gl.DEPTH_TEST);
     gl.depthFunc(gl.LESS);
     gl.depthMask(true);
+    gl.enable(gl.CULL_FACE);  // the nearest surface of a closed model faces the camera
+    gl.cullFace(gl.BACK);
     const far = new Float32Array([NO_SURFACE, NO_SURFACE, NO_SURFACE, NO_SURFACE]);
     for (const c of needed) {
       gl.framebufferTextureLayer(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, d.texture, 0, c);
@@ -326,6 +334,7 @@ export class FvvRenderer {
       this.depthRendered.add(c);
     }
     gl.bindVertexArray(null);
+    gl.disable(gl.CULL_FACE);
     this.depthMapMs += performance.now() - t0;
   }
 
