@@ -148,6 +148,7 @@ Status CameraDepthMaps::Render(GLuint vao, GLsizei vertex_count, GLuint ibo, GLs
   g.Enable(GL_DEPTH_TEST);
   g.DepthFunc(GL_LESS);
   g.DepthMask(GL_TRUE);
+  g.Enable(GL_CULL_FACE);  // the nearest surface of a closed model faces the camera
   g.ClearColor(kNoSurface, kNoSurface, kNoSurface, kNoSurface);
   for (size_t c = 0; c < cameras_.size(); ++c) {
     if (!((cameras >> c) & 1)) continue;
@@ -156,6 +157,7 @@ Status CameraDepthMaps::Render(GLuint vao, GLsizei vertex_count, GLuint ibo, GLs
     g.UniformMatrix4fv(view_proj, 1, GL_FALSE, &view_proj_[c * 16]);
     g.DrawElements(GL_TRIANGLES, index_count, GL_UNSIGNED_INT, nullptr);
   }
+  g.Disable(GL_CULL_FACE);
   g.BindVertexArray(0);
   g.BindFramebuffer(GL_FRAMEBUFFER, 0);
   const GLenum e = g.GetError();

@@ -208,6 +208,9 @@ Status Renderer::Draw(const RenderView& view, int width, int height) {
   gl_.ClearColor(view.background.r, view.background.g, view.background.b, 1.0f);
   gl_.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   gl_.Enable(GL_DEPTH_TEST);
+  // The body model is closed and wound counter-clockwise: its back faces are
+  // hidden anyway, and a software rasteriser would shade them first.
+  gl_.Enable(GL_CULL_FACE);
   const GLuint program = has_masks_ ? program_ : depth_program_;
   gl_.UseProgram(program);
   const glm::mat4 view_proj = view.projection * view.view;
@@ -240,6 +243,7 @@ Status Renderer::Draw(const RenderView& view, int width, int height) {
   if (!has_masks_) depth_maps_->Bind(2, 1);
   gl_.BindVertexArray(vao_);
   gl_.DrawElements(GL_TRIANGLES, index_count_, GL_UNSIGNED_INT, nullptr);
+  gl_.Disable(GL_CULL_FACE);
   gl_.BindVertexArray(0);
   gl_.ActiveTexture(GL_TEXTURE0);
   return CheckGl("draw");
