@@ -30,6 +30,36 @@ export function instantiateFrom(wasmModule) {
   };
 }
 
+// A u64 of the module's memory, as a Number (exact below 2^53), and from a
+// Number or a BigInt.
+function readU64(m, p) {
+  return m.HEAPU32[p >> 2] + m.HEAPU32[(p >> 2) + 1] * 2 ** 32;
+}
+function writeU64(m, p, v) {
+  const big = typeof v === 'bigint' ? v : BigInt(Math.min(v, Number.MAX_SAFE_INTEGER));
+  m.HEAPU32[p >> 2] = Number(big & 0xffffffffn);
+  m.HEAPU32[(p >> 2) + 1] = Number(big >> 32n);
+}
+
+// The fetch plan (player/playback/fetch_plan.h) of a module instance, the
+// decoder's or the page's loop's: the prefix of each fragment ({ headSize,
+// size }) to fetch within `budget` bytes.
+export function planPrefixes(m, fragments, budget) {
+  const n = fragments.length;
+  const p = m._malloc(Math.max(1, 24 * n));
+  try {
+    fragments.forEach((f, i) => {
+      writeU64(m, p + 8 * i, f.headSize);
+      writeU64(m, p + 8 * (n + i), f.size);
+    });
+    m._fvv_web_plan_prefixes(p, p + 8 * n, n, BigInt(Math.min(budget, Number.MAX_SAFE_INTEGER)),
+      p + 16 * n);
+    return fragments.map((_, i) => readU64(m, p + 8 * (2 * n + i)));
+  } finally {
+    m._free(p);
+  }
+}
+
 export class FvvError extends Error {
   constructor(status, name, message) {
     // The decoder's messages begin with the status's name already.
@@ -179,18 +209,7 @@ export class FvvDecoder {
   // the prefix of each fragment ({ headSize, size }) to fetch within `budget`
   // bytes; the bandwidth after a fetch; the bytes a GOP's fetch may take.
   planPrefixes(fragments, budget) {
-    const m = this.m, n = fragments.length;
-    const p = m._malloc(Math.max(1, 24 * n));
-    try {
-      fragments.forEach((f, i) => {
-        this.#setU64(p + 8 * i, f.headSize);
-        this.#setU64(p + 8 * (n + i), f.size);
-      });
-      m._fvv_web_plan_prefixes(p, p + 8 * n, n, BigInt(budget), p + 16 * n);
-      return fragments.map((_, i) => this.#u64(p + 8 * (2 * n + i)));
-    } finally {
-      m._free(p);
-    }
+    return planPrefixes(this.m, fragments, budget);
   }
   bandwidthAfter(bytesPerSecond, bytes, seconds) {
     return this.m._fvv_web_bandwidth_after(bytesPerSecond, BigInt(bytes), seconds);
@@ -258,13 +277,10 @@ export class FvvDecoder {
     }
   }
   #u64(p) {
-    const u = this.m.HEAPU32;
-    return u[p >> 2] + u[(p >> 2) + 1] * 2 ** 32;
+    return readU64(this.m, p);
   }
   #setU64(p, v) {
-    const big = BigInt(v);
-    this.m.HEAPU32[p >> 2] = Number(big & 0xffffffffn);
-    this.m.HEAPU32[(p >> 2) + 1] = Number(big >> 32n);
+    writeU64(this.m, p, v);
   }
   #check(status) {
     if (status !== 0) throw this.#error(status, this.m.UTF8ToString(this.m._fvv_decoder_error(this.handle)));

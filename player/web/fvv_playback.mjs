@@ -11,7 +11,7 @@
 //   const d = pb.nextDecode();    // a fetched GOP due for decoding, or null
 //   pb.deliver(d.gop, frame.report);
 
-import { instantiateFrom } from './fvv_decoder_api.mjs';
+import { instantiateFrom, planPrefixes } from './fvv_decoder_api.mjs';
 
 const STATE = [
   'hasFrame', 'frame', 'changed', 'playhead', 'playing', 'bytesPerSecond', 'fetchBudget',
@@ -108,24 +108,7 @@ export class FvvPlayback {
   // The fetch plan (player/playback/fetch_plan.h): the prefix of each
   // fragment ({ headSize, size }) to fetch within `budget` bytes.
   planPrefixes(fragments, budget) {
-    const m = this.m, n = fragments.length;
-    const p = m._malloc(Math.max(1, 24 * n));
-    const u64 = (at) => m.HEAPU32[at >> 2] + m.HEAPU32[(at >> 2) + 1] * 2 ** 32;
-    const setU64 = (at, v) => {
-      const big = BigInt(Math.min(v, Number.MAX_SAFE_INTEGER));
-      m.HEAPU32[at >> 2] = Number(big & 0xffffffffn);
-      m.HEAPU32[(at >> 2) + 1] = Number(big >> 32n);
-    };
-    try {
-      fragments.forEach((f, i) => {
-        setU64(p + 8 * i, f.headSize);
-        setU64(p + 8 * (n + i), f.size);
-      });
-      m._fvv_web_plan_prefixes(p, p + 8 * n, n, BigInt(Math.min(budget, Number.MAX_SAFE_INTEGER)), p + 16 * n);
-      return fragments.map((_, i) => u64(p + 8 * (2 * n + i)));
-    } finally {
-      m._free(p);
-    }
+    return planPrefixes(this.m, fragments, budget);
   }
 
   // The renderer's constants (container/geometric_visibility.h).

@@ -82,7 +82,7 @@ export class FvvPlayer {
     this.error = null;
     this.orbit = { yaw: 0, pitch: 0.11, distance: 3.5, fovDeg: 40 };
     this.viewDirty = true;
-    this.hud = { fps: 0, drawMs: 0, webglMs: 0, lastGopBytes: 0, lastGopBudget: 0, lastCameras: [] };
+    this.hud = { fps: 0, webglMs: 0, lastGopBytes: 0, lastGopBudget: 0, lastCameras: [] };
     this.drawTimes = [];
     this.pixel = new Uint8Array(4);
     this.drawCount = 0;
@@ -231,6 +231,7 @@ export class FvvPlayer {
           const t0 = performance.now();
           if (frame !== this.shownFrame) this.renderer.setFrame(frame);
           this.shownFrame = frame;
+          // The view again: an orbit follows the actor of the frame just set.
           this.hud.lastCameras = this.renderer.draw(this.#view(), this.canvas.width, this.canvas.height);
           if (timed) sync();
           const ms = performance.now() - t0;
