@@ -66,6 +66,7 @@ struct Args {
   uint32_t first = 0, last = 29;
   uint32_t render_frames = 4;
   bool render = true;
+  bool surface = false;  // encode with the surface of every frame (fvv encode --surface)
 };
 
 // What the person network saw in every camera of every benchmarked frame.
@@ -424,16 +425,21 @@ int Run(const Args& a) {
       // The default stream, and beside it one with shape masks at the same
       // total bytes (docs/encoder.md, "Streams without masks").
       const std::string masked = dir + "/stream_masks.fvv", masked_json = masked + ".json";
-      Status s = RunFvv(a, {"encode", dir, "-o", masked, "--poses", poses, "--frames", range,
-                            "--masks", "-q", "--summary-json", masked_json});
+      std::vector<std::string> masked_args = {"encode", dir,   "-o", masked, "--poses", poses,
+                                              "--frames", range, "--masks", "-q",
+                                              "--summary-json", masked_json};
+      if (a.surface) masked_args.push_back("--surface");
+      Status s = RunFvv(a, masked_args);
       StatusOr<nlohmann::json> masked_summary = ReadJson(masked_json);
       if (s.ok() && !masked_summary.ok()) s = masked_summary.status();
       if (s.ok()) {
         const nlohmann::json& b = (*masked_summary)["bytes"];
         const uint64_t per_gop = (b["texture"].get<uint64_t>() + b["masks"].get<uint64_t>()) /
                                  std::max<uint64_t>(1, (*masked_summary)["gops"].get<uint64_t>());
-        s = RunFvv(a, {"encode", dir, "-o", stream, "--poses", poses, "--frames", range, "--bytes",
-                       std::to_string(per_gop), "-q"});
+        std::vector<std::string> args = {"encode", dir,     "-o",  stream, "--poses", poses,
+                                         "--frames", range, "--bytes", std::to_string(per_gop), "-q"};
+        if (a.surface) args.push_back("--surface");
+        s = RunFvv(a, args);
       }
       const std::string out2 = dir + "/renderer2", out2m = dir + "/renderer2_masks",
                         out1 = dir + "/renderer1";
@@ -590,7 +596,7 @@ int Run(const Args& a) {
 int Usage(const char* self, int code) {
   std::printf(
       "usage: %s CAPTURE [--frames A:B] [--render-frames N] [--out DIR] [--fvv PATH]\n"
-      "       [--models DIR] [--held-out NAME] [--no-render]\n"
+      "       [--models DIR] [--held-out NAME] [--no-render] [--surface]\n"
       "Leave-one-camera-out tracking and rendering on a real capture (bench/README.md).\n"
       "  --frames A:B         frames to track (default 0:29)\n"
       "  --render-frames N    frames from A to encode and render per held-out camera (default 4)\n"
@@ -598,7 +604,8 @@ int Usage(const char* self, int code) {
       "  --fvv PATH           the fvv program (default: tools/fvv/fvv beside this build's bench/)\n"
       "  --models DIR         the person models (default: $FVV_MODEL_DIR or ~/.cache/fvv/models)\n"
       "  --held-out NAME      hold out this camera only (default: each in turn)\n"
-      "  --no-render          tracking figures only\n",
+      "  --no-render          tracking figures only\n"
+      "  --surface            encode with the surface of every frame (fvv encode --surface)\n",
       self);
   return code;
 }
@@ -630,6 +637,8 @@ int main(int argc, char** argv) {
       a.held_out = v;
     } else if (s == "--no-render") {
       a.render = false;
+    } else if (s == "--surface") {
+      a.surface = true;
     } else if (a.capture.empty() && s[0] != '-') {
       a.capture = s;
     } else {

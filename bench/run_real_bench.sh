@@ -7,6 +7,7 @@
 # view).
 #
 # Usage: bench/run_real_bench.sh [FRAMES A:B] [RENDER_FRAMES N] [--refine[=FROM]] [--strict]
+#                               [--surface]
 #   --refine            camera poses from the keypoints (refine-calib --from keypoints)
 #   --refine=silhouettes  camera orientations from the tracked actor's outlines
 #   --strict            the held-out camera as imported, the other cameras refined among
@@ -14,6 +15,7 @@
 #                       protocol, every camera refined together, as a studio would before a
 #                       shoot). Either way the refinement reads the 68 frames after B only:
 #                       no scored frame shapes the calibration.
+#   --surface           encode with the surface of every frame (fvv encode --surface)
 # Needs the person models (tools/setup.sh fetches them) and a Release build in build/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -25,11 +27,13 @@ fi
 refine=""
 strict=0
 args=()
+bench_args=()
 for a in "$@"; do
   case $a in
     --refine) refine=keypoints ;;
     --refine=*) refine=${a#--refine=} ;;
     --strict) strict=1 ;;
+    --surface) bench_args+=(--surface) ;;
     *) args+=("$a") ;;
   esac
 done
@@ -58,7 +62,7 @@ if [ $strict = 0 ]; then
     $fvv capture refine-calib "$out/capture" --from "$refine" --frames "$span" --write
   fi
   build/bench/real_bench "$out/capture" --frames "$frames" --render-frames "$render_frames" \
-    --out "$out" --fvv $fvv
+    --out "$out" --fvv $fvv "${bench_args[@]}"
   exit 0
 fi
 # Strict: per held-out camera, a capture of its own whose other cameras are

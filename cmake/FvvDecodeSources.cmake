@@ -44,6 +44,7 @@ set(FVV_CONTAINER_DEC_SOURCES
   container/motion_dec.cc
   container/stream_info.cc
   container/stream_reader.cc
+  container/surface_displacement.cc
   container/vertex_visibility.cc
   container/xxh64.cc
 )

@@ -40,6 +40,7 @@ constexpr FourCC kVertexVisibility = MakeFourCC("vvis");
 constexpr FourCC kChecksum = MakeFourCC("fcrc");
 constexpr FourCC kTextureHead = MakeFourCC("txhd");    // texture-chunks: the channels' sizes
 constexpr FourCC kTextureChunks = MakeFourCC("txck");  // texture-chunks: the chunks, last
+constexpr FourCC kSurfaceHead = MakeFourCC("sfhd");    // surface: the values' step and size
 }  // namespace box
 
 // flags bit 0: a reader that does not know this box type must stop with

@@ -49,6 +49,8 @@ const char* CodingToolName(uint32_t tool_bit) {
       return "texture-precision";
     case kToolTextureChunks:
       return "texture-chunks";
+    case kToolSurface:
+      return "surface";
     default:
       return "unknown";
   }
@@ -77,6 +79,7 @@ const LevelLimits* FindLevel(uint8_t level) {
 }
 
 uint16_t RequiredFormatVersion(uint32_t tools) {
+  if (tools & kToolSurface) return 12;
   if (tools & kToolTextureChunks) return 11;
   if (tools & kToolQuantisedModel) return 10;
   if (tools & kToolChromaBilinear) return 9;
@@ -173,6 +176,11 @@ Status ValidateFileHeader(const FileHeader& h) {
     return Corrupt(at +
                    "texture-chunks declared with predictive texture (it lays out the 'texr' "
                    "channel streams in chunks)");
+  }
+  if ((h.tools & kToolSurface) && !(h.tools & kToolTextureChunks)) {
+    return Corrupt(at +
+                   "surface declared without texture-chunks (its values travel in the "
+                   "texture's chunks)");
   }
   if (h.frame_rate_num == 0 || h.frame_rate_den == 0) {
     return Corrupt(at + "frame rate " + std::to_string(h.frame_rate_num) + "/" +

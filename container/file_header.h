@@ -15,7 +15,7 @@ namespace fvv {
 // Highest format version this library reads. Writers write the lowest version
 // that has every tool they use (RequiredFormatVersion), so streams without
 // the newer tools stay readable by older decoders.
-constexpr uint16_t kFormatVersion = 11;
+constexpr uint16_t kFormatVersion = 12;
 
 // Coding tools (FileHeader::tools bits). A stream declares every tool it uses;
 // a profile allows a subset.
@@ -42,8 +42,9 @@ enum CodingTool : uint32_t {
   kToolQuantisedModel = 1u << 19,     // format version 10: 'modl' version 1, the mesh on a grid
   // Bit 20 is left undefined: the released case invalid/unknown_tool_bit sets it.
   kToolTextureChunks = 1u << 21,  // format version 11: 'txhd' + 'txck', every prefix decodes
+  kToolSurface = 1u << 22,        // format version 12: 'sfhd' + chunks, the surface of every frame
 };
-constexpr uint32_t kAllKnownTools = ((1u << 20) - 1) | kToolTextureChunks;
+constexpr uint32_t kAllKnownTools = ((1u << 20) - 1) | kToolTextureChunks | kToolSurface;
 // The format version that introduced the newest of `tools`.
 uint16_t RequiredFormatVersion(uint32_t tools);
 const char* CodingToolName(uint32_t tool_bit);

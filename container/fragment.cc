@@ -193,6 +193,13 @@ std::vector<uint8_t> WriteFragmentBox(const FragmentData& f, bool chunked, uint6
   if (!f.vertex_visibility.empty()) {
     AppendBox(box::kVertexVisibility, 0, 0, f.vertex_visibility, &payload);
   }
+  if (f.has_surface) {
+    ByteWriter w;
+    w.U8(f.surface_head.step_exponent);
+    w.U32(f.surface_head.vertex_count);
+    w.U32(static_cast<uint32_t>(f.surface.size()));
+    AppendBox(box::kSurfaceHead, 0, kBoxFlagEssential, w.bytes(), &payload);
+  }
   if (chunked && !f.predictive) {
     // The head's last box before 'fcrc': the texture's parameters and the
     // channels' sizes, so the chunks that follow need no table.
@@ -212,12 +219,22 @@ std::vector<uint8_t> WriteFragmentBox(const FragmentData& f, bool chunked, uint6
     if (head_bytes) *head_bytes = out.size();
     return out;
   }
-  const std::vector<TextureChunk> chunks =
-      f.chunks.empty() ? PlanTextureChunks(f.texture) : f.chunks;
+  std::vector<TextureChunk> chunks = f.chunks;
+  if (chunks.empty()) {
+    // The surface first: it decodes only whole, and every camera's texture
+    // is drawn on it.
+    for (size_t at = 0; at < f.surface.size(); at += 65535) {
+      chunks.push_back(
+          {kSurfaceChannel, static_cast<uint16_t>(std::min<size_t>(65535, f.surface.size() - at))});
+    }
+    const std::vector<TextureChunk> texture = PlanTextureChunks(f.texture);
+    chunks.insert(chunks.end(), texture.begin(), texture.end());
+  }
   std::vector<uint8_t> body;
-  std::array<size_t, 3> at{};
+  std::array<size_t, 4> at{};
   for (const TextureChunk& c : chunks) {
-    const std::vector<uint8_t>& data = f.texture.channels[c.channel].data;
+    const std::vector<uint8_t>& data =
+        c.channel == kSurfaceChannel ? f.surface : f.texture.channels[c.channel].data;
     AppendChunk(c.channel, data.data() + at[c.channel], c.size, &body);
     at[c.channel] += c.size;
   }
@@ -353,12 +370,14 @@ Status ReadTextureHead(const BoxHeader& b, const uint8_t* payload, const FileHea
 Status ReadTextureChunks(const BoxHeader& b, const uint8_t* data, uint64_t delivered, bool whole,
                          const FragmentReadOptions& options, FragmentData* f) {
   const std::string at = BoxContext(b);
-  uint64_t total = 0;
+  uint64_t total = f->has_surface ? f->surface_head.data_size : 0;
   for (uint32_t n : f->declared_bytes) total += n;
   if (total > b.payload_size()) {
-    return Corrupt(at + "the head declares " + std::to_string(total) + " texture bytes, " +
+    return Corrupt(at + "the head declares " + std::to_string(total) + " bytes of chunks, " +
                    std::to_string(b.payload_size()) + " follow");
   }
+  f->surface.clear();
+  f->surface.reserve(f->has_surface ? f->surface_head.data_size : 0);
   for (int c = 0; c < 3; ++c) {
     f->texture.channels[c].data.clear();
     f->texture.channels[c].data.reserve(f->declared_bytes[c]);
@@ -375,12 +394,18 @@ Status ReadTextureChunks(const BoxHeader& b, const uint8_t* data, uint64_t deliv
     if (options.verify_checksum && Crc32c(p + kChunkHeaderBytes, size, Crc32c(p, 3)) != crc) {
       return Status(StatusCode::kChecksumMismatch, where + "CRC-32C mismatch (chunk is damaged)");
     }
-    if (channel > 2) return Corrupt(where + "channel " + std::to_string(channel));
+    if (channel > kSurfaceChannel || (channel == kSurfaceChannel && !f->has_surface)) {
+      return Corrupt(where + "channel " + std::to_string(channel) +
+                     (channel == kSurfaceChannel ? " (the surface) without 'sfhd'" : ""));
+    }
     if (size == 0) return Corrupt(where + "empty");
-    std::vector<uint8_t>& out = f->texture.channels[channel].data;
-    if (out.size() + size > f->declared_bytes[channel]) {
+    const bool surface = channel == kSurfaceChannel;
+    std::vector<uint8_t>& out = surface ? f->surface : f->texture.channels[channel].data;
+    const uint32_t declared =
+        surface ? f->surface_head.data_size : f->declared_bytes[channel];
+    if (out.size() + size > declared) {
       return Corrupt(where + "channel " + std::to_string(channel) + " runs past the " +
-                     std::to_string(f->declared_bytes[channel]) + " bytes its head declares");
+                     std::to_string(declared) + " bytes its head declares");
     }
     out.insert(out.end(), p + kChunkHeaderBytes, p + kChunkHeaderBytes + size);
     f->chunks.push_back({channel, size});
@@ -398,6 +423,30 @@ Status ReadTextureChunks(const BoxHeader& b, const uint8_t* data, uint64_t deliv
                      "declares " + std::to_string(f->declared_bytes[c]));
     }
   }
+  if (f->has_surface && f->surface.size() != f->surface_head.data_size) {
+    return Corrupt(at + "the surface's chunks hold " + std::to_string(f->surface.size()) +
+                   " bytes, 'sfhd' declares " + std::to_string(f->surface_head.data_size));
+  }
+  return Status::Ok();
+}
+
+// 'sfhd' (SPEC.md 3.5.2): the values' step, the model's vertex count and the
+// coded values' size.
+Status ReadSurfaceHead(const BoxHeader& b, const uint8_t* payload, SurfaceHead* head) {
+  const std::string at = BoxContext(b);
+  if (b.version != 0) return Unsupported(at + "version " + std::to_string(b.version));
+  ByteReader r(payload, b.payload_bytes());
+  head->step_exponent = r.U8();
+  head->vertex_count = r.U32();
+  head->data_size = r.U32();
+  FVV_RETURN_IF_ERROR(CheckFullyRead(r, b));
+  if (head->step_exponent < kMinSurfaceStepExponent ||
+      head->step_exponent > kMaxSurfaceStepExponent) {
+    return Corrupt(at + "step exponent " + std::to_string(head->step_exponent) + " (" +
+                   std::to_string(kMinSurfaceStepExponent) + ".." +
+                   std::to_string(kMaxSurfaceStepExponent) + ")");
+  }
+  if (head->data_size == 0) return Corrupt(at + "no coded values");
   return Status::Ok();
 }
 
@@ -587,6 +636,13 @@ Status ReadFragment(const BoxHeader& box, const uint8_t* payload, const FileHead
       }
       f->mask_mode = static_cast<MaskCoding>(p[0]);
       f->masks.assign(p + 1, p + n);
+    } else if (b.type == box::kSurfaceHead) {
+      FVV_RETURN_IF_ERROR(once(f->has_surface));
+      if (!(h.tools & kToolSurface)) {
+        return Corrupt(BoxContext(b) + "without the surface tool in the header");
+      }
+      FVV_RETURN_IF_ERROR(ReadSurfaceHead(b, p, &f->surface_head));
+      f->has_surface = true;
     } else if (b.type == box::kVertexVisibility) {
       FVV_RETURN_IF_ERROR(once(!f->vertex_visibility.empty()));
       if (n == 0) return Corrupt(BoxContext(b) + "empty");
@@ -614,6 +670,9 @@ Status ReadFragment(const BoxHeader& box, const uint8_t* payload, const FileHead
   if (!f->vertex_visibility.empty() && !(h.tools & kToolVertexVisibility)) {
     return Corrupt(at + "'vvis' without the vertex-visibility tool in the header");
   }
+  if (f->has_surface && !wants_motion) {
+    return Corrupt(at + "'sfhd' outside the first camera group");
+  }
   if (!chunked) return Status::Ok();
   const uint64_t chunks_at = chunks_box.offset - base + chunks_box.header_size;
   return ReadTextureChunks(chunks_box, payload + chunks_at, available - chunks_at,
@@ -631,9 +690,20 @@ StatusOr<std::array<uint64_t, 3>> ChunkedPrefixBytes(const FragmentData& f, uint
   for (const TextureChunk& c : f.chunks) {
     end += kChunkHeaderBytes + c.size;
     if (prefix != 0 && end > prefix) break;
-    bytes[c.channel] += c.size;
+    if (c.channel < 3) bytes[c.channel] += c.size;
   }
   return bytes;
+}
+
+bool PrefixHoldsSurface(const FragmentData& f, uint64_t prefix) {
+  if (!f.has_surface) return false;
+  uint64_t end = f.head_bytes, held = 0;
+  for (const TextureChunk& c : f.chunks) {
+    end += kChunkHeaderBytes + c.size;
+    if (prefix != 0 && end > prefix) break;
+    if (c.channel == kSurfaceChannel) held += c.size;
+  }
+  return held == f.surface_head.data_size;
 }
 
 }  // namespace fvv

@@ -18,6 +18,7 @@
 #include "codec/predictive_texture.h"
 #include "container/box.h"
 #include "container/file_header.h"
+#include "container/surface_displacement.h"
 
 namespace fvv {
 
@@ -36,13 +37,14 @@ struct FragmentInfo {
 };
 
 // One chunk of a chunked texture (SPEC.md 3.5.1): the next `size` bytes of
-// channel `channel` (0 Y, 1 U, 2 V).
+// channel `channel` (0 Y, 1 U, 2 V; 3 the surface of 3.5.2).
 struct TextureChunk {
   uint8_t channel = 0;
   uint16_t size = 0;
 };
 // Bytes of a chunk before its data: channel u8, size u16, crc u32.
 constexpr uint32_t kChunkHeaderBytes = 7;
+constexpr uint8_t kSurfaceChannel = 3;
 
 // A fragment's coded payloads, as the writer takes them and the reader returns
 // them (decoding the payloads is the decoder's job).
@@ -66,7 +68,20 @@ struct FragmentData {
   std::vector<TextureChunk> chunks;
   std::array<uint32_t, 3> declared_bytes{};
   uint64_t head_bytes = 0;
+
+  // The surface of the fragment's frames (tool bit 22, SPEC.md 3.5.2), in the
+  // first camera group's fragment: its head 'sfhd' and its coded values
+  // (surface_displacement.h), which travel in chunks of channel 3. The reader
+  // leaves `surface` shorter than surface_head.data_size when a prefix ends
+  // before its last chunk.
+  bool has_surface = false;
+  SurfaceHead surface_head;
+  std::vector<uint8_t> surface;
 };
+
+// Whether a prefix of `prefix` bytes of a chunked fragment (0: all) holds the
+// whole surface (SPEC.md 3.5.2: the surface decodes only whole).
+bool PrefixHoldsSurface(const FragmentData& f, uint64_t prefix);
 
 // The chunk order the writer uses when FragmentData::chunks is empty: the
 // channels interleaved in the order of the encoder's RD hulls (ChannelStream::

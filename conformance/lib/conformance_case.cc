@@ -121,6 +121,9 @@ StatusOr<ConformanceCase> LoadCase(const std::string& dir) {
         e.bytes_per_fragment = b.at("bytes_per_fragment").get<uint64_t>();
         FVV_RETURN_IF_ERROR(ReadHashes(b.at("yuv"), "budgets[].yuv", &e.yuv));
         if (b.contains("rgb")) FVV_RETURN_IF_ERROR(ReadHashes(b["rgb"], "budgets[].rgb", &e.rgb));
+        if (b.contains("surface")) {
+          FVV_RETURN_IF_ERROR(ReadHashes(b["surface"], "budgets[].surface", &e.surface));
+        }
         c.budgets.push_back(std::move(e));
       }
     } else {
@@ -159,8 +162,10 @@ Status SaveCase(const ConformanceCase& c) {
     if (!c.fixed.empty()) j["outputs"] = c.fixed;
     nlohmann::ordered_json budgets = nlohmann::ordered_json::array();
     for (const BudgetExpectation& b : c.budgets) {
-      budgets.push_back(
-          {{"bytes_per_fragment", b.bytes_per_fragment}, {"yuv", b.yuv}, {"rgb", b.rgb}});
+      nlohmann::ordered_json e = {
+          {"bytes_per_fragment", b.bytes_per_fragment}, {"yuv", b.yuv}, {"rgb", b.rgb}};
+      if (!b.surface.empty()) e["surface"] = b.surface;
+      budgets.push_back(std::move(e));
     }
     j["budgets"] = budgets;
   }

@@ -18,6 +18,7 @@ struct BudgetExpectation {
   uint64_t bytes_per_fragment = 0;  // 0 = whole streams
   OutputHashes yuv;                 // yuv_*.bin at this budget
   OutputHashes rgb;                 // rgb_*.bin at this budget
+  OutputHashes surface;             // surface_*.bin at this budget (optional outputs)
 };
 
 struct ConformanceCase {

@@ -93,6 +93,14 @@ class SpanEmitter {
         for (int64_t t : bone.translation_um) PutLe(static_cast<uint64_t>(t), 8, &motion_);
       }
     }
+    for (size_t t = 0; t < gop->surface.size(); ++t) {
+      std::vector<uint8_t> bytes;
+      bytes.reserve(gop->surface[t].size() * 4);
+      for (float v : gop->surface[t]) PutF32(v, &bytes);
+      char name[32];
+      std::snprintf(name, sizeof(name), "surface_%06u.bin", unsigned(gop->first_frame + t));
+      FVV_RETURN_IF_ERROR(sink_(name, bytes));
+    }
     for (size_t g = 0; g < span_.size(); ++g) {
       FVV_RETURN_IF_ERROR(EmitGroup(info, span_[g], *gop, g));
     }

@@ -22,28 +22,39 @@ bool StartsWith(const std::string& s, const char* prefix) { return s.rfind(prefi
 
 // "" when `actual` holds exactly the expected files with the expected hashes.
 // A decoder that writes no vertex visibility at all is allowed (the box is not
-// essential, SPEC.md 8); one that writes some must write them right.
+// essential, SPEC.md 8), and so is one that writes no surface (Annex B.1);
+// one that writes some must write them right.
 std::string Compare(const OutputHashes& expected, const OutputHashes& actual, std::string* note) {
-  bool any_vvis = false;
-  for (const auto& a : actual) any_vvis = any_vvis || StartsWith(a.first, "vvis_");
+  static const char* const kOptional[2] = {"vvis_", "surface_"};
+  static const char* const kWhat[2] = {"vertex visibility", "surface"};
+  bool any[2] = {false, false};
+  for (const auto& a : actual) {
+    for (int k = 0; k < 2; ++k) any[k] = any[k] || StartsWith(a.first, kOptional[k]);
+  }
   std::vector<std::string> problems;
   for (const auto& a : actual) {
     if (!expected.count(a.first)) problems.push_back(a.first + " not expected");
   }
-  size_t skipped_vvis = 0;
+  size_t skipped[2] = {0, 0};
   for (const auto& e : expected) {
     const auto it = actual.find(e.first);
     if (it == actual.end()) {
-      if (StartsWith(e.first, "vvis_") && !any_vvis) {
-        ++skipped_vvis;
-        continue;
+      bool optional = false;
+      for (int k = 0; k < 2; ++k) {
+        if (StartsWith(e.first, kOptional[k]) && !any[k]) optional = true, ++skipped[k];
       }
-      problems.push_back(e.first + " missing");
+      if (!optional) problems.push_back(e.first + " missing");
     } else if (it->second != e.second) {
       problems.push_back(e.first + " differs");
     }
   }
-  if (skipped_vvis && note) *note = "vertex visibility not output (optional), not checked";
+  std::string skipped_note;
+  for (int k = 0; k < 2; ++k) {
+    if (!skipped[k]) continue;
+    skipped_note += std::string(skipped_note.empty() ? "" : "; ") + kWhat[k] +
+                    " not output (optional), not checked";
+  }
+  if (note && !skipped_note.empty()) *note = skipped_note;
   if (problems.empty()) return {};
   std::string out = std::to_string(problems.size()) + " output file(s) wrong: ";
   for (size_t i = 0; i < problems.size() && i < 3; ++i) out += (i ? ", " : "") + problems[i];
@@ -55,6 +66,7 @@ OutputHashes Expected(const ConformanceCase& c, const BudgetExpectation& b) {
   OutputHashes all = c.fixed;
   all.insert(b.yuv.begin(), b.yuv.end());
   all.insert(b.rgb.begin(), b.rgb.end());
+  all.insert(b.surface.begin(), b.surface.end());
   return all;
 }
 
@@ -351,6 +363,8 @@ Status BlessCase(ConformanceCase* c, const std::vector<uint64_t>& budgets, bool 
         e.yuv.insert(h);
       } else if (StartsWith(h.first, "rgb_")) {
         e.rgb.insert(h);
+      } else if (StartsWith(h.first, "surface_")) {
+        e.surface.insert(h);
       } else if (b == 0) {
         c->fixed.insert(h);
       }

@@ -26,8 +26,13 @@ std::string EncodeSummary::Table() const {
       kbps(mask_bytes));
   add("    motion          %12llu bytes   %9.2f kbps\n", (unsigned long long)motion_bytes,
       kbps(motion_bytes));
+  if (surface_bytes > 0) {
+    add("    surface         %12llu bytes   %9.1f kbps  (%.1f %% of the stream)\n",
+        (unsigned long long)surface_bytes, kbps(surface_bytes),
+        100.0 * surface_bytes / std::max<uint64_t>(1, file_bytes));
+  }
   add("    model, headers  %12llu bytes\n",
-      (unsigned long long)(file_bytes - texture_bytes - mask_bytes - motion_bytes));
+      (unsigned long long)(file_bytes - texture_bytes - mask_bytes - motion_bytes - surface_bytes));
   add("  compression       %8.1f:1 vs 24-bit RGB atlases, %.1f:1 vs visible texels (%.1f %% "
       "of atlas texels seen)\n",
       ratio_atlas(), ratio_visible(), 100.0 * visible_texels / std::max<uint64_t>(1, atlas_texels));
@@ -35,6 +40,10 @@ std::string EncodeSummary::Table() const {
       psnr[2], psnr_rgb);
   if (pose_source == "tracked") {
     add("  tracking          mean IoU %.3f, %d frame(s) flagged\n", mean_iou, flagged_frames);
+  }
+  if (surface_bytes > 0) {
+    add("  surface           %.3f s per frame, mean |displacement| %.1f mm\n",
+        surface_s / std::max(1u, frames), 1000 * surface_mean_abs);
   }
   if (fallback_texels > 0 || seamless_s > 0) {
     add("  seamless texture  %.3f s per frame; %llu texel(s) no camera saw filled from it\n",
@@ -79,7 +88,8 @@ std::string EncodeSummary::ToJson() const {
        {{"file", file_bytes},
         {"texture", texture_bytes},
         {"masks", mask_bytes},
-        {"motion", motion_bytes}}},
+        {"motion", motion_bytes},
+        {"surface", surface_bytes}}},
       {"kbps",
        {{"file", kbps(file_bytes)},
         {"texture", kbps(texture_bytes)},
@@ -95,6 +105,10 @@ std::string EncodeSummary::ToJson() const {
       {"agreement", {{"texels", agreement_texels}, {"dropped", agreement_dropped}}},
       {"without_masks",
        {{"player_texels", player_texels}, {"player_texels_left", player_texels_left}}},
+      {"surface",
+       {{"bytes", surface_bytes},
+        {"seconds_per_frame", surface_s / std::max(1u, frames)},
+        {"mean_abs_m", surface_mean_abs}}},
       {"shape_refinement",
        {{"refined", !refine_moves.empty()},
         {"seconds", refine_s},

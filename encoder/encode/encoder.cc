@@ -1,3 +1,4 @@
+#include "container/surface_displacement.h"
 #include "encoder/encode/encoder.h"
 
 #include "container/stream_join.h"
@@ -35,6 +36,22 @@ Status CheckSettings(const EncoderSettings& s) {
     return InvalidArgument("the rate (bpp, bytes or PSNR) must be positive");
   }
   if (s.threads < 1 || s.threads > 256) return InvalidArgument("threads must be 1..256");
+  if (s.surface) {
+    if (!s.texture_chunks || s.texture_codec == TextureCodec::kPredictive) {
+      return InvalidArgument(
+          "the surface travels in the texture's chunks: not with --whole-texture or the "
+          "predictive codec");
+    }
+    if (!s.textures.empty()) {
+      return InvalidArgument("the surface is tracked from silhouettes: not with --textures");
+    }
+    if (s.surface_step_exponent < kMinSurfaceStepExponent ||
+        s.surface_step_exponent > kMaxSurfaceStepExponent) {
+      return InvalidArgument("surface step exponent " + std::to_string(s.surface_step_exponent) +
+                             " is not in " + std::to_string(kMinSurfaceStepExponent) + ".." +
+                             std::to_string(kMaxSurfaceStepExponent));
+    }
+  }
   if (s.shards > 0) {
     if (s.shard >= s.shards) {
       return InvalidArgument("shard " + std::to_string(s.shard) + "/" + std::to_string(s.shards) +

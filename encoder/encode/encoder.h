@@ -26,6 +26,7 @@
 #include "encoder/encode/resample.h"
 #include "encoder/encode/sample_agreement.h"
 #include "encoder/shape/shape_refinement.h"
+#include "encoder/shape/surface_tracking.h"
 #include "encoder/track/camera_choice.h"
 #include "encoder/track/track_capture.h"
 #include "encoder/track/tracker.h"
@@ -145,6 +146,15 @@ struct EncoderSettings {
   // bytes more per fragment (docs/encoder.md). false writes 'texr', what
   // format versions 1 to 10 decoders read. Not with the predictive texture.
   bool texture_chunks = true;
+  // The surface of every frame (format version 12, SPEC.md 3.5.2): the
+  // fitted body moved along its normals to each frame's silhouettes
+  // (encoder/shape/surface_tracking.h), carried per fragment and used for the
+  // frame's resampling. Needs texture_chunks and silhouettes (footage, not a
+  // texture directory). `surface_step_exponent`: values in steps of 2^-e m
+  // (8: 3.9 mm, below a pixel of the silhouettes the surface is tracked on).
+  bool surface = false;
+  SurfaceTrackingOptions surface_tracking;
+  uint8_t surface_step_exponent = 8;
   uint32_t threads = 2;
   Metadata metadata;
 
@@ -198,6 +208,10 @@ struct EncodeSummary {
   // Texels seen by enough cameras to check their colours, and the samples
   // dropped as seeing something else (summed over frames).
   uint64_t agreement_texels = 0, agreement_dropped = 0;
+  // The surface of every frame (surface): its bytes, tracking seconds, and
+  // the mean |displacement| (metres) over frames.
+  uint64_t surface_bytes = 0;
+  double surface_s = 0, surface_mean_abs = 0;
 
   double duration_s() const { return frames / fps; }
   double kbps(uint64_t bytes) const { return bytes * 8.0 / 1000 / duration_s(); }

@@ -101,7 +101,7 @@ Status Session::AddFrame(uint32_t frame, const std::vector<double>& dofs,
   raw_poses_.push_back(dofs);
   const uint32_t slot = (frame - first_) % s_.gop_frames;
   FVV_ASSIGN_OR_RETURN(const std::vector<Eigen::Vector3f> positions,
-                       Resample(frame, slot, q, images, silhouettes));
+                       Resample(frame, slot, q, images, silhouettes, s_.surface));
   if (static_) AddToStaticTexture(slot, positions);
   if (slot + 1 == s_.gop_frames || frame == last_) FVV_RETURN_IF_ERROR(CodeSpan(slot + 1));
   return Status::Ok();
@@ -113,28 +113,78 @@ Status Session::AddStaticFrame(uint32_t frame, const std::vector<double>& dofs,
   if (!static_ || static_fixed_) return Internal("no static texture to add a frame to");
   const QuantisedPose q = QuantisePose(model_.skeleton.Dofs(), motion_, dofs);
   FVV_ASSIGN_OR_RETURN(const std::vector<Eigen::Vector3f> positions,
-                       Resample(frame, 0, q, images, silhouettes));
+                       Resample(frame, 0, q, images, silhouettes, false));
   AddToStaticTexture(0, positions);
   return Status::Ok();
+}
+
+StatusOr<const Mesh*> Session::TrackSurface(uint32_t slot, const std::vector<Affine>& skin,
+                                            const std::vector<Image>& silhouettes) {
+  const auto t0 = Clock::now();
+  if (!surface_tracker_) {
+    surface_tracker_ = std::make_unique<SurfaceTracker>(model_.mesh, s_.surface_tracking);
+    surface_mesh_ = model_.mesh;
+    span_surface_.resize(s_.gop_frames);
+  }
+  SurfaceTrackingReport report;
+  FVV_ASSIGN_OR_RETURN(
+      const std::vector<float> d,
+      surface_tracker_->Track(skin, cameras_, silhouettes, &report, pool_.runner()));
+  // Quantised with hysteresis: a value keeps the previous frame's until the
+  // surface has moved a step past it, so that still parts code as repeats
+  // (the temporal residuals, mostly zero, are what the zstd frame shrinks).
+  std::vector<int32_t>& values = span_surface_[slot];
+  const double steps_per_m = std::ldexp(1.0, s_.surface_step_exponent);
+  for (size_t v = 0; v < d.size(); ++v) {
+    const double x = std::clamp<double>(d[v] * steps_per_m, -kMaxSurfaceValue, kMaxSurfaceValue);
+    const int32_t rounded = int32_t(std::lround(x));
+    const bool keep = surface_values_.size() == d.size() && std::abs(x - surface_values_[v]) < 1.0;
+    if (!keep && surface_values_.size() == d.size()) surface_values_[v] = rounded;
+  }
+  if (surface_values_.size() != d.size()) {
+    surface_values_.resize(d.size());
+    for (size_t v = 0; v < d.size(); ++v) {
+      surface_values_[v] = int32_t(std::lround(
+          std::clamp<double>(d[v] * steps_per_m, -kMaxSurfaceValue, kMaxSurfaceValue)));
+    }
+  }
+  values = surface_values_;
+  std::vector<float> bind;
+  SurfacePositions(model_.mesh, values.data(), s_.surface_step_exponent, &bind);
+  for (size_t v = 0; v < surface_mesh_.positions.size(); ++v) {
+    surface_mesh_.positions[v] = {bind[3 * v], bind[3 * v + 1], bind[3 * v + 2]};
+  }
+  sum_.surface_mean_abs += report.mean_abs / sum_.frames;
+  sum_.surface_s += Since(t0);
+  return &surface_mesh_;
 }
 
 StatusOr<std::vector<Eigen::Vector3f>> Session::Resample(uint32_t frame, uint32_t slot,
                                                          const QuantisedPose& q,
                                                          const std::vector<Image>& images,
-                                                         const std::vector<Image>& silhouettes) {
-  const auto t0 = Clock::now();
+                                                         const std::vector<Image>& silhouettes,
+                                                         bool track_surface) {
   const Skeleton& skeleton = model_.skeleton;
   const size_t texels = size_t(s_.atlas_size) * s_.atlas_size;
   const std::vector<Affine> skin =
       SkinningMatrices(skeleton, DequantisePose(skeleton.Dofs(), motion_, q));
+  const Mesh* surface = &model_.mesh;
+  if (track_surface) {
+    if (images.empty() || silhouettes.empty()) {
+      return InvalidArgument("frame " + std::to_string(frame) +
+                             ": the surface needs the cameras' silhouettes");
+    }
+    FVV_ASSIGN_OR_RETURN(surface, TrackSurface(slot, skin, silhouettes));
+  }
+  const auto t0 = Clock::now();
   std::vector<Eigen::Vector3f> normals;
-  std::vector<Eigen::Vector3f> positions = SkinPositions(model_.mesh, skin, &normals);
+  std::vector<Eigen::Vector3f> positions = SkinPositions(*surface, skin, &normals);
   if (images.empty()) {
     FVV_RETURN_IF_ERROR(ReadTextures(frame, slot));
   } else {
     pool_.Run(sum_.cameras, [&](uint32_t c) {
       const size_t plane = size_t(slot) * sum_.cameras + c;
-      ResampleView(map_, model_.mesh, positions, normals, cameras_[c], images[c],
+      ResampleView(map_, *surface, positions, normals, cameras_[c], images[c],
                    silhouettes.empty() ? Image() : silhouettes[c], s_.resample,
                    &span_rgb_[plane * texels * 3], &span_mask_[plane * texels],
                    span_usable_.empty() ? nullptr : &span_usable_[plane * texels]);
@@ -233,6 +283,7 @@ Status Session::FillHeader(FileHeader* h) const {
   if (s_.key_interval > 1) h->tools |= kToolMotionInterpolation;
   if (s_.motion_coder == MotionCoder::kZstd) h->tools |= kToolMotionZstd;
   if (model_.quantisation.quantised) h->tools |= kToolQuantisedModel;
+  if (s_.surface) h->tools |= kToolSurface;
   if (s_.texture_chunks && s_.texture_codec != TextureCodec::kPredictive) {
     h->tools |= kToolTextureChunks;
   }

@@ -171,7 +171,13 @@ class Session {
   StatusOr<std::vector<Eigen::Vector3f>> Resample(uint32_t frame, uint32_t slot,
                                                   const QuantisedPose& q,
                                                   const std::vector<Image>& images,
-                                                  const std::vector<Image>& silhouettes);
+                                                  const std::vector<Image>& silhouettes,
+                                                  bool track_surface);
+  // With EncoderSettings::surface: the frame's surface tracked, quantised
+  // into span_surface_[slot] and returned as the decoder will have it (the
+  // model's mesh with the frame's bind-pose positions).
+  StatusOr<const Mesh*> TrackSurface(uint32_t slot, const std::vector<Affine>& skin,
+                                     const std::vector<Image>& silhouettes);
 
   // Codes the `frames` frames held for the current time span: one block per
   // camera group.
@@ -196,7 +202,7 @@ class Session {
     std::array<double, 3> sse{};
     std::array<uint64_t, 3> samples{};
     double sse_rgb = 0;
-    uint64_t visible_texels = 0, texture_bytes = 0, mask_bytes = 0;
+    uint64_t visible_texels = 0, texture_bytes = 0, mask_bytes = 0, surface_bytes = 0;
   };
   // Camera group `g` of the span: its fragment and figures. Reads the span
   // buffers only, so groups code side by side.
@@ -246,6 +252,10 @@ class Session {
   std::vector<std::vector<int16_t>> span_fallback_;  // per slot: best-facing camera per texel
   std::vector<uint8_t> all_seen_;                    // texels x 1: "every camera" masks
   std::vector<QuantisedPose> poses_;
+  std::unique_ptr<SurfaceTracker> surface_tracker_;  // with EncoderSettings::surface
+  Mesh surface_mesh_;                                // the model's, at a frame's surface
+  std::vector<std::vector<int32_t>> span_surface_;   // per slot: SPEC.md 3.5.2's values
+  std::vector<int32_t> surface_values_;              // the last frame's
   Metadata extra_metadata_;
   std::vector<std::vector<double>> raw_poses_;
   std::vector<FragmentData> fragments_;

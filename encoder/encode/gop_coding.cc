@@ -37,6 +37,7 @@ Status Session::CodeSpan(uint32_t frames) {
     sum_.visible_texels += figures[g].visible_texels;
     sum_.texture_bytes += figures[g].texture_bytes;
     sum_.mask_bytes += figures[g].mask_bytes;
+    sum_.surface_bytes += figures[g].surface_bytes;
     fragments_.push_back(std::move(coded[g]));
   }
   sum_.code_s += Since(t0);
@@ -53,6 +54,21 @@ Status Session::CodeGroup(uint32_t g, uint32_t frames, uint32_t span_first, Frag
   frag.info.first_camera = uint16_t(g * s_.gop_cameras);
   frag.info.camera_count =
       uint16_t(std::min<uint32_t>(s_.gop_cameras, sum_.cameras - g * s_.gop_cameras));
+  if (g == 0 && !span_surface_.empty()) {
+    // The span's surface rides in the first camera group, beside the motion.
+    const uint32_t vertices = uint32_t(model_.mesh.positions.size());
+    std::vector<int32_t> values;
+    values.reserve(size_t(frames) * vertices);
+    for (uint32_t t = 0; t < frames; ++t) {
+      values.insert(values.end(), span_surface_[t].begin(), span_surface_[t].end());
+    }
+    frag.has_surface = true;
+    frag.surface_head.step_exponent = s_.surface_step_exponent;
+    frag.surface_head.vertex_count = vertices;
+    frag.surface = EncodeSurfaceDisplacements(values, frames, vertices);
+    frag.surface_head.data_size = uint32_t(frag.surface.size());
+    figures->surface_bytes = frag.surface.size();
+  }
   Shape4D shape;
   shape.n = {frames, frag.info.camera_count, s_.atlas_size, s_.atlas_size};
   std::vector<uint8_t> rgb(shape.count() * 3);

@@ -243,6 +243,10 @@ typedef struct {
   fvv_pixel_format format;
   const fvv_view* views; /* [camera_count] */
   fvv_decode_report report;
+  const float* surface; /* [vertex_count][3] the frame's own surface in the bind pose (format
+                           version 12, SPEC.md 3.5.2), skinned with bone_skin like the model's
+                           positions; NULL: the model's positions (the stream carries no
+                           surface for the frame, or a byte budget ended before it) */
 } fvv_frame;
 
 /* Decodes (or takes from the GOP cache) frame `index`. The cached GOP is reused while the same

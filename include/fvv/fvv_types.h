@@ -22,7 +22,7 @@ extern "C" {
 #define FVV_VERSION_MINOR 1
 #define FVV_VERSION_PATCH 0
 /* The highest bitstream format version this library reads (container/SPEC.md). */
-#define FVV_FORMAT_VERSION 11
+#define FVV_FORMAT_VERSION 12
 
 /* Status codes. Pinned: values never change between releases. */
 typedef enum {

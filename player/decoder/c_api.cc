@@ -339,6 +339,7 @@ fvv_status fvv_decoder_decode_frame(fvv_decoder* d, uint32_t index, const fvv_de
   f.report.decode_ms = g.ms;
   f.report.complete = g.complete;
   f.report.max_ms_per_gop = g.budget.max_ms;
+  f.surface = g.surface.empty() ? nullptr : g.surface[t].data();
   *frame = &impl->frame;
   return Report(d, fvv::Status::Ok());
 }

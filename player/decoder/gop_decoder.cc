@@ -9,6 +9,7 @@
 #include "codec/block_codec.h"
 #include "codec/mask.h"
 #include "codec/predictive_texture.h"
+#include "container/surface_displacement.h"
 
 namespace fvv {
 
@@ -92,6 +93,35 @@ DecodedGop::~DecodedGop() {
     for (Plane4D& plane : block.channels) sample_pool->Give(std::move(plane.samples));
 }
 
+namespace {
+
+// The surface of the first camera group's fragment, whole: each frame's
+// bind-pose positions.
+Status DecodeSurface(const StreamInfo& info, const FragmentData& f,
+                     std::vector<std::vector<float>>* surface) {
+  const Mesh& mesh = info.model.mesh;
+  const uint32_t vertices = static_cast<uint32_t>(mesh.positions.size());
+  if (f.surface_head.vertex_count != vertices) {
+    return Corrupt("fragment " + std::to_string(f.info.gop_index) + ": 'sfhd' declares " +
+                   std::to_string(f.surface_head.vertex_count) + " vertices, the model has " +
+                   std::to_string(vertices));
+  }
+  std::vector<int32_t> values;
+  Status s = DecodeSurfaceDisplacements(f.surface.data(), f.surface.size(), f.info.frame_count,
+                                        vertices, &values);
+  if (!s.ok()) {
+    return Status(s.code(), "fragment " + std::to_string(f.info.gop_index) + ": " + s.message());
+  }
+  surface->resize(f.info.frame_count);
+  for (uint32_t t = 0; t < f.info.frame_count; ++t) {
+    SurfacePositions(mesh, values.data() + size_t(t) * vertices, f.surface_head.step_exponent,
+                     &(*surface)[t]);
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
 StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
                                                 const std::vector<FragmentData>& fragments,
                                                 const GopBudget& budget,
@@ -110,6 +140,9 @@ StatusOr<std::shared_ptr<DecodedGop>> DecodeGop(const StreamInfo& info,
   gop->sample_pool = std::move(sample_pool);
   FVV_RETURN_IF_ERROR(DecodeMotion(MotionBoxHeader(first), first.motion.data(), info.model.skeleton,
                                    info.motion, first.info.frame_count, &gop->motion));
+  if (PrefixHoldsSurface(first, budget.max_bytes)) {
+    FVV_RETURN_IF_ERROR(DecodeSurface(info, first, &gop->surface));
+  }
   gop->bitplanes = {99, 99, 99};
   const size_t n = fragments.size();
   gop->textures.resize(n);

@@ -43,6 +43,10 @@ struct DecodedGop {
   std::vector<bool> decoded;                // per camera group: false when the budget left it out
   std::vector<Block> textures;              // decoded YUV, per camera group
   std::vector<std::vector<uint8_t>> masks;  // per camera group; empty without masks
+  // The surface of each frame (SPEC.md 3.5.2): its bind-pose positions,
+  // vertex_count x 3 floats; empty when the stream carries none for the GOP
+  // or the budget's prefix ends before its last chunk (the model's surface).
+  std::vector<std::vector<float>> surface;
   uint64_t bytes_decoded = 0, bytes_available = 0;
   std::array<int, 3> bitplanes{};  // fewest complete bitplanes over the groups
   double ms = 0;

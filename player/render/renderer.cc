@@ -62,17 +62,15 @@ StatusOr<std::unique_ptr<Renderer>> Renderer::Create(const GlApi& gl, const fvv_
   if (!program.ok()) return program.status();
   r->depth_program_ = *program;
 
-  // Interleaved vertices: position 3, normal 3, uv 2, weights 4 floats; joints separately.
+  // Interleaved vertices: normal 3, uv 2, weights 4 floats; joints. The
+  // positions have a buffer of their own: a frame's surface replaces them.
   struct Vertex {
-    float p[3], n[3], uv[2], w[4];
+    float n[3], uv[2], w[4];
     uint32_t j[4];
   };
   std::vector<Vertex> vertices(model.vertex_count);
   for (uint32_t v = 0; v < model.vertex_count; ++v) {
-    for (int k = 0; k < 3; ++k) {
-      vertices[v].p[k] = model.positions[3 * v + k];
-      vertices[v].n[k] = model.normals[3 * v + k];
-    }
+    for (int k = 0; k < 3; ++k) vertices[v].n[k] = model.normals[3 * v + k];
     for (int k = 0; k < 2; ++k) vertices[v].uv[k] = model.uvs[2 * v + k];
     for (int k = 0; k < 4; ++k) {
       vertices[v].w[k] = model.weights[4 * v + k];
@@ -87,8 +85,6 @@ StatusOr<std::unique_ptr<Renderer>> Renderer::Create(const GlApi& gl, const fvv_
                vertices.data(), GL_STATIC_DRAW);
   const GLsizei stride = sizeof(Vertex);
   auto offset = [](size_t o) { return reinterpret_cast<const void*>(o); };
-  g.EnableVertexAttribArray(0);
-  g.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, offset(offsetof(Vertex, p)));
   g.EnableVertexAttribArray(1);
   g.VertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, offset(offsetof(Vertex, n)));
   g.EnableVertexAttribArray(2);
@@ -97,6 +93,13 @@ StatusOr<std::unique_ptr<Renderer>> Renderer::Create(const GlApi& gl, const fvv_
   g.VertexAttribIPointer(3, 4, GL_UNSIGNED_INT, stride, offset(offsetof(Vertex, j)));
   g.EnableVertexAttribArray(4);
   g.VertexAttribPointer(4, 4, GL_FLOAT, GL_FALSE, stride, offset(offsetof(Vertex, w)));
+  r->model_positions_.assign(model.positions, model.positions + size_t{model.vertex_count} * 3);
+  g.GenBuffers(1, &r->positions_vbo_);
+  g.BindBuffer(GL_ARRAY_BUFFER, r->positions_vbo_);
+  g.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(model.vertex_count * 3 * sizeof(float)),
+               model.positions, GL_DYNAMIC_DRAW);
+  g.EnableVertexAttribArray(0);
+  g.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float), nullptr);
   g.GenBuffers(1, &r->ibo_);
   g.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ibo_);
   g.BufferData(GL_ELEMENT_ARRAY_BUFFER,
@@ -136,6 +139,7 @@ Renderer::~Renderer() {
   if (masks_) gl_.DeleteTextures(1, &masks_);
   if (bones_ubo_) gl_.DeleteBuffers(1, &bones_ubo_);
   if (vbo_) gl_.DeleteBuffers(1, &vbo_);
+  if (positions_vbo_) gl_.DeleteBuffers(1, &positions_vbo_);
   if (ibo_) gl_.DeleteBuffers(1, &ibo_);
   if (vao_) gl_.DeleteVertexArrays(1, &vao_);
   if (program_) gl_.DeleteProgram(program_);
@@ -150,6 +154,15 @@ Status Renderer::SetFrame(const fvv_frame& frame) {
   }
   gl_.BindBuffer(GL_UNIFORM_BUFFER, bones_ubo_);
   gl_.BufferSubData(GL_UNIFORM_BUFFER, 0, static_cast<GLsizeiptr>(bones_ * 64), frame.bone_skin);
+  // The frame's own surface (format version 12), or the model's again.
+  const float* positions = frame.surface ? frame.surface : model_positions_.data();
+  if (frame.surface || positions_are_surface_) {
+    gl_.BindBuffer(GL_ARRAY_BUFFER, positions_vbo_);
+    gl_.BufferSubData(GL_ARRAY_BUFFER, 0,
+                      static_cast<GLsizeiptr>(vertex_count_ * 3 * sizeof(float)), positions);
+    gl_.BindBuffer(GL_ARRAY_BUFFER, 0);
+    positions_are_surface_ = frame.surface != nullptr;
+  }
   gl_.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
   has_masks_ = false;
   bool any = false;

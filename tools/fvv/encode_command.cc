@@ -4,6 +4,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "container/surface_displacement.h"
 #include "encoder/encode/encoder.h"
 #include "encoder/encode/prepared_take.h"
 #include "tools/fvv/codec_options.h"
@@ -31,7 +32,8 @@ struct EncodeArgs {
   uint16_t gop_frames = 8, gop_cameras = 1, key_interval = 1;
   bool masks = false, no_masks = false, extract = false, fixed_shape = false, quiet = false,
        refine_shape = false, no_fallback = false, no_prune = false, model_floats = false,
-       whole_texture = false;
+       whole_texture = false, surface = false;
+  int surface_step = EncoderSettings{}.surface_step_exponent;
   int margin = 2;
   double agreement = EncoderSettings{}.agreement.max_difference;
   double smooth = TrackCaptureOptions{}.smoothing.sigma_frames;
@@ -85,6 +87,8 @@ int RunEncode(const EncodeArgs& a) {
   s.prune_isolated = !a.no_prune;
   s.quantise_model = !a.model_floats;
   s.texture_chunks = !a.whole_texture;
+  s.surface = a.surface;
+  s.surface_step_exponent = static_cast<uint8_t>(a.surface_step);
   if (a.texture_codec == "predictive") {
     // Its defaults: all cameras in one GOP (it predicts across them) and the
     // 5/3 kernel (better than the 9/7 with BISK: docs/encoder.md).
@@ -235,6 +239,15 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
               "Write each fragment's texture as one 'texr' box (what format versions 1 to 10 "
               "decoders read) instead of in chunks, where any prefix of a fragment past its "
               "head decodes (format version 11; a few hundred bytes more per fragment)");
+  e->add_flag("--surface", a->surface,
+              "Carry the surface of every frame (format version 12): the fitted body moved "
+              "along its normals to each frame's silhouettes, so clothing and hair follow the "
+              "footage; textures are resampled from it. Players that ignore it draw the fitted "
+              "body");
+  e->add_option("--surface-step", a->surface_step,
+                "With --surface: the displacements' step, 2^-N metres (8: 3.9 mm)")
+      ->check(CLI::Range(int(kMinSurfaceStepExponent), int(kMaxSurfaceStepExponent)))
+      ->capture_default_str();
   e->add_option("--motion-coder", a->motion_coder, "Motion track entropy coder")
       ->check(CLI::IsMember({"arith", "zstd"}))
       ->capture_default_str();

@@ -1,0 +1,280 @@
+#include "encoder/shape/surface_tracking.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "encoder/body/mesh_ops.h"
+#include "encoder/capture/calibration.h"
+#include "encoder/track/silhouette_raster.h"
+
+namespace fvv {
+namespace {
+
+using Eigen::Vector2d;
+using Eigen::Vector3d;
+
+// One camera at working size: its calibration scaled, the silhouette
+// reduced by majority, and per pixel the chamfer distance (pixels) to the
+// silhouette (0 inside).
+struct View {
+  Camera camera;
+  Vector3d centre;
+  int w = 0, h = 0;
+  std::vector<uint8_t> inside;
+  std::vector<float> distance;
+  std::vector<uint8_t> model;  // the posed model's own silhouette, redrawn each step
+
+  bool In(int x, int y) const { return x >= 0 && y >= 0 && x < w && y < h; }
+  bool Inside(const Vector2d& q) const {
+    const int x = int(std::lround(q.x())), y = int(std::lround(q.y()));
+    return In(x, y) && inside[size_t(y) * w + x];
+  }
+  bool Model(const Vector2d& q) const {
+    const int x = int(std::lround(q.x())), y = int(std::lround(q.y()));
+    return In(x, y) && model[size_t(y) * w + x];
+  }
+};
+
+View MakeView(const Camera& full, const Image& sil, int max_side) {
+  View v;
+  const int factor = std::max(1, int(std::ceil(double(std::max(full.width, full.height)) / max_side)));
+  v.w = int(full.width) / factor;
+  v.h = int(full.height) / factor;
+  v.camera = full;
+  v.camera.width = uint32_t(v.w);
+  v.camera.height = uint32_t(v.h);
+  // Pixel centres at integers: pixel k of the reduced image covers full
+  // pixels k*f .. k*f + f - 1, whose centre is k*f + (f - 1) / 2.
+  const double f = factor;
+  v.camera.fx = full.fx / f;
+  v.camera.fy = full.fy / f;
+  v.camera.cx = (full.cx - (f - 1) / 2) / f;
+  v.camera.cy = (full.cy - (f - 1) / 2) / f;
+  v.centre = CameraCentre(full);
+  v.inside.assign(size_t(v.w) * v.h, 0);
+  const int ch = sil.channels;
+  for (int y = 0; y < v.h; ++y) {
+    for (int x = 0; x < v.w; ++x) {
+      int count = 0;
+      for (int dy = 0; dy < factor; ++dy) {
+        const uint8_t* row = &sil.pixels[(size_t(y * factor + dy) * sil.width + x * factor) * ch];
+        for (int dx = 0; dx < factor; ++dx) count += row[dx * ch] != 0;
+      }
+      v.inside[size_t(y) * v.w + x] = 2 * count >= factor * factor;
+    }
+  }
+  // Two-pass chamfer distance (3-4 weights, in pixels) to the silhouette.
+  constexpr float kBig = 1e9f;
+  v.distance.assign(v.inside.size(), kBig);
+  for (size_t i = 0; i < v.inside.size(); ++i) {
+    if (v.inside[i]) v.distance[i] = 0;
+  }
+  const auto relax = [&](int x, int y, int dx, int dy, float cost) {
+    if (!v.In(x + dx, y + dy)) return;
+    float& d = v.distance[size_t(y) * v.w + x];
+    d = std::min(d, v.distance[size_t(y + dy) * v.w + x + dx] + cost);
+  };
+  for (int y = 0; y < v.h; ++y) {
+    for (int x = 0; x < v.w; ++x) {
+      relax(x, y, -1, 0, 1.0f), relax(x, y, 0, -1, 1.0f);
+      relax(x, y, -1, -1, 1.4142f), relax(x, y, 1, -1, 1.4142f);
+    }
+  }
+  for (int y = v.h - 1; y >= 0; --y) {
+    for (int x = v.w - 1; x >= 0; --x) {
+      relax(x, y, 1, 0, 1.0f), relax(x, y, 0, 1, 1.0f);
+      relax(x, y, 1, 1, 1.4142f), relax(x, y, -1, 1, 1.4142f);
+    }
+  }
+  v.model.assign(v.inside.size(), 0);
+  return v;
+}
+
+// Pixels a move of one metre along `a` (the vertex's posed normal direction)
+// shifts the image of `p` by, and that shift's unit image direction; false
+// when the shift is too small to measure (the normal along the ray).
+bool ImageShift(const View& v, const Vector3d& p, const Vector3d& a, Vector2d* q,
+                double* px_per_m, Vector2d* dir, double* depth) {
+  if (!ProjectPoint(v.camera, p, q, depth)) return false;
+  Vector2d q2;
+  const double eps = 0.005;
+  if (!ProjectPoint(v.camera, p + eps * a, &q2)) return false;
+  const Vector2d d = (q2 - *q) / eps;
+  *px_per_m = d.norm();
+  if (*px_per_m < 1e-6) return false;
+  *dir = d / *px_per_m;
+  return true;
+}
+
+}  // namespace
+
+SurfaceTracker::SurfaceTracker(const Mesh& mesh, const SurfaceTrackingOptions& options)
+    : mesh_(mesh), o_(options) {
+  welded_ = WeldVertices(MeshPositions(mesh));
+  for (uint32_t v = 0; v < welded_.size(); ++v) {
+    if (welded_[v] == v) canonical_.push_back(v);
+  }
+  ring_ = VertexNeighbours(mesh.triangles, welded_);
+  for (const auto& t : mesh.triangles) tris_.insert(tris_.end(), t.begin(), t.end());
+  previous_.assign(mesh.positions.size(), 0.0f);
+}
+
+StatusOr<std::vector<float>> SurfaceTracker::Track(const std::vector<Affine>& skinning,
+                                                   const std::vector<Camera>& cameras,
+                                                   const std::vector<Image>& silhouettes,
+                                                   SurfaceTrackingReport* report,
+                                                   const ParallelRunner& runner) {
+  if (silhouettes.size() != cameras.size()) {
+    return InvalidArgument("surface tracking: " + std::to_string(silhouettes.size()) +
+                           " silhouettes for " + std::to_string(cameras.size()) + " cameras");
+  }
+  const size_t n = mesh_.positions.size();
+  // The posed surface as a function of the displacement d along the bind
+  // normal: p(d) = base + d * along (linear blend skinning is linear).
+  std::vector<Vector3d> base(n), along(n);
+  runner(64, [&](uint32_t chunk) {
+    for (size_t v = chunk; v < n; v += 64) {
+      Eigen::Matrix4d m = Eigen::Matrix4d::Zero();
+      for (int k = 0; k < kMaxInfluences; ++k) {
+        if (mesh_.weights[v][k] == 0 || mesh_.joints[v][k] >= skinning.size()) continue;
+        m += (mesh_.weights[v][k] / 65535.0) * skinning[mesh_.joints[v][k]].matrix();
+      }
+      const Vector3d x(mesh_.positions[v][0], mesh_.positions[v][1], mesh_.positions[v][2]);
+      const Vector3d nb(mesh_.normals[v][0], mesh_.normals[v][1], mesh_.normals[v][2]);
+      base[v] = m.topLeftCorner<3, 3>() * x + m.topRightCorner<3, 1>();
+      along[v] = m.topLeftCorner<3, 3>() * nb;
+    }
+  });
+  std::vector<View> views;
+  std::vector<uint32_t> used;
+  for (size_t c = 0; c < cameras.size(); ++c) {
+    const Image& s = silhouettes[c];
+    if (s.pixels.empty()) continue;
+    if (s.width != cameras[c].width || s.height != cameras[c].height) {
+      return InvalidArgument("surface tracking: camera " + cameras[c].name + "'s silhouette is " +
+                             std::to_string(s.width) + "x" + std::to_string(s.height) +
+                             ", its calibration " + std::to_string(cameras[c].width) + "x" +
+                             std::to_string(cameras[c].height));
+    }
+    used.push_back(uint32_t(c));
+  }
+  views.resize(used.size());
+  runner(uint32_t(used.size()), [&](uint32_t k) {
+    views[k] = MakeView(cameras[used[k]], silhouettes[used[k]], o_.max_side);
+  });
+  std::vector<float> d = previous_;
+  std::vector<double> move(n), weight(n);
+  std::vector<uint8_t> outside(n), contour(n);
+  // The first frame starts from the fitted body, not from a frame before.
+  const int steps = started_ ? o_.steps : 3 * o_.steps;
+  started_ = true;
+  for (int step = 0; step < steps; ++step) {
+    std::vector<Vector3d> p(n);
+    for (size_t v = 0; v < n; ++v) p[v] = base[v] + double(d[v]) * along[v];
+    runner(uint32_t(views.size()), [&](uint32_t k) {
+      View& view = views[k];
+      std::vector<Eigen::Vector2f> px(n);
+      for (size_t v = 0; v < n; ++v) {
+        Vector2d q;
+        px[v] = ProjectPoint(view.camera, p[v], &q) ? q.cast<float>()
+                                                    : Eigen::Vector2f(-1e6f, -1e6f);
+      }
+      std::fill(view.model.begin(), view.model.end(), 0);
+      RasterBox box{0, 0, -1, -1};
+      RasteriseSilhouette(tris_, px, view.w, view.h, view.model.data(), &box);
+    });
+    runner(64, [&](uint32_t chunk) {
+      for (size_t i = chunk; i < canonical_.size(); i += 64) {
+        const uint32_t v = canonical_[i];
+        const Vector3d a = along[v];
+        double inward = 0, outward_sum = 0;
+        int outward_count = 0;
+        bool out = false, rim = false;
+        for (const View& view : views) {
+          Vector2d q, dir;
+          double scale = 0, depth = 0;
+          if (!ImageShift(view, p[v], a, &q, &scale, &dir, &depth)) continue;
+          const int x = int(std::lround(q.x())), y = int(std::lround(q.y()));
+          if (!view.In(x, y)) continue;
+          const Vector3d ray = (p[v] - view.centre).normalized();
+          const double facing = a.normalized().dot(ray);
+          // A vertex facing the camera moves its image little along its
+          // normal: its gap is taken as at least 0.3 of a move across the ray.
+          const double per_m = std::max(scale, 0.3 * view.camera.fx / depth);
+          const float outside_px = view.distance[size_t(y) * view.w + x];
+          if (outside_px > 0.75f) {
+            out = true;
+            inward = std::min(inward, -double(outside_px) / per_m);
+            continue;
+          }
+          if (std::abs(facing) >= o_.contour_cosine) continue;
+          // On this camera's contour: nothing of the model just beyond it.
+          if (view.Model(q + 3.0 * dir)) continue;
+          rim = true;
+          const double reach_px = o_.reach * scale;
+          double t = 0.5;
+          for (; t <= reach_px; t += 0.5) {
+            if (!view.Inside(q + t * dir)) break;
+          }
+          if (t > reach_px) continue;  // the outline is out of reach
+          outward_sum += (t - 0.5) / scale;
+          ++outward_count;
+        }
+        outside[v] = out;
+        contour[v] = rim;
+        if (out) {
+          move[v] = inward, weight[v] = 1;
+        } else if (outward_count > 0) {
+          move[v] = outward_sum / outward_count, weight[v] = 1;
+        } else {
+          move[v] = 0, weight[v] = 0;
+        }
+      }
+    });
+    // Spread the data terms over the surface.
+    for (int pass = 0; pass < o_.spread; ++pass) {
+      std::vector<double> next(move), next_w(weight);
+      runner(64, [&](uint32_t chunk) {
+        for (size_t i = chunk; i < canonical_.size(); i += 64) {
+          const uint32_t v = canonical_[i];
+          double sum = weight[v] * move[v], w = weight[v];
+          for (uint32_t nb : ring_[v]) sum += weight[nb] * move[nb], w += weight[nb];
+          next[v] = w > 0 ? sum / w : 0;
+          next_w[v] = w / (1.0 + ring_[v].size());
+        }
+      });
+      move.swap(next);
+      weight.swap(next_w);
+    }
+    std::vector<float> next(d);
+    runner(64, [&](uint32_t chunk) {
+      for (size_t i = chunk; i < canonical_.size(); i += 64) {
+        const uint32_t v = canonical_[i];
+        double mean = 0;
+        for (uint32_t nb : ring_[v]) mean += d[nb];
+        mean = ring_[v].empty() ? d[v] : mean / ring_[v].size();
+        const double target =
+            (weight[v] * (d[v] + move[v]) + o_.smoothness * mean + o_.temporal * previous_[v]) /
+            (weight[v] + o_.smoothness + o_.temporal + o_.prior);
+        const double value = d[v] + o_.step * (target - d[v]);
+        next[v] = float(std::clamp(value, -o_.max_displacement, o_.max_displacement));
+      }
+    });
+    for (size_t v = 0; v < n; ++v) next[v] = next[welded_[v]];
+    d.swap(next);
+  }
+  previous_ = d;
+  if (report) {
+    size_t out = 0, rim = 0;
+    double sum = 0;
+    for (uint32_t v : canonical_) out += outside[v], rim += contour[v], sum += std::abs(d[v]);
+    const double count = std::max<size_t>(1, canonical_.size());
+    report->outside = out / count;
+    report->contour = rim / count;
+    report->mean_abs = sum / count;
+  }
+  return d;
+}
+
+}  // namespace fvv

@@ -1,0 +1,92 @@
+// The surface of every frame: the posed body model moved along its normals,
+// frame after frame, until its outline agrees with each camera's silhouette
+// (what a stream carries with the surface tool, SPEC.md 3.5.2). Fast enough
+// for every frame of a take: it works on the silhouettes at about 640 pixels,
+// starts from the previous frame's surface and takes a few steps.
+//
+// Per vertex and step, the data terms are image distances turned into moves
+// along the normal (a move of d metres shifts the vertex's image by d times
+// the normal's part across the ray, times the focal length over depth):
+//
+// - a vertex whose image lies outside a camera's silhouette comes in by its
+//   distance to the silhouette (the actor lies inside every silhouette's
+//   cone); the camera that asks for most wins;
+// - elsewhere, a vertex on a camera's contour (normal nearly across the ray,
+//   nothing of the model beyond it in that image) goes out to the
+//   silhouette's outline, searched along the normal's image direction; the
+//   contour cameras' moves are averaged.
+//
+// The moves are spread over the mesh (neighbours' weighted moves), then each
+// vertex's displacement is pulled towards them, towards its neighbours' mean
+// (smoothness), its previous frame's (time) and zero (the fitted body's
+// shape), so clothing and hair that the skeleton does not carry are followed
+// and nothing else is bought.
+#ifndef FVV_ENCODER_SHAPE_SURFACE_TRACKING_H_
+#define FVV_ENCODER_SHAPE_SURFACE_TRACKING_H_
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "codec/base/parallel.h"
+#include "codec/base/status.h"
+#include "container/body_model.h"
+#include "container/cameras.h"
+#include "encoder/body/kinematics.h"
+#include "encoder/io/image_io.h"
+
+namespace fvv {
+
+struct SurfaceTrackingOptions {
+  int max_side = 640;            // silhouettes are worked at about this size (longer side)
+  int steps = 8;                 // per frame
+  double step = 0.6;             // share of the way to the weighted target taken per step
+  double reach = 0.06;           // metres: the outline is searched this far along the normal
+  double max_displacement = 0.08;  // metres, either way
+  double contour_cosine = 0.35;  // |normal . ray| below this: on that camera's contour
+  int spread = 4;                // passes spreading the data terms to neighbours
+  double smoothness = 1.0;       // pull towards the neighbours' mean displacement
+  double temporal = 0.5;         // pull towards the previous frame's displacement
+  double prior = 0.05;           // pull towards the fitted body (zero)
+};
+
+struct SurfaceTrackingReport {
+  double outside = 0;  // share of the vertex sightings outside a silhouette, at the last step
+  double contour = 0;  // share of vertices on some camera's contour, at the last step
+  double mean_abs = 0;  // metres, mean |displacement|
+};
+
+class SurfaceTracker {
+ public:
+  // `mesh`: the body model's (bind pose, its normals).
+  SurfaceTracker(const Mesh& mesh, const SurfaceTrackingOptions& options);
+
+  // The frame posed by `skinning` (SkinningMatrices), seen by `cameras` with
+  // silhouettes (grey, non-zero = actor; an empty image: that camera is not
+  // used). Returns each vertex's displacement along its bind-pose normal in
+  // metres (welded copies equal), and remembers it for the next frame.
+  StatusOr<std::vector<float>> Track(const std::vector<Affine>& skinning,
+                                     const std::vector<Camera>& cameras,
+                                     const std::vector<Image>& silhouettes,
+                                     SurfaceTrackingReport* report = nullptr,
+                                     const ParallelRunner& runner = SerialRunner);
+
+  // Forgets the previous frame (a cut in the take).
+  void Reset() {
+    previous_.assign(previous_.size(), 0.0f);
+    started_ = false;
+  }
+
+ private:
+  const Mesh& mesh_;
+  SurfaceTrackingOptions o_;
+  std::vector<uint32_t> welded_, canonical_;
+  std::vector<std::vector<uint32_t>> ring_;
+  std::vector<uint32_t> tris_;  // flat index triples
+  std::vector<float> previous_;
+  bool started_ = false;
+};
+
+}  // namespace fvv
+
+#endif  // FVV_ENCODER_SHAPE_SURFACE_TRACKING_H_
