@@ -121,6 +121,13 @@ int Run(const std::string& dir) {
          o->sample_frac = 3;
          o->texture_chunks = true;
        }},
+      {"surface",
+       [](SampleStreamOptions* o) {
+         o->coder = EntropyCoder::kQuadtree;
+         o->texture_chunks = true;
+         o->surface = true;
+         o->gop_cameras = 1;
+       }},
       {"end_index_vvis",
        [](SampleStreamOptions* o) {
          o->fast_start = false;

@@ -493,6 +493,23 @@ std::vector<CaseSpec> ValidCases() {
         ->budgets_past_head = true;
   }
 
+  // Format version 12: the surface of every frame (3.5.2), in camera group
+  // 0's chunks: whole, or left out by a prefix that ends before it.
+  {
+    SampleStreamOptions c = encoder_defaults(EntropyCoder::kQuadtree);
+    c.quantise_model = true;
+    c.texture_chunks = true;
+    c.surface = true;
+    c.gop_frames = 4;
+    add("surface_97",
+        "format version 12: the surface of every frame ('sfhd', chunks of channel 3) in 4-frame "
+        "GOPs, decoded whole, and left out by prefixes that end before its last chunk (the head "
+        "alone, 200 bytes past the largest head: the texture of group 1 only) or taken (600 "
+        "and 2500 past it); coder 4, masks",
+        c, {0, 200, 600, 2500}, {"3.5.1", "3.5.2", "B.1", "B.2"})
+        ->budgets_past_head = true;
+  }
+
   // Format version 6: own-band weights ('texr' version 2, 9.3): the 9/7 with
   // coder 3 as the encoder's defaults have it, the 5/3 (power-of-two weights)
   // with coder 1 in multi-camera GOPs, and the 9/7 at its legacy precision.
@@ -1315,6 +1332,64 @@ std::vector<CaseSpec> InvalidCases() {
           StoreLe(&head.payload, y_size, LoadLe(head.payload, y_size, 4) + 1, 4);
         },
         nullptr);
+  };
+  // Format version 12: the surface of every frame (3.5.2).
+  const auto surfaced = [](CaseSpec* c) {
+    c->options.texture_chunks = true;
+    c->options.surface = true;
+    c->options.gop_frames = 4;
+    c->options.gop_cameras = 1;  // two camera groups, one with the surface
+    return c;
+  };
+  surfaced(add("surface_in_version_11", "the surface tool (bit 22) in a format version 11 header",
+               StatusCode::kCorrupt, {"3.1", "4", "10"}))
+      ->edit = retool(0, 0, 11);
+  surfaced(add("surface_without_chunks",
+               "a format version 12 header declaring the surface without texture-chunks",
+               StatusCode::kCorrupt, {"3.1", "10"}))
+      ->edit = retool(kToolTextureChunks, 0, 12);
+  // 'sfhd': step exponent u8, vertex count u32, data size u32.
+  const auto edit_surface_head = [fragment](std::function<void(std::vector<uint8_t>*)> edit) {
+    return [fragment, edit](std::vector<EditBox>* boxes) {
+      return EditChunkedFragment(
+          &fragment(boxes, 0),
+          [edit](std::vector<EditBox>* subs) {
+            edit(&(*subs)[FindBox(*subs, box::kSurfaceHead)].payload);
+          },
+          nullptr);
+    };
+  };
+  surfaced(add("surface_vertex_count",
+               "the first fragment's 'sfhd' declares one vertex more than the model has (head "
+               "checksum recomputed)",
+               StatusCode::kCorrupt, {"3.5.2", "10"}))
+      ->edit = edit_surface_head(
+      [](std::vector<uint8_t>* p) { StoreLe(p, 1, LoadLe(*p, 1, 4) + 1, 4); });
+  surfaced(add("surface_step_exponent_17", "the first fragment's 'sfhd' declares steps of 2^-17 m",
+               StatusCode::kCorrupt, {"3.5.2", "10"}))
+      ->edit = edit_surface_head([](std::vector<uint8_t>* p) { (*p)[0] = 17; });
+  surfaced(add("surface_short_of_head",
+               "the first fragment's 'sfhd' declares one byte more than its channel 3 chunks hold",
+               StatusCode::kCorrupt, {"3.5.2", "10"}))
+      ->edit = edit_surface_head(
+      [](std::vector<uint8_t>* p) { StoreLe(p, 5, LoadLe(*p, 5, 4) + 1, 4); });
+  surfaced(add("surface_value_too_large",
+               "a surface whose large swings reach 2^20 steps (one beyond the limit)",
+               StatusCode::kCorrupt, {"3.5.2", "10"}))
+      ->options.surface_amplitude = 1 << 20;
+  surfaced(add("surface_outside_group_0",
+               "the second fragment (camera group 1) carries the first fragment's 'sfhd' (head "
+               "checksum recomputed; its chunks hold no channel 3; no index)",
+               StatusCode::kCorrupt, {"3.5", "3.5.2", "10"}))
+      ->edit = [fragment](std::vector<EditBox>* boxes) {
+    FVV_RETURN_IF_ERROR(DropIndex(boxes));  // the second fragment grows
+    FVV_ASSIGN_OR_RETURN(std::vector<EditBox> first, SplitBoxes(fragment(boxes, 0).payload));
+    const EditBox head = first[FindBox(first, box::kSurfaceHead)];
+    return EditChunkedFragment(&fragment(boxes, 1),
+                               [head](std::vector<EditBox>* subs) {
+                                 subs->insert(subs->begin() + 1, head);
+                               },
+                               nullptr);
   };
   chunked(add("index_head_size_wrong",
               "the index's first entry gives its fragment's head one byte more than it has",

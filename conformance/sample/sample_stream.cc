@@ -7,6 +7,7 @@
 #include "codec/mask.h"
 #include "codec/predictive_texture.h"
 #include "conformance/sample/sample_volume.h"
+#include "container/surface_displacement.h"
 #include "container/vertex_visibility.h"
 #include "container/writer.h"
 
@@ -235,6 +236,7 @@ StatusOr<SampleStream> MakeSampleStream(const SampleStreamOptions& o,
   if (o.motion_coder == MotionCoder::kZstd) h.tools |= kToolMotionZstd;
   if (o.quantise_model) h.tools |= kToolQuantisedModel;
   if (o.texture_chunks) h.tools |= kToolTextureChunks;
+  if (o.surface) h.tools |= kToolSurface;
   if (o.predictive) {
     if (!o.masks) return InvalidArgument("sample: the predictive texture needs masks");
     if (o.chroma != ChromaFormat::k444) return InvalidArgument("sample: predictive is 4:4:4");
@@ -333,6 +335,26 @@ StatusOr<SampleStream> MakeSampleStream(const SampleStreamOptions& o,
       std::vector<QuantisedPose> poses(out.poses.begin() + fi.first_frame,
                                        out.poses.begin() + fi.first_frame + fi.frame_count);
       FVV_ASSIGN_OR_RETURN(frag.motion, EncodeMotion(skeleton, info.motion, poses));
+      if (o.surface) {
+        // Integer patterns (no floating point: the cases are pinned byte for
+        // byte): small values with one- and two-byte residuals, every fifth
+        // vertex a large swing.
+        const uint32_t nv = static_cast<uint32_t>(info.model.mesh.positions.size());
+        std::vector<int32_t> values(size_t{fi.frame_count} * nv);
+        for (uint32_t t = 0; t < fi.frame_count; ++t) {
+          const uint32_t f = fi.first_frame + t;
+          for (uint32_t v = 0; v < nv; ++v) {
+            values[size_t{t} * nv + v] =
+                v % 5 == 0 ? o.surface_amplitude * (int32_t((f + v) % 3) - 1)
+                           : int32_t((f * 37 + v * 11) % 61) - 30;
+          }
+        }
+        frag.has_surface = true;
+        frag.surface_head.step_exponent = 10;
+        frag.surface_head.vertex_count = nv;
+        frag.surface = EncodeSurfaceDisplacements(values, fi.frame_count, nv);
+        frag.surface_head.data_size = static_cast<uint32_t>(frag.surface.size());
+      }
     }
     if (o.vertex_visibility) {
       // Vertices facing each camera, with the actor turning slowly.

@@ -52,6 +52,11 @@ struct SampleStreamOptions {
   // version 10); floats by default, as the released cases have them.
   bool quantise_model = false;
   bool texture_chunks = false;  // 'txhd' + chunks (format version 11)
+  // The surface of every frame ('sfhd' + chunks of channel 3, format version
+  // 12; needs texture_chunks): values in steps of 2^-10 m, every fifth vertex
+  // swinging by up to `surface_amplitude` steps, the others by up to 30.
+  bool surface = false;
+  int32_t surface_amplitude = 300;
   bool fast_start = true;       // declare the frame count up front (index at the front)
   uint8_t level = 1;
   uint32_t frame_rate_num = 25, frame_rate_den = 1;

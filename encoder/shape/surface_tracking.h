@@ -39,7 +39,7 @@ namespace fvv {
 
 struct SurfaceTrackingOptions {
   int max_side = 640;            // silhouettes are worked at about this size (longer side)
-  int steps = 8;                 // per frame
+  int steps = 8;                 // per frame (three times as many on the first)
   double step = 0.6;             // share of the way to the weighted target taken per step
   double reach = 0.06;           // metres: the outline is searched this far along the normal
   double max_displacement = 0.08;  // metres, either way

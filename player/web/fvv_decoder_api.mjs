@@ -252,7 +252,8 @@ export class FvvDecoder {
         mask: mask ? m.HEAPU8.slice(mask, mask + width * height) : null,
       });
     }
-    const r = f + 40;
+    const r = f + 40, surface = u[q + 24];
+    if (surface && this.vertexCount === undefined) this.vertexCount = this.info().vertexCount;
     return {
       index: u[q], width, height, format: u[q + 7] === 1 ? 'yuv' : 'rgb',
       boneWorld: m.HEAPF32.slice(u[q + 2] >> 2, (u[q + 2] >> 2) + bones * 16),
@@ -264,6 +265,8 @@ export class FvvDecoder {
         decodeMs: m.HEAPF64[(r + 32) >> 3], complete: m.HEAP32[(r + 40) >> 2] !== 0,
         maxMs: m.HEAPF64[(r + 48) >> 3],
       },
+      // The frame's own surface in the bind pose (format version 12), or null.
+      surface: surface ? m.HEAPF32.slice(surface >> 2, (surface >> 2) + this.vertexCount * 3) : null,
     };
   }
 

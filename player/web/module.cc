@@ -28,8 +28,8 @@ static_assert(sizeof(fvv_decode_budget) == 40 && offsetof(fvv_decode_budget, for
                   offsetof(fvv_decode_budget, camera_mask) == 24 &&
                   offsetof(fvv_decode_budget, floor_share) == 32,
               "fvv_decode_budget");
-static_assert(sizeof(fvv_frame) == 96 && offsetof(fvv_frame, views) == 32 &&
-                  offsetof(fvv_frame, report) == 40,
+static_assert(sizeof(fvv_frame) == 104 && offsetof(fvv_frame, views) == 32 &&
+                  offsetof(fvv_frame, report) == 40 && offsetof(fvv_frame, surface) == 96,
               "fvv_frame");
 static_assert(offsetof(fvv_decode_report, bitplanes) == 16 &&
                   offsetof(fvv_decode_report, decode_ms) == 32 &&
