@@ -28,6 +28,28 @@ ls "$dir" | grep -q "\.tmp" && fail "temporary files left: $(ls "$dir")"
 out=$(node "$root/tools/web/validate_gltf.mjs" "$dir/a.glb" "$dir/b.gltf" 2>&1) || fail "validator: $out"
 [ "$(grep -c ": 0 errors, 0 warnings" <<<"$out")" = 2 ] || fail "validator: $out"
 
+# A stream with the surface of every frame (format version 12): a morph
+# target per frame, switched on by the animation one frame at a time.
+"$fvv" sample -o "$dir/surface.fvv" --frames 6 --cameras 2 --atlas 32 32 --gop 4 1 --surface \
+  >/dev/null || fail "sample --surface"
+out=$("$fvv" export "$dir/surface.fvv" -o "$dir/surface.glb" 2>&1) || fail "export surface: $out"
+out=$(node "$root/tools/web/validate_gltf.mjs" "$dir/surface.glb" 2>&1) || fail "validator: $out"
+grep -q ": 0 errors, 0 warnings" <<<"$out" || fail "validator (surface): $out"
+/usr/bin/python3 - "$dir/surface.glb" <<'PY' || fail "morph targets"
+import json, struct, sys
+b = open(sys.argv[1], 'rb').read()
+n = struct.unpack('<I', b[12:16])[0]
+doc = json.loads(b[20:20 + n])
+prim = doc['meshes'][0]['primitives'][0]
+assert len(prim['targets']) == 6, len(prim.get('targets', []))
+assert doc['meshes'][0]['weights'] == [0] * 6
+chan = [c for c in doc['animations'][0]['channels'] if c['target']['path'] == 'weights']
+assert len(chan) == 1 and doc['animations'][0]['samplers'][chan[0]['sampler']]['interpolation'] == 'STEP'
+# The targets move the surface: the sample's swings reach centimetres.
+big = max(max(abs(x) for x in doc['accessors'][t['POSITION']]['max'] + doc['accessors'][t['POSITION']]['min']) for t in prim['targets'])
+assert 0.01 < big < 0.4, big
+PY
+
 # Errors name the problem and write nothing.
 out=$("$fvv" export "$dir/s.fvv" -o "$dir/x.obj" 2>&1) && fail ".obj accepted"
 grep -q "writes .glb, .gltf or .bvh" <<<"$out" || fail ".obj message: $out"

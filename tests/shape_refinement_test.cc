@@ -91,8 +91,9 @@ TEST(VisualHullMesh, ClosedOutwardAndOfTheHullsVolume) {
 }
 
 // The least gain in the held-out view that the surface of every frame must
-// bring over the fitted body (measured values in the test's output).
-constexpr double kSurfaceGainDb = 0.5;
+// bring over the fitted body (measured: 24.53 -> 26.50 dB and 24.23 -> 26.22
+// dB, frames 0 and 1).
+constexpr double kSurfaceGainDb = 1.5;
 
 class ShapeRefinementTest : public ::testing::Test {
  protected:

@@ -203,7 +203,7 @@ StatusOr<std::vector<float>> SurfaceTracker::Track(const std::vector<Affine>& sk
           // normal: its gap is taken as at least 0.3 of a move across the ray.
           const double per_m = std::max(scale, 0.3 * view.camera.fx / depth);
           const float outside_px = view.distance[size_t(y) * view.w + x];
-          if (outside_px > 0.75f) {
+          if (outside_px > 0.75f && std::abs(facing) < o_.outside_cosine) {
             out = true;
             inward = std::min(inward, -double(outside_px) / per_m);
             continue;

@@ -44,7 +44,11 @@ struct SurfaceTrackingOptions {
   double reach = 0.06;           // metres: the outline is searched this far along the normal
   double max_displacement = 0.08;  // metres, either way
   double contour_cosine = 0.35;  // |normal . ray| below this: on that camera's contour
-  int spread = 4;                // passes spreading the data terms to neighbours
+  // |normal . ray| below this: a vertex outside the silhouette comes in (one
+  // facing the camera moves its image little along its normal, and its
+  // neighbours nearer the contour bring it in).
+  double outside_cosine = 0.6;
+  int spread = 8;                // passes spreading the data terms to neighbours
   double smoothness = 1.0;       // pull towards the neighbours' mean displacement
   double temporal = 0.5;         // pull towards the previous frame's displacement
   double prior = 0.05;           // pull towards the fitted body (zero)

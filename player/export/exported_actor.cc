@@ -72,10 +72,16 @@ StatusOr<ExportedActor> GatherActor(fvv_decoder* decoder, const fvv_export_setti
     blend = std::make_unique<TextureBlend>(model, info.atlas_width, info.atlas_height, cameras);
   }
   fvv_decode_budget budget{};
-  if (!with_texture) {  // the motion is all that is needed: one byte of one camera group
-    budget.max_bytes_per_gop = 1;
+  if (!with_texture) {
+    // The motion (and the surface) is all that is needed: camera group 0,
+    // one byte of it where no surface can follow its head.
+    budget.max_bytes_per_gop = info.format_version >= 12 ? 0 : 1;
     budget.camera_mask = 1;
   }
+  // A morph target per frame where frames carry a surface: bounded, so that a
+  // long range fails here and not as an allocation.
+  constexpr uint64_t kMaxSurfaceBytes = 512ull << 20;
+  bool any_surface = false;
   for (uint32_t f = s.first_frame; f < s.first_frame + count; ++f) {
     FramePtr frame = DecodeFrame(decoder, f, &budget);
     if (!frame) {
@@ -96,6 +102,22 @@ StatusOr<ExportedActor> GatherActor(fvv_decoder* decoder, const fvv_export_setti
       if (!a.rotation.empty() && glm::dot(rotation[b], a.rotation.back()[b]) < 0) {
         rotation[b] = -rotation[b];
       }
+    }
+    if (frame->surface) {
+      if (uint64_t(count) * model.vertex_count * 12 > kMaxSurfaceBytes) {
+        return InvalidArgument("the stream carries the surface of every frame: " +
+                               std::to_string(count) + " frames of it as morph targets would " +
+                               "take more than 512 MB; export fewer frames (--frames)");
+      }
+      if (!any_surface) {
+        a.surface_deltas.assign(a.world.size(), std::vector<float>(a.positions.size(), 0.0f));
+      }
+      any_surface = true;
+      std::vector<float> delta(a.positions.size());
+      for (size_t i = 0; i < delta.size(); ++i) delta[i] = frame->surface[i] - a.positions[i];
+      a.surface_deltas.push_back(std::move(delta));
+    } else if (any_surface) {
+      a.surface_deltas.emplace_back(a.positions.size(), 0.0f);
     }
     a.world.push_back(std::move(world));
     a.translation.push_back(std::move(translation));

@@ -38,6 +38,9 @@ struct ExportedActor {
   std::vector<float> positions, normals, uvs, weights;
   std::vector<uint16_t> skin_joints;
   std::vector<uint32_t> triangles;
+  // Per exported frame: its surface (format version 12) less `positions`,
+  // vertex_count x 3; empty when no exported frame has a surface.
+  std::vector<std::vector<float>> surface_deltas;
 
   uint32_t texture_width = 0, texture_height = 0;
   std::vector<uint8_t> texture_rgb;  // row 0 at v = 0, as the atlas UVs

@@ -137,9 +137,19 @@ Status WriteGltf(const ExportedActor& a, const std::string& path) {
                      {"JOINTS_0", b.Integers(skin_joints, kUnsignedShort, "VEC4", 4, kArrayBuffer)},
                      {"WEIGHTS_0", b.Floats(weights, "VEC4", 4, kArrayBuffer, false)}};
   const int indices = b.Integers(a.triangles, kUnsignedInt, "SCALAR", 1, kElementArrayBuffer);
-  doc["meshes"] = {
-      {{"name", "actor"},
-       {"primitives", {{{"attributes", attributes}, {"indices", indices}, {"material", 0}}}}}};
+  json primitive = {{"attributes", attributes}, {"indices", indices}, {"material", 0}};
+  // The surface of every frame (format version 12): a morph target per frame,
+  // which the animation switches on one at a time.
+  const bool morphs = !a.surface_deltas.empty() && a.surface_deltas.size() == frames;
+  if (morphs) {
+    json targets = json::array();
+    for (const std::vector<float>& delta : a.surface_deltas) {
+      targets.push_back({{"POSITION", b.Floats(delta, "VEC3", 3, kArrayBuffer, true)}});
+    }
+    primitive["targets"] = targets;
+  }
+  doc["meshes"] = {{{"name", "actor"}, {"primitives", {primitive}}}};
+  if (morphs) doc["meshes"][0]["weights"] = std::vector<float>(frames, 0.0f);
   std::vector<float> ibm;
   for (const glm::mat4& m : a.inverse_bind)
     ibm.insert(ibm.end(), glm::value_ptr(m), glm::value_ptr(m) + 16);
@@ -201,6 +211,15 @@ Status WriteGltf(const ExportedActor& a, const std::string& path) {
         moves = moves || glm::length(t.back() - a.translation[0][j]) > 1e-6f;
       }
       if (moves) add(b.Floats(Flat(t), "VEC3", 3, 0, false), j, "translation");
+    }
+    if (morphs) {
+      std::vector<float> one_hot(frames * frames, 0.0f);
+      for (size_t f = 0; f < frames; ++f) one_hot[f * frames + f] = 1.0f;
+      samplers.push_back({{"input", input},
+                          {"output", b.Floats(one_hot, "SCALAR", 1, 0, false)},
+                          {"interpolation", "STEP"}});
+      channels.push_back({{"sampler", samplers.size() - 1},
+                          {"target", {{"node", joints}, {"path", "weights"}}}});
     }
     doc["animations"] = {{{"name", "capture"}, {"samplers", samplers}, {"channels", channels}}};
   }

@@ -35,6 +35,7 @@ self.onmessage = async ({ data: { id, method, args } }) => {
       if (v.pixels) transfer.push(v.pixels.buffer);
       if (v.mask) transfer.push(v.mask.buffer);
     }
+    if (result?.surface) transfer.push(result.surface.buffer);
     self.postMessage({ id, result }, transfer);
   } catch (e) {
     self.postMessage({ id, error: { status: e.status ?? -1, statusName: e.statusName ?? 'error',

@@ -88,16 +88,21 @@ export class FvvRenderer {
 
     const vao = gl.createVertexArray();
     gl.bindVertexArray(vao);
-    const attribute = (location, data, size, integer) => {
+    const attribute = (location, data, size, integer, usage = gl.STATIC_DRAW) => {
       const b = gl.createBuffer();
       gl.bindBuffer(gl.ARRAY_BUFFER, b);
-      gl.bufferData(gl.ARRAY_BUFFER, data, gl.STATIC_DRAW);
+      gl.bufferData(gl.ARRAY_BUFFER, data, usage);
       gl.enableVertexAttribArray(location);
       if (integer) gl.vertexAttribIPointer(location, size, gl.UNSIGNED_SHORT, 0, 0);
       else gl.vertexAttribPointer(location, size, gl.FLOAT, false, 0, 0);
+      return b;
     };
     const joints = Uint16Array.from(model.joints, (j) => (j < bones ? j : 0));
-    attribute(0, model.positions, 3);
+    // Positions in a buffer of their own: a frame's surface (format version
+    // 12) replaces the model's.
+    this.modelPositions = model.positions;
+    this.positions = attribute(0, model.positions, 3, false, gl.DYNAMIC_DRAW);
+    this.positionsAreSurface = false;
     attribute(1, model.normals, 3);
     attribute(2, model.uvs, 2);
     attribute(3, joints, 4, true);
@@ -154,6 +159,12 @@ export class FvvRenderer {
     }
     gl.bindBuffer(gl.UNIFORM_BUFFER, this.bonesUbo);
     gl.bufferSubData(gl.UNIFORM_BUFFER, 0, frame.boneSkin);
+    if (frame.surface || this.positionsAreSurface) {
+      gl.bindBuffer(gl.ARRAY_BUFFER, this.positions);
+      gl.bufferSubData(gl.ARRAY_BUFFER, 0, frame.surface ?? this.modelPositions);
+      gl.bindBuffer(gl.ARRAY_BUFFER, null);
+      this.positionsAreSurface = !!frame.surface;
+    }
     gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
     this.present = [];
     frame.views.forEach((v, c) => { if (v.pixels) this.present.push(c); });

@@ -251,7 +251,7 @@ struct SampleArgs {
   CodecOptionArgs codec;
   std::string motion_coder = "arith", texture_codec = "spiht", mask_coder = "context";
   std::vector<uint32_t> atlas{64, 64}, gop{8, 8};
-  bool no_masks = false, end_index = false, texture_chunks = false;
+  bool no_masks = false, end_index = false, texture_chunks = false, surface = false;
   unsigned threads = 0;
 };
 
@@ -272,7 +272,8 @@ int RunSample(SampleArgs a) {
   a.o.gop_cameras = static_cast<uint16_t>(a.gop[1]);
   a.o.masks = !a.no_masks;
   a.o.fast_start = !a.end_index;
-  a.o.texture_chunks = a.texture_chunks;
+  a.o.texture_chunks = a.texture_chunks || a.surface;
+  a.o.surface = a.surface;
   if (a.o.lossless && a.o.kernel == WaveletKernel::kCdf97) a.o.kernel = WaveletKernel::kLeGall53;
   ThreadPool pool(a.threads);
   const auto start = std::chrono::steady_clock::now();
@@ -349,6 +350,9 @@ void AddStreamCommands(CLI::App* app, int* exit_code) {
   s->add_flag("--texture-chunks", smp->texture_chunks,
               "The texture in chunks (format version 11): any prefix of a fragment past its "
               "head decodes");
+  s->add_flag("--surface", smp->surface,
+              "A surface of every frame (format version 12; implies --texture-chunks): every "
+              "fifth vertex swinging by up to 30 cm, the others by up to 3 cm");
   s->add_option("--level", smp->o.level, "Level (1-4)")
       ->capture_default_str()
       ->check(CLI::Range(1, 4));
