@@ -93,6 +93,10 @@ struct FitScore {
 struct RenderScore {
   double psnr = 0, ssim = 0;
   int frames = 0;
+  // Renderer II: the render's coverage against the mask (IoU), and PSNR over
+  // the pixels both cover.
+  double iou = 0, psnr_both = 0;
+  int coverage_frames = 0;
 };
 
 double Iou(const Image& a, const Image& b) {
@@ -445,7 +449,7 @@ int Run(const Args& a) {
                         out1 = dir + "/renderer1";
       if (s.ok()) {
         s = RunFvv(a, {"render", stream, "--cameras-from", full.directory, "--camera",
-                       std::to_string(k), "-o", out2});
+                       std::to_string(k), "-o", out2, "--coverage"});
       }
       if (s.ok()) {
         s = RunFvv(a, {"render", masked, "--cameras-from", full.directory, "--camera",
@@ -482,14 +486,33 @@ int Run(const Args& a) {
         }
         const Image& region = ref.masks[f - first][k];
         ScoreRender(*real, *two, region, &renderer2[k]);
+        // What the surface as rendered covers: against the mask, and the
+        // pixels both cover (where the texture, not the outline, is scored).
+        std::snprintf(file, sizeof(file), "/coverage_f%05u.png", f - first);
+        StatusOr<Image> coverage = ReadImage(out2 + file);
+        if (!coverage.ok()) {
+          std::fprintf(stderr, "real_bench: %s\n", coverage.status().ToString().c_str());
+          return 1;
+        }
+        Image both = region;
+        for (size_t i = 0; i < both.pixels.size(); ++i) {
+          both.pixels[i] = region.pixels[i] && coverage->pixels[i] ? 255 : 0;
+        }
+        RenderScore both_score;
+        ScoreRender(*real, *two, both, &both_score);
+        renderer2[k].iou += Iou(*coverage, region);
+        renderer2[k].psnr_both += both_score.psnr;
+        ++renderer2[k].coverage_frames;
         ScoreRender(*real, *two_masks, region, &renderer2_masks[k]);
         ScoreRender(*real, *one, region, &renderer1[k]);
         if (f == first) rendered2.push_back(*two), rendered1.push_back(*one);
       }
       std::printf(
-          "  Renderer II: PSNR %.2f dB, SSIM %.3f (with masks, same bytes: %.2f dB, %.3f); "
-          "Renderer I: PSNR %.2f dB, SSIM %.3f\n",
-          renderer2[k].psnr / renderer2[k].frames, renderer2[k].ssim / renderer2[k].frames,
+          "  Renderer II: IoU %.3f as rendered, PSNR %.2f dB (%.2f dB where both cover), SSIM "
+          "%.3f (with masks, same bytes: %.2f dB, %.3f); Renderer I: PSNR %.2f dB, SSIM %.3f\n",
+          renderer2[k].iou / renderer2[k].coverage_frames, renderer2[k].psnr / renderer2[k].frames,
+          renderer2[k].psnr_both / renderer2[k].coverage_frames,
+          renderer2[k].ssim / renderer2[k].frames,
           renderer2_masks[k].psnr / renderer2_masks[k].frames,
           renderer2_masks[k].ssim / renderer2_masks[k].frames,
           renderer1[k].psnr / renderer1[k].frames, renderer1[k].ssim / renderer1[k].frames);
@@ -544,6 +567,8 @@ int Run(const Args& a) {
          {"own_iou", w.iou / w.frames},
          {"own_joint_px", wj},
          {"renderer2_psnr", mean(r2.psnr, r2.frames)},
+         {"renderer2_iou", mean(r2.iou, r2.coverage_frames)},
+         {"renderer2_psnr_both_cover", mean(r2.psnr_both, r2.coverage_frames)},
          {"renderer2_ssim", mean(r2.ssim, r2.frames)},
          {"renderer2_masks_psnr", mean(renderer2_masks[k].psnr, renderer2_masks[k].frames)},
          {"renderer2_masks_ssim", mean(renderer2_masks[k].ssim, renderer2_masks[k].frames)},
@@ -559,6 +584,8 @@ int Run(const Args& a) {
     all_held.shifted_iou += h.shifted_iou;
     all_own.iou += w.iou / w.frames, all_own.joint_px += wj;
     all2.psnr += mean(r2.psnr, r2.frames), all2.ssim += mean(r2.ssim, r2.frames);
+    all2.iou += mean(r2.iou, r2.coverage_frames);
+    all2.psnr_both += mean(r2.psnr_both, r2.coverage_frames);
     all1.psnr += mean(r1.psnr, r1.frames), all1.ssim += mean(r1.ssim, r1.frames);
   }
   const double count = double(scored.size());
@@ -566,6 +593,10 @@ int Run(const Args& a) {
               all_held.iou / count, all_held.joint_px / count, all_held.agreement_px / count,
               all_held.shifted_iou / count, "", all_own.iou / count, all_own.joint_px / count,
               all2.psnr / count, all2.ssim / count, all1.psnr / count, all1.ssim / count);
+  if (a.render) {
+    std::printf("Renderer II as rendered, mean: IoU %.3f, PSNR %.2f dB where both cover\n",
+                all2.iou / count, all2.psnr_both / count);
+  }
   std::printf("\nseconds per frame, %u cameras tracking (after the first frame)\n", n - 1);
   std::printf("%-10s %8s %8s %8s %8s %8s %12s\n", "held out", "decode", "network", "masks", "fit",
               "total", "first frame");

@@ -75,8 +75,11 @@ Status ReadFramebuffer(const GlApi& gl, int width, int height, int channels,
   gl.Finish();
   std::vector<uint8_t> rows(size_t(width) * height * channels);
   gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
-  gl.ReadPixels(0, 0, width, height, channels == 1 ? GL_RED : GL_RGB, GL_UNSIGNED_BYTE,
-                rows.data());
+  gl.ReadPixels(0, 0, width, height,
+                channels == 1   ? GL_RED
+                : channels == 4 ? GL_RGBA
+                                : GL_RGB,
+                GL_UNSIGNED_BYTE, rows.data());
   pixels->resize(rows.size());
   const size_t stride = size_t(width) * channels;
   for (int y = 0; y < height; ++y) {  // GL rows run bottom-up

@@ -218,7 +218,8 @@ Status Renderer::Draw(const RenderView& view, int width, int height) {
   }
   if (!has_masks_) FVV_RETURN_IF_ERROR(RenderDepthMaps(active_bits));
   gl_.Viewport(0, 0, width, height);
-  gl_.ClearColor(view.background.r, view.background.g, view.background.b, 1.0f);
+  // Alpha 0 where nothing is drawn: ReadCoverage tells the actor's pixels.
+  gl_.ClearColor(view.background.r, view.background.g, view.background.b, 0.0f);
   gl_.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   gl_.Enable(GL_DEPTH_TEST);
   // The body model is closed and wound counter-clockwise: its back faces are
@@ -281,6 +282,14 @@ Status Renderer::RenderDepthMaps(uint64_t cameras) {
   for (uint64_t b = needed; b; b &= b - 1) ++depth_map_layers_;
   gl_.BindFramebuffer(GL_FRAMEBUFFER, GLuint(framebuffer));
   depth_rendered_ |= needed;
+  return Status::Ok();
+}
+
+Status Renderer::ReadCoverage(int width, int height, std::vector<uint8_t>* coverage) {
+  std::vector<uint8_t> rgba;
+  FVV_RETURN_IF_ERROR(ReadFramebuffer(gl_, width, height, 4, &rgba));
+  coverage->resize(rgba.size() / 4);
+  for (size_t i = 0; i < coverage->size(); ++i) (*coverage)[i] = rgba[4 * i + 3] ? 255 : 0;
   return Status::Ok();
 }
 

@@ -63,6 +63,8 @@ class Renderer {
   CameraDepthMaps* depth_maps() const { return depth_maps_.get(); }
   // The framebuffer as top-down RGB8.
   Status ReadRgb(int width, int height, std::vector<uint8_t>* rgb);
+  // The pixels the last Draw covered with the actor (255) or left (0), top-down.
+  Status ReadCoverage(int width, int height, std::vector<uint8_t>* coverage);
 
  private:
   explicit Renderer(const GlApi& gl) : gl_(gl) {}

@@ -30,7 +30,7 @@ namespace {
 
 struct RenderArgs {
   std::string input, output_dir, size = "640x480", format = "png";
-  bool size_given = false;
+  bool size_given = false, coverage = false;
   std::string cameras_from, path, video;
   uint32_t first = 0, last = UINT32_MAX;
   int camera = -1;     // -1: orbit
@@ -358,6 +358,12 @@ int RunRender(const RenderArgs& a) {
       char name[64];
       std::snprintf(name, sizeof(name), "/render_f%05u.%s", f, a.format.c_str());
       s = WriteImage(a.output_dir + name, img);
+      if (s.ok() && a.coverage) {
+        img.channels = 1;
+        s = frames.ReadCoverage(width, height, &img.pixels);
+        std::snprintf(name, sizeof(name), "/coverage_f%05u.png", f);
+        if (s.ok()) s = WriteImage(a.output_dir + name, img);
+      }
       if (!s.ok()) return Fail(s.ToString());
     }
   }
@@ -452,6 +458,10 @@ void AddRenderCommand(CLI::App* app, int* exit_code) {
       ->check(CLI::ExistingFile)
       ->excludes(bytes)
       ->excludes(max_ms);
+  r->add_flag("--coverage", args->coverage,
+              "Renderer II: also write coverage_fFFFFF.png per frame, 255 where the actor is "
+              "drawn and 0 elsewhere (what a held-out view's scores compare with the person's "
+              "mask)");
   r->add_option("--format", args->format, "Image format")
       ->check(CLI::IsMember({"png", "exr"}))
       ->capture_default_str();

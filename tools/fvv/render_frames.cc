@@ -41,6 +41,9 @@ class FramesDrawnBy : public RenderFrames {
 
 class StreamFrames : public FramesDrawnBy<Renderer> {
  public:
+  Status ReadCoverage(int width, int height, std::vector<uint8_t>* coverage) override {
+    return renderer_->ReadCoverage(width, height, coverage);
+  }
   Status Open(const std::string& path, const StreamRenderOptions& o) {
     decoder_ = MakeDecoder();
     if (!decoder_) return Internal("cannot create a decoder");
@@ -129,6 +132,9 @@ class StreamFrames : public FramesDrawnBy<Renderer> {
 
 class CaptureFramesSource : public FramesDrawnBy<ProjectiveRenderer> {
  public:
+  Status ReadCoverage(int, int, std::vector<uint8_t>*) override {
+    return Unsupported("--coverage: Renderer I (projective) resolves every pixel; Renderer II only");
+  }
   CaptureFramesSource() : pool_(2) {}
   Status Open(const std::string& path, const CaptureRenderOptions& o) {
     options_ = o;

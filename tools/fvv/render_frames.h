@@ -36,6 +36,9 @@ class RenderFrames {
   virtual Status Load(uint32_t frame, glm::vec3* root) = 0;
   virtual Status Draw(const RenderView& view, int width, int height) = 0;
   virtual Status ReadRgb(int width, int height, std::vector<uint8_t>* rgb) = 0;
+  // The pixels the actor covers (255) after Draw; Unsupported where the
+  // renderer cannot tell (Renderer I resolves every pixel).
+  virtual Status ReadCoverage(int width, int height, std::vector<uint8_t>* coverage) = 0;
   // The timing line of the run after `frames` frames (what loading cost).
   virtual std::string LoadTimes(uint32_t frames) const = 0;
 
