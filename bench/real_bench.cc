@@ -429,9 +429,9 @@ int Run(const Args& a) {
       // The default stream, and beside it one with shape masks at the same
       // total bytes (docs/encoder.md, "Streams without masks").
       const std::string masked = dir + "/stream_masks.fvv", masked_json = masked + ".json";
-      std::vector<std::string> masked_args = {"encode", dir,   "-o", masked, "--poses", poses,
-                                              "--frames", range, "--masks", "-q",
-                                              "--summary-json", masked_json};
+      std::vector<std::string> masked_args = {
+          "encode",   dir,   "-o",      masked, "--poses",        poses,
+          "--frames", range, "--masks", "-q",   "--summary-json", masked_json};
       if (a.surface) masked_args.push_back("--surface");
       Status s = RunFvv(a, masked_args);
       StatusOr<nlohmann::json> masked_summary = ReadJson(masked_json);
@@ -440,8 +440,10 @@ int Run(const Args& a) {
         const nlohmann::json& b = (*masked_summary)["bytes"];
         const uint64_t per_gop = (b["texture"].get<uint64_t>() + b["masks"].get<uint64_t>()) /
                                  std::max<uint64_t>(1, (*masked_summary)["gops"].get<uint64_t>());
-        std::vector<std::string> args = {"encode", dir,     "-o",  stream, "--poses", poses,
-                                         "--frames", range, "--bytes", std::to_string(per_gop), "-q"};
+        std::vector<std::string> args = {
+            "encode", dir,        "-o",  stream,    "--poses",
+            poses,    "--frames", range, "--bytes", std::to_string(per_gop),
+            "-q"};
         if (a.surface) args.push_back("--surface");
         s = RunFvv(a, args);
       }

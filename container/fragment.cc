@@ -401,8 +401,7 @@ Status ReadTextureChunks(const BoxHeader& b, const uint8_t* data, uint64_t deliv
     if (size == 0) return Corrupt(where + "empty");
     const bool surface = channel == kSurfaceChannel;
     std::vector<uint8_t>& out = surface ? f->surface : f->texture.channels[channel].data;
-    const uint32_t declared =
-        surface ? f->surface_head.data_size : f->declared_bytes[channel];
+    const uint32_t declared = surface ? f->surface_head.data_size : f->declared_bytes[channel];
     if (out.size() + size > declared) {
       return Corrupt(where + "channel " + std::to_string(channel) + " runs past the " +
                      std::to_string(declared) + " bytes its head declares");

@@ -12,10 +12,9 @@ Status DecodeSurfaceDisplacements(const uint8_t* data, size_t size, uint32_t fra
   const uint64_t count = uint64_t{frames} * vertices;
   FVV_ASSIGN_OR_RETURN(const uint64_t content, ZstdContentSize(data, size));
   if (content < count || content > count * kMaxSurfaceResidualBytes) {
-    return Corrupt("surface: the zstd frame declares " + std::to_string(content) +
-                   " bytes for " + std::to_string(count) + " values (" +
-                   std::to_string(count) + ".." + std::to_string(count * kMaxSurfaceResidualBytes) +
-                   " allowed)");
+    return Corrupt("surface: the zstd frame declares " + std::to_string(content) + " bytes for " +
+                   std::to_string(count) + " values (" + std::to_string(count) + ".." +
+                   std::to_string(count * kMaxSurfaceResidualBytes) + " allowed)");
   }
   std::vector<uint8_t> bytes(static_cast<size_t>(content));
   FVV_RETURN_IF_ERROR(ZstdDecompress(data, size, &bytes));
@@ -27,8 +26,8 @@ Status DecodeSurfaceDisplacements(const uint8_t* data, size_t size, uint32_t fra
       for (int shift = 0;; shift += 7) {
         if (pos == bytes.size() || shift > 28) {
           return Corrupt("surface: residual of frame " + std::to_string(t) + ", vertex " +
-                         std::to_string(v) + (pos == bytes.size() ? " runs past the data"
-                                                                  : " is longer than 5 bytes"));
+                         std::to_string(v) +
+                         (pos == bytes.size() ? " runs past the data" : " is longer than 5 bytes"));
         }
         const uint8_t b = bytes[pos++];
         r |= uint64_t{b & 0x7Fu} << shift;

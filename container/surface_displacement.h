@@ -54,8 +54,8 @@ void SurfacePositions(const Mesh& mesh, const int32_t* values, uint8_t step_expo
 
 // The encoder's side (container library only): the coded bytes of `values`
 // (`frames` x `vertices`, each within kMaxSurfaceValue).
-std::vector<uint8_t> EncodeSurfaceDisplacements(const std::vector<int32_t>& values,
-                                                uint32_t frames, uint32_t vertices);
+std::vector<uint8_t> EncodeSurfaceDisplacements(const std::vector<int32_t>& values, uint32_t frames,
+                                                uint32_t vertices);
 
 }  // namespace fvv
 

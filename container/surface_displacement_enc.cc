@@ -4,8 +4,8 @@
 
 namespace fvv {
 
-std::vector<uint8_t> EncodeSurfaceDisplacements(const std::vector<int32_t>& values,
-                                                uint32_t frames, uint32_t vertices) {
+std::vector<uint8_t> EncodeSurfaceDisplacements(const std::vector<int32_t>& values, uint32_t frames,
+                                                uint32_t vertices) {
   std::vector<uint8_t> bytes;
   bytes.reserve(values.size() + values.size() / 4);
   for (uint32_t t = 0; t < frames; ++t) {

@@ -25,8 +25,7 @@ TEST(SurfaceValues, DecodeToWhatWasCoded) {
   std::mt19937 rng(7);
   const uint32_t frames = 3, vertices = 500;
   std::vector<int32_t> values(frames * vertices);
-  std::uniform_int_distribution<int32_t> small(-40, 40), large(-kMaxSurfaceValue,
-                                                               kMaxSurfaceValue);
+  std::uniform_int_distribution<int32_t> small(-40, 40), large(-kMaxSurfaceValue, kMaxSurfaceValue);
   for (size_t i = 0; i < values.size(); ++i) values[i] = i % 50 == 0 ? large(rng) : small(rng);
   values[1] = kMaxSurfaceValue, values[2] = -kMaxSurfaceValue;  // the widest residual
   const std::vector<uint8_t> coded = EncodeSurfaceDisplacements(values, frames, vertices);
@@ -34,9 +33,9 @@ TEST(SurfaceValues, DecodeToWhatWasCoded) {
   ASSERT_TRUE(DecodeSurfaceDisplacements(coded.data(), coded.size(), frames, vertices, &back).ok());
   EXPECT_EQ(back, values);
   // The same bytes read as another shape do not fit.
-  EXPECT_EQ(DecodeSurfaceDisplacements(coded.data(), coded.size(), frames, vertices + 1, &back)
-                .code(),
-            StatusCode::kCorrupt);
+  EXPECT_EQ(
+      DecodeSurfaceDisplacements(coded.data(), coded.size(), frames, vertices + 1, &back).code(),
+      StatusCode::kCorrupt);
 }
 
 // A zstd frame of the given residual bytes, as a writer that does not hold to

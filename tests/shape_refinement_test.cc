@@ -91,9 +91,9 @@ TEST(VisualHullMesh, ClosedOutwardAndOfTheHullsVolume) {
 }
 
 // The least gain in the held-out view that the surface of every frame must
-// bring over the fitted body (measured: 24.53 -> 26.50 dB and 24.23 -> 26.22
+// bring over the fitted body (measured: 24.53 -> 27.27 dB and 24.23 -> 27.12
 // dB, frames 0 and 1).
-constexpr double kSurfaceGainDb = 1.5;
+constexpr double kSurfaceGainDb = 2.0;
 
 class ShapeRefinementTest : public ::testing::Test {
  protected:

@@ -145,9 +145,10 @@ if [ -d "$real" ]; then
     echo "   cameras turned to meet the actor's outline over frames 30-59 (refine-calib --from silhouettes)"
     $fvv capture refine-calib "$out/real" --from silhouettes --frames 30:59 --rounds 2 --write
     echo "== camera cam02 held out: tracked from the other three on person masks and keypoints, encoded,"
-    echo "   and its view rendered with Renderer II and Renderer I against the real frames"
-    build/bench/real_bench "$out/real" --frames 0:11 --render-frames 2 --held-out cam02 \
-      --out "$out/real_heldout"
+    echo "   and its view rendered with Renderer II (the stream with the surface of every frame)"
+    echo "   and Renderer I against the real frames"
+    build/bench/real_bench "$out/real" --frames 0:11 --render-frames 4 --held-out cam02 \
+      --out "$out/real_heldout" --surface
   else
     echo "  (no person models: fvv falls back to background subtraction; tracking the real take is skipped)"
   fi

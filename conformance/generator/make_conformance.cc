@@ -1363,16 +1363,16 @@ std::vector<CaseSpec> InvalidCases() {
                "the first fragment's 'sfhd' declares one vertex more than the model has (head "
                "checksum recomputed)",
                StatusCode::kCorrupt, {"3.5.2", "10"}))
-      ->edit = edit_surface_head(
-      [](std::vector<uint8_t>* p) { StoreLe(p, 1, LoadLe(*p, 1, 4) + 1, 4); });
+      ->edit =
+      edit_surface_head([](std::vector<uint8_t>* p) { StoreLe(p, 1, LoadLe(*p, 1, 4) + 1, 4); });
   surfaced(add("surface_step_exponent_17", "the first fragment's 'sfhd' declares steps of 2^-17 m",
                StatusCode::kCorrupt, {"3.5.2", "10"}))
       ->edit = edit_surface_head([](std::vector<uint8_t>* p) { (*p)[0] = 17; });
   surfaced(add("surface_short_of_head",
                "the first fragment's 'sfhd' declares one byte more than its channel 3 chunks hold",
                StatusCode::kCorrupt, {"3.5.2", "10"}))
-      ->edit = edit_surface_head(
-      [](std::vector<uint8_t>* p) { StoreLe(p, 5, LoadLe(*p, 5, 4) + 1, 4); });
+      ->edit =
+      edit_surface_head([](std::vector<uint8_t>* p) { StoreLe(p, 5, LoadLe(*p, 5, 4) + 1, 4); });
   surfaced(add("surface_value_too_large",
                "a surface whose large swings reach 2^20 steps (one beyond the limit)",
                StatusCode::kCorrupt, {"3.5.2", "10"}))
@@ -1385,11 +1385,9 @@ std::vector<CaseSpec> InvalidCases() {
     FVV_RETURN_IF_ERROR(DropIndex(boxes));  // the second fragment grows
     FVV_ASSIGN_OR_RETURN(std::vector<EditBox> first, SplitBoxes(fragment(boxes, 0).payload));
     const EditBox head = first[FindBox(first, box::kSurfaceHead)];
-    return EditChunkedFragment(&fragment(boxes, 1),
-                               [head](std::vector<EditBox>* subs) {
-                                 subs->insert(subs->begin() + 1, head);
-                               },
-                               nullptr);
+    return EditChunkedFragment(
+        &fragment(boxes, 1),
+        [head](std::vector<EditBox>* subs) { subs->insert(subs->begin() + 1, head); }, nullptr);
   };
   chunked(add("index_head_size_wrong",
               "the index's first entry gives its fragment's head one byte more than it has",

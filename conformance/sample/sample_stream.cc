@@ -344,9 +344,9 @@ StatusOr<SampleStream> MakeSampleStream(const SampleStreamOptions& o,
         for (uint32_t t = 0; t < fi.frame_count; ++t) {
           const uint32_t f = fi.first_frame + t;
           for (uint32_t v = 0; v < nv; ++v) {
-            values[size_t{t} * nv + v] =
-                v % 5 == 0 ? o.surface_amplitude * (int32_t((f + v) % 3) - 1)
-                           : int32_t((f * 37 + v * 11) % 61) - 30;
+            values[size_t{t} * nv + v] = v % 5 == 0
+                                             ? o.surface_amplitude * (int32_t((f + v) % 3) - 1)
+                                             : int32_t((f * 37 + v * 11) % 61) - 30;
           }
         }
         frag.has_surface = true;

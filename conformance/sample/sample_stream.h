@@ -57,7 +57,7 @@ struct SampleStreamOptions {
   // swinging by up to `surface_amplitude` steps, the others by up to 30.
   bool surface = false;
   int32_t surface_amplitude = 300;
-  bool fast_start = true;       // declare the frame count up front (index at the front)
+  bool fast_start = true;  // declare the frame count up front (index at the front)
   uint8_t level = 1;
   uint32_t frame_rate_num = 25, frame_rate_den = 1;
   Metadata metadata = {{"title", "fvv sample stream"}, {"generator", "fvv sample"}};

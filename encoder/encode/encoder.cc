@@ -1,7 +1,7 @@
-#include "container/surface_displacement.h"
 #include "encoder/encode/encoder.h"
 
 #include "container/stream_join.h"
+#include "container/surface_displacement.h"
 #include "encoder/encode/encoder_session.h"
 
 namespace fvv {

@@ -144,8 +144,8 @@ StatusOr<const Mesh*> Session::TrackSurface(uint32_t slot, const std::vector<Aff
   if (surface_values_.size() != d.size()) {
     surface_values_.resize(d.size());
     for (size_t v = 0; v < d.size(); ++v) {
-      surface_values_[v] = int32_t(std::lround(
-          std::clamp<double>(d[v] * steps_per_m, -kMaxSurfaceValue, kMaxSurfaceValue)));
+      surface_values_[v] = int32_t(
+          std::lround(std::clamp<double>(d[v] * steps_per_m, -kMaxSurfaceValue, kMaxSurfaceValue)));
     }
   }
   values = surface_values_;

@@ -38,7 +38,8 @@ struct View {
 
 View MakeView(const Camera& full, const Image& sil, int max_side) {
   View v;
-  const int factor = std::max(1, int(std::ceil(double(std::max(full.width, full.height)) / max_side)));
+  const int factor =
+      std::max(1, int(std::ceil(double(std::max(full.width, full.height)) / max_side)));
   v.w = int(full.width) / factor;
   v.h = int(full.height) / factor;
   v.camera = full;
@@ -94,8 +95,8 @@ View MakeView(const Camera& full, const Image& sil, int max_side) {
 // Pixels a move of one metre along `a` (the vertex's posed normal direction)
 // shifts the image of `p` by, and that shift's unit image direction; false
 // when the shift is too small to measure (the normal along the ray).
-bool ImageShift(const View& v, const Vector3d& p, const Vector3d& a, Vector2d* q,
-                double* px_per_m, Vector2d* dir, double* depth) {
+bool ImageShift(const View& v, const Vector3d& p, const Vector3d& a, Vector2d* q, double* px_per_m,
+                Vector2d* dir, double* depth) {
   if (!ProjectPoint(v.camera, p, q, depth)) return false;
   Vector2d q2;
   const double eps = 0.005;
@@ -168,6 +169,7 @@ StatusOr<std::vector<float>> SurfaceTracker::Track(const std::vector<Affine>& sk
   std::vector<uint8_t> outside(n), contour(n);
   // The first frame starts from the fitted body, not from a frame before.
   const int steps = started_ ? o_.steps : 3 * o_.steps;
+  const double temporal = started_ ? o_.temporal : 0.0;  // nothing to hold to yet
   started_ = true;
   for (int step = 0; step < steps; ++step) {
     std::vector<Vector3d> p(n);
@@ -177,8 +179,8 @@ StatusOr<std::vector<float>> SurfaceTracker::Track(const std::vector<Affine>& sk
       std::vector<Eigen::Vector2f> px(n);
       for (size_t v = 0; v < n; ++v) {
         Vector2d q;
-        px[v] = ProjectPoint(view.camera, p[v], &q) ? q.cast<float>()
-                                                    : Eigen::Vector2f(-1e6f, -1e6f);
+        px[v] =
+            ProjectPoint(view.camera, p[v], &q) ? q.cast<float>() : Eigen::Vector2f(-1e6f, -1e6f);
       }
       std::fill(view.model.begin(), view.model.end(), 0);
       RasterBox box{0, 0, -1, -1};
@@ -255,8 +257,8 @@ StatusOr<std::vector<float>> SurfaceTracker::Track(const std::vector<Affine>& sk
         for (uint32_t nb : ring_[v]) mean += d[nb];
         mean = ring_[v].empty() ? d[v] : mean / ring_[v].size();
         const double target =
-            (weight[v] * (d[v] + move[v]) + o_.smoothness * mean + o_.temporal * previous_[v]) /
-            (weight[v] + o_.smoothness + o_.temporal + o_.prior);
+            (weight[v] * (d[v] + move[v]) + o_.smoothness * mean + temporal * previous_[v]) /
+            (weight[v] + o_.smoothness + temporal + o_.prior);
         const double value = d[v] + o_.step * (target - d[v]);
         next[v] = float(std::clamp(value, -o_.max_displacement, o_.max_displacement));
       }

@@ -38,25 +38,25 @@
 namespace fvv {
 
 struct SurfaceTrackingOptions {
-  int max_side = 640;            // silhouettes are worked at about this size (longer side)
-  int steps = 8;                 // per frame (three times as many on the first)
-  double step = 0.6;             // share of the way to the weighted target taken per step
-  double reach = 0.06;           // metres: the outline is searched this far along the normal
+  int max_side = 640;              // silhouettes are worked at about this size (longer side)
+  int steps = 8;                   // per frame (three times as many on the first)
+  double step = 0.6;               // share of the way to the weighted target taken per step
+  double reach = 0.06;             // metres: the outline is searched this far along the normal
   double max_displacement = 0.08;  // metres, either way
-  double contour_cosine = 0.35;  // |normal . ray| below this: on that camera's contour
+  double contour_cosine = 0.35;    // |normal . ray| below this: on that camera's contour
   // |normal . ray| below this: a vertex outside the silhouette comes in (one
   // facing the camera moves its image little along its normal, and its
   // neighbours nearer the contour bring it in).
   double outside_cosine = 0.6;
-  int spread = 8;                // passes spreading the data terms to neighbours
-  double smoothness = 1.0;       // pull towards the neighbours' mean displacement
-  double temporal = 0.5;         // pull towards the previous frame's displacement
-  double prior = 0.05;           // pull towards the fitted body (zero)
+  int spread = 8;           // passes spreading the data terms to neighbours
+  double smoothness = 1.0;  // pull towards the neighbours' mean displacement
+  double temporal = 2.0;    // pull towards the previous frame's displacement
+  double prior = 0.05;      // pull towards the fitted body (zero)
 };
 
 struct SurfaceTrackingReport {
-  double outside = 0;  // share of the vertex sightings outside a silhouette, at the last step
-  double contour = 0;  // share of vertices on some camera's contour, at the last step
+  double outside = 0;   // share of the vertex sightings outside a silhouette, at the last step
+  double contour = 0;   // share of vertices on some camera's contour, at the last step
   double mean_abs = 0;  // metres, mean |displacement|
 };
 

@@ -218,8 +218,8 @@ Status WriteGltf(const ExportedActor& a, const std::string& path) {
       samplers.push_back({{"input", input},
                           {"output", b.Floats(one_hot, "SCALAR", 1, 0, false)},
                           {"interpolation", "STEP"}});
-      channels.push_back({{"sampler", samplers.size() - 1},
-                          {"target", {{"node", joints}, {"path", "weights"}}}});
+      channels.push_back(
+          {{"sampler", samplers.size() - 1}, {"target", {{"node", joints}, {"path", "weights"}}}});
     }
     doc["animations"] = {{{"name", "capture"}, {"samplers", samplers}, {"channels", channels}}};
   }

@@ -133,7 +133,8 @@ class StreamFrames : public FramesDrawnBy<Renderer> {
 class CaptureFramesSource : public FramesDrawnBy<ProjectiveRenderer> {
  public:
   Status ReadCoverage(int, int, std::vector<uint8_t>*) override {
-    return Unsupported("--coverage: Renderer I (projective) resolves every pixel; Renderer II only");
+    return Unsupported(
+        "--coverage: Renderer I (projective) resolves every pixel; Renderer II only");
   }
   CaptureFramesSource() : pool_(2) {}
   Status Open(const std::string& path, const CaptureRenderOptions& o) {

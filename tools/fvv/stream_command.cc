@@ -96,7 +96,7 @@ int RunInfo(const InfoArgs& a) {
                  {"key_interval", info.motion.key_interval}};
   for (const auto& kv : info.metadata) j["metadata"][kv.first] = kv.second;
 
-  uint64_t texture = 0, motion = 0, masks = 0, visibility = 0, damaged = 0;
+  uint64_t texture = 0, motion = 0, masks = 0, visibility = 0, surface = 0, damaged = 0;
   for (size_t i = 0; i < reader.fragment_count(); ++i) {
     const IndexEntry& e = info.index[i];
     nlohmann::json g = {{"gop", i},
@@ -145,6 +145,8 @@ int RunInfo(const InfoArgs& a) {
         g["head_bytes"] = f->head_bytes;
         g["chunks"] = f->chunks.size();
       }
+      if (f->has_surface) g["surface_bytes"] = f->surface.size();
+      surface += f->surface.size();
       g["motion_bytes"] = f->motion.size();
       g["mask_bytes"] = f->masks.size();
       if (!f->masks.empty()) g["mask_mode"] = static_cast<int>(f->mask_mode);
@@ -159,11 +161,9 @@ int RunInfo(const InfoArgs& a) {
   const uint32_t frames = info.frames();
   const double seconds = h.fps() > 0 ? frames / h.fps() : 0;
   auto kbps = [seconds](uint64_t bytes) { return seconds > 0 ? bytes * 8 / seconds / 1000 : 0.0; };
-  j["bitrate_kbps"] = {{"texture", kbps(texture)},
-                       {"motion", kbps(motion)},
-                       {"masks", kbps(masks)},
-                       {"vertex_visibility", kbps(visibility)},
-                       {"total", kbps((*source)->size())}};
+  j["bitrate_kbps"] = {{"texture", kbps(texture)}, {"motion", kbps(motion)},
+                       {"masks", kbps(masks)},     {"vertex_visibility", kbps(visibility)},
+                       {"surface", kbps(surface)}, {"total", kbps((*source)->size())}};
   j["damaged_fragments"] = damaged;
 
   if (a.json) {
@@ -199,9 +199,11 @@ int RunInfo(const InfoArgs& a) {
                 static_cast<unsigned long long>(b.offset), static_cast<unsigned long long>(b.size));
   }
   std::printf("\n  index: %s\n", j["header"]["index"].get<std::string>().c_str());
-  std::printf(
-      "  bitrate kbps: texture %.1f, motion %.2f, masks %.1f, vertex visibility %.1f, total %.1f\n",
-      kbps(texture), kbps(motion), kbps(masks), kbps(visibility), kbps((*source)->size()));
+  std::printf("  bitrate kbps: texture %.1f, motion %.2f, masks %.1f, vertex visibility %.1f, ",
+              kbps(texture), kbps(motion), kbps(masks), kbps(visibility));
+  if (surface > 0)
+    std::printf("surface %.1f (%llu bytes), ", kbps(surface), (unsigned long long)surface);
+  std::printf("total %.1f\n", kbps((*source)->size()));
   std::printf("  %-5s %-9s %-7s %9s %9s %7s %7s  %s\n", "gop", "frames", "cameras", "offset",
               "bytes", "motion", "masks",
               "Y/U/V bytes (bitplanes, truncation points; predictive: T00, R0, R bytes; in "
@@ -234,6 +236,9 @@ int RunInfo(const InfoArgs& a) {
     if (g.contains("chunks")) {
       std::printf("  head %llu, %llu chunks", g["head_bytes"].get<unsigned long long>(),
                   g["chunks"].get<unsigned long long>());
+    }
+    if (g.contains("surface_bytes")) {
+      std::printf(", surface %llu", g["surface_bytes"].get<unsigned long long>());
     }
     std::printf("  %s\n", g["status"].get<std::string>().c_str());
   }
