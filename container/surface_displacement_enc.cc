@@ -12,7 +12,10 @@ std::vector<uint8_t> EncodeSurfaceDisplacements(const std::vector<int32_t>& valu
     for (uint32_t v = 0; v < vertices; ++v) {
       const int64_t residual =
           values[size_t(t) * vertices + v] - PredictSurfaceValue(values.data(), vertices, t, v);
-      uint64_t r = static_cast<uint64_t>((residual << 1) ^ (residual >> 63)) & 0xFFFFFFFFu;
+      // Zigzag: 0, -1, 1, -2, ... -> 0, 1, 2, 3, ... (shifted as unsigned).
+      uint64_t r =
+          ((static_cast<uint64_t>(residual) << 1) ^ static_cast<uint64_t>(residual >> 63)) &
+          0xFFFFFFFFu;
       while (r >= 0x80) {
         bytes.push_back(static_cast<uint8_t>(r | 0x80));
         r >>= 7;
