@@ -104,6 +104,7 @@ await withBrowser(mounts, async ({ page, base, requests }) => {
   base0 = base;
   await page.setViewport({ width: 480, height: 400 });
 
+  const wholeStills = {};
   for (const kind of ['masks', 'depth']) {
     await open(page, base, `${kind}.fvv`);
     const s = await waitFor(page, (t) => t.framesAdvanced >= 12, 30000);
@@ -113,6 +114,7 @@ await withBrowser(mounts, async ({ page, base, requests }) => {
     const shot = `${work}/page_${kind}_playing.png`;
     await page.screenshot({ path: shot });
     const whole = await stillAgainst(page, kind, 0);
+    wholeStills[kind] = whole;
     if (kind === 'depth') {
       // The same at a budget: each fragment's texture cut at BYTES, here and
       // in fvv render --bytes; unlike the whole still, so the bytes count.
@@ -120,6 +122,13 @@ await withBrowser(mounts, async ({ page, base, requests }) => {
       const differ = psnrOverActor(cut, whole, [0.12, 0.12, 0.14].map((v) => Math.round(v * 255))).psnr;
       check(differ < 32, `depth: the still at ${BYTES} bytes is not the whole one (${differ.toFixed(2)} dB apart)`);
     }
+  }
+  // A stream with the surface of every frame (format version 12): the page
+  // draws each frame's own surface as fvv render does, not the model's.
+  {
+    const surfaced = await stillAgainst(page, 'surface', 0);
+    const apart = psnrOverActor(surfaced, wholeStills.masks, [0.12, 0.12, 0.14].map((v) => Math.round(v * 255))).psnr;
+    check(apart < 30, `surface: the still is not the model's (${apart.toFixed(2)} dB from the stream without it)`);
   }
   // The three.js adapter: the actor (FvvActor) in a scene of three.js's own
   // (floor, grid, box), drawn by three's render() in its context: over the
