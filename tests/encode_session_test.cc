@@ -603,6 +603,14 @@ TEST_F(EncodeTest, CApiEncodesAndReportsAndRefusesMisuse) {
   EXPECT_EQ(fvv_encoder_create(&s, &none), FVV_INVALID_ARGUMENT);
   EXPECT_NE(std::string(fvv_encoder_settings_error()).find("quantise_model"), std::string::npos);
   s.quantise_model = 0;
+  s.surface = 2;
+  EXPECT_EQ(fvv_encoder_create(&s, &none), FVV_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(fvv_encoder_settings_error()).find("surface"), std::string::npos);
+  // The surface rides in the texture's chunks: not without them.
+  s.surface = 1;
+  EXPECT_EQ(fvv_encoder_create(&s, &none), FVV_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(fvv_encoder_settings_error()).find("chunks"), std::string::npos);
+  s.surface = 0;
   // The blend-share rule: a share outside 0..1 is refused.
   EXPECT_DOUBLE_EQ(s.least_blend_share, 0.25);
   for (double share : {-0.1, 1.5, std::nan("")}) {

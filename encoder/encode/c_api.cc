@@ -35,6 +35,11 @@ fvv::Status ToSettings(const fvv_encoder_settings& c, fvv::EncoderSettings* s) {
   if (c.prune > 1) return InvalidArgument("prune is not 0 or 1");
   if (c.quantise_model > 1) return InvalidArgument("quantise_model is not 0 or 1");
   if (c.texture_chunks > 1) return InvalidArgument("texture_chunks is not 0 or 1");
+  if (c.surface > 1) return InvalidArgument("surface is not 0 or 1");
+  if (c.surface && !c.texture_chunks) {
+    return InvalidArgument(
+        "surface needs texture_chunks (the surface rides in the texture's chunks)");
+  }
   if (!(c.least_blend_share >= 0 && c.least_blend_share <= 1))
     return InvalidArgument("least_blend_share is not 0..1");
   if (c.chroma > FVV_CHROMA_420_NEAREST) return InvalidArgument("chroma is not an fvv_chroma");
@@ -65,6 +70,7 @@ fvv::Status ToSettings(const fvv_encoder_settings& c, fvv::EncoderSettings* s) {
   s->prune_isolated = c.prune != 0;
   s->quantise_model = c.quantise_model != 0;
   s->texture_chunks = c.texture_chunks != 0;
+  s->surface = c.surface != 0;
   s->least_blend_share = c.least_blend_share;
   s->chroma = c.chroma == FVV_CHROMA_444 ? fvv::ChromaFormat::k444 : fvv::ChromaFormat::k420;
   s->chroma_upsampling = c.chroma == FVV_CHROMA_420_NEAREST ? fvv::ChromaUpsampling::kNearest
@@ -115,6 +121,7 @@ void fvv_encoder_default_settings(fvv_encoder_settings* settings) {
   settings->prune = 1;
   settings->quantise_model = 1;
   settings->texture_chunks = 1;
+  settings->surface = 0;
   settings->least_blend_share = fvv::EncoderSettings{}.least_blend_share;
   settings->coder = FVV_CODER_ARITH3;
   settings->chroma = FVV_CHROMA_444;

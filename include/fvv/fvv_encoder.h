@@ -127,6 +127,10 @@ typedef struct {
      of the reference player's blend from some viewpoint; elsewhere it is left to the coder's fill
      (default 0.25; 0 codes every such texel; at most 1). Encoder-side only. */
   double least_blend_share;
+  /* 1: carry the surface of every frame (format version 12, SPEC.md 3.5.2), tracked from the
+     cameras' silhouettes and used for resampling; needs texture_chunks and footage (not a
+     texture directory). Default 0. */
+  uint32_t surface;
 } fvv_encoder_settings;
 
 typedef struct {
