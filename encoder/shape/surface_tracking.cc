@@ -15,8 +15,8 @@ using Eigen::Vector2d;
 using Eigen::Vector3d;
 
 // One camera at working size: its calibration scaled, the silhouette
-// reduced by majority, and per pixel the chamfer distance (pixels) to the
-// silhouette (0 inside).
+// reduced by majority, and per pixel the signed distance (pixels) to its
+// outline.
 struct View {
   Camera camera;
   Vector3d centre;
@@ -29,6 +29,16 @@ struct View {
   bool Inside(const Vector2d& q) const {
     const int x = int(std::lround(q.x())), y = int(std::lround(q.y()));
     return In(x, y) && inside[size_t(y) * w + x];
+  }
+  // The signed distance at `q`, bilinear between pixel centres; outside the
+  // image, far outside.
+  double Signed(const Vector2d& q) const {
+    const int x0 = int(std::floor(q.x())), y0 = int(std::floor(q.y()));
+    if (x0 < 0 || y0 < 0 || x0 + 1 >= w || y0 + 1 >= h) return 64.0;
+    const double fx = q.x() - x0, fy = q.y() - y0;
+    const float* r0 = &distance[size_t(y0) * w + x0];
+    const float* r1 = r0 + w;
+    return (1 - fy) * ((1 - fx) * r0[0] + fx * r0[1]) + fy * ((1 - fx) * r1[0] + fx * r1[1]);
   }
   bool Model(const Vector2d& q) const {
     const int x = int(std::lround(q.x())), y = int(std::lround(q.y()));
@@ -65,28 +75,41 @@ View MakeView(const Camera& full, const Image& sil, int max_side) {
       v.inside[size_t(y) * v.w + x] = 2 * count >= factor * factor;
     }
   }
-  // Two-pass chamfer distance (3-4 weights, in pixels) to the silhouette.
+  // Signed distance to the silhouette's outline (pixels; negative inside):
+  // two-pass chamfer distances to the nearest pixel of the other kind, less
+  // half a pixel, so that the outline runs between pixel centres and the
+  // field can be read between them (Signed), without the half-pixel bias of
+  // asking which pixel a vertex falls in.
   constexpr float kBig = 1e9f;
-  v.distance.assign(v.inside.size(), kBig);
-  for (size_t i = 0; i < v.inside.size(); ++i) {
-    if (v.inside[i]) v.distance[i] = 0;
-  }
-  const auto relax = [&](int x, int y, int dx, int dy, float cost) {
-    if (!v.In(x + dx, y + dy)) return;
-    float& d = v.distance[size_t(y) * v.w + x];
-    d = std::min(d, v.distance[size_t(y + dy) * v.w + x + dx] + cost);
+  const auto chamfer = [&](bool to_inside) {
+    std::vector<float> d(v.inside.size(), kBig);
+    for (size_t i = 0; i < v.inside.size(); ++i) {
+      if (bool(v.inside[i]) == to_inside) d[i] = 0;
+    }
+    const auto relax = [&](int x, int y, int dx, int dy, float cost) {
+      if (!v.In(x + dx, y + dy)) return;
+      float& here = d[size_t(y) * v.w + x];
+      here = std::min(here, d[size_t(y + dy) * v.w + x + dx] + cost);
+    };
+    for (int y = 0; y < v.h; ++y) {
+      for (int x = 0; x < v.w; ++x) {
+        relax(x, y, -1, 0, 1.0f), relax(x, y, 0, -1, 1.0f);
+        relax(x, y, -1, -1, 1.4142f), relax(x, y, 1, -1, 1.4142f);
+      }
+    }
+    for (int y = v.h - 1; y >= 0; --y) {
+      for (int x = v.w - 1; x >= 0; --x) {
+        relax(x, y, 1, 0, 1.0f), relax(x, y, 0, 1, 1.0f);
+        relax(x, y, 1, 1, 1.4142f), relax(x, y, -1, 1, 1.4142f);
+      }
+    }
+    return d;
   };
-  for (int y = 0; y < v.h; ++y) {
-    for (int x = 0; x < v.w; ++x) {
-      relax(x, y, -1, 0, 1.0f), relax(x, y, 0, -1, 1.0f);
-      relax(x, y, -1, -1, 1.4142f), relax(x, y, 1, -1, 1.4142f);
-    }
-  }
-  for (int y = v.h - 1; y >= 0; --y) {
-    for (int x = v.w - 1; x >= 0; --x) {
-      relax(x, y, 1, 0, 1.0f), relax(x, y, 0, 1, 1.0f);
-      relax(x, y, 1, 1, 1.4142f), relax(x, y, -1, 1, 1.4142f);
-    }
+  const std::vector<float> to_inside = chamfer(true), to_outside = chamfer(false);
+  v.distance.resize(v.inside.size());
+  for (size_t i = 0; i < v.inside.size(); ++i) {
+    v.distance[i] = v.inside[i] ? -(std::min(to_outside[i], 64.0f) - 0.5f)
+                                : std::min(to_inside[i], 64.0f) - 0.5f;
   }
   v.model.assign(v.inside.size(), 0);
   return v;
@@ -204,23 +227,33 @@ StatusOr<std::vector<float>> SurfaceTracker::Track(const std::vector<Affine>& sk
           // A vertex facing the camera moves its image little along its
           // normal: its gap is taken as at least 0.3 of a move across the ray.
           const double per_m = std::max(scale, 0.3 * view.camera.fx / depth);
-          const float outside_px = view.distance[size_t(y) * view.w + x];
-          if (outside_px > 0.75f && std::abs(facing) < o_.outside_cosine) {
+          const double signed_px = view.Signed(q);
+          if (signed_px > 0.25 && std::abs(facing) < o_.outside_cosine) {
             out = true;
-            inward = std::min(inward, -double(outside_px) / per_m);
+            inward = std::min(inward, -signed_px / per_m);
             continue;
           }
           if (std::abs(facing) >= o_.contour_cosine) continue;
           // On this camera's contour: nothing of the model just beyond it.
           if (view.Model(q + 3.0 * dir)) continue;
           rim = true;
+          // Out along the normal's image direction to where the field
+          // crosses zero (between two samples, linearly).
           const double reach_px = o_.reach * scale;
-          double t = 0.5;
-          for (; t <= reach_px; t += 0.5) {
-            if (!view.Inside(q + t * dir)) break;
+          double t = 0, before = signed_px;
+          bool found = before >= 0;
+          while (!found && t < reach_px) {
+            const double next = view.Signed(q + (t + 0.5) * dir);
+            if (next >= 0) {
+              t += 0.5 * (-before) / std::max(1e-9, next - before);
+              found = true;
+            } else {
+              t += 0.5, before = next;
+            }
           }
-          if (t > reach_px) continue;  // the outline is out of reach
-          outward_sum += (t - 0.5) / scale;
+          if (!found) continue;    // the outline is out of reach
+          if (t < 0.25) continue;  // on it already, within the field's precision
+          outward_sum += t / scale;
           ++outward_count;
         }
         outside[v] = out;

@@ -596,6 +596,12 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
                 "(a true surface for shape refinement to recover)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 0.1));
+  s->add_option("--garment", o->garment,
+                "Built-in actor: loose shorts standing off the body by up to this many metres as "
+                "the legs swing apart (the surface moves apart from the skeleton; the true "
+                "surface of every frame goes into truth/surface_fFFFFFF.bin)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 0.1));
   s->add_option("--noise", o->noise, "Sensor noise (std. dev., 8-bit levels)")
       ->capture_default_str();
   s->add_option("--colour-mismatch", o->colour_mismatch, "Per-camera gain spread (0.05 = 5 %)")

@@ -7,6 +7,7 @@ namespace fvv {
 std::vector<Eigen::Vector3f> Actor::PosedPositions(uint32_t frame) const {
   const ActorMesh& m = mesh();
   const std::vector<Eigen::Matrix4f> skin = Skinning(frame);
+  const std::vector<Eigen::Vector3f>& bind = BindPositions(frame);
   std::vector<Eigen::Vector3f> out(m.positions.size());
   for (size_t v = 0; v < m.positions.size(); ++v) {
     Eigen::Matrix4f s = Eigen::Matrix4f::Zero();
@@ -14,7 +15,7 @@ std::vector<Eigen::Vector3f> Actor::PosedPositions(uint32_t frame) const {
       if (m.weights[v][k] > 0 && m.joints[v][k] < skin.size())
         s += m.weights[v][k] * skin[m.joints[v][k]];
     }
-    out[v] = s.topLeftCorner<3, 3>() * m.positions[v] + s.topRightCorner<3, 1>();
+    out[v] = s.topLeftCorner<3, 3>() * bind[v] + s.topRightCorner<3, 1>();
   }
   return out;
 }

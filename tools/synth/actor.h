@@ -42,6 +42,13 @@ class Actor {
   virtual std::vector<NamedPoint> Joints(uint32_t frame) const = 0;
   // Where the actor stands (for its floor shadow): the root's position.
   virtual Eigen::Vector3d RootPosition(uint32_t frame) const = 0;
+  // The bind-pose positions of frame `frame`: the mesh's, unless the surface
+  // moves apart from the skeleton (a loose garment).
+  virtual const std::vector<Eigen::Vector3f>& BindPositions(uint32_t frame) const {
+    return mesh().positions;
+  }
+  // Whether BindPositions changes from frame to frame.
+  virtual bool SurfaceMoves() const { return false; }
   // Posed vertex positions on the CPU (linear-blend skinning).
   std::vector<Eigen::Vector3f> PosedPositions(uint32_t frame) const;
 };
@@ -61,10 +68,19 @@ class BodyModelActor : public Actor {
   Eigen::Vector3d RootPosition(uint32_t frame) const override;
   const BodyModel& model() const { return model_; }
   const std::vector<double>& pose(uint32_t frame) const { return poses_[frame]; }
+  // A loose garment (garment.h): per frame, the bind-pose positions.
+  void SetFramePositions(std::vector<std::vector<Eigen::Vector3f>> positions) {
+    frame_positions_ = std::move(positions);
+  }
+  const std::vector<Eigen::Vector3f>& BindPositions(uint32_t frame) const override {
+    return frame_positions_.empty() ? mesh_.positions : frame_positions_[frame];
+  }
+  bool SurfaceMoves() const override { return !frame_positions_.empty(); }
 
  private:
   BodyModel model_;
   std::vector<std::vector<double>> poses_;
+  std::vector<std::vector<Eigen::Vector3f>> frame_positions_;
   ActorMesh mesh_;
   std::string description_;
 };

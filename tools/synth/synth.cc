@@ -15,6 +15,7 @@
 #include "encoder/track/features.h"
 #include "player/render/headless.h"
 #include "tools/synth/body_texture.h"
+#include "tools/synth/garment.h"
 #include "tools/synth/gltf_actor.h"
 #include "tools/synth/procedural_motion.h"
 #include "tools/synth/surface_detail.h"
@@ -121,6 +122,7 @@ StatusOr<std::unique_ptr<Actor>> MakeSynthActor(const SynthOptions& o) {
       return InvalidArgument(
           "synth: --motion drives the built-in actor; a glTF actor plays its own animation");
     }
+    if (o.garment > 0) return InvalidArgument("synth: --garment dresses the built-in actor only");
     StatusOr<std::unique_ptr<GltfActor>> g = GltfActor::Load(o.actor, o.fps, o.frames);
     if (!g.ok()) return Status(g.status().code(), "synth: --actor: " + g.status().message());
     return std::unique_ptr<Actor>(std::move(*g));
@@ -168,8 +170,16 @@ StatusOr<std::unique_ptr<Actor>> MakeSynthActor(const SynthOptions& o) {
     poses = ProceduralWalk(model.skeleton, o.frames, o.fps);
   }
   Image texture = BakeBodyTexture(model, static_cast<int>(o.texture_size), o.seed);
-  return std::unique_ptr<Actor>(new BodyModelActor(
-      std::move(model), std::move(poses), std::move(texture), "built-in body model, " + motion));
+  if (!(o.garment >= 0 && o.garment <= 0.1)) {
+    return InvalidArgument("synth: garment must be 0..0.1 m");
+  }
+  std::vector<std::vector<Eigen::Vector3f>> garment;
+  if (o.garment > 0) garment = GarmentPositions(model, poses, o.garment);
+  auto actor = std::make_unique<BodyModelActor>(
+      std::move(model), std::move(poses), std::move(texture),
+      "built-in body model, " + motion + (o.garment > 0 ? ", loose shorts" : ""));
+  if (!garment.empty()) actor->SetFramePositions(std::move(garment));
+  return std::unique_ptr<Actor>(std::move(actor));
 }
 
 // The bystander: the generic body, a little shorter and dressed otherwise,
@@ -319,6 +329,17 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
   for (uint32_t f = 0; f < o.frames; ++f) {
     const std::vector<Eigen::Matrix4f> skin = actor.Skinning(f);
     const Eigen::Vector3d root = actor.RootPosition(f);
+    if (actor.SurfaceMoves()) {
+      // The frame's own surface: drawn, and kept as truth (posed positions,
+      // x, y, z as f32 per vertex).
+      r.SetActorPositions(actor.BindPositions(f));
+      const std::vector<Eigen::Vector3f> posed = actor.PosedPositions(f);
+      char name[48];
+      std::snprintf(name, sizeof(name), "/truth/surface_f%06u.bin", f);
+      FVV_RETURN_IF_ERROR(WriteFileAtomic(dir + name,
+                                          reinterpret_cast<const uint8_t*>(posed.data()),
+                                          posed.size() * sizeof(Eigen::Vector3f)));
+    }
     auto film = [&](const Camera& cam, uint32_t index, const std::string& image_dir,
                     const std::string& silhouette_dir) -> Status {
       FVV_RETURN_IF_ERROR(r.DrawScene(cam, &skin, root));
@@ -398,6 +419,9 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
     truth["body_model"] = "generic";
     truth["stature"] = o.stature;
     truth["surface_detail"] = o.surface_detail;
+    truth["garment"] = o.garment;
+    if (o.garment > 0)
+      truth["surface_files"] = "surface_fFFFFFF.bin: posed vertex positions, f32 x y z";
     nlohmann::json dofs = nlohmann::json::array();
     for (const DofRef& d : body->model().skeleton.Dofs()) {
       static const char* kKinds[] = {"rx", "ry", "rz", "tx", "ty", "tz"};

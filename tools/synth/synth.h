@@ -36,7 +36,8 @@ struct SynthOptions {
   std::string actor = "builtin";  // "builtin" or a glTF 2.0 file (.glb/.gltf)
   double stature = 1.0;           // the built-in actor's size (1.0 = 1.75 m)
   double surface_detail = 0.0;    // the built-in actor's bumps off the generic shape (metres)
-  double noise = 1.5;             // sensor noise, standard deviation in 8-bit levels
+  double garment = 0.0;  // the built-in actor's loose shorts: their flare (metres, garment.h)
+  double noise = 1.5;    // sensor noise, standard deviation in 8-bit levels
   double colour_mismatch = 0.0;   // per-camera gain spread, e.g. 0.05 for +-5 %
   bool unlit = false;             // the actor without shading: its texture's own colours
   uint32_t held_out = 2;          // extra cameras for novel-view evaluation

@@ -55,6 +55,8 @@ StatusOr<std::unique_ptr<SynthRenderer>> SynthRenderer::Create(const GlApi& gl,
   g.GenVertexArrays(1, &r->actor_vao_);
   g.BindVertexArray(r->actor_vao_);
   attrib(0, 3, mesh.positions.data(), n * 12);
+  r->actor_positions_ = r->buffers_.back();
+  r->actor_vertices_ = n;
   attrib(1, 3, mesh.normals.data(), n * 12);
   attrib(2, 2, mesh.uvs.data(), n * 8);
   std::vector<uint32_t> joints(n * 4);
@@ -217,6 +219,13 @@ Status SynthRenderer::DrawSilhouette(const Camera& camera,
   const GLenum e = gl_.GetError();
   if (e != GL_NO_ERROR) return Internal("synth: OpenGL error " + std::to_string(e) + " drawing");
   return Status::Ok();
+}
+
+void SynthRenderer::SetActorPositions(const std::vector<Eigen::Vector3f>& positions) {
+  const size_t n = std::min(positions.size(), actor_vertices_);
+  gl_.BindBuffer(GL_ARRAY_BUFFER, actor_positions_);
+  gl_.BufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(n * 12), positions.data());
+  gl_.BindBuffer(GL_ARRAY_BUFFER, 0);
 }
 
 StatusOr<Image> SynthRenderer::Read(const Camera& camera, int channels) {

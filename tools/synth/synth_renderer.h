@@ -39,6 +39,9 @@ class SynthRenderer {
   Status DrawActorOver(const Camera& camera, const std::vector<Eigen::Matrix4f>& skinning);
   // The actor alone, white on black.
   Status DrawSilhouette(const Camera& camera, const std::vector<Eigen::Matrix4f>& skinning);
+  // The actor's bind-pose positions from now on (a surface that moves apart
+  // from the skeleton), as many as the mesh has.
+  void SetActorPositions(const std::vector<Eigen::Vector3f>& positions);
   // The last drawing, top-down rows (RGB or grey).
   StatusOr<Image> Read(const Camera& camera, int channels);
 
@@ -49,6 +52,8 @@ class SynthRenderer {
 
   GlApi gl_;
   GLuint program_ = 0, actor_vao_ = 0, studio_vao_ = 0, texture_ = 0, bones_ubo_ = 0;
+  GLuint actor_positions_ = 0;
+  size_t actor_vertices_ = 0;
   std::vector<GLuint> buffers_;
   GLsizei actor_indices_ = 0, studio_indices_ = 0;
   GLint u_view_proj_ = -1, u_skinned_ = -1, u_mode_ = -1, u_shadow_ = -1, u_shadow_on_ = -1;
