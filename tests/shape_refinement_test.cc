@@ -21,6 +21,7 @@
 #include "encoder/encode/pose_file.h"
 #include "encoder/shape/surface_index.h"
 #include "encoder/track/capture_frames.h"
+#include "tests/synth_capture_fixture.h"
 #include "tools/synth/shape_comparison.h"
 #include "tools/synth/view_score.h"
 
@@ -95,31 +96,21 @@ TEST(VisualHullMesh, ClosedOutwardAndOfTheHullsVolume) {
 // dB, frames 0 and 1).
 constexpr double kSurfaceGainDb = 2.0;
 
-class ShapeRefinementTest : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    dir_ = ::testing::TempDir() + "/shape_refinement_test_" + std::to_string(getpid());
-    std::system(("rm -rf '" + dir_ + "'").c_str());
-    synth_.output_dir = dir_ + "/cap";
-    synth_.cameras = 8;
-    synth_.frames = 2;
-    synth_.width = 320;
-    synth_.height = 240;
-    synth_.held_out = 2;
-    synth_.surface_detail = 0.03;
-    synth_.link_silhouettes = true;
-    status_ = RunSynth(synth_).status();
+class ShapeRefinementTest : public SynthCaptureFixture<ShapeRefinementTest> {
+ public:
+  static constexpr const char* kName = "shape_refinement_test";
+  static SynthOptions Options() {
+    SynthOptions o;
+    o.cameras = 8;
+    o.frames = 2;
+    o.width = 320;
+    o.height = 240;
+    o.held_out = 2;
+    o.surface_detail = 0.03;
+    o.link_silhouettes = true;
+    return o;
   }
-  static void TearDownTestSuite() { std::system(("rm -rf '" + dir_ + "'").c_str()); }
-  void SetUp() override { ASSERT_TRUE(status_.ok()) << status_.ToString(); }
-
-  static std::string dir_;
-  static SynthOptions synth_;
-  static Status status_;
 };
-std::string ShapeRefinementTest::dir_;
-SynthOptions ShapeRefinementTest::synth_;
-Status ShapeRefinementTest::status_;
 
 TEST_F(ShapeRefinementTest, RefinedModelIsCloserToTheTrueSurfaceThanGenericModelAndHull) {
   auto result = CompareShapes(synth_, 0, ShapeRefinementOptions());

@@ -15,6 +15,7 @@
 #include "encoder/encode/encoder.h"
 #include "encoder/shape/surface_index.h"
 #include "fvv/fvv_decoder.h"
+#include "tests/synth_capture_fixture.h"
 #include "tools/synth/synth.h"
 #include "tools/synth/view_score.h"
 
@@ -29,31 +30,21 @@ constexpr uint32_t kFrames = 8;
 constexpr double kMaxGarmentDistanceShare = 0.5;
 constexpr double kMinGainDb = 0.4;
 
-class GarmentTest : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    dir_ = ::testing::TempDir() + "/garment_test_" + std::to_string(getpid());
-    std::system(("rm -rf '" + dir_ + "'").c_str());
-    synth_.output_dir = dir_ + "/cap";
-    synth_.cameras = 8;
-    synth_.frames = kFrames;
-    synth_.width = 320;
-    synth_.height = 240;
-    synth_.held_out = 2;
-    synth_.garment = 0.08;
-    synth_.link_silhouettes = true;
-    status_ = RunSynth(synth_).status();
+class GarmentTest : public SynthCaptureFixture<GarmentTest> {
+ public:
+  static constexpr const char* kName = "garment_test";
+  static SynthOptions Options() {
+    SynthOptions o;
+    o.cameras = 8;
+    o.frames = kFrames;
+    o.width = 320;
+    o.height = 240;
+    o.held_out = 2;
+    o.garment = 0.08;
+    o.link_silhouettes = true;
+    return o;
   }
-  static void TearDownTestSuite() { std::system(("rm -rf '" + dir_ + "'").c_str()); }
-  void SetUp() override { ASSERT_TRUE(status_.ok()) << status_.ToString(); }
-
-  static std::string dir_;
-  static SynthOptions synth_;
-  static Status status_;
 };
-std::string GarmentTest::dir_;
-SynthOptions GarmentTest::synth_;
-Status GarmentTest::status_;
 
 // Per frame and true surface vertex, the distance to the stream's surface as
 // a player draws it (its own positions when the frame carries them, else the
