@@ -678,31 +678,36 @@ Status ReadFragment(const BoxHeader& box, const uint8_t* payload, const FileHead
                            available == payload_size, options, f);
 }
 
+namespace {
+
+// Each channel's bytes (Y, U, V, surface) in the chunks that lie wholly
+// within the box's first `prefix` bytes (0: all).
+std::array<uint64_t, 4> DeliveredChunkBytes(const FragmentData& f, uint64_t prefix) {
+  std::array<uint64_t, 4> bytes{};
+  uint64_t end = f.head_bytes;
+  for (const TextureChunk& c : f.chunks) {
+    end += kChunkHeaderBytes + c.size;
+    if (prefix != 0 && end > prefix) break;
+    bytes[std::min<uint8_t>(c.channel, kSurfaceChannel)] += c.size;
+  }
+  return bytes;
+}
+
+}  // namespace
+
 StatusOr<std::array<uint64_t, 3>> ChunkedPrefixBytes(const FragmentData& f, uint64_t prefix) {
-  std::array<uint64_t, 3> bytes{};
   if (prefix != 0 && prefix < f.head_bytes) {
     return Truncated("fragment " + std::to_string(f.info.gop_index) + ": a prefix of " +
                      std::to_string(prefix) + " bytes ends inside its head of " +
                      std::to_string(f.head_bytes));
   }
-  uint64_t end = f.head_bytes;
-  for (const TextureChunk& c : f.chunks) {
-    end += kChunkHeaderBytes + c.size;
-    if (prefix != 0 && end > prefix) break;
-    if (c.channel < 3) bytes[c.channel] += c.size;
-  }
-  return bytes;
+  const std::array<uint64_t, 4> bytes = DeliveredChunkBytes(f, prefix);
+  return std::array<uint64_t, 3>{bytes[0], bytes[1], bytes[2]};
 }
 
 bool PrefixHoldsSurface(const FragmentData& f, uint64_t prefix) {
-  if (!f.has_surface) return false;
-  uint64_t end = f.head_bytes, held = 0;
-  for (const TextureChunk& c : f.chunks) {
-    end += kChunkHeaderBytes + c.size;
-    if (prefix != 0 && end > prefix) break;
-    if (c.channel == kSurfaceChannel) held += c.size;
-  }
-  return held == f.surface_head.data_size;
+  return f.has_surface &&
+         DeliveredChunkBytes(f, prefix)[kSurfaceChannel] == f.surface_head.data_size;
 }
 
 }  // namespace fvv

@@ -211,21 +211,18 @@ TEST_F(ShapeRefinementTest, RefinedBindPoseSkinsBackToTheRefinedPose) {
 }
 
 TEST_F(ShapeRefinementTest, EncoderStoresTheRefinedModelAndTheStreamRendersBetter) {
-  EncoderSettings s;
-  s.poses = synth_.output_dir;  // true poses: this measures the shape
-  s.atlas_size = 512;
-  EncoderSettings refined = s;
+  EncoderSettings refined = TruePoses();  // true poses: this measures the shape
   refined.refine_shape = true;
-  auto plain = EncodeCapture(synth_.output_dir, dir_ + "/plain.fvv", s);
+  auto plain = Encode("plain.fvv", TruePoses());
   ASSERT_TRUE(plain.ok()) << plain.status().ToString();
-  auto better = EncodeCapture(synth_.output_dir, dir_ + "/refined.fvv", refined);
+  auto better = Encode("refined.fvv", refined);
   ASSERT_TRUE(better.ok()) << better.status().ToString();
   ASSERT_EQ(better->refine_moves.size(), 3u);
   EXPECT_GT(better->refine_moves[0], 0.001);
   EXPECT_TRUE(plain->refine_moves.empty());
   for (uint32_t f = 0; f < 2; ++f) {
-    const StatusOr<double> pa = HeldOutStreamPsnr(dir_ + "/plain.fvv", synth_.output_dir, 0, f);
-    const StatusOr<double> pb = HeldOutStreamPsnr(dir_ + "/refined.fvv", synth_.output_dir, 0, f);
+    const StatusOr<double> pa = HeldOutPsnr("plain.fvv", f);
+    const StatusOr<double> pb = HeldOutPsnr("refined.fvv", f);
     ASSERT_TRUE(pa.ok() && pb.ok());
     const double a = *pa, b = *pb;
     std::printf(
@@ -244,21 +241,18 @@ TEST_F(ShapeRefinementTest, EncoderStoresTheRefinedModelAndTheStreamRendersBette
 }
 
 TEST_F(ShapeRefinementTest, StreamWithTheSurfaceOfEveryFrameRendersBetter) {
-  EncoderSettings s;
-  s.poses = synth_.output_dir;  // true poses: this measures the shape
-  s.atlas_size = 512;
-  EncoderSettings with_surface = s;
+  EncoderSettings with_surface = TruePoses();  // true poses: this measures the shape
   with_surface.surface = true;
-  auto plain = EncodeCapture(synth_.output_dir, dir_ + "/plain_s.fvv", s);
+  auto plain = Encode("plain.fvv", TruePoses());
   ASSERT_TRUE(plain.ok()) << plain.status().ToString();
-  auto better = EncodeCapture(synth_.output_dir, dir_ + "/surface.fvv", with_surface);
+  auto better = Encode("surface.fvv", with_surface);
   ASSERT_TRUE(better.ok()) << better.status().ToString();
   EXPECT_EQ(plain->surface_bytes, 0u);
   EXPECT_GT(better->surface_bytes, 0u);
   EXPECT_GT(better->surface_mean_abs, 0.001);
   for (uint32_t f = 0; f < 2; ++f) {
-    const StatusOr<double> pa = HeldOutStreamPsnr(dir_ + "/plain_s.fvv", synth_.output_dir, 0, f);
-    const StatusOr<double> pb = HeldOutStreamPsnr(dir_ + "/surface.fvv", synth_.output_dir, 0, f);
+    const StatusOr<double> pa = HeldOutPsnr("plain.fvv", f);
+    const StatusOr<double> pb = HeldOutPsnr("surface.fvv", f);
     ASSERT_TRUE(pa.ok() && pb.ok());
     std::printf(
         "  held-out camera, frame %u: Renderer II %.2f dB with the fitted body, %.2f dB with "

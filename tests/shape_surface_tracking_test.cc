@@ -4,20 +4,16 @@
 // the true surface of each frame than the fitted body does, and the held-out
 // view renders better.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cstdio>
-#include <cstdlib>
 #include <fstream>
 #include <string>
 #include <vector>
 
-#include "encoder/encode/encoder.h"
 #include "encoder/shape/surface_index.h"
 #include "fvv/fvv_decoder.h"
 #include "tests/synth_capture_fixture.h"
 #include "tools/synth/synth.h"
-#include "tools/synth/view_score.h"
 
 namespace fvv {
 namespace {
@@ -98,14 +94,11 @@ std::vector<std::vector<double>> DistanceToTruth(const std::string& stream,
 }
 
 TEST_F(GarmentTest, TheSurfaceOfEveryFrameFollowsTheGarmentAndRendersBetter) {
-  EncoderSettings s;
-  s.poses = synth_.output_dir;  // true poses: this measures the surface
-  s.atlas_size = 512;
-  EncoderSettings with_surface = s;
+  EncoderSettings with_surface = TruePoses();  // true poses: this measures the surface
   with_surface.surface = true;
-  auto plain = EncodeCapture(synth_.output_dir, dir_ + "/plain.fvv", s);
+  auto plain = Encode("plain.fvv", TruePoses());
   ASSERT_TRUE(plain.ok()) << plain.status().ToString();
-  auto surfaced = EncodeCapture(synth_.output_dir, dir_ + "/surface.fvv", with_surface);
+  auto surfaced = Encode("surface.fvv", with_surface);
   ASSERT_TRUE(surfaced.ok()) << surfaced.status().ToString();
   const std::string truth = synth_.output_dir + "/truth";
   const auto a = DistanceToTruth(dir_ + "/plain.fvv", truth);
@@ -126,8 +119,8 @@ TEST_F(GarmentTest, TheSurfaceOfEveryFrameFollowsTheGarmentAndRendersBetter) {
     }
     all_a += fa, all_b += fb, all += a[f].size();
     off_a += ga, off_b += gb, off += garment;
-    const StatusOr<double> pa = HeldOutStreamPsnr(dir_ + "/plain.fvv", synth_.output_dir, 0, f);
-    const StatusOr<double> pb = HeldOutStreamPsnr(dir_ + "/surface.fvv", synth_.output_dir, 0, f);
+    const StatusOr<double> pa = HeldOutPsnr("plain.fvv", f);
+    const StatusOr<double> pb = HeldOutPsnr("surface.fvv", f);
     ASSERT_TRUE(pa.ok() && pb.ok());
     std::printf(
         "  frame %u: true surface to the stream's, fitted body / surface: %.2f / %.2f mm, "

@@ -135,17 +135,12 @@ StatusOr<const Mesh*> Session::TrackSurface(uint32_t slot, const std::vector<Aff
   // (the temporal residuals, mostly zero, are what the zstd frame shrinks).
   std::vector<int32_t>& values = span_surface_[slot];
   const double steps_per_m = std::ldexp(1.0, s_.surface_step_exponent);
+  const bool first = surface_values_.size() != d.size();
+  surface_values_.resize(d.size());
   for (size_t v = 0; v < d.size(); ++v) {
     const double x = std::clamp<double>(d[v] * steps_per_m, -kMaxSurfaceValue, kMaxSurfaceValue);
-    const int32_t rounded = int32_t(std::lround(x));
-    const bool keep = surface_values_.size() == d.size() && std::abs(x - surface_values_[v]) < 1.0;
-    if (!keep && surface_values_.size() == d.size()) surface_values_[v] = rounded;
-  }
-  if (surface_values_.size() != d.size()) {
-    surface_values_.resize(d.size());
-    for (size_t v = 0; v < d.size(); ++v) {
-      surface_values_[v] = int32_t(
-          std::lround(std::clamp<double>(d[v] * steps_per_m, -kMaxSurfaceValue, kMaxSurfaceValue)));
+    if (first || std::abs(x - surface_values_[v]) >= 1.0) {
+      surface_values_[v] = int32_t(std::lround(x));
     }
   }
   values = surface_values_;

@@ -26,10 +26,6 @@ struct View {
   std::vector<uint8_t> model;  // the posed model's own silhouette, redrawn each step
 
   bool In(int x, int y) const { return x >= 0 && y >= 0 && x < w && y < h; }
-  bool Inside(const Vector2d& q) const {
-    const int x = int(std::lround(q.x())), y = int(std::lround(q.y()));
-    return In(x, y) && inside[size_t(y) * w + x];
-  }
   // The signed distance at `q`, bilinear between pixel centres; outside the
   // image, far outside.
   double Signed(const Vector2d& q) const {
