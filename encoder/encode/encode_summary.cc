@@ -46,8 +46,15 @@ std::string EncodeSummary::Table() const {
         surface_s / std::max(1u, frames), 1000 * surface_mean_abs);
   }
   if (fallback_texels > 0 || seamless_s > 0) {
-    add("  seamless texture  %.3f s per frame; %llu texel(s) no camera saw filled from it\n",
-        seamless_s / std::max(1u, frames), (unsigned long long)fallback_texels);
+    add("  seamless texture  %.3f s per frame; texel(s) no camera saw filled from the nearest "
+        "frames that saw them %llu, from it %llu\n",
+        seamless_s / std::max(1u, frames), (unsigned long long)temporal_fill_texels,
+        (unsigned long long)fallback_texels);
+  }
+  if (occluder_s > 0) {
+    add("  occluders         %.3f s per frame; something else found in %u frame(s), %llu "
+        "sample(s) behind it left out\n",
+        occluder_s / std::max(1u, frames), occluder_frames, (unsigned long long)occluded_samples);
   }
   if (agreement_texels > 0) {
     add("  cameras' agreement %llu sample(s) no other camera backs dropped, of %llu texel(s) "
@@ -101,8 +108,15 @@ std::string EncodeSummary::ToJson() const {
       {"ratio_visible", ratio_visible()},
       {"psnr", {{"y", psnr[0]}, {"u", psnr[1]}, {"v", psnr[2]}, {"rgb", psnr_rgb}}},
       {"tracking", {{"mean_iou", mean_iou}, {"flagged", flagged_frames}}},
-      {"seamless_texture", {{"seconds", seamless_s}, {"fallback_texels", fallback_texels}}},
+      {"seamless_texture",
+       {{"seconds", seamless_s},
+        {"temporal_fill_texels", temporal_fill_texels},
+        {"fallback_texels", fallback_texels}}},
       {"agreement", {{"texels", agreement_texels}, {"dropped", agreement_dropped}}},
+      {"occluders",
+       {{"seconds_per_frame", occluder_s / std::max(1u, frames)},
+        {"frames", occluder_frames},
+        {"samples_left_out", occluded_samples}}},
       {"without_masks",
        {{"player_texels", player_texels}, {"player_texels_left", player_texels_left}}},
       {"surface",

@@ -23,6 +23,7 @@
 #include "codec/mask.h"
 #include "container/index_box.h"
 #include "container/motion_track.h"
+#include "encoder/encode/occluders.h"
 #include "encoder/encode/resample.h"
 #include "encoder/encode/sample_agreement.h"
 #include "encoder/shape/shape_refinement.h"
@@ -60,6 +61,10 @@ struct EncoderSettings {
   // Off by default (max_difference 0: every sample kept): at low resolution
   // the cameras also disagree on fine clothing patterns (docs/encoder.md).
   SampleAgreementOptions agreement = {0, 2};
+  // What else stands in the cameras' silhouettes (encoder/encode/occluders.h):
+  // a surface point behind it is not sampled. The clearance it must stand in
+  // front by is resample.occluder_clearance.
+  OccluderOptions occluders;
   // Refine the body model's shape to the actor on the first encoded frame
   // (silhouettes, stereo) before resampling: the stream's model is
   // then the refined mesh (same topology, skinning and atlas).
@@ -73,6 +78,10 @@ struct EncoderSettings {
   // best-facing camera's texture (its mask marks them), instead of the
   // codec's smooth fill. `static_texture`: also write it as an image.
   bool fallback_texture = true;
+  // Before the static texture: a texel no camera saw in a frame takes its
+  // colour from the nearest frame, at most this many frames away, that saw it
+  // (encoder/encode/temporal_fill.h; 0: off).
+  uint32_t temporal_fill_frames = 15;
   std::string static_texture;
 
   // Format and rate.
@@ -198,8 +207,9 @@ struct EncodeSummary {
   // level (metres).
   double refine_s = 0;
   std::vector<double> refine_moves;
-  // Texels filled from the static texture (summed over frames), and its time.
-  uint64_t fallback_texels = 0;
+  // Texels filled from the nearest frames that saw them, and from the static
+  // texture (summed over frames), and the static texture's time.
+  uint64_t temporal_fill_texels = 0, fallback_texels = 0;
   double seamless_s = 0;
   // Without masks: texels a player may take from a camera that did not see
   // them (summed over frames and cameras), and those of them left to the fill
@@ -208,6 +218,11 @@ struct EncodeSummary {
   // Texels seen by enough cameras to check their colours, and the samples
   // dropped as seeing something else (summed over frames).
   uint64_t agreement_texels = 0, agreement_dropped = 0;
+  // Samples hidden behind something other than the actor (summed over frames
+  // and cameras), the frames in which something was found, and its time.
+  uint64_t occluded_samples = 0;
+  uint32_t occluder_frames = 0;
+  double occluder_s = 0;
   // The surface of every frame (surface): its bytes, tracking seconds, and
   // the mean |displacement| (metres) over frames.
   uint64_t surface_bytes = 0;

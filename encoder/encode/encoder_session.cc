@@ -87,6 +87,11 @@ Status Session::AllocateForModel() {
     static_ = std::make_unique<StaticTexture>(s_.atlas_size);
     span_fallback_.assign(s_.gop_frames, {});
     all_seen_.assign(texels, 1);
+    if (s_.fallback_texture && s_.temporal_fill_frames > 0) {
+      temporal_ = std::make_unique<TemporalFill>(texels, s_.temporal_fill_frames);
+      span_seamless_.assign(s_.gop_frames, {});
+      span_labels_.assign(s_.gop_frames, {});
+    }
   }
   if (!s_.save_textures.empty()) FVV_RETURN_IF_ERROR(MakeTextureDirectories());
   return Status::Ok();
@@ -177,13 +182,25 @@ StatusOr<std::vector<Eigen::Vector3f>> Session::Resample(uint32_t frame, uint32_
   if (images.empty()) {
     FVV_RETURN_IF_ERROR(ReadTextures(frame, slot));
   } else {
+    std::vector<OccluderDepth> occluders;
+    if (!silhouettes.empty() && s_.occluders.enabled) {
+      const auto t1 = Clock::now();
+      OccluderReport found;
+      occluders = FindOccluders(cameras_, silhouettes, surface->triangles, positions, s_.occluders,
+                                &found, pool_.runner());
+      sum_.occluder_frames += found.voxels > 0;
+      sum_.occluder_s += Since(t1);
+    }
+    std::vector<uint64_t> hidden(sum_.cameras, 0);
     pool_.Run(sum_.cameras, [&](uint32_t c) {
       const size_t plane = size_t(slot) * sum_.cameras + c;
       ResampleView(map_, *surface, positions, normals, cameras_[c], images[c],
                    silhouettes.empty() ? Image() : silhouettes[c], s_.resample,
                    &span_rgb_[plane * texels * 3], &span_mask_[plane * texels],
-                   span_usable_.empty() ? nullptr : &span_usable_[plane * texels]);
+                   span_usable_.empty() ? nullptr : &span_usable_[plane * texels],
+                   occluders.empty() ? nullptr : &occluders[c], &hidden[c]);
     });
+    for (uint64_t h : hidden) sum_.occluded_samples += h;
     if (s_.agreement.max_difference > 0) {
       // In parts of the atlas's texels, side by side.
       constexpr uint32_t kParts = 16;
@@ -309,10 +326,12 @@ void Session::AddToStaticTexture(uint32_t slot, const std::vector<Eigen::Vector3
     facing.rgb.push_back(textures.rgb.back());
     facing.masks.push_back(all_seen_.data());
   }
-  if (!static_fixed_) {
-    const std::vector<int16_t> labels =
+  if (!static_fixed_ || temporal_) {
+    std::vector<int16_t> labels =
         BestCameraLabels(map_, model_.mesh, positions, cameras_, textures);
-    static_->Add(BlendSeamless(textures, labels), labels);
+    std::vector<uint8_t> blend = BlendSeamless(textures, labels);
+    if (!static_fixed_) static_->Add(blend, labels);
+    if (temporal_) span_seamless_[slot] = std::move(blend), span_labels_[slot] = std::move(labels);
   }
   span_fallback_[slot] = BestCameraLabels(map_, model_.mesh, positions, cameras_, facing);
   sum_.seamless_s += Since(t0);
@@ -320,8 +339,13 @@ void Session::AddToStaticTexture(uint32_t slot, const std::vector<Eigen::Vector3
 
 // Texels of the span's frames that no camera saw take the static texture's
 // colour in their best-facing camera.
-void Session::ApplyFallback(uint32_t frames) {
+void Session::ApplyFallback(uint32_t span_first, uint32_t frames) {
   const size_t texels = size_t(s_.atlas_size) * s_.atlas_size;
+  if (temporal_) {
+    sum_.temporal_fill_texels +=
+        temporal_->Apply(span_first, frames, sum_.cameras, map_.texel, span_seamless_, span_labels_,
+                         span_fallback_, span_rgb_.data(), span_mask_.data());
+  }
   for (uint32_t t = 0; t < frames; ++t) {
     for (uint32_t texel : map_.texel) {
       const int16_t camera = span_fallback_[t][texel];

@@ -6,6 +6,7 @@
 
 #include "container/geometric_visibility.h"
 #include "encoder/capture/calibration.h"
+#include "encoder/encode/mask_dilation.h"
 #include "encoder/shape/depth_map.h"
 
 namespace fvv {
@@ -33,30 +34,6 @@ float ClosestOnTriangle(const Vector2f& q, const Vector2f& a, const Vector2f& b,
     }
   }
   return best;
-}
-
-// Grows a 0/non-0 mask by `r` pixels (square neighbourhood, separable max).
-std::vector<uint8_t> Dilate(const Image& mask, int r) {
-  const int w = int(mask.width), h = int(mask.height);
-  std::vector<uint8_t> rows(mask.pixels.size()), out(mask.pixels.size());
-  for (int y = 0; y < h; ++y) {
-    const uint8_t* in = &mask.pixels[size_t(y) * w];
-    for (int x = 0; x < w; ++x) {
-      uint8_t v = 0;
-      for (int k = std::max(0, x - r); k <= std::min(w - 1, x + r) && !v; ++k) v = in[k] != 0;
-      rows[size_t(y) * w + x] = v;
-    }
-  }
-  for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) {
-      uint8_t v = 0;
-      for (int k = std::max(0, y - r); k <= std::min(h - 1, y + r) && !v; ++k) {
-        v = rows[size_t(k) * w + x];
-      }
-      out[size_t(y) * w + x] = v;
-    }
-  }
-  return out;
 }
 
 // The largest depth within `r` pixels of each pixel (square neighbourhood,
@@ -138,7 +115,7 @@ TexelMap MapAtlasTexels(const Mesh& mesh, uint32_t size, double dilation) {
 void ResampleView(const TexelMap& map, const Mesh& mesh, const std::vector<Vector3f>& positions,
                   const std::vector<Vector3f>& normals, const Camera& camera, const Image& image,
                   const Image& silhouette, const ResampleOptions& o, uint8_t* rgb, uint8_t* mask,
-                  uint8_t* usable) {
+                  uint8_t* usable, const OccluderDepth* occluders, uint64_t* hidden) {
   namespace gv = geometric_visibility;
   const size_t texels = size_t(map.size) * map.size;
   std::fill(rgb, rgb + texels * 3, 0);
@@ -149,7 +126,10 @@ void ResampleView(const TexelMap& map, const Mesh& mesh, const std::vector<Vecto
   // The camera's depth map of the posed model.
   const DepthMap depth = RenderDepthMap(mesh.triangles, positions, camera);
   std::vector<uint8_t> inside;
-  if (!silhouette.pixels.empty()) inside = Dilate(silhouette, o.silhouette_margin);
+  if (!silhouette.pixels.empty()) {
+    inside = DilateMask(silhouette.pixels.data(), int(silhouette.width), int(silhouette.height),
+                        o.silhouette_margin);
+  }
 
   const Vector3f centre = CameraCentre(camera).cast<float>();
   // Depth of a surface point's neighbours at the nearest pixel centre differs
@@ -188,6 +168,10 @@ void ResampleView(const TexelMap& map, const Mesh& mesh, const std::vector<Vecto
     const double slope = std::sqrt(std::max(0.0, 1.0 - double(facing) * facing)) / facing;
     if (z > depth.depth[pixel] + o.depth_tolerance + 0.75 * z * pixel_angle * slope) continue;
     if (!inside.empty() && !inside[pixel]) continue;
+    if (occluders && occluders->Hides(ix, iy, z, o.occluder_clearance)) {
+      if (hidden) ++*hidden;
+      continue;
+    }
     // Bilinear sample of the camera image.
     const int x0 = std::min(int(q.x()), w - 2 < 0 ? 0 : w - 2);
     const int y0 = std::min(int(q.y()), h - 2 < 0 ? 0 : h - 2);

@@ -23,6 +23,7 @@
 
 #include "container/body_model.h"
 #include "container/cameras.h"
+#include "encoder/encode/occluders.h"
 #include "encoder/io/image_io.h"
 
 namespace fvv {
@@ -42,6 +43,9 @@ struct ResampleOptions {
   int silhouette_margin = 2;      // pixels the image silhouette grows by
   double depth_tolerance = 0.02;  // metres behind the depth map still counted visible
   double min_facing = 0.1;        // cosine of the largest viewing angle to the normal
+  // Something else must stand this far (metres) in front of a surface point
+  // to hide it (encoder/encode/occluders.h).
+  double occluder_clearance = 0.2;
 };
 
 // One view: `positions` and `normals` are the mesh's vertices posed (world
@@ -49,11 +53,14 @@ struct ResampleOptions {
 // (size * size * 3) and `mask` (size * size, 1 = seen); unseen texels are 0.
 // `usable` (size * size, may be null) gets 1 where a player of a stream
 // without masks may take the texel from this camera; every seen texel is.
+// `occluders` (may be null): what else stands in the camera's view; a texel
+// behind it is not seen, and counted in `hidden` (may be null).
 void ResampleView(const TexelMap& map, const Mesh& mesh,
                   const std::vector<Eigen::Vector3f>& positions,
                   const std::vector<Eigen::Vector3f>& normals, const Camera& camera,
                   const Image& image, const Image& silhouette, const ResampleOptions& options,
-                  uint8_t* rgb, uint8_t* mask, uint8_t* usable = nullptr);
+                  uint8_t* rgb, uint8_t* mask, uint8_t* usable = nullptr,
+                  const OccluderDepth* occluders = nullptr, uint64_t* hidden = nullptr);
 
 }  // namespace fvv
 

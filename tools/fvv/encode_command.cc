@@ -32,12 +32,14 @@ struct EncodeArgs {
   uint16_t gop_frames = 8, gop_cameras = 1, key_interval = 1;
   bool masks = false, no_masks = false, extract = false, fixed_shape = false, quiet = false,
        refine_shape = false, no_fallback = false, no_prune = false, model_floats = false,
-       whole_texture = false, surface = false;
+       whole_texture = false, surface = false, no_occluders = false;
   int surface_step = EncoderSettings{}.surface_step_exponent;
   int margin = 2;
   double agreement = EncoderSettings{}.agreement.max_difference;
+  double occluder_clearance = ResampleOptions{}.occluder_clearance;
   double smooth = TrackCaptureOptions{}.smoothing.sigma_frames;
   int fill_iterations = FillOptions{}.iterations;
+  uint32_t temporal_fill = EncoderSettings{}.temporal_fill_frames;
   std::vector<std::string> meta;
   std::string track_cameras = "auto";  // a count, "all", or "auto"
   std::string persons = "auto", models;
@@ -65,6 +67,7 @@ int RunEncode(const EncodeArgs& a) {
   s.pose_smoothing.sigma_frames = a.smooth;
   s.refine_shape = a.refine_shape;
   s.fallback_texture = !a.no_fallback;
+  s.temporal_fill_frames = a.temporal_fill;
   s.static_texture = a.static_texture;
   s.features = a.features;
   if (!a.features.empty() && !a.refine_shape) {
@@ -73,6 +76,8 @@ int RunEncode(const EncodeArgs& a) {
   }
   s.resample.silhouette_margin = a.margin;
   s.agreement.max_difference = a.agreement;
+  s.occluders.enabled = !a.no_occluders;
+  s.resample.occluder_clearance = a.occluder_clearance;
   s.atlas_size = a.atlas;
   s.gop_frames = a.gop_frames;
   s.gop_cameras = a.gop_cameras;
@@ -264,6 +269,14 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
                 "is a start (docs/encoder.md)")
       ->check(CLI::Range(0.0, 255.0))
       ->capture_default_str();
+  e->add_flag("--no-occluders", a->no_occluders,
+              "Sample the actor's surface even where the silhouettes hold something else in "
+              "front of it (by default a hull of what else stands there is carved from them, and "
+              "what it hides is left out)");
+  e->add_option("--occluder-clearance", a->occluder_clearance,
+                "Metres something else must stand in front of a surface point to hide it")
+      ->check(CLI::Range(0.0, 10.0))
+      ->capture_default_str();
   e->add_flag("--extract", a->extract,
               "Background subtraction even when the capture lists silhouettes");
   e->add_flag("--fixed-shape", a->fixed_shape, "Tracking keeps the generic body's proportions");
@@ -278,6 +291,11 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
   e->add_flag("--no-fallback-texture", a->no_fallback,
               "Leave texels no camera of a frame sees to the codec's fill, instead of the "
               "actor's seamless static texture");
+  e->add_option("--temporal-fill", a->temporal_fill,
+                "A texel no camera of a frame sees takes its colour from the nearest frame, at "
+                "most this many frames away, that saw it, before the static texture (0: off)")
+      ->check(CLI::Range(0u, 100000u))
+      ->capture_default_str();
   e->add_option("--static-texture", a->static_texture,
                 "Also write the actor's static seamless texture (atlas layout) to this image");
   e->add_option("--features", a->features,
