@@ -1,5 +1,5 @@
-// A texel no camera saw in a frame takes the colour of the nearest frames
-// that saw it (encoder/encode/temporal_fill.h).
+// A texel no camera saw in a frame takes the colour of the nearest frames of
+// its span that saw it (encoder/encode/temporal_fill.h).
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -25,8 +25,9 @@ struct Span {
     labels[t][1] = 0;
     mask[(size_t(t) * 2 + 0) * 2 + 1] = 1;
   }
-  uint64_t Apply(TemporalFill* fill, uint32_t first) {
-    return fill->Apply(first, frames, 2, {1}, colour, labels, target, rgb.data(), mask.data());
+  uint64_t Fill(uint32_t max_distance) {
+    return FillFromNearestFrames(frames, 2, 2, {1}, colour, labels, target, max_distance,
+                                 rgb.data(), mask.data());
   }
   // What the fallback camera's texture holds at frame t, or -1 if unfilled.
   int Filled(uint32_t t) const {
@@ -40,10 +41,9 @@ struct Span {
 };
 
 TEST(TemporalFill, TakesTheMeanOfTheFramesWithinReachThatSawIt) {
-  TemporalFill fill(2, 2);
   Span s(8);
   s.See(0, 10), s.See(1, 20), s.See(6, 200);
-  EXPECT_EQ(s.Apply(&fill, 0), 5u);  // frames 2, 3 (from 0-1) and 4, 5, 7 (from 6)
+  EXPECT_EQ(s.Fill(2), 5u);  // frames 2, 3 (from 0-1) and 4, 5, 7 (from 6)
   EXPECT_EQ(s.Filled(0), -1) << "a frame that saw it is left alone";
   EXPECT_EQ(s.Filled(2), 15);   // frames 0 and 1
   EXPECT_EQ(s.Filled(3), 20);   // frame 1 only: 0 is 3 frames away
@@ -51,32 +51,21 @@ TEST(TemporalFill, TakesTheMeanOfTheFramesWithinReachThatSawIt) {
   EXPECT_EQ(s.Filled(5), 200);
   EXPECT_EQ(s.Filled(7), 200);
   // Where the look changed, the fill follows the nearest frames, not the
-  // whole span's mean.
+  // span's mean.
   EXPECT_NE(s.Filled(5), (10 + 20 + 200) / 3);
 }
 
-TEST(TemporalFill, RemembersTheLastSeenColourAcrossSpans) {
-  TemporalFill fill(2, 3);
-  Span a(4);
-  a.See(2, 90);
-  EXPECT_EQ(a.Apply(&fill, 0), 3u);
-  Span b(4);  // frames 4-7: never seen
-  EXPECT_EQ(b.Apply(&fill, 4), 2u);
-  EXPECT_EQ(b.Filled(0), 90);
-  EXPECT_EQ(b.Filled(1), 90);
-  EXPECT_EQ(b.Filled(2), -1) << "frame 6 is 4 frames from frame 2: out of reach";
-  Span c(4);  // frames 8-11: nothing within reach, nothing filled
-  EXPECT_EQ(c.Apply(&fill, 8), 0u);
-}
-
-TEST(TemporalFill, SkipsTexelsWithoutATargetCamera) {
-  TemporalFill fill(2, 4);
-  Span s(3);
+TEST(TemporalFill, LeavesTexelsOutOfReachAndWithoutATargetCamera) {
+  Span s(8);
   s.See(0, 50);
   s.target[1][1] = -1;
-  EXPECT_EQ(s.Apply(&fill, 0), 1u);
-  EXPECT_EQ(s.Filled(1), -1);
+  EXPECT_EQ(s.Fill(3), 2u);
+  EXPECT_EQ(s.Filled(1), -1) << "no camera to write it into";
   EXPECT_EQ(s.Filled(2), 50);
+  EXPECT_EQ(s.Filled(3), 50);
+  EXPECT_EQ(s.Filled(4), -1) << "4 frames from the one that saw it";
+  Span never(4);
+  EXPECT_EQ(never.Fill(100), 0u);
 }
 
 }  // namespace

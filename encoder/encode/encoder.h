@@ -78,9 +78,9 @@ struct EncoderSettings {
   // best-facing camera's texture (its mask marks them), instead of the
   // codec's smooth fill. `static_texture`: also write it as an image.
   bool fallback_texture = true;
-  // Before the static texture: a texel no camera saw in a frame takes its
-  // colour from the nearest frame, at most this many frames away, that saw it
-  // (encoder/encode/temporal_fill.h; 0: off).
+  // Before the static texture: a texel no camera saw in a frame takes the
+  // mean colour of the frames of its time span, at most this many frames
+  // away, that saw it (encoder/encode/temporal_fill.h; 0: off).
   uint32_t temporal_fill_frames = 15;
   std::string static_texture;
 

@@ -88,7 +88,6 @@ Status Session::AllocateForModel() {
     span_fallback_.assign(s_.gop_frames, {});
     all_seen_.assign(texels, 1);
     if (s_.fallback_texture && s_.temporal_fill_frames > 0) {
-      temporal_ = std::make_unique<TemporalFill>(texels, s_.temporal_fill_frames);
       span_seamless_.assign(s_.gop_frames, {});
       span_labels_.assign(s_.gop_frames, {});
     }
@@ -326,12 +325,13 @@ void Session::AddToStaticTexture(uint32_t slot, const std::vector<Eigen::Vector3
     facing.rgb.push_back(textures.rgb.back());
     facing.masks.push_back(all_seen_.data());
   }
-  if (!static_fixed_ || temporal_) {
+  if (!static_fixed_ || !span_labels_.empty()) {
     std::vector<int16_t> labels =
         BestCameraLabels(map_, model_.mesh, positions, cameras_, textures);
     std::vector<uint8_t> blend = BlendSeamless(textures, labels);
     if (!static_fixed_) static_->Add(blend, labels);
-    if (temporal_) span_seamless_[slot] = std::move(blend), span_labels_[slot] = std::move(labels);
+    if (!span_labels_.empty())
+      span_seamless_[slot] = std::move(blend), span_labels_[slot] = std::move(labels);
   }
   span_fallback_[slot] = BestCameraLabels(map_, model_.mesh, positions, cameras_, facing);
   sum_.seamless_s += Since(t0);
@@ -339,13 +339,14 @@ void Session::AddToStaticTexture(uint32_t slot, const std::vector<Eigen::Vector3
 
 // Texels of the span's frames that no camera saw take the static texture's
 // colour in their best-facing camera.
-void Session::ApplyFallback(uint32_t span_first, uint32_t frames) {
+void Session::ApplyFallback(uint32_t frames) {
   const size_t texels = size_t(s_.atlas_size) * s_.atlas_size;
-  if (temporal_) {
-    sum_.temporal_fill_texels +=
-        temporal_->Apply(span_first, frames, sum_.cameras, map_.texel, span_seamless_, span_labels_,
-                         span_fallback_, span_rgb_.data(), span_mask_.data());
+  if (!span_labels_.empty()) {
+    sum_.temporal_fill_texels += FillFromNearestFrames(
+        frames, sum_.cameras, texels, map_.texel, span_seamless_, span_labels_, span_fallback_,
+        s_.temporal_fill_frames, span_rgb_.data(), span_mask_.data());
   }
+
   for (uint32_t t = 0; t < frames; ++t) {
     for (uint32_t texel : map_.texel) {
       const int16_t camera = span_fallback_[t][texel];

@@ -186,10 +186,10 @@ class Session {
   // of every texel is kept for the fallback.
   void AddToStaticTexture(uint32_t slot, const std::vector<Eigen::Vector3f>& positions);
 
-  // Texels of the span's frames (from frame `span_first`) that no camera saw
-  // take the colour of the nearest frames that saw them (temporal_fill), else
-  // the static texture's, in their best-facing camera.
-  void ApplyFallback(uint32_t span_first, uint32_t frames);
+  // Texels of the span's frames that no camera saw take the colour of the
+  // nearest frames that saw them (temporal_fill_frames), else the static
+  // texture's, in their best-facing camera.
+  void ApplyFallback(uint32_t frames);
 
   // Without masks: texels a player may take from a camera that did not see
   // them take the mean colour of the cameras that did, so that the player's
@@ -253,9 +253,9 @@ class Session {
   bool static_fixed_ = false;                        // a prepared take's: frames do not add to it
   std::vector<std::vector<int16_t>> span_fallback_;  // per slot: best-facing camera per texel
   std::vector<uint8_t> all_seen_;                    // texels x 1: "every camera" masks
-  std::unique_ptr<TemporalFill> temporal_;           // with fallback_texture
-  std::vector<std::vector<uint8_t>> span_seamless_;  // per slot, with temporal_: seamless texture
-  std::vector<std::vector<int16_t>> span_labels_;    // per slot, with temporal_: its labels
+  // With temporal_fill_frames: per slot, the seamless texture and its labels.
+  std::vector<std::vector<uint8_t>> span_seamless_;
+  std::vector<std::vector<int16_t>> span_labels_;
   std::vector<QuantisedPose> poses_;
   std::unique_ptr<SurfaceTracker> surface_tracker_;  // with EncoderSettings::surface
   Mesh surface_mesh_;                                // the model's, at a frame's surface

@@ -7,9 +7,9 @@ namespace fvv {
 namespace encoding {
 
 Status Session::CodeSpan(uint32_t frames) {
-  const uint32_t span_first = first_ + uint32_t(fragments_.size() / CameraGroups()) * s_.gop_frames;
-  if (s_.fallback_texture && static_) ApplyFallback(span_first, frames);
+  if (s_.fallback_texture && static_) ApplyFallback(frames);
   if (!span_usable_.empty()) FillForPlayers(frames);
+  const uint32_t span_first = first_ + uint32_t(fragments_.size() / CameraGroups()) * s_.gop_frames;
   // Saved as coded (fallback texels included), so other codecs compared on
   // them code the same content, and --textures encodes them again.
   if (!s_.save_textures.empty()) {

@@ -292,8 +292,8 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
               "Leave texels no camera of a frame sees to the codec's fill, instead of the "
               "actor's seamless static texture");
   e->add_option("--temporal-fill", a->temporal_fill,
-                "A texel no camera of a frame sees takes its colour from the nearest frame, at "
-                "most this many frames away, that saw it, before the static texture (0: off)")
+                "A texel no camera of a frame sees takes the mean colour of the frames of its GOP, "
+                "at most this many frames away, that saw it, before the static texture (0: off)")
       ->check(CLI::Range(0u, 100000u))
       ->capture_default_str();
   e->add_option("--static-texture", a->static_texture,
