@@ -620,17 +620,23 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
               "Furniture and equipment around the capture volume, as in a lab");
   s->add_flag("--bystander", o->bystander,
               "A second person walks through behind the actor (in the frames, not the truth)");
-  s->add_flag_callback(
-      "--real-conditions",
-      [o] {
-        o->plates = false, o->clutter = true, o->bystander = true, o->cameras = 4;
-        o->width = 360, o->height = 640;
-      },
-      "What broke on a real take: no plates, clutter, a bystander, 4 portrait cameras (360x640)");
+  auto real_conditions = std::make_shared<bool>(false);
+  s->add_flag(
+      "--real-conditions", *real_conditions,
+      "What broke on a real take: no plates, clutter, a bystander, 4 portrait cameras (360x640 "
+      "unless --width, --height or --cameras say otherwise)");
   s->add_flag_callback(
       "--classic", [o] { o->width = 320, o->height = 240, o->fps = 15; },
       "320x240 at 15 fps, as in the original studio");
-  s->callback([o, exit_code] { *exit_code = RunSynthCommand(*o); });
+  s->callback([s, o, real_conditions, exit_code] {
+    if (*real_conditions) {
+      o->plates = false, o->clutter = true, o->bystander = true;
+      if (s->get_option("--cameras")->count() == 0) o->cameras = 4;
+      if (s->get_option("--width")->count() == 0) o->width = 360;
+      if (s->get_option("--height")->count() == 0) o->height = 640;
+    }
+    *exit_code = RunSynthCommand(*o);
+  });
 
   CLI::App* cap = app->add_subcommand(
       "capture",

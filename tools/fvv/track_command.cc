@@ -10,6 +10,7 @@
 #include "encoder/io/image_io.h"
 #include "encoder/track/camera_choice.h"
 #include "encoder/track/joint_truth.h"
+#include "encoder/track/silhouette_truth.h"
 #include "encoder/track/track_capture.h"
 #include "tools/fvv/frame_range.h"
 #include "tools/fvv/persons_option.h"
@@ -218,6 +219,20 @@ int RunTrack(const TrackArgs& a) {
       std::printf("    %-11s %5.1f  (%+5.1f %+5.1f %+5.1f)\n", e->joints[k].c_str(),
                   100 * e->per_joint_mean[k], 100 * off.x(), 100 * off.y(), 100 * off.z());
     }
+    // What the masks themselves allow: the silhouettes read against the true ones.
+    if (!a.save_silhouettes.empty()) {
+      std::vector<std::string> cams;
+      for (const auto& c : r->capture.cameras) cams.push_back(c.calibration.name);
+      StatusOr<SilhouetteAgreement> sa =
+          CompareSilhouettesWithTruth(a.truth, a.save_silhouettes, cams, r->first, r->last);
+      if (!sa.ok()) return Fail(sa.status());
+      std::printf("  silhouettes against the true ones: mean IoU %.3f over %u frames (", sa->mean,
+                  sa->frames);
+      for (size_t c = 0; c < cams.size(); ++c) {
+        std::printf("%s%s %.3f", c ? ", " : "", cams[c].c_str(), sa->iou[c]);
+      }
+      std::printf(")\n");
+    }
   }
   std::printf("  poses: %s\n", a.output.c_str());
   return 0;
@@ -233,7 +248,8 @@ void AddTrackCommand(CLI::App* app, int* exit_code) {
   t->add_option("-o,--output", a->output, "Poses (JSON): DOFs, fit quality and flags per frame")
       ->required();
   t->add_option("--truth", a->truth,
-                "Ground truth (fvv synth's truth.json or its directory): joint errors");
+                "Ground truth (fvv synth's truth.json or its directory): joint errors, and with "
+                "--save-silhouettes the silhouettes' IoU against the true ones");
   t->add_option("--frames", a->frames, "Frame range A:B (default all)");
   t->add_option("--prepared", a->prepared,
                 "Track as the shards of this prepared take do (fvv encode --prepare without "
