@@ -17,7 +17,8 @@
 // render --renderer projective`, straight from the camera images): PSNR and
 // SSIM over the actor's region (the held-out camera's person mask) against the
 // real frame. A contact sheet of real frames, masks, the fitted model and the
-// rendered views goes to OUT/contact_sheet.png, the figures to
+// rendered views (and Renderer II from halfway between the held-out camera and
+// the camera nearest it) goes to OUT/contact_sheet.png, the figures to
 // OUT/real_bench.json.
 //
 //   build/bench/real_bench CAPTURE [--frames A:B] [--render-frames N] [--out DIR]
@@ -420,6 +421,7 @@ int Run(const Args& a) {
 
     const uint32_t render_last = std::min(last, first + std::max(1u, a.render_frames) - 1);
     std::vector<Image> rendered2, rendered1;
+    Image between_view;
     if (a.render) {
       const std::string range = std::to_string(first) + ":" + std::to_string(render_last);
       const std::string stream = dir + "/stream.fvv";
@@ -462,9 +464,42 @@ int Run(const Args& a) {
                        "--cameras-from", full.directory, "--camera", std::to_string(k), "--first",
                        std::to_string(first), "--last", std::to_string(render_last), "-o", out1});
       }
+      // Between cameras: Renderer II from halfway between the held-out
+      // camera and the camera nearest it, at the first frame, for the sheet.
+      const std::string between = dir + "/between";
+      if (s.ok()) {
+        const Camera& view = full.cameras[k].calibration;
+        const Eigen::Vector3d here = CameraCentre(view);
+        Eigen::Vector3d nearest = here;
+        double best = 1e30;
+        for (size_t j = 0; j < full.cameras.size(); ++j) {
+          const double d = (CameraCentre(full.cameras[j].calibration) - here).norm();
+          if (j != k && d < best) best = d, nearest = CameraCentre(full.cameras[j].calibration);
+        }
+        const Eigen::Vector3d eye = (here + nearest) / 2;
+        const double fov = 2 * std::atan(view.height / (2 * view.fy)) * 180 / M_PI;
+        const nlohmann::json path = {{"keyframes",
+                                      {{{"frame", 0},
+                                        {"eye", {eye.x(), eye.y(), eye.z()}},
+                                        {"target", "actor"},
+                                        {"fov", fov}}}}};
+        const std::string text = path.dump(), path_file = dir + "/between_path.json";
+        s = WriteFileAtomic(path_file, reinterpret_cast<const uint8_t*>(text.data()), text.size());
+        if (s.ok()) {
+          s = RunFvv(
+              a, {"render", stream, "--path", path_file, "--first", "0", "--last", "0", "--size",
+                  std::to_string(view.width / 2) + "x" + std::to_string(view.height / 2), "-o",
+                  between, "--coverage"});
+        }
+      }
       if (!s.ok()) {
         std::fprintf(stderr, "real_bench: %s\n", s.ToString().c_str());
         return 1;
+      }
+      StatusOr<Image> b = ReadImage(between + "/render_f00000.png");
+      StatusOr<Image> b_coverage = ReadImage(between + "/coverage_f00000.png");
+      if (b.ok() && b_coverage.ok()) {
+        between_view = CropScaled(*b, ActorBox({&*b_coverage}), 480);
       }
       CaptureReader reader(full);
       for (uint32_t f = first; f <= render_last; ++f) {
@@ -533,6 +568,7 @@ int Run(const Args& a) {
                               rendered2.empty() ? nullptr : &rendered2[0]}) {
         if (im) sheet.push_back(CropScaled(*im, box, 480));
       }
+      if (!between_view.pixels.empty()) sheet.push_back(between_view);
     }
   }
 
@@ -613,7 +649,7 @@ int Run(const Args& a) {
   Status s = WriteFileAtomic(a.out + "/real_bench.json",
                              reinterpret_cast<const uint8_t*>(text.data()), text.size());
   if (s.ok() && !sheet.empty()) {
-    s = WritePng(a.out + "/contact_sheet.png", MakeContactSheet(sheet, a.render ? 5 : 3));
+    s = WritePng(a.out + "/contact_sheet.png", MakeContactSheet(sheet, a.render ? 6 : 3));
   }
   if (!s.ok()) {
     std::fprintf(stderr, "real_bench: %s\n", s.ToString().c_str());
@@ -622,7 +658,9 @@ int Run(const Args& a) {
   std::printf(
       "\nfigures: %s/real_bench.json; contact sheet (per held-out camera: frame, mask, "
       "fitted model%s): %s/contact_sheet.png\n",
-      a.out.c_str(), a.render ? ", Renderer I, Renderer II" : "", a.out.c_str());
+      a.out.c_str(),
+      a.render ? ", Renderer I, Renderer II, Renderer II between it and the nearest camera" : "",
+      a.out.c_str());
   return 0;
 }
 
