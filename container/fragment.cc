@@ -705,6 +705,19 @@ StatusOr<std::array<uint64_t, 3>> ChunkedPrefixBytes(const FragmentData& f, uint
   return std::array<uint64_t, 3>{bytes[0], bytes[1], bytes[2]};
 }
 
+uint64_t SurfaceChunkBytes(const FragmentData& f) {
+  if (!f.has_surface) return 0;
+  const uint64_t data = f.surface_head.data_size;
+  uint64_t seen = 0, bytes = 0;
+  for (const TextureChunk& c : f.chunks) {
+    if (c.channel != kSurfaceChannel) continue;
+    seen += c.size;
+    bytes += kChunkHeaderBytes + c.size;
+  }
+  if (seen == data) return bytes;
+  return data + (data + 65534) / 65535 * kChunkHeaderBytes;
+}
+
 bool PrefixHoldsSurface(const FragmentData& f, uint64_t prefix) {
   return f.has_surface &&
          DeliveredChunkBytes(f, prefix)[kSurfaceChannel] == f.surface_head.data_size;

@@ -83,6 +83,13 @@ struct FragmentData {
 // whole surface (SPEC.md 3.5.2: the surface decodes only whole).
 bool PrefixHoldsSurface(const FragmentData& f, uint64_t prefix);
 
+// The bytes past the head that carry the surface whole, chunk headers
+// included: as the fragment's chunks give them where it was read that far,
+// else the least any writer needs (chunks of at most 65535 bytes). 0 without
+// a surface. What a player fetching over HTTP must add to a fragment's head
+// for its surface to decode.
+uint64_t SurfaceChunkBytes(const FragmentData& f);
+
 // The chunk order the writer uses when FragmentData::chunks is empty: the
 // channels interleaved in the order of the encoder's RD hulls (ChannelStream::
 // rd), steepest first, so that every prefix is near the allocation the encoder

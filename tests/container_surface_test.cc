@@ -169,9 +169,33 @@ TEST(SurfaceFragment, TheCApiHandsOutEachFramesSurfaceOrNull) {
   ASSERT_EQ(fvv_decoder_open_file(d, path.c_str()), FVV_OK);
   fvv_model model;
   ASSERT_EQ(fvv_decoder_get_model(d, &model), FVV_OK);
+  // The surface's bytes past the head are known once a fragment was read.
+  const auto surface_size = [&](uint32_t i) {
+    fvv_fragment_info fi{};
+    EXPECT_EQ(fvv_decoder_get_fragment(d, i, &fi), FVV_OK);
+    return fi.surface_size;
+  };
+  uint32_t holding = UINT32_MAX;  // camera group 0's fragment of frame 5
+  for (uint32_t i = 0; i < fvv_decoder_fragment_count(d); ++i) {
+    fvv_fragment_info fi{};
+    ASSERT_EQ(fvv_decoder_get_fragment(d, i, &fi), FVV_OK);
+    EXPECT_EQ(fi.surface_size, 0u) << "fragment " << i << " was not read yet";
+    if (fi.first_camera == 0 && fi.first_frame <= 5 && 5 < fi.first_frame + fi.frame_count) {
+      holding = i;
+    }
+  }
+  ASSERT_LT(holding, sample->fragments.size());
   fvv_frame* frame = nullptr;
   ASSERT_EQ(fvv_decoder_decode_frame(d, 5, nullptr, &frame), FVV_OK);
   ASSERT_NE(frame->surface, nullptr);
+  const uint64_t data = sample->fragments[holding].surface.size();
+  ASSERT_GT(data, 0u);
+  EXPECT_EQ(surface_size(holding), data + (data + 65534) / 65535 * kChunkHeaderBytes);
+  for (uint32_t i = 0; i < fvv_decoder_fragment_count(d); ++i) {
+    if (i != holding) {
+      EXPECT_EQ(surface_size(i), 0u) << "fragment " << i;
+    }
+  }
   // Some vertex moved, none by more than the sample's swing of 300 mm.
   double largest = 0;
   for (uint32_t v = 0; v < model.vertex_count; ++v) {

@@ -200,6 +200,33 @@ TEST(FetchPlan, HeadsFirstThenTheSameShareOfEveryTextureWithinTheBudget) {
   EXPECT_TRUE(PlanPrefixes({}, 1000).empty());
 }
 
+// Camera group 0's fragment with the surface of every frame: its surface
+// comes whole right past its head, before any texture share, or not at all
+// (then that fragment stops at its head: bytes into a surface that cannot be
+// whole are wasted, and its texture lies past it).
+TEST(FetchPlan, TheSurfaceWholeAfterTheHeadsOrThatFragmentStopsAtItsHead) {
+  const std::vector<FragmentSizes> gop = {{300, 25300, 5000}, {99, 10099, 0}, {99, 5099, 0}};
+  EXPECT_EQ(PlanPrefixes(gop, 50000), (std::vector<uint64_t>{25300, 10099, 5099}));
+  // The heads and the surface, then a fifth of each texture (35000 bytes).
+  EXPECT_EQ(PlanPrefixes(gop, 498 + 5000 + 7000),
+            (std::vector<uint64_t>{300 + 5000 + 4000, 99 + 2000, 99 + 1000}));
+  // Room for the heads and less than the surface: it is left out, and the
+  // budget goes to the other fragments' textures (15000 bytes, 4000 of them).
+  const std::vector<uint64_t> p = PlanPrefixes(gop, 498 + 4000);
+  EXPECT_EQ(p[0], 300u);
+  EXPECT_EQ(p[1] + p[2], 198u + 4000u - 1u) << p[1] << " " << p[2];
+  for (uint64_t budget = 0; budget < 50000; budget += 613) {
+    const std::vector<uint64_t> q = PlanPrefixes(gop, budget);
+    uint64_t sum = 0;
+    for (size_t i = 0; i < q.size(); ++i) sum += q[i];
+    EXPECT_LE(sum, std::max<uint64_t>(budget, 498)) << budget;
+    // Group 0 stops at its head or holds its whole surface, never between.
+    EXPECT_TRUE(q[0] == 300 || q[0] >= 5300) << budget << ": " << q[0];
+  }
+  // A surface larger than what is left of its fragment counts as that.
+  EXPECT_EQ(PlanPrefixes({{300, 1300, 5000}}, 2000), (std::vector<uint64_t>{1300}));
+}
+
 TEST(FetchPlan, TheBandwidthFollowsTheFetchesAndSetsTheBudget) {
   BandwidthEstimate b;
   EXPECT_EQ(b.bytes_per_second(), 0);

@@ -5,15 +5,17 @@
 // decodes better; the errors a page meets come back as FvvError statuses.
 //
 //   node web_decoder_test.mjs BUILD_WASM_DIR STREAM NATIVE_OUT_DIR PREFIX WHOLE_OUT_DIR
+//                            SURFACE_STREAM
 // NATIVE_OUT_DIR: tools/conformance_decode's output for STREAM at PREFIX bytes
-// per fragment; WHOLE_OUT_DIR: at 0 (whole fragments).
+// per fragment; WHOLE_OUT_DIR: at 0 (whole fragments). SURFACE_STREAM: a
+// stream with the surface of every frame (format version 12).
 import { readFileSync } from 'node:fs';
 import path from 'node:path';
 import { createRequire } from 'node:module';
 import { decompress } from '../tools/web/node_modules/fzstd/esm/index.mjs';
 import { FvvDecoder, FvvError } from '../player/web/fvv_decoder_api.mjs';
 
-const [buildDir, streamPath, prefixDir, prefixArg, wholeDir] = process.argv.slice(2);
+const [buildDir, streamPath, prefixDir, prefixArg, wholeDir, surfacePath] = process.argv.slice(2);
 const prefix = Number(prefixArg);
 let failures = 0;
 const check = (ok, what) => {
@@ -117,6 +119,32 @@ expectError(() => other.decodeFrame(info.gopFrames, { cameras: [0] }), 6 /* CHEC
 expectError(() => other.addRange(stream.length, new Uint8Array(1)), 1, 'a range past the end');
 other.destroy();
 dec2.destroy();
+
+// The surface's size past camera group 0's head: unknown until a frame of the
+// fragment decodes, then what the fetch plan keeps whole or leaves out.
+const surfaceStream = readFileSync(surfacePath);
+const sd = await FvvDecoder.create({ moduleFactory, zstd: decompress });
+sd.openRanges(surfaceStream.length);
+sd.addRange(0, surfaceStream);
+check(sd.process() === 'ready', 'the surface stream opens');
+const sinfo = sd.info();
+check(sinfo.formatVersion === 12, `the surface stream's format version ${sinfo.formatVersion}`);
+const sgroups = Math.ceil(sinfo.cameraCount / sinfo.gopCameras);
+check(sd.fragment(0).surfaceSize === 0, 'no surface size before a frame of the fragment decodes');
+const sframe = sd.decodeFrame(1);
+const g0 = sd.fragment(0);
+check(sframe.surface !== null && sframe.surfaceBytes > 0 && sframe.surfaceBytes === g0.surfaceSize,
+  `a decoded frame tells its surface's bytes (${sframe.surfaceBytes}, fragment ${g0.surfaceSize})`);
+check(g0.headSize + g0.surfaceSize < g0.size, 'the surface lies within the fragment');
+const sgop = sd.fragments(0, sgroups);
+for (const budget of [g0.headSize + 1, g0.headSize + g0.surfaceSize - 1, g0.headSize + g0.surfaceSize + 500]) {
+  const heads = sgop.reduce((n, f) => n + f.headSize, 0) - g0.headSize;
+  const p0 = sd.planPrefixes(sgop, budget + heads)[0];
+  check(p0 === g0.headSize || p0 >= g0.headSize + g0.surfaceSize,
+    `camera group 0 at its head or past its whole surface (${p0} of budget ${budget + heads})`);
+}
+sd.destroy();
+
 console.log(`${failures ? 'FAILED' : 'passed'}: ${info.frameCount} frames, ${info.cameraCount} cameras, ` +
   `head in ${requests} requests of 4 KiB`);
 process.exit(failures ? 1 : 0);

@@ -13,9 +13,12 @@ here=$(cd "$(dirname "$0")" && pwd)
 rm -rf "$dir" && mkdir -p "$dir/prefix" "$dir/whole"
 "$fvv" sample -o "$dir/s.fvv" --frames 10 --cameras 3 --atlas 48 40 --gop 4 1 --coder arith4 \
   --bpp 3 --texture-chunks >/dev/null
+"$fvv" sample -o "$dir/surface.fvv" --frames 8 --cameras 3 --atlas 48 40 --gop 4 1 --coder arith4 \
+  --bpp 3 --surface >/dev/null
 "$native" "$dir/s.fvv" "$dir/prefix" 900
 "$native" "$dir/s.fvv" "$dir/whole" 0
-node --no-experimental-fetch "$here/web_decoder_test.mjs" "$wasm" "$dir/s.fvv" "$dir/prefix" 900 "$dir/whole"
+node --no-experimental-fetch "$here/web_decoder_test.mjs" "$wasm" "$dir/s.fvv" "$dir/prefix" 900 "$dir/whole" \
+  "$dir/surface.fvv"
 node "$here/web_browser_decode_test.mjs" "$wasm" "$dir/s.fvv" "$dir/whole"
 mkdir -p "$dir/faults"
 node "$here/web_stream_faults_test.mjs" "$wasm" "$dir/s.fvv" "$dir/whole" "$dir/faults"

@@ -134,6 +134,11 @@ typedef struct {
                             prefix decoding more of its texture; = size in older streams, which
                             decode whole fragments only */
   uint64_t held;         /* bytes of it the decoder holds from its first on (= size for a file) */
+  uint64_t surface_size; /* with the surface of every frame (format version 12, camera group 0):
+                            the bytes right past the head that carry it whole, known once the
+                            decoder has read the fragment (decoded a frame of it); 0 before, and
+                            without a surface. A player plans the next GOP's prefix with the last
+                            one's (the surface decodes whole or not at all, SPEC.md 3.5.2) */
 } fvv_fragment_info;
 FVV_EXPORT uint32_t fvv_decoder_fragment_count(const fvv_decoder* decoder);
 FVV_EXPORT fvv_status fvv_decoder_get_fragment(const fvv_decoder* decoder, uint32_t index,

@@ -187,6 +187,7 @@ fvv_status fvv_decoder_get_fragment(const fvv_decoder* cd, uint32_t index, fvv_f
   out->size = e.size;
   out->head_size = e.head_size != 0 ? e.head_size : e.size;
   out->held = d->impl.FragmentBytesHeld(index);
+  out->surface_size = d->impl.FragmentSurfaceBytes(index);
   return FVV_OK;
 }
 

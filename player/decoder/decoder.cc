@@ -104,6 +104,12 @@ uint64_t Decoder::FragmentBytesHeld(size_t fragment) const {
   return fetched_ ? std::min(e.size, fetched_->HeldFrom(e.offset)) : e.size;
 }
 
+uint64_t Decoder::FragmentSurfaceBytes(size_t fragment) const {
+  std::lock_guard<std::mutex> lock(surface_bytes_mutex_);
+  const auto it = surface_bytes_.find(uint32_t(fragment));
+  return it == surface_bytes_.end() ? 0 : it->second;
+}
+
 Status Decoder::Push(const uint8_t* data, size_t size) {
   if (source_)
     return InvalidArgument("push after open_file or open_ranges: a decoder has one input");
@@ -206,9 +212,17 @@ Status Decoder::SpanFragments(uint32_t span, const GopBudget& budget,
                                std::to_string(e.offset + e.size) + ") has not been fetched");
       }
       FVV_ASSIGN_OR_RETURN(FragmentData f, file_->ReadFragment(index, held));
+      {
+        std::lock_guard<std::mutex> lock(surface_bytes_mutex_);
+        surface_bytes_[index] = SurfaceChunkBytes(f);
+      }
       out->push_back(std::move(f));
     } else if (file_) {
       FVV_ASSIGN_OR_RETURN(FragmentData f, file_->ReadFragment(index));
+      {
+        std::lock_guard<std::mutex> lock(surface_bytes_mutex_);
+        surface_bytes_[index] = SurfaceChunkBytes(f);
+      }
       out->push_back(std::move(f));
     } else {
       auto it = buffered_.find(index);

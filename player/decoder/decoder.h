@@ -8,6 +8,7 @@
 #include <future>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <string>
 
 #include "codec/base/sample_pool.h"
@@ -33,6 +34,10 @@ class Decoder {
   bool WantedRange(uint64_t* offset, uint64_t* size) const;
   // Bytes of `fragment` held from its first on (ranges input; all of it otherwise).
   uint64_t FragmentBytesHeld(size_t fragment) const;
+  // The bytes past `fragment`'s head that carry its surface whole
+  // (SurfaceChunkBytes), once the decoder has read its head; 0 before, and
+  // without a surface.
+  uint64_t FragmentSurfaceBytes(size_t fragment) const;
   bool random_access() const { return file_ != nullptr; }
   Status Push(const uint8_t* data, size_t size);
   Status PushEnd();
@@ -92,6 +97,10 @@ class Decoder {
   std::future<StatusOr<std::shared_ptr<DecodedGop>>> ahead_;
   uint32_t ahead_span_ = 0;
   GopBudget ahead_budget_;
+  // FragmentSurfaceBytes, by fragment index, as each was read (decoding
+  // ahead reads on another thread).
+  mutable std::mutex surface_bytes_mutex_;
+  std::map<uint32_t, uint64_t> surface_bytes_;
 };
 
 }  // namespace fvv

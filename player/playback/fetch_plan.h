@@ -34,14 +34,20 @@ uint64_t GopFetchBudget(double bytes_per_second, double gop_seconds, double shar
 struct FragmentSizes {
   uint64_t head = 0;  // the least prefix that decodes
   uint64_t size = 0;  // the whole fragment
+  // The surface's bytes right past the head (fvv_fragment_info.surface_size,
+  // or the last GOP's where this one's is not known yet); 0: none.
+  uint64_t surface = 0;
 };
 
 // The prefix of each fragment to fetch, together at most `budget` bytes: each
 // fragment's head first (its motion and masks decode whatever its texture
-// gets), then the texture bytes shared in proportion to each fragment's
-// texture, so that every camera decodes about the same share of its streams,
-// none past its size. Whole fragments when the budget holds them; heads only
-// when even those exceed it (the caller then waits for them).
+// gets); then each surface whole where the budget holds it (it decodes whole
+// or not at all, and a fragment's texture lies past it: a fragment whose
+// surface does not fit stops at its head); then the texture bytes shared in
+// proportion to each fragment's texture, so that every camera decodes about
+// the same share of its streams, none past its size. Whole fragments when the
+// budget holds them; heads only when even those exceed it (the caller then
+// waits for them).
 std::vector<uint64_t> PlanPrefixes(const std::vector<FragmentSizes>& fragments, uint64_t budget);
 
 }  // namespace fvv

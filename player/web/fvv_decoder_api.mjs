@@ -43,18 +43,19 @@ function writeU64(m, p, v) {
 
 // The fetch plan (player/playback/fetch_plan.h) of a module instance, the
 // decoder's or the page's loop's: the prefix of each fragment ({ headSize,
-// size }) to fetch within `budget` bytes.
+// size, surfaceSize }) to fetch within `budget` bytes.
 export function planPrefixes(m, fragments, budget) {
   const n = fragments.length;
-  const p = m._malloc(Math.max(1, 24 * n));
+  const p = m._malloc(Math.max(1, 32 * n));
   try {
     fragments.forEach((f, i) => {
       writeU64(m, p + 8 * i, f.headSize);
       writeU64(m, p + 8 * (n + i), f.size);
+      writeU64(m, p + 8 * (2 * n + i), f.surfaceSize ?? 0);
     });
-    m._fvv_web_plan_prefixes(p, p + 8 * n, n, BigInt(Math.min(budget, Number.MAX_SAFE_INTEGER)),
-      p + 16 * n);
-    return fragments.map((_, i) => readU64(m, p + 8 * (2 * n + i)));
+    m._fvv_web_plan_prefixes(p, p + 8 * n, p + 16 * n, n,
+      BigInt(Math.min(budget, Number.MAX_SAFE_INTEGER)), p + 24 * n);
+    return fragments.map((_, i) => readU64(m, p + 8 * (3 * n + i)));
   } finally {
     m._free(p);
   }
@@ -194,19 +195,21 @@ export class FvvDecoder {
     return this.m._fvv_decoder_fragment_count(this.handle);
   }
   // A GOP fragment's place in the stream: the prefix of at least headSize
-  // bytes from offset decodes (streams with the texture in chunks).
+  // bytes from offset decodes (streams with the texture in chunks);
+  // surfaceSize, once a frame of it was decoded, the bytes past the head that
+  // carry its surface whole (0 before, and without one).
   fragment(index) {
     const s = this.scratch, u = this.m.HEAPU32;
     this.#check(this.m._fvv_decoder_get_fragment(this.handle, index, s));
     return {
       index, firstFrame: u[s >> 2], frameCount: u[(s >> 2) + 1], firstCamera: u[(s >> 2) + 2],
       cameraCount: u[(s >> 2) + 3], offset: this.#u64(s + 16), size: this.#u64(s + 24),
-      headSize: this.#u64(s + 32), held: this.#u64(s + 40),
+      headSize: this.#u64(s + 32), held: this.#u64(s + 40), surfaceSize: this.#u64(s + 48),
     };
   }
 
   // The fetch policy (player/playback/fetch_plan.h, compiled into the module):
-  // the prefix of each fragment ({ headSize, size }) to fetch within `budget`
+  // the prefix of each fragment ({ headSize, size, surfaceSize }) to fetch within `budget`
   // bytes; the bandwidth after a fetch; the bytes a GOP's fetch may take.
   planPrefixes(fragments, budget) {
     return planPrefixes(this.m, fragments, budget);
@@ -234,11 +237,20 @@ export class FvvDecoder {
     const out = this.scratch + 128;
     this.#check(m._fvv_decoder_decode_frame(this.handle, index, b, out));
     const f = m.HEAPU32[out >> 2];
+    let frame;
     try {
-      return this.#readFrame(f);
+      frame = this.#readFrame(f);
     } finally {
       m._fvv_frame_release(f);
     }
+    // With a surface: its bytes past camera group 0's head in this GOP, which
+    // a page fetching by ranges plans the next GOPs' prefixes with.
+    if (frame.surface && this.fragmentCount() > 0) {
+      this.grid ??= this.info();
+      const groups = Math.ceil(this.grid.cameraCount / this.grid.gopCameras);
+      frame.surfaceBytes = this.fragment(Math.floor(index / this.grid.gopFrames) * groups).surfaceSize;
+    }
+    return frame;
   }
 
   #readFrame(f) {

@@ -327,6 +327,7 @@ export class FvvPlayer {
         frames.push(await this.worker.decodeFrame(i, {
           cameras: r.cameras, maxMs: r.maxMs, floorShare: r.floorShare,
         }));
+        this.stream.surfaceLearned(frames[frames.length - 1]);
       }
       this.gops.set(r.gop, frames);
       // The loop's decode time is the worker's whole time for the GOP: its
@@ -498,6 +499,7 @@ class SequentialStream {
     return (await this.fetchGopBytes(span)).fetched;
   }
   async addParts() {}
+  surfaceLearned() {}  // whole fragments: no fetch plan to inform
   // Waits until the GOP's frames decode: { fetched: the bytes fetched meanwhile }.
   async fetchGopBytes(span) {
     const before = this.fetched;

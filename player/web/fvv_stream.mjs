@@ -232,7 +232,12 @@ export class FvvStream {
     }
     const allowed = budget ?? (this.bandwidth > 0
       ? await this.#call('gopFetchBudget', this.bandwidth, this.gopSeconds) : Number.MAX_SAFE_INTEGER);
-    const plan = await planner.planPrefixes(fragments, allowed);
+    // Camera group 0's surface (it decodes whole or not at all), where this
+    // GOP's size is not known: as large as the last one decoded (surfaceLearned).
+    const plan = await planner.planPrefixes(fragments.map((f) => ({
+      headSize: f.headSize, size: f.size,
+      surfaceSize: f.surfaceSize || (f.firstCamera === 0 ? this.surfaceBytes ?? 0 : 0),
+    })), allowed);
     this.lastFetchWhole = fragments.every((f, i) => plan[i] >= f.size);
     const wanted = fragments.map((f, i) => [f, plan[i] - f.held]).filter(([, want]) => want > 0);
     const started = performance.now();
@@ -276,6 +281,12 @@ export class FvvStream {
     return { fetched, parts, cameras: ready };
   }
 
+  // A decoded frame's surface size (decodeFrame's surfaceBytes): the estimate
+  // for the next GOPs' fetch plans.
+  surfaceLearned(frame) {
+    if (frame?.surfaceBytes > 0) this.surfaceBytes = frame.surfaceBytes;
+  }
+
   async addParts(parts) {
     for (const p of parts) await this.#call('addRange', p.offset, p.bytes);
   }
@@ -296,6 +307,8 @@ export class FvvStream {
       const f = fragments.find((x) => x.firstCamera === c - (c % this.info.gopCameras));
       return f && f.held >= f.headSize;
     });
-    return this.#call('decodeFrame', index, { cameras: cameras ?? arrived });
+    const decoded = await this.#call('decodeFrame', index, { cameras: cameras ?? arrived });
+    this.surfaceLearned(decoded);
+    return decoded;
   }
 }

@@ -21,8 +21,9 @@ static_assert(sizeof(fvv_decoder_settings) == 40 &&
                   offsetof(fvv_decoder_settings, max_fragment_bytes) == 32,
               "fvv_decoder_settings");
 static_assert(sizeof(fvv_stream_info) == 60, "fvv_stream_info: 15 u32");
-static_assert(sizeof(fvv_fragment_info) == 48 && offsetof(fvv_fragment_info, offset) == 16 &&
-                  offsetof(fvv_fragment_info, head_size) == 32,
+static_assert(sizeof(fvv_fragment_info) == 56 && offsetof(fvv_fragment_info, offset) == 16 &&
+                  offsetof(fvv_fragment_info, head_size) == 32 &&
+                  offsetof(fvv_fragment_info, surface_size) == 48,
               "fvv_fragment_info");
 static_assert(sizeof(fvv_decode_budget) == 40 && offsetof(fvv_decode_budget, format) == 16 &&
                   offsetof(fvv_decode_budget, camera_mask) == 24 &&
@@ -44,13 +45,13 @@ static_assert(sizeof(fvv_camera) == 208 && offsetof(fvv_camera, fx) == 16 &&
 
 extern "C" {
 
-// The prefix of each of `count` fragments (heads[i], sizes[i]) to fetch within
-// `budget` bytes, into prefixes[i] (fvv::PlanPrefixes).
+// The prefix of each of `count` fragments (heads[i], sizes[i], surfaces[i])
+// to fetch within `budget` bytes, into prefixes[i] (fvv::PlanPrefixes).
 EMSCRIPTEN_KEEPALIVE void fvv_web_plan_prefixes(const uint64_t* heads, const uint64_t* sizes,
-                                                uint32_t count, uint64_t budget,
-                                                uint64_t* prefixes) {
+                                                const uint64_t* surfaces, uint32_t count,
+                                                uint64_t budget, uint64_t* prefixes) {
   std::vector<fvv::FragmentSizes> fragments(count);
-  for (uint32_t i = 0; i < count; ++i) fragments[i] = {heads[i], sizes[i]};
+  for (uint32_t i = 0; i < count; ++i) fragments[i] = {heads[i], sizes[i], surfaces[i]};
   const std::vector<uint64_t> plan = fvv::PlanPrefixes(fragments, budget);
   for (uint32_t i = 0; i < count; ++i) prefixes[i] = plan[i];
 }
