@@ -65,7 +65,7 @@ struct Args {
   std::string capture, out = "out/real_bench", fvv, models;
   std::string held_out;  // one camera's name: only that one held out
   uint32_t first = 0, last = 29;
-  uint32_t render_frames = 4;
+  uint32_t render_frames = 30;
   bool render = true;
   bool surface = false;  // encode with the surface of every frame (fvv encode --surface)
 };
@@ -670,7 +670,7 @@ int Usage(const char* self, int code) {
       "       [--models DIR] [--held-out NAME] [--no-render] [--surface]\n"
       "Leave-one-camera-out tracking and rendering on a real capture (bench/README.md).\n"
       "  --frames A:B         frames to track (default 0:29)\n"
-      "  --render-frames N    frames from A to encode and render per held-out camera (default 4)\n"
+      "  --render-frames N    frames from A to encode and render per held-out camera (default 30)\n"
       "  --out DIR            where the figures, poses, streams and renders go (out/real_bench)\n"
       "  --fvv PATH           the fvv program (default: tools/fvv/fvv beside this build's bench/)\n"
       "  --models DIR         the person models (default: $FVV_MODEL_DIR or ~/.cache/fvv/models)\n"

@@ -46,7 +46,7 @@ if [ $strict = 1 ] && [ -z "$refine" ]; then
   exit 2
 fi
 frames=${args[0]:-0:29}
-render_frames=${args[1]:-4}
+render_frames=${args[1]:-30}
 last=${frames#*:}
 span="$((last + 1)):$((last + 68))"
 fvv=build/tools/fvv/fvv
