@@ -237,7 +237,7 @@ StatusOr<FrameOffsets> EstimateFrameOffsets(const std::vector<Camera>& cameras,
 }
 
 bool CamerasOutOfStep(const FrameOffsets& r) {
-  if (r.offsets.empty()) return false;
+  if (r.offsets.empty() || r.frames < kMinStepCheckFrames) return false;
   const auto [low, high] = std::minmax_element(r.offsets.begin(), r.offsets.end());
   if (*high - *low < 2) return false;
   double before = 0, after = 0;

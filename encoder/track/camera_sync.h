@@ -65,10 +65,14 @@ StatusOr<FrameOffsets> EstimateFrameOffsets(const std::vector<Camera>& cameras,
                                             const FrameOffsetOptions& options);
 
 // Whether offsets found by EstimateFrameOffsets say the cameras run out of
-// step: two cameras 2 frames apart or more, and the cameras' keypoints then
-// agreeing better by 5 % or more. The search always finds some offsets that
-// help a little: on a real 60 fps take already in step it found cameras a
-// frame apart, gaining or losing about a pixel of 20-30 (docs/tracking.md).
+// step: over at least kMinStepCheckFrames frames compared, two cameras 2
+// frames apart or more, and the cameras' keypoints then agreeing better by
+// 5 % or more. The search always finds some offsets that help a little: on a
+// real 60 fps take already in step it found cameras a frame apart, gaining or
+// losing about a pixel of 20-30 (docs/tracking.md). Over a few frames, one
+// camera's keypoints gone astray for a moment (someone passing close in front
+// of it) move the medians more than a step does.
+constexpr uint32_t kMinStepCheckFrames = 12;
 bool CamerasOutOfStep(const FrameOffsets& offsets);
 
 }  // namespace fvv
