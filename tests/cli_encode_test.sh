@@ -40,6 +40,15 @@ out=$("$fvv" render "$dir/cap" --renderer projective --poses "$dir/cap" -o "$dir
 grep -q "rendered frames 0..2 at 320x240 (camera \"held00\".*Renderer I (projective)" <<<"$out" ||
   fail "Renderer I report: $out"
 [ "$(ls "$dir"/r1/render_*.png | wc -l)" = 3 ] || fail "Renderer I wrote $(ls "$dir"/r1 | wc -l) files"
+# With the surface of every frame tracked from the capture's silhouettes: the
+# same frames, drawn on another surface.
+out=$("$fvv" render "$dir/cap" --renderer projective --poses "$dir/cap" -o "$dir/r1s" --surface \
+  --cameras-from "$dir/cap/truth/heldout" --camera 0 2>&1) || fail "render --surface: $out"
+grep -q "surface tracked" <<<"$out" || fail "Renderer I --surface report: $out"
+cmp -s "$dir/r1/render_f00002.png" "$dir/r1s/render_f00002.png" &&
+  fail "Renderer I drew the same with --surface"
+out=$("$fvv" render "$dir/a.fvv" --surface -o "$dir/r1bad" 2>&1) && fail "--surface with Renderer II"
+grep -q "carries its own surface" <<<"$out" || fail "--surface with Renderer II: $out"
 out=$("$fvv" render "$dir/a.fvv" --renderer projective --poses "$dir/cap" -o "$dir/r1bad" 2>&1) &&
   fail "a stream accepted as a capture"
 grep -q "capture.json" <<<"$out" || fail "Renderer I on a stream: $out"

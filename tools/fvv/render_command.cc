@@ -30,7 +30,7 @@ namespace {
 
 struct RenderArgs {
   std::string input, output_dir, size = "640x480", format = "png";
-  bool size_given = false, coverage = false;
+  bool size_given = false, coverage = false, surface = false;
   std::string cameras_from, path, video;
   uint32_t first = 0, last = UINT32_MAX;
   int camera = -1;     // -1: orbit
@@ -204,6 +204,9 @@ int RunRender(const RenderArgs& a) {
     return Fail("give -o DIR, --video FILE.mp4, or both");
   const bool projective = a.renderer == "projective";
   if (!projective && !a.poses.empty()) return Fail("--poses is for --renderer projective");
+  if (!projective && a.surface) {
+    return Fail("--surface is for --renderer projective (a stream carries its own surface)");
+  }
   // Views from another capture's calibrated cameras, e.g. fvv synth's held-out ones.
   std::optional<Camera> from_camera;
   if (!a.cameras_from.empty()) {
@@ -239,6 +242,7 @@ int RunRender(const RenderArgs& a) {
     o.last = a.sheet > 0 ? a.first : a.last;
     o.projective.dominance = a.dominance;
     o.projective.expand_px = a.expand_px;
+    o.surface = a.surface;
     if (!a.poses.empty()) {
       std::printf("Renderer I: poses from %s\n", a.poses.c_str());
     } else {
@@ -415,6 +419,10 @@ void AddRenderCommand(CLI::App* app, int* exit_code) {
                 "Renderer I: pixels the silhouettes grow by (their ring takes the actor's colour)")
       ->capture_default_str()
       ->check(CLI::Range(0, 32));
+  r->add_flag("--surface", args->surface,
+              "Renderer I: draw the surface of every frame, tracked from the capture's "
+              "silhouettes as fvv encode --surface does, instead of the fitted body (a stream "
+              "carries its own: Renderer II draws it)");
   r->add_option("-o,--output", args->output_dir, "Output directory (render_fFFFFF.png per frame)");
   r->add_option("--video", args->video,
                 "Also (or instead) write an H.264 MP4 through ffmpeg at the stream's frame rate");

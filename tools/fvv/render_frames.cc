@@ -6,9 +6,12 @@
 
 #include "codec/base/thread_pool.h"
 #include "encoder/body/generic_body.h"
+#include "encoder/body/kinematics.h"
+#include "encoder/body/mesh_ops.h"
 #include "encoder/capture/capture.h"
 #include "encoder/encode/pose_file.h"
 #include "encoder/io/image_io.h"
+#include "encoder/shape/surface_tracking.h"
 #include "encoder/track/capture_frames.h"
 #include "encoder/track/track_capture.h"
 #include "fvv/fvv_decoder.hpp"
@@ -199,11 +202,45 @@ class CaptureFramesSource : public FramesDrawnBy<ProjectiveRenderer> {
     FVV_RETURN_IF_ERROR(frames_->Read(f, &images, &silhouettes));
     read_s_ += Since(t0);
     const auto t1 = Clock::now();
-    StatusOr<ProjectiveFrame> frame =
-        MakeProjectiveFrame(model_, poses_[f - first_], calibrations_, images, silhouettes,
-                            options_.projective, pool_.runner());
+    const std::vector<double>& dofs = poses_[f - first_];
+    const BodyModel* drawn = &model_;
+    if (options_.surface) {
+      // Each frame's surface from the one before: a jump starts afresh.
+      if (!tracker_ || f != tracked_ + 1) {
+        tracker_ = std::make_unique<SurfaceTracker>(model_.mesh, SurfaceTrackingOptions());
+        surface_ = model_;
+        std::vector<Eigen::Vector3f> bind_positions;
+        for (const auto& q : model_.mesh.positions) bind_positions.emplace_back(q[0], q[1], q[2]);
+        welded_ = WeldVertices(bind_positions);
+      }
+      StatusOr<std::vector<float>> d =
+          tracker_->Track(SkinningMatrices(model_.skeleton, dofs), calibrations_, silhouettes,
+                          nullptr, pool_.runner());
+      if (!d.ok()) return d.status();
+      tracked_ = f;
+      const Mesh& bind = model_.mesh;
+      for (size_t v = 0; v < bind.positions.size(); ++v) {
+        for (int k = 0; k < 3; ++k) {
+          surface_.mesh.positions[v][k] = bind.positions[v][k] + (*d)[v] * bind.normals[v][k];
+        }
+      }
+      // Visibility and blend weights read the normals: the surface's own.
+      std::vector<Eigen::Vector3f> p(bind.positions.size());
+      for (size_t v = 0; v < p.size(); ++v) {
+        p[v] = {surface_.mesh.positions[v][0], surface_.mesh.positions[v][1],
+                surface_.mesh.positions[v][2]};
+      }
+      const std::vector<Eigen::Vector3f> n = VertexNormals(bind.triangles, p, welded_);
+      for (size_t v = 0; v < p.size(); ++v)
+        surface_.mesh.normals[v] = {n[v].x(), n[v].y(), n[v].z()};
+      drawn = &surface_;
+    }
+    surface_s_ += Since(t1);
+    const auto t1b = Clock::now();
+    StatusOr<ProjectiveFrame> frame = MakeProjectiveFrame(
+        *drawn, dofs, calibrations_, images, silhouettes, options_.projective, pool_.runner());
     if (!frame.ok()) return frame.status();
-    prepare_s_ += Since(t1);
+    prepare_s_ += Since(t1b);
     const auto t2 = Clock::now();
     std::vector<const uint8_t*> rgba;
     for (const Image& i : frame->images) rgba.push_back(i.pixels.data());
@@ -213,11 +250,16 @@ class CaptureFramesSource : public FramesDrawnBy<ProjectiveRenderer> {
     return Status::Ok();
   }
   std::string LoadTimes(uint32_t frames) const override {
-    char line[200];
+    char line[260];
     std::snprintf(line, sizeof(line),
                   "Renderer I (projective); per frame: images and silhouettes read %.0f ms, "
-                  "visibility and weights %.0f ms, upload %.1f ms",
-                  read_s_ * 1e3 / frames, prepare_s_ * 1e3 / frames, upload_s_ * 1e3 / frames);
+                  "%svisibility and weights %.0f ms, upload %.1f ms",
+                  read_s_ * 1e3 / frames,
+                  options_.surface ? ("surface tracked " +
+                                      std::to_string(int(surface_s_ * 1e3 / frames)) + " ms, ")
+                                         .c_str()
+                                   : "",
+                  prepare_s_ * 1e3 / frames, upload_s_ * 1e3 / frames);
     return line;
   }
 
@@ -229,7 +271,11 @@ class CaptureFramesSource : public FramesDrawnBy<ProjectiveRenderer> {
   BodyModel model_;
   std::vector<std::vector<double>> poses_;  // first_..last_
   std::unique_ptr<CaptureFrames> frames_;
-  double read_s_ = 0, prepare_s_ = 0, upload_s_ = 0;
+  std::unique_ptr<SurfaceTracker> tracker_;  // with options_.surface
+  BodyModel surface_;                        // model_ with the frame's surface
+  std::vector<uint32_t> welded_;             // model_'s welded vertices
+  uint32_t tracked_ = 0;                     // the frame the tracker saw last
+  double read_s_ = 0, surface_s_ = 0, prepare_s_ = 0, upload_s_ = 0;
 };
 
 }  // namespace

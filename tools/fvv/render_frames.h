@@ -63,6 +63,9 @@ struct CaptureRenderOptions {
   std::string poses;  // poses.json or truth; empty: track the capture
   uint32_t first = 0, last = UINT32_MAX;
   ProjectiveOptions projective;
+  // The surface of every frame tracked from the capture's silhouettes (as
+  // fvv encode --surface does) and drawn instead of the fitted body.
+  bool surface = false;
   std::function<void(const std::string&)> progress;
 };
 StatusOr<std::unique_ptr<RenderFrames>> OpenCaptureFrames(const std::string& path,
