@@ -337,8 +337,9 @@ void Session::AddToStaticTexture(uint32_t slot, const std::vector<Eigen::Vector3
   sum_.seamless_s += Since(t0);
 }
 
-// Texels of the span's frames that no camera saw take the static texture's
-// colour in their best-facing camera.
+// Texels of the span's frames that no camera saw take the colour of the
+// nearest frames that saw them, else the static texture's, in their
+// best-facing camera.
 void Session::ApplyFallback(uint32_t frames) {
   const size_t texels = size_t(s_.atlas_size) * s_.atlas_size;
   if (!span_labels_.empty()) {
