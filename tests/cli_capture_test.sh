@@ -12,6 +12,14 @@ out=$("$fvv" synth -o "$dir/cap" --cameras 2 --width 96 --height 72 --frames 3 -
   fail "synth: $out"
 grep -q "cameras:  2 at 96x72, 1 held out" <<<"$out" || fail "synth summary: $out"
 grep -q "ETA" <<<"$out" || fail "synth progress: $out"
+# Real conditions set 4 portrait cameras at 360x640 unless the size or count is given.
+out=$("$fvv" synth -o "$dir/real" --real-conditions --width 72 --height 96 --frames 1 2>&1) ||
+  fail "synth --real-conditions: $out"
+grep -q "cameras:  4 at 72x96" <<<"$out" || fail "real conditions kept the size given: $out"
+out=$("$fvv" synth -o "$dir/real" --real-conditions --cameras 3 --frames 1 2>&1) ||
+  fail "synth --real-conditions --cameras 3: $out"
+grep -q "cameras:  3 at 360x640" <<<"$out" || fail "real conditions kept the count given: $out"
+rm -rf "$dir/real"
 [ -f "$dir/cap/capture.json" ] && [ -f "$dir/cap/cam01/000002.png" ] && [ -f "$dir/cap/background/cam00.png" ] ||
   fail "synth outputs missing"
 [ -f "$dir/cap/truth/truth.json" ] && [ -f "$dir/cap/truth/silhouettes/cam00/000000.png" ] &&
