@@ -611,6 +611,19 @@ TEST_F(EncodeTest, CApiEncodesAndReportsAndRefusesMisuse) {
   EXPECT_EQ(fvv_encoder_create(&s, &none), FVV_INVALID_ARGUMENT);
   EXPECT_NE(std::string(fvv_encoder_settings_error()).find("chunks"), std::string::npos);
   s.surface = 0;
+  // Something else in the silhouettes kept out, and the nearest frames' fill:
+  // on by default.
+  EXPECT_EQ(s.occluders, 1u);
+  EXPECT_EQ(s.temporal_fill_frames, 15u);
+  s.occluders = 2;
+  EXPECT_EQ(fvv_encoder_create(&s, &none), FVV_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(fvv_encoder_settings_error()).find("occluders"), std::string::npos);
+  s.occluders = 1;
+  s.temporal_fill_frames = 100001;
+  EXPECT_EQ(fvv_encoder_create(&s, &none), FVV_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(fvv_encoder_settings_error()).find("temporal_fill_frames"),
+            std::string::npos);
+  s.temporal_fill_frames = 15;
   // The blend-share rule: a share outside 0..1 is refused.
   EXPECT_DOUBLE_EQ(s.least_blend_share, 0.25);
   for (double share : {-0.1, 1.5, std::nan("")}) {

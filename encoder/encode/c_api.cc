@@ -40,6 +40,9 @@ fvv::Status ToSettings(const fvv_encoder_settings& c, fvv::EncoderSettings* s) {
     return InvalidArgument(
         "surface needs texture_chunks (the surface rides in the texture's chunks)");
   }
+  if (c.occluders > 1) return InvalidArgument("occluders is not 0 or 1");
+  if (c.temporal_fill_frames > 100000)
+    return InvalidArgument("temporal_fill_frames is over 100000");
   if (!(c.least_blend_share >= 0 && c.least_blend_share <= 1))
     return InvalidArgument("least_blend_share is not 0..1");
   if (c.chroma > FVV_CHROMA_420_NEAREST) return InvalidArgument("chroma is not an fvv_chroma");
@@ -71,6 +74,8 @@ fvv::Status ToSettings(const fvv_encoder_settings& c, fvv::EncoderSettings* s) {
   s->quantise_model = c.quantise_model != 0;
   s->texture_chunks = c.texture_chunks != 0;
   s->surface = c.surface != 0;
+  s->occluders.enabled = c.occluders != 0;
+  s->temporal_fill_frames = c.temporal_fill_frames;
   s->least_blend_share = c.least_blend_share;
   s->chroma = c.chroma == FVV_CHROMA_444 ? fvv::ChromaFormat::k444 : fvv::ChromaFormat::k420;
   s->chroma_upsampling = c.chroma == FVV_CHROMA_420_NEAREST ? fvv::ChromaUpsampling::kNearest
@@ -122,6 +127,8 @@ void fvv_encoder_default_settings(fvv_encoder_settings* settings) {
   settings->quantise_model = 1;
   settings->texture_chunks = 1;
   settings->surface = 0;
+  settings->occluders = fvv::EncoderSettings{}.occluders.enabled ? 1 : 0;
+  settings->temporal_fill_frames = fvv::EncoderSettings{}.temporal_fill_frames;
   settings->least_blend_share = fvv::EncoderSettings{}.least_blend_share;
   settings->coder = FVV_CODER_ARITH3;
   settings->chroma = FVV_CHROMA_444;

@@ -131,6 +131,14 @@ typedef struct {
      cameras' silhouettes and used for resampling; needs texture_chunks and footage (not a
      texture directory). Default 0. */
   uint32_t surface;
+  /* 1 (default): where the silhouettes hold something besides the actor (another person, a prop:
+     foreground the posed model does not explain), a hull of it is carved from them and a camera's
+     samples of the surface it hides are left out. 0: every sample kept. Encoder-side only. */
+  uint32_t occluders;
+  /* A texel no camera sees in a frame takes the mean colour of the frames of its GOP, at most this
+     many frames away, that saw it, before the actor's static texture (default 15; 0: the static
+     texture alone; at most 100000). Encoder-side only. */
+  uint32_t temporal_fill_frames;
 } fvv_encoder_settings;
 
 typedef struct {
