@@ -33,8 +33,9 @@ struct View {
   bool Pixel(const Vector3d& world, size_t* index, double* z) const {
     Vector2d q;
     if (!ProjectPoint(camera, world, &q, z)) return false;
-    const int x = int(std::lround(q.x())), y = int(std::lround(q.y()));
-    if (x < 0 || y < 0 || x >= w || y >= h) return false;
+    if (!(q.x() > -0.5 && q.y() > -0.5 && q.x() < w - 0.5 && q.y() < h - 0.5)) return false;
+    const int x = std::min(w - 1, int(std::lround(q.x()))),
+              y = std::min(h - 1, int(std::lround(q.y())));
     *index = size_t(y) * w + x;
     return true;
   }
