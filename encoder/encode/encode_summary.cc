@@ -53,8 +53,10 @@ std::string EncodeSummary::Table() const {
   }
   if (occluder_s > 0) {
     add("  occluders         %.3f s per frame; something else found in %u frame(s), %llu "
-        "sample(s) behind it left out\n",
-        occluder_s / std::max(1u, frames), occluder_frames, (unsigned long long)occluded_samples);
+        "sample(s) behind it left out; %u camera frame(s) whose silhouette holds more than the "
+        "actor checked against the others, %llu sample(s) dropped\n",
+        occluder_s / std::max(1u, frames), occluder_frames, (unsigned long long)occluded_samples,
+        suspect_camera_frames, (unsigned long long)suspect_dropped);
   }
   if (agreement_texels > 0) {
     add("  cameras' agreement %llu sample(s) no other camera backs dropped, of %llu texel(s) "
@@ -116,7 +118,9 @@ std::string EncodeSummary::ToJson() const {
       {"occluders",
        {{"seconds_per_frame", occluder_s / std::max(1u, frames)},
         {"frames", occluder_frames},
-        {"samples_left_out", occluded_samples}}},
+        {"samples_left_out", occluded_samples},
+        {"suspect_camera_frames", suspect_camera_frames},
+        {"suspect_samples_dropped", suspect_dropped}}},
       {"without_masks",
        {{"player_texels", player_texels}, {"player_texels_left", player_texels_left}}},
       {"surface",

@@ -222,6 +222,10 @@ struct EncodeSummary {
   // and cameras), the frames in which something was found, and its time.
   uint64_t occluded_samples = 0;
   uint32_t occluder_frames = 0;
+  // Camera frames found suspect (OccluderOptions::suspect_share), and their
+  // samples dropped as no other camera backed them.
+  uint32_t suspect_camera_frames = 0;
+  uint64_t suspect_dropped = 0;
   double occluder_s = 0;
   // The surface of every frame (surface): its bytes, tracking seconds, and
   // the mean |displacement| (metres) over frames.

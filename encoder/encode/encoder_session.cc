@@ -182,9 +182,9 @@ StatusOr<std::vector<Eigen::Vector3f>> Session::Resample(uint32_t frame, uint32_
     FVV_RETURN_IF_ERROR(ReadTextures(frame, slot));
   } else {
     std::vector<OccluderDepth> occluders;
+    OccluderReport found;
     if (!silhouettes.empty() && s_.occluders.enabled) {
       const auto t1 = Clock::now();
-      OccluderReport found;
       occluders = FindOccluders(cameras_, silhouettes, surface->triangles, positions, s_.occluders,
                                 &found, pool_.runner());
       sum_.occluder_frames += found.voxels > 0;
@@ -200,20 +200,37 @@ StatusOr<std::vector<Eigen::Vector3f>> Session::Resample(uint32_t frame, uint32_
                    occluders.empty() ? nullptr : &occluders[c], &hidden[c]);
     });
     for (uint64_t h : hidden) sum_.occluded_samples += h;
-    if (s_.agreement.max_difference > 0) {
-      // In parts of the atlas's texels, side by side.
+    // The cameras check each other's colours (in parts of the atlas's
+    // texels, side by side): every camera with --agreement, the suspect ones.
+    const auto check = [&](const SampleAgreementOptions& options, const uint8_t* suspects) {
       constexpr uint32_t kParts = 16;
       const size_t first = size_t(slot) * sum_.cameras * texels, count = map_.texel.size();
       std::vector<SampleAgreementCount> parts(kParts);
       pool_.Run(kParts, [&](uint32_t k) {
         const size_t a = count * k / kParts, b = count * (k + 1) / kParts;
-        parts[k] = DropDisagreeingSamples(sum_.cameras, texels, map_.texel.data() + a, b - a,
-                                          &span_rgb_[first * 3], &span_mask_[first], s_.agreement);
+        parts[k] =
+            DropDisagreeingSamples(sum_.cameras, texels, map_.texel.data() + a, b - a,
+                                   &span_rgb_[first * 3], &span_mask_[first], options, suspects);
       });
-      for (const SampleAgreementCount& a : parts) {
-        sum_.agreement_texels += a.voted;
-        sum_.agreement_dropped += a.dropped;
-      }
+      SampleAgreementCount all;
+      for (const SampleAgreementCount& a : parts) all.voted += a.voted, all.dropped += a.dropped;
+      return all;
+    };
+    if (s_.agreement.max_difference > 0) {
+      const SampleAgreementCount a = check(s_.agreement, nullptr);
+      sum_.agreement_texels += a.voted;
+      sum_.agreement_dropped += a.dropped;
+    }
+    std::vector<uint8_t> suspects(sum_.cameras, 0);
+    bool any_suspect = false;
+    for (size_t c = 0; c < found.unexplained_share.size() && c < suspects.size(); ++c) {
+      suspects[c] =
+          s_.occluders.suspect_share > 0 && found.unexplained_share[c] > s_.occluders.suspect_share;
+      any_suspect = any_suspect || suspects[c];
+      sum_.suspect_camera_frames += suspects[c];
+    }
+    if (any_suspect) {
+      sum_.suspect_dropped += check({s_.occluders.suspect_difference, 2}, suspects.data()).dropped;
     }
   }
   // The blend-share rule needs the posed surface; a texture directory already

@@ -25,9 +25,10 @@ constexpr float kNothing = std::numeric_limits<float>::infinity();
 struct View {
   Camera camera;
   int factor = 1, w = 0, h = 0;
-  std::vector<uint8_t> foreground;   // grown by a pixel
-  std::vector<uint8_t> unexplained;  // grown by a pixel
-  uint64_t unexplained_count = 0;
+  std::vector<uint8_t> foreground;          // grown by a pixel
+  std::vector<uint8_t> unexplained;         // grown by a pixel
+  std::vector<uint8_t> unexplained_pixels;  // not grown
+  uint64_t unexplained_count = 0, covered_count = 0;
 
   // The reduced pixel `world` falls in, or false outside the image.
   bool Pixel(const Vector3d& world, size_t* index, double* z) const {
@@ -76,7 +77,10 @@ View MakeView(const Camera& full, const Image& silhouette,
   // his depth.
   const DepthMap model = RenderDepthMap(triangles, positions, v.camera);
   std::vector<uint8_t> covered(any.size());
-  for (size_t i = 0; i < covered.size(); ++i) covered[i] = std::isfinite(model.depth[i]);
+  for (size_t i = 0; i < covered.size(); ++i) {
+    covered[i] = std::isfinite(model.depth[i]);
+    v.covered_count += covered[i];
+  }
   Vector2d q;
   double z = 0;
   int margin = 1;
@@ -91,6 +95,7 @@ View MakeView(const Camera& full, const Image& silhouette,
   }
   v.foreground = DilateMask(any.data(), v.w, v.h, 1);
   v.unexplained = DilateMask(unexplained.data(), v.w, v.h, 1);
+  v.unexplained_pixels = std::move(unexplained);
   return v;
 }
 
@@ -130,8 +135,31 @@ std::vector<OccluderDepth> FindOccluders(const std::vector<Camera>& cameras,
   runner(uint32_t(cameras.size()), [&](uint32_t c) {
     views[c] = MakeView(cameras[c], silhouettes[c], triangles, positions, actor_centre, o);
   });
+  // Each camera's unexplained foreground that the hull does not account for,
+  // as a share of what the model covers. Only voxels another camera also
+  // finds unexplained account for it: where one camera's mask alone holds
+  // someone, the voxels its foreground leaves near the actor (inside the
+  // other cameras' masks of him) are no confirmation.
+  std::vector<std::vector<uint8_t>> confirmed(views.size());
+  const auto share = [&]() {
+    if (!report) return;
+    report->unexplained_share.clear();
+    for (size_t c = 0; c < views.size(); ++c) {
+      const View& v = views[c];
+      uint64_t left = v.unexplained_count;
+      if (!confirmed[c].empty()) {
+        left = 0;
+        for (size_t i = 0; i < v.unexplained_pixels.size(); ++i) {
+          left += v.unexplained_pixels[i] && !confirmed[c][i];
+        }
+      }
+      report->unexplained_share.push_back(double(left) /
+                                          double(std::max<uint64_t>(1, v.covered_count)));
+    }
+  };
   uint64_t unexplained = 0;
   for (const View& v : views) unexplained += v.unexplained_count;
+  share();
   if (unexplained == 0) return out;
 
   // The grid around the actor; voxels grow until it fits the cap.
@@ -147,13 +175,17 @@ std::vector<OccluderDepth> FindOccluders(const std::vector<Camera>& cameras,
   // A voxel is something else's when every camera that sees it finds it in
   // its silhouette (at least two see it) and one finds it where the actor's
   // model does not reach.
-  std::vector<std::vector<Vector3d>> slab_voxels(static_cast<size_t>(dims[2]));
+  struct Voxel {
+    Vector3d p;
+    int lone;  // the one camera that finds it unexplained, or -1 (two or more)
+  };
+  std::vector<std::vector<Voxel>> slab_voxels(static_cast<size_t>(dims[2]));
   runner(uint32_t(dims[2]), [&](uint32_t zi) {
     for (int yi = 0; yi < dims[1]; ++yi) {
       for (int xi = 0; xi < dims[0]; ++xi) {
         const Vector3d p = lo + size * Vector3d(xi + 0.5, yi + 0.5, zi + 0.5);
-        int seen = 0;
-        bool kept = true, elsewhere = false;
+        int seen = 0, elsewhere = 0, lone = -1;
+        bool kept = true;
         for (const View& v : views) {
           size_t i = 0;
           double z = 0;
@@ -163,13 +195,15 @@ std::vector<OccluderDepth> FindOccluders(const std::vector<Camera>& cameras,
             kept = false;
             break;
           }
-          elsewhere = elsewhere || v.unexplained[i];
+          if (v.unexplained[i]) ++elsewhere, lone = int(&v - views.data());
         }
-        if (kept && elsewhere && seen >= 2) slab_voxels[zi].push_back(p);
+        if (kept && elsewhere > 0 && seen >= 2) {
+          slab_voxels[zi].push_back({p, elsewhere == 1 ? lone : -1});
+        }
       }
     }
   });
-  std::vector<Vector3d> voxels;
+  std::vector<Voxel> voxels;
   for (const auto& s : slab_voxels) voxels.insert(voxels.end(), s.begin(), s.end());
   if (report) report->voxels = voxels.size();
   if (voxels.empty()) return out;
@@ -182,7 +216,10 @@ std::vector<OccluderDepth> FindOccluders(const std::vector<Camera>& cameras,
     d.width = v.w;
     d.height = v.h;
     d.depth.assign(size_t(v.w) * v.h, kNothing);
-    for (const Vector3d& p : voxels) {
+    confirmed[c].assign(size_t(v.w) * v.h, 0);
+    for (const Voxel& voxel : voxels) {
+      const Vector3d& p = voxel.p;
+      const bool confirms = voxel.lone != int(c);
       Vector2d q;
       double z = 0;
       if (!ProjectPoint(v.camera, p, &q, &z)) continue;
@@ -196,10 +233,12 @@ std::vector<OccluderDepth> FindOccluders(const std::vector<Camera>& cameras,
         for (int x = x0; x <= x1; ++x) {
           float& here = d.depth[size_t(y) * v.w + x];
           here = std::min(here, float(z - 0.5 * size));
+          confirmed[c][size_t(y) * v.w + x] |= confirms;
         }
       }
     }
   });
+  share();
   return out;
 }
 

@@ -34,6 +34,13 @@ struct OccluderOptions {
   double explained_margin = 0.08;
   int max_side = 480;              // pixels: the cameras are worked at about this size
   uint64_t max_voxels = 8u << 20;  // a larger grid takes larger voxels
+  // A camera whose unexplained foreground is over this share of what the
+  // model covers (OccluderReport::unexplained_share) is suspect in that
+  // frame: its samples are kept only where another camera seeing the point
+  // saw its colour, within `suspect_difference` levels (mean over R, G, B;
+  // encoder/encode/sample_agreement.h). 0: no camera is suspect.
+  double suspect_share = 0.1;
+  double suspect_difference = 40;
 };
 
 // One camera's depth of what else stands in its view, on its image reduced by
@@ -51,6 +58,13 @@ struct OccluderDepth {
 
 struct OccluderReport {
   uint64_t voxels = 0;  // voxels of the hull of what else stands there
+  // Per camera: its silhouette's foreground that neither the actor's model
+  // nor the hull of what else stands there explains, as a share of what the
+  // model covers (at the reduced size). A camera whose mask takes in someone
+  // the other cameras' masks do not hold (the person network's mask of the
+  // actor, with another person close in front of that camera) shows here,
+  // though no hull can be carved of him.
+  std::vector<double> unexplained_share;
 };
 
 // `positions`: the actor's posed vertices (world space) of `triangles`. One

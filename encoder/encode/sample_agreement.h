@@ -32,11 +32,15 @@ struct SampleAgreementCount {
 // One frame of `cameras` atlas textures, camera-major: `rgb` holds
 // cameras x texels x 3 samples, `mask` cameras x texels (non-0: seen).
 // `texel_list` (`count` entries): the texels to check (the atlas's charts).
-// Clears the mask of every sample no other camera's backs.
+// Clears the mask of every sample no other camera's backs. With `suspects`
+// (per camera, may be null): only the samples of the cameras marked there
+// are checked, and one that no other camera saw is dropped too (it cannot be
+// told the actor's); the other cameras' samples are kept and back them.
 SampleAgreementCount DropDisagreeingSamples(uint32_t cameras, size_t texels,
                                             const uint32_t* texel_list, size_t count,
                                             const uint8_t* rgb, uint8_t* mask,
-                                            const SampleAgreementOptions& options);
+                                            const SampleAgreementOptions& options,
+                                            const uint8_t* suspects = nullptr);
 
 }  // namespace fvv
 

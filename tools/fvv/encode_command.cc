@@ -37,6 +37,7 @@ struct EncodeArgs {
   int margin = 2;
   double agreement = EncoderSettings{}.agreement.max_difference;
   double occluder_clearance = ResampleOptions{}.occluder_clearance;
+  double suspect_share = OccluderOptions{}.suspect_share;
   double smooth = TrackCaptureOptions{}.smoothing.sigma_frames;
   int fill_iterations = FillOptions{}.iterations;
   uint32_t temporal_fill = EncoderSettings{}.temporal_fill_frames;
@@ -78,6 +79,7 @@ int RunEncode(const EncodeArgs& a) {
   s.agreement.max_difference = a.agreement;
   s.occluders.enabled = !a.no_occluders;
   s.resample.occluder_clearance = a.occluder_clearance;
+  s.occluders.suspect_share = a.suspect_share;
   s.atlas_size = a.atlas;
   s.gop_frames = a.gop_frames;
   s.gop_cameras = a.gop_cameras;
@@ -276,6 +278,13 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
   e->add_option("--occluder-clearance", a->occluder_clearance,
                 "Metres something else must stand in front of a surface point to hide it")
       ->check(CLI::Range(0.0, 10.0))
+      ->capture_default_str();
+  e->add_option("--suspect-share", a->suspect_share,
+                "A camera whose silhouette holds more than this share (of what the actor's model "
+                "covers) of foreground the model does not explain is checked against the other "
+                "cameras in that frame: its samples no other camera's colour backs are dropped (a "
+                "person mask that took in someone close in front of that camera). 0: off")
+      ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
   e->add_flag("--extract", a->extract,
               "Background subtraction even when the capture lists silhouettes");
