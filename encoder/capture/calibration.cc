@@ -1,6 +1,7 @@
 #include "encoder/capture/calibration.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 
 namespace fvv {
@@ -103,6 +104,24 @@ Status ValidateCalibration(const Camera& c, const std::string& what) {
     last = rad;
   }
   return Status::Ok();
+}
+
+int ReductionFactor(const Camera& camera, int max_side) {
+  return std::max(1, int(std::ceil(double(std::max(camera.width, camera.height)) / max_side)));
+}
+
+Camera ReducedCamera(const Camera& full, int factor) {
+  Camera c = full;
+  c.width = full.width / uint32_t(factor);
+  c.height = full.height / uint32_t(factor);
+  // Reduced pixel k covers full pixels k*f .. k*f + f - 1, whose centre is
+  // k*f + (f - 1) / 2.
+  const double f = factor;
+  c.fx = full.fx / f;
+  c.fy = full.fy / f;
+  c.cx = (full.cx - (f - 1) / 2) / f;
+  c.cy = (full.cy - (f - 1) / 2) / f;
+  return c;
 }
 
 Camera LookAtCamera(const std::string& name, uint32_t width, uint32_t height, double focal_px,

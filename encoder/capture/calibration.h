@@ -33,6 +33,14 @@ Eigen::Vector2d Undistort(const Camera& camera, const Eigen::Vector2d& distorted
 // monotonic over the image. Messages start with `what`.
 Status ValidateCalibration(const Camera& camera, const std::string& what);
 
+// The integer factor that brings an image's longer side to at most about
+// `max_side` pixels (at least 1).
+int ReductionFactor(const Camera& camera, int max_side);
+// The camera of its image reduced by `factor` (each reduced pixel covering
+// factor x factor pixels, the remainder at the right and bottom dropped):
+// focal lengths divided, and pixel centres kept at integers.
+Camera ReducedCamera(const Camera& full, int factor);
+
 // A camera at `centre` looking at `target`, with world `up` pointing up in the
 // image, focal length `focal_px`, principal point at the image centre.
 Camera LookAtCamera(const std::string& name, uint32_t width, uint32_t height, double focal_px,

@@ -47,19 +47,11 @@ View MakeView(const Camera& full, const Image& silhouette,
               const std::vector<Vector3f>& positions, const Vector3d& actor_centre,
               const OccluderOptions& o) {
   View v;
-  v.factor = std::max(1, int(std::ceil(double(std::max(full.width, full.height)) / o.max_side)));
+  v.factor = ReductionFactor(full, o.max_side);
   const int f = v.factor;
-  v.w = int(full.width) / f;
-  v.h = int(full.height) / f;
-  v.camera = full;
-  v.camera.width = uint32_t(v.w);
-  v.camera.height = uint32_t(v.h);
-  // Pixel centres at integers: reduced pixel k covers full pixels k*f ..
-  // k*f + f - 1, whose centre is k*f + (f - 1) / 2.
-  v.camera.fx = full.fx / f;
-  v.camera.fy = full.fy / f;
-  v.camera.cx = (full.cx - (f - 1) / 2.0) / f;
-  v.camera.cy = (full.cy - (f - 1) / 2.0) / f;
+  v.camera = ReducedCamera(full, f);
+  v.w = int(v.camera.width);
+  v.h = int(v.camera.height);
   std::vector<uint8_t> any(size_t(v.w) * v.h, 0);
   const int ch = std::max(1, int(silhouette.channels));
   for (int y = 0; y < v.h; ++y) {

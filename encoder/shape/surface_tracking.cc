@@ -44,20 +44,10 @@ struct View {
 
 View MakeView(const Camera& full, const Image& sil, int max_side) {
   View v;
-  const int factor =
-      std::max(1, int(std::ceil(double(std::max(full.width, full.height)) / max_side)));
-  v.w = int(full.width) / factor;
-  v.h = int(full.height) / factor;
-  v.camera = full;
-  v.camera.width = uint32_t(v.w);
-  v.camera.height = uint32_t(v.h);
-  // Pixel centres at integers: pixel k of the reduced image covers full
-  // pixels k*f .. k*f + f - 1, whose centre is k*f + (f - 1) / 2.
-  const double f = factor;
-  v.camera.fx = full.fx / f;
-  v.camera.fy = full.fy / f;
-  v.camera.cx = (full.cx - (f - 1) / 2) / f;
-  v.camera.cy = (full.cy - (f - 1) / 2) / f;
+  const int factor = ReductionFactor(full, max_side);
+  v.camera = ReducedCamera(full, factor);
+  v.w = int(v.camera.width);
+  v.h = int(v.camera.height);
   v.centre = CameraCentre(full);
   v.inside.assign(size_t(v.w) * v.h, 0);
   const int ch = sil.channels;

@@ -218,21 +218,18 @@ class CaptureFramesSource : public FramesDrawnBy<ProjectiveRenderer> {
                           nullptr, pool_.runner());
       if (!d.ok()) return d.status();
       tracked_ = f;
+      // The positions moved along the bind normals; visibility and blend
+      // weights read the normals, so the surface's own.
       const Mesh& bind = model_.mesh;
-      for (size_t v = 0; v < bind.positions.size(); ++v) {
-        for (int k = 0; k < 3; ++k) {
-          surface_.mesh.positions[v][k] = bind.positions[v][k] + (*d)[v] * bind.normals[v][k];
-        }
-      }
-      // Visibility and blend weights read the normals: the surface's own.
       std::vector<Eigen::Vector3f> p(bind.positions.size());
       for (size_t v = 0; v < p.size(); ++v) {
-        p[v] = {surface_.mesh.positions[v][0], surface_.mesh.positions[v][1],
-                surface_.mesh.positions[v][2]};
+        for (int k = 0; k < 3; ++k) p[v][k] = bind.positions[v][k] + (*d)[v] * bind.normals[v][k];
+        surface_.mesh.positions[v] = {p[v].x(), p[v].y(), p[v].z()};
       }
       const std::vector<Eigen::Vector3f> n = VertexNormals(bind.triangles, p, welded_);
-      for (size_t v = 0; v < p.size(); ++v)
+      for (size_t v = 0; v < p.size(); ++v) {
         surface_.mesh.normals[v] = {n[v].x(), n[v].y(), n[v].z()};
+      }
       drawn = &surface_;
     }
     surface_s_ += Since(t1);
