@@ -65,9 +65,9 @@ async function run(page, base, mbit) {
   await page.evaluateOnNewDocument(() => {
     window.benchGops = [];
     window.benchFrames = new Map();
-    window.fvvOnGop = ({ gop, cameras, fetched, fetchBytes, seconds, whole, frames }) => {
+    window.fvvOnGop = ({ gop, cameras, fetched, fetchBytes, seconds, whole, frames, started, ended }) => {
       window.benchGops.push({ gop, cameras: cameras.length, fetched, fetchBytes, seconds, whole,
-                              at: performance.now() });
+                              at: performance.now(), started, ended });
       if (gop % 4 === 0 && !window.benchFrames.has(frames[0].index)) {
         window.benchFrames.set(frames[0].index, frames[0].views.map((v) => v.pixels));
       }
@@ -137,6 +137,13 @@ async function run(page, base, mbit) {
     // After the first two seconds' GOPs, which start low to get ahead.
     later_share_of_allowed: share.slice(Math.ceil(2 / gopSeconds)).reduce((s, v) => s + v, 0) /
       Math.max(1, share.length - Math.ceil(2 / gopSeconds)),
+    gop_shares: share.map((v) => Math.round(v * 100) / 100),
+    gop_budgets: played.map((g) => (allowed ? Math.round(100 * g.fetchBytes / allowed) / 100 : 0)),
+    gop_at: played.map((g) => Math.round(g.at)),
+    gop_fetch: played.map((g) => [Math.round(g.started), Math.round(g.ended), g.fetched]),
+    // The link's time used: every byte fetched after the first frame, against
+    // what the rate brings in that time.
+    link_share: mbit > 0 ? (end.bytesFetched - atStart.bytesFetched) / ((mbit * 1e6 / 8) * seconds) : 0,
     mean_cameras: played.reduce((s, g) => s + g.cameras, 0) / Math.max(1, played.length),
     whole_fragments: wholeFragments,
     psnr_vs_whole_db: psnr.length ? psnr.reduce((s, v) => s + v, 0) / psnr.length : null,
@@ -163,7 +170,7 @@ for (const mbit of rates) {
     `${r.frames_without_texture} frames untextured; ${r.gops} GOPs, ${(r.mean_gop_bytes / 1024).toFixed(1)} KiB each` +
     (r.allowed_gop_bytes ? ` of ${(r.allowed_gop_bytes / 1024).toFixed(1)} KiB allowed ` +
       `(${(100 * r.mean_share_of_allowed).toFixed(0)} %; ${(100 * r.later_share_of_allowed).toFixed(0)} % after ` +
-      'the first 2 s)' : '') +
+      `the first 2 s; the link ${(100 * r.link_share).toFixed(0)} % used)` : '') +
     `, ${r.mean_cameras.toFixed(1)} cameras; ` +
     (r.psnr_vs_whole_db === null ? 'no frame kept for' : r.psnr_vs_whole_db >= 99 ? 'identical to'
       : `${r.psnr_vs_whole_db.toFixed(2)} dB against`) + ` the whole ` +

@@ -236,6 +236,14 @@ TEST(FetchPlan, TheBandwidthFollowsTheFetchesAndSetsTheBudget) {
   EXPECT_DOUBLE_EQ(b.bytes_per_second(), 62500 * 0.7 + 125000 * 0.3);
   b.Measured(1000, 0);  // no time: ignored
   EXPECT_DOUBLE_EQ(b.bytes_per_second(), 62500 * 0.7 + 125000 * 0.3);
+  // Two overlapping fetches at 62.5 KB/s: the second ends 0.05 s after the
+  // first, with 20 KB; its own rate (400 KB/s) is no measure of the link.
+  BandwidthEstimate overlap;
+  overlap.Measured(20000, 0.32);
+  overlap.Measured(20000, 0.05);
+  overlap.Measured(20000, 0.59);
+  EXPECT_NEAR(overlap.bytes_per_second(), 62500, 0.15 * 62500);
+  EXPECT_DOUBLE_EQ(BandwidthEstimate(62500).bytes_per_second(), 62500) << "a rate to go on from";
   // 0.5 Mbit/s over an 8-frame GOP at 25 fps: 90 % of 20000 bytes.
   EXPECT_EQ(GopFetchBudget(62500, 8 / 25.0), 18000u);
   EXPECT_EQ(GopFetchBudget(0, 0.32), 0u);

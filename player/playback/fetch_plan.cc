@@ -6,8 +6,13 @@ namespace fvv {
 
 void BandwidthEstimate::Measured(uint64_t bytes, double seconds) {
   if (!(seconds > 0) || bytes == 0) return;
-  const double rate = double(bytes) / seconds;
-  rate_ = rate_ == 0 ? rate : 0.7 * rate_ + 0.3 * rate;
+  if (seconds_ == 0) {
+    bytes_ = double(bytes);
+    seconds_ = seconds;
+    return;
+  }
+  bytes_ = 0.7 * bytes_ + 0.3 * double(bytes);
+  seconds_ = 0.7 * seconds_ + 0.3 * seconds;
 }
 
 uint64_t GopFetchBudget(double bytes_per_second, double gop_seconds, double share) {

@@ -10,19 +10,26 @@
 
 namespace fvv {
 
-// The network's throughput, from the fetches a player made.
+// The network's throughput, from the fetches a player made: their bytes and
+// their times, each smoothed over the fetches (a new one weighs 30 %), and
+// divided. A ratio of sums, not a mean of each fetch's rate: fetches that
+// overlap split the link's time between them unevenly (one that ends just
+// after another gets little time for all its bytes), and only their sums
+// tell the link's rate.
 class BandwidthEstimate {
  public:
-  // `bytes_per_second`: an estimate to go on from (0: none yet).
-  explicit BandwidthEstimate(double bytes_per_second = 0) : rate_(bytes_per_second) {}
-  // A fetch of `bytes` that took `seconds`, from its request to its last byte.
+  // `bytes_per_second`: an estimate to go on from (0: none yet), weighing as
+  // one second of fetching.
+  explicit BandwidthEstimate(double bytes_per_second = 0)
+      : bytes_(bytes_per_second), seconds_(bytes_per_second > 0 ? 1.0 : 0.0) {}
+  // A fetch of `bytes` that took `seconds`: from its request, or from the
+  // end of the fetch before it if that ended later, to its last byte.
   void Measured(uint64_t bytes, double seconds);
-  // Bytes per second, smoothed over the fetches (a new one weighs 30 %); 0
-  // before any.
-  double bytes_per_second() const { return rate_; }
+  // Bytes per second; 0 before any fetch.
+  double bytes_per_second() const { return seconds_ > 0 ? bytes_ / seconds_ : 0; }
 
  private:
-  double rate_;
+  double bytes_, seconds_;
 };
 
 // The bytes a GOP's fetch may take: what the bandwidth brings while the GOP

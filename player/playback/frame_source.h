@@ -34,6 +34,9 @@ class FrameSource {
   // Whether the frame's GOP is still on its way (not all fetched): a wait for
   // it is then the network's, not the decoder's. A decoding source has it all.
   virtual bool Arriving(uint32_t frame) const { return false; }
+  // For a source that fetches ahead: of the GOPs it fetches ahead of the one
+  // shown, the share whose bytes are in (0 for a source that does not fetch).
+  virtual double FetchWindowFilled() const { return 0; }
 };
 
 // The native source: a decoder that decodes ahead by itself.

@@ -23,13 +23,22 @@ const fvv_decode_report& PlaybackLoop::report() const { return report_; }
 void PlaybackLoop::FetchMeasured(uint64_t bytes, double seconds) {
   bandwidth_.Measured(bytes, seconds);
   stats_.bytes_fetched += bytes;
+  // Each fetch in while none is late takes the share up too, not only each
+  // GOP shown: the first GOPs are fetched far ahead of the playhead.
+  if (!fetch_late_) fetch_share_ = std::min(kSteadyFetchShare, fetch_share_ + 0.05);
 }
 
 uint64_t PlaybackLoop::FetchBudget() const {
   const double rate = bandwidth_.bytes_per_second();
   if (rate <= 0) return 0;
   return std::max<uint64_t>(
-      1, GopFetchBudget(rate, info_.gop_frames / (fps_ * transport_.speed), fetch_share_));
+      1, GopFetchBudget(rate, info_.gop_frames / (fps_ * transport_.speed), FetchShare()));
+}
+
+double PlaybackLoop::FetchShare() const {
+  if (fetch_share_ < kSteadyFetchShare) return fetch_share_;
+  const double fill = std::clamp((fetch_filled_ - 0.5) / 0.5, 0.0, 1.0);
+  return kSteadyFetchShare + (kMaxFetchShare - kSteadyFetchShare) * fill;
 }
 
 void PlaybackLoop::Seek(uint32_t frame) {
@@ -107,6 +116,7 @@ Status PlaybackLoop::Advance(double dt, const glm::vec3& eye, const glm::vec3& t
     gop_mask_ = mask_gop_ == 0 && wrap_mask_set_ ? wrap_mask_ : ViewMask(eye, target);
     wrap_mask_set_ = false;
   }
+  fetch_filled_ = source_->FetchWindowFilled();
   const GopRequest request = Request();
   on_screen_s_ += dt;
   if (f != shown_ && has_frame() && !source_->Ready(f, request)) {
@@ -167,7 +177,7 @@ Status PlaybackLoop::Advance(double dt, const glm::vec3& eye, const glm::vec3& t
     outcome.frame_ms = frame_ms_;
     control_.Report(outcome);
     // Back up towards the bandwidth's whole share while GOPs arrive in time.
-    if (!fetch_late_) fetch_share_ = std::min(kMaxFetchShare, fetch_share_ + 0.1);
+    if (!fetch_late_) fetch_share_ = std::min(kSteadyFetchShare, fetch_share_ + 0.1);
     fetch_late_ = false;
     wait_ms_ = 0;
     ++stats_.gops;

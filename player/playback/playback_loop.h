@@ -96,11 +96,18 @@ class PlaybackLoop {
   PlaybackController control_;
   PlaybackStats stats_;
   BandwidthEstimate bandwidth_;
-  // The share of a GOP's play time its fetch may take: low at the start, so
-  // that GOPs come ahead of the playhead, then up to kMaxFetchShare while
-  // none is late, down after a wait (FetchBudget).
-  static constexpr double kMaxFetchShare = 0.9, kMinFetchShare = 0.4;
+  // The share of what the bandwidth brings in a GOP's play time that its
+  // fetch may take (FetchBudget): low at the start, so that GOPs come ahead of
+  // the playhead, then up to kSteadyFetchShare while none is late, down after
+  // a wait. Past it as the fetch window fills beyond half, up to
+  // kMaxFetchShare with the window full: fetches that are ahead take more
+  // until they bring what the link does (a measured rate undercounts it,
+  // each request paying its round trip), and the network never idles while
+  // the window has room.
+  static constexpr double kSteadyFetchShare = 0.9, kMaxFetchShare = 1.2, kMinFetchShare = 0.4;
+  double FetchShare() const;
   double fetch_share_ = 0.6;
+  double fetch_filled_ = 0;     // the source's FetchWindowFilled, as of the last Advance
   bool fetch_late_ = false;     // the playhead waited for this GOP's bytes
   fvv_decode_report report_{};  // of the frame shown
   uint32_t shown_ = UINT32_MAX, last_gop_ = UINT32_MAX;

@@ -10,13 +10,16 @@ RequestedGops::RequestedGops(uint32_t frame_count, uint32_t gop_frames, uint32_t
       fetch_ahead_(std::max(kAhead, fetch_ahead)) {}
 
 void RequestedGops::Ask(uint32_t gop, const GopRequest& request, bool urgent) {
-  if (gop >= gops_ || held_.count(gop) || gop == in_flight_ || fetched_.count(gop) ||
+  if (gop >= gops_ || held_.count(gop) || in_flight_.count(gop) || fetched_.count(gop) ||
       gop == decoding_) {
     return;
   }
   auto it =
       std::find_if(queue_.begin(), queue_.end(), [gop](const Pending& p) { return p.gop == gop; });
   if (it != queue_.end()) {
+    // Not fetched yet: it takes the latest request (the bandwidth's bytes,
+    // the view's cameras), not the one it was first asked with.
+    it->request = request;
     if (!urgent || it == queue_.begin()) return;
     queue_.erase(it);
   }
@@ -61,20 +64,36 @@ bool RequestedGops::Arriving(uint32_t frame) const {
   return !held_.count(gop) && !fetched_.count(gop) && gop != decoding_;
 }
 
+double RequestedGops::FetchWindowFilled() const {
+  // The window ends at the stream's end (a loop's first GOP is the loop's
+  // to ask for).
+  const uint32_t window = std::min(fetch_ahead_, gops_ - 1 - std::min(shown_gop_, gops_ - 1));
+  uint32_t in = 0;
+  while (in < window) {
+    const uint32_t g = shown_gop_ + in + 1;
+    if (!held_.count(g) && !fetched_.count(g) && g != decoding_) break;
+    ++in;
+  }
+  return window ? double(in) / window : 1.0;
+}
+
 bool RequestedGops::NextRequest(uint32_t* gop, GopRequest* request) {
-  if (in_flight_ != UINT32_MAX || queue_.empty()) return false;
+  if (queue_.empty() || in_flight_.size() >= kFetchesInFlight) return false;
+  if (!in_flight_.empty() && (in_flight_.count(wanted_) || queue_.front().gop == wanted_)) {
+    return false;
+  }
   *gop = queue_.front().gop;
   *request = queue_.front().request;
   queue_.pop_front();
-  in_flight_ = *gop;
-  in_flight_request_ = *request;
+  in_flight_[*gop] = *request;
   return true;
 }
 
 void RequestedGops::Fetched(uint32_t gop) {
-  if (gop != in_flight_) return;
-  fetched_[gop] = in_flight_request_;
-  in_flight_ = UINT32_MAX;
+  auto it = in_flight_.find(gop);
+  if (it == in_flight_.end()) return;
+  fetched_[gop] = it->second;
+  in_flight_.erase(it);
 }
 
 bool RequestedGops::NextDecode(uint32_t* gop, GopRequest* request) {
@@ -100,14 +119,14 @@ bool RequestedGops::NextDecode(uint32_t* gop, GopRequest* request) {
 void RequestedGops::Deliver(uint32_t gop, const fvv_decode_report& report) {
   held_[gop] = report;
   if (gop == decoding_) decoding_ = UINT32_MAX;
-  if (gop == in_flight_) in_flight_ = UINT32_MAX;
+  in_flight_.erase(gop);
   fetched_.erase(gop);
   // The network stays busy: the next GOP, while it is within reach of the one shown.
   if (gop + 1 < gops_ && Ahead(gop + 1) <= fetch_ahead_) Ask(gop + 1, last_, false);
 }
 
 void RequestedGops::Failed(uint32_t gop) {
-  if (gop == in_flight_) in_flight_ = UINT32_MAX;
+  in_flight_.erase(gop);
   if (gop == decoding_) decoding_ = UINT32_MAX;
   fetched_.erase(gop);
 }

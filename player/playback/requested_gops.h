@@ -31,6 +31,11 @@ class RequestedGops : public FrameSource {
     return gop_frames ? uint32_t(kFetchAheadSeconds * fps / gop_frames + 0.999) : kAhead;
   }
 
+  // Fetches under way at once, at most: a second one's request and first
+  // bytes overlap the first's last bytes, so the link does not idle for a
+  // round trip between GOPs.
+  static constexpr uint32_t kFetchesInFlight = 2;
+
   // fetch_ahead: GOPs fetched ahead of the one shown (at least kAhead).
   RequestedGops(uint32_t frame_count, uint32_t gop_frames, uint32_t fetch_ahead = kAhead);
 
@@ -39,9 +44,12 @@ class RequestedGops : public FrameSource {
   StatusOr<bool> Take(uint32_t frame, const GopRequest& request,
                       fvv_decode_report* report) override;
   bool Arriving(uint32_t frame) const override;
+  double FetchWindowFilled() const override;
 
   // The next request to serve, taken off the queue (it is then being
-  // fetched); false when there is none or a fetch is under way.
+  // fetched); false when there is none or kFetchesInFlight are under way. A
+  // second fetch starts beside the first only while the playhead waits for
+  // neither: the GOP waited for has the link to itself.
   bool NextRequest(uint32_t* gop, GopRequest* request);
   // The GOP's bytes are in: the next request may be fetched.
   void Fetched(uint32_t gop);
@@ -74,11 +82,10 @@ class RequestedGops : public FrameSource {
   uint32_t fetch_ahead_;
   std::deque<Pending> queue_;
   std::map<uint32_t, fvv_decode_report> held_;
-  uint32_t in_flight_ = UINT32_MAX;  // being fetched
-  GopRequest in_flight_request_{};
-  std::map<uint32_t, GopRequest> fetched_;  // fetched, not decoding yet
-  uint32_t decoding_ = UINT32_MAX;          // being decoded
-  uint32_t wanted_ = UINT32_MAX;            // the GOP the playhead waits for
+  std::map<uint32_t, GopRequest> in_flight_;  // being fetched
+  std::map<uint32_t, GopRequest> fetched_;    // fetched, not decoding yet
+  uint32_t decoding_ = UINT32_MAX;            // being decoded
+  uint32_t wanted_ = UINT32_MAX;              // the GOP the playhead waits for
   uint32_t shown_gop_ = 0;
   GopRequest last_{};  // the request of the GOP shown: the one the GOPs ahead take
 };

@@ -38,8 +38,10 @@ export class FvvPlayer {
   // options: moduleUrl, workerUrl, zstdUrl, shaderUrl (defaults: beside this
   // file, as the build lays the site out), prepared (FvvPlayer.prepare's),
   // onNotice(text), onError(error), onGop({ gop, cameras, fetched,
-  // fetchBytes, seconds, whole, frames }) after each GOP is decoded (whole:
-  // its fragments were fetched whole), autoplay (true), loop (true).
+  // fetchBytes, seconds, whole, started, ended, frames }) after each GOP is
+  // decoded (whole: its fragments were fetched whole; seconds: the link's
+  // time charged to its fetch; started, ended: the fetch's, in
+  // performance.now() ms), autoplay (true), loop (true).
   static async open(canvas, url, options = {}) {
     const p = new FvvPlayer(canvas, options);
     try {
@@ -76,7 +78,10 @@ export class FvvPlayer {
     if (!gl) throw new Error('this browser has no WebGL 2');
     this.gl = gl;
     this.gops = new Map();    // GOP -> decoded frames
-    this.fetching = false;    // a GOP's fragments being fetched
+    // GOPs' fetches under way (the loop allows two), each with the link's
+    // time charged to it so far (#chargeLink).
+    this.fetches = new Set();
+    this.linkClock = 0;
     this.decoding = false;    // a GOP being decoded
     this.fetchedGops = new Map();  // GOP -> its fetch, until it is decoded
     this.error = null;
@@ -259,17 +264,24 @@ export class FvvPlayer {
 
   // Serves the loop's requests in two stages, so that the network never
   // waits for the decoder: fetches of GOPs' fragment prefixes (as the loop's
-  // fetch budget allows), running up to two seconds ahead, and decodes in the
-  // worker of the fetched GOPs the loop says are due (#decodeNext).
+  // fetch budget allows), running up to two seconds ahead, two at a time
+  // where the loop allows (the next request's round trip overlaps the last
+  // one's bytes), and decodes in the worker of the fetched GOPs the loop says
+  // are due (#decodeNext).
   async #serve() {
-    if (this.fetching || this.error || !this.running) return;
+    if (this.error || !this.running) return;
     const r = this.playback.nextRequest();
     if (!r) return;
-    this.fetching = true;
+    const fetch = { seconds: 0, started: performance.now() };
+    this.#chargeLink();
+    this.fetches.add(fetch);
+    this.#serve();  // a second fetch beside this one, where the loop allows it
     try {
-      const { fetched, parts, cameras } = await this.stream.fetchGopBytes(r.gop, r.cameras,
+      const { fetched, parts, cameras, whole } = await this.stream.fetchGopBytes(r.gop, r.cameras,
         r.fetchBytes > 0 ? r.fetchBytes : Number.MAX_SAFE_INTEGER, this.playback);
-      const seconds = this.stream.lastFetchSeconds;
+      this.#chargeLink();
+      this.fetches.delete(fetch);
+      const seconds = fetch.seconds;
       if (fetched > 0 && seconds > 0) this.playback.fetchMeasured(fetched, seconds);
       this.hud.lastGopBytes = fetched;
       this.hud.lastGopBudget = r.fetchBytes;
@@ -278,7 +290,8 @@ export class FvvPlayer {
       // connection are left out of the GOP's decode.
       this.#inOrder(() => this.stream.addParts(parts)).catch((e) => this.#fail(e));
       this.fetchedGops.set(r.gop, {
-        fetched, fetchBytes: r.fetchBytes, seconds, whole: this.stream.lastFetchWhole ?? true,
+        fetched, fetchBytes: r.fetchBytes, seconds, whole: whole ?? true,
+        started: fetch.started, ended: performance.now(),
         cameras: cameras ?? r.cameras,
       });
       this.playback.fetched(r.gop);
@@ -286,10 +299,20 @@ export class FvvPlayer {
       this.playback.failed(r.gop);
       this.#fail(e instanceof FvvStreamError ? e : new Error(`GOP ${r.gop}: ${e.message}`));
     } finally {
-      this.fetching = false;
+      this.#chargeLink();
+      this.fetches.delete(fetch);
     }
     this.#decodeNext();
     this.#serve();  // the next fetch at once, not at the next frame
+  }
+
+  // Charges the time since the last call to the fetches under way, split
+  // evenly: two that share the link each take half of it, so each fetch's
+  // bytes over its time tell the link's rate, as one fetch alone does.
+  #chargeLink() {
+    const now = performance.now();
+    for (const f of this.fetches) f.seconds += (now - this.linkClock) / 1000 / this.fetches.size;
+    this.linkClock = now;
   }
 
   // Runs `work` after everything queued before it on the worker: fetched
@@ -335,7 +358,8 @@ export class FvvPlayer {
       // the controller must leave room for.
       this.playback.deliver(r.gop, { ...frames[0].report, decodeMs: performance.now() - t0 });
       this.options.onGop?.({ gop: r.gop, cameras: r.cameras, fetched: f.fetched, fetchBytes: f.fetchBytes,
-                             seconds: f.seconds, whole: f.whole, frames });
+                             seconds: f.seconds, whole: f.whole, started: f.started, ended: f.ended,
+                             frames });
       this.hud.report = frames[0].report;
       this.#evict();
     } catch (e) {

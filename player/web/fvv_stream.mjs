@@ -213,13 +213,14 @@ export class FvvStream {
   // Fetches GOP `span` for `cameras`: each fragment's prefix as the fetch plan
   // gives it for `budget` bytes (default: what the bandwidth allows while a
   // GOP plays; unmeasured, whole fragments), the requests together. Returns
-  // { fetched, parts, cameras }: the bytes fetched, and of `cameras` those
-  // whose fragments hold their heads (they decode). The bytes reach the
-  // decoder with addParts(parts), which a player may leave until the decoder
-  // is free, fetching on meanwhile.
-  // lastFetchSeconds is the time from the first request to the last byte,
-  // lastFetchWhole whether the plan took every fragment whole. `planner`
+  // { fetched, parts, cameras, seconds, whole }: the bytes fetched, of
+  // `cameras` those whose fragments hold their heads (they decode), the time
+  // from the request to the last byte, and whether the plan took every
+  // fragment whole. The bytes reach the decoder with addParts(parts), which a
+  // player may leave until the decoder is free, fetching on meanwhile.
+  // lastFetchSeconds and lastFetchWhole repeat the last call's. `planner`
   // (FvvPlayback, on the page's thread) plans without waiting for the decoder.
+  // Calls may overlap (GOPs of different spans).
   async fetchGopBytes(span, cameras, budget, planner = this.decoder) {
     this.lastFetchSeconds = 0;
     this.lastFetchWhole = true;
@@ -238,7 +239,8 @@ export class FvvStream {
       headSize: f.headSize, size: f.size,
       surfaceSize: f.surfaceSize || (f.firstCamera === 0 ? this.surfaceBytes ?? 0 : 0),
     })), allowed);
-    this.lastFetchWhole = fragments.every((f, i) => plan[i] >= f.size);
+    const whole = fragments.every((f, i) => plan[i] >= f.size);
+    this.lastFetchWhole = whole;
     const wanted = fragments.map((f, i) => [f, plan[i] - f.held]).filter(([, want]) => want > 0);
     const started = performance.now();
     let got = { parts: [], complete: true, whole: false, received: 0 };
@@ -247,7 +249,8 @@ export class FvvStream {
       // round trip and its headers, more than a fragment's prefix at times.
       got = await this.#getRanges(wanted.map(([f, want]) => [f.offset + f.held, want]));
     }
-    this.lastFetchSeconds = (performance.now() - started) / 1000;
+    const seconds = (performance.now() - started) / 1000;
+    this.lastFetchSeconds = seconds;
     if (got.whole) {
       this.wholeFile = true;
       for (const f of this.fragmentList) f.held = f.size;
@@ -278,7 +281,7 @@ export class FvvStream {
     }
     const all = cameras ?? [...Array(this.info.cameraCount).keys()];
     const ready = all.filter((c) => decodable.has(c - (c % this.info.gopCameras)));
-    return { fetched, parts, cameras: ready };
+    return { fetched, parts, cameras: ready, seconds, whole };
   }
 
   // A decoded frame's surface size (decodeFrame's surfaceBytes): the estimate
