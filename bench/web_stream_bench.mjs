@@ -66,8 +66,10 @@ async function run(page, base, mbit) {
     window.benchGops = [];
     window.benchFrames = new Map();
     window.fvvOnGop = ({ gop, cameras, fetched, fetchBytes, seconds, whole, frames, started, ended }) => {
+      const r = frames[0].report ?? {};
       window.benchGops.push({ gop, cameras: cameras.length, fetched, fetchBytes, seconds, whole,
-                              at: performance.now(), started, ended });
+                              at: performance.now(), started, ended,
+                              report: [Math.round(r.decodeMs), Math.round(r.maxMs), r.complete, r.bytesDecoded, r.bytesAvailable, ...(r.bitplanes ?? [])] });
       if (gop % 4 === 0 && !window.benchFrames.has(frames[0].index)) {
         window.benchFrames.set(frames[0].index, frames[0].views.map((v) => v.pixels));
       }
@@ -79,16 +81,29 @@ async function run(page, base, mbit) {
   if (!(await page.evaluate(() => window.fvvReady))) throw new Error('the page could not load its module');
   await throttle(cdp, mbit);
   const opened = Date.now();
-  await page.evaluate((u) => { window.fvvOpen(u); }, url);
+  await page.evaluate((u) => { window.benchOpenedAt = performance.now(); window.fvvOpen(u); }, url);
   await page.waitForFunction(() => window.fvvPlayer || window.fvvError, { timeout: 60000, polling: 20 });
   const error = await page.evaluate(() => window.fvvError ?? null);
   if (error) throw new Error(`the page cannot play the stream: ${error}`);
   await page.waitForFunction(() => window.fvvPlayer.stats().framesDrawn > 0, { timeout: 60000, polling: 20 });
   const startup = (Date.now() - opened) / 1000;
   const atStart = await page.evaluate(() => window.fvvPlayer.stats());
+  // When each wait began, from the first frame on (ms, the frame waited at).
+  await page.evaluate(() => {
+    window.benchWaits = [];
+    const t0 = performance.now();
+    let waits = window.fvvPlayer.stats().waits;
+    setInterval(() => {
+      const s = window.fvvPlayer.stats();
+      if (s.waits !== waits) window.benchWaits.push([Math.round(performance.now() - t0), s.frame]);
+      waits = s.waits;
+    }, 10);
+  });
   await new Promise((r) => setTimeout(r, seconds * 1000));
   const end = await page.evaluate(() => window.fvvPlayer.stats());
   const gops = await page.evaluate(() => window.benchGops);
+  const waitTimes = await page.evaluate(() => window.benchWaits);
+  const openedAt = await page.evaluate(() => window.benchOpenedAt);
   const info = await page.evaluate(() => window.fvvPlayer.info);
   await throttle(cdp, 0);
   // The whole decode of the kept frames, on the page's own thread, from the
@@ -137,9 +152,12 @@ async function run(page, base, mbit) {
     // After the first two seconds' GOPs, which start low to get ahead.
     later_share_of_allowed: share.slice(Math.ceil(2 / gopSeconds)).reduce((s, v) => s + v, 0) /
       Math.max(1, share.length - Math.ceil(2 / gopSeconds)),
+    wait_times: waitTimes,
+    opened_at: openedAt,
     gop_shares: share.map((v) => Math.round(v * 100) / 100),
     gop_budgets: played.map((g) => (allowed ? Math.round(100 * g.fetchBytes / allowed) / 100 : 0)),
     gop_at: played.map((g) => Math.round(g.at)),
+    gop_reports: played.map((g) => g.report),
     gop_fetch: played.map((g) => [Math.round(g.started), Math.round(g.ended), g.fetched]),
     // The link's time used: every byte fetched after the first frame, against
     // what the rate brings in that time.
