@@ -158,6 +158,7 @@ async function run(page, base, mbit) {
     gop_budgets: played.map((g) => (allowed ? Math.round(100 * g.fetchBytes / allowed) / 100 : 0)),
     gop_at: played.map((g) => Math.round(g.at)),
     gop_reports: played.map((g) => g.report),
+    gop_cameras: played.map((g) => g.cameras),
     gop_fetch: played.map((g) => [Math.round(g.started), Math.round(g.ended), g.fetched]),
     // The link's time used: every byte fetched after the first frame, against
     // what the rate brings in that time.

@@ -14,6 +14,7 @@ import path from 'node:path';
 import { createRequire } from 'node:module';
 import { decompress } from '../tools/web/node_modules/fzstd/esm/index.mjs';
 import { FvvDecoder, FvvError } from '../player/web/fvv_decoder_api.mjs';
+import { lookedAtPoint } from '../player/web/fvv_view.mjs';
 
 const [buildDir, streamPath, prefixDir, prefixArg, wholeDir, surfacePath] = process.argv.slice(2);
 const prefix = Number(prefixArg);
@@ -83,6 +84,16 @@ for (let c = 0; c < info.cameraCount; ++c) {
   check(same(frame.views[c].pixels, rgbFile(prefixDir, 0, c)), `frame 0 camera ${c} at the prefix`);
 }
 check(!frame.report.complete, 'a prefix is not the whole texture');
+// Where the page's view orbits before the first frame: the cameras' aim,
+// near the actor's root (the root's world translation, column-major).
+{
+  const cams = Array.from({ length: info.cameraCount }, (_, c) => dec2.camera(c));
+  const aim = lookedAtPoint(cams);
+  const root = [frame.boneWorld[12], frame.boneWorld[13], frame.boneWorld[14]];
+  const off = aim ? Math.hypot(...aim.map((v, k) => v - root[k])) : Infinity;
+  check(off < 0.6, `the cameras aim ${off.toFixed(2)} m from the actor's root`);
+  check(lookedAtPoint(cams.slice(0, 1)) === null, 'one camera aims at no point');
+}
 // The rest of the fragments: the whole decode.
 for (const f of span0) dec2.addRange(f.offset, stream.subarray(f.offset, f.offset + f.size));
 frame = dec2.decodeFrame(1);

@@ -33,10 +33,6 @@ void RequestedGops::Ask(uint32_t gop, const GopRequest& request, bool urgent) {
   while (queue_.size() > fetch_ahead_ + 1) queue_.pop_back();
 }
 
-void RequestedGops::AskAhead(uint32_t gop, const GopRequest& request) {
-  for (uint32_t g = gop + 1; g <= gop + fetch_ahead_ && g < gops_; ++g) Ask(g, request, false);
-}
-
 bool RequestedGops::Ready(uint32_t frame, const GopRequest&) {
   return held_.count(frame / gop_frames_) != 0;
 }
@@ -51,18 +47,15 @@ StatusOr<bool> RequestedGops::Take(uint32_t frame, const GopRequest& request,
   const uint32_t gop = frame / gop_frames_;
   auto it = held_.find(gop);
   if (it == held_.end()) {
-    // The GOPs after it are asked for too: they are fetched while it decodes
-    // (the first GOP's decode is the longest, the module's code still new).
     wanted_ = gop;
     Ask(gop, request, /*urgent=*/true);
-    AskAhead(gop, request);
     return false;
   }
   *report = it->second;
   shown_gop_ = gop;
   if (wanted_ == gop) wanted_ = UINT32_MAX;
   last_ = request;
-  AskAhead(gop, request);
+  for (uint32_t g = gop + 1; g <= gop + fetch_ahead_ && g < gops_; ++g) Ask(g, request, false);
   return true;
 }
 

@@ -75,8 +75,6 @@ class RequestedGops : public FrameSource {
   };
   // Queues `gop` (at the front when urgent) unless held, in flight or queued.
   void Ask(uint32_t gop, const GopRequest& request, bool urgent);
-  // Queues the GOPs within the fetch window after `gop`.
-  void AskAhead(uint32_t gop, const GopRequest& request);
   // GOPs past the one shown, in playing order (round the end).
   uint32_t Ahead(uint32_t gop) const { return (gop + gops_ - shown_gop_) % gops_; }
   uint32_t gops_;

@@ -16,7 +16,7 @@ import { FvvDecoderPool } from './fvv_decoder_pool.mjs';
 import { FvvPlayback } from './fvv_playback.mjs';
 import { FvvRenderer } from './fvv_renderer.mjs';
 import { FvvStream, FvvStreamError } from './fvv_stream.mjs';
-import { lookAtView, orbitView } from './fvv_view.mjs';
+import { lookAtView, lookedAtPoint, orbitView } from './fvv_view.mjs';
 
 const here = (name) => new URL(name, import.meta.url).href;
 const DEFAULTS = () => ({
@@ -119,6 +119,10 @@ export class FvvPlayer {
     this.info = info;
     this.cameras = [];
     for (let c = 0; c < info.cameraCount; ++c) this.cameras.push(await this.worker.camera(c));
+    // Until the first frame places the actor, the view orbits where the
+    // cameras aim: the first GOPs are fetched for the cameras that view
+    // will blend, not for a guess's.
+    this.aim = lookedAtPoint(this.cameras) ?? [0, 1, 0];
     const model = await this.worker.model();
     this.playback = await FvvPlayback.create({
       moduleUrl: o.moduleUrl, wasmModule: this.wasmModule, info, centres: this.cameras.map((c) => c.centre),
@@ -199,7 +203,7 @@ export class FvvPlayer {
   }
   #view() {
     const aspect = this.canvas.width / this.canvas.height;
-    const target = this.renderer.actor ?? [0, 1, 0];
+    const target = this.renderer.actor ?? this.aim;
     if (this.fixedView) return lookAtView(this.fixedView.eye, this.fixedView.target, this.fixedView.fovDeg ?? 40, aspect);
     return orbitView(target, { ...this.orbit, aspect });
   }

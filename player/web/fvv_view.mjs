@@ -97,3 +97,27 @@ export function orbitView(target, { yaw, pitch, distance, fovDeg = 40, aspect })
 export function lookAtView(eye, target, fovDeg, aspect) {
   return { eye, target, viewMatrix: lookAt(eye, target), projection: perspective(fovDeg, aspect, 0.05, 50) };
 }
+
+// The point the cameras look at: nearest (least squares) to every camera's
+// optical axis, the rig's aim, where the actor stands. Cameras in the
+// stream's form (centre, rotation: world to camera, row-major). Null when
+// the axes do not fix a point (fewer than two, or all parallel).
+export function lookedAtPoint(cameras) {
+  const a = [0, 0, 0, 0, 0, 0, 0, 0, 0], b = [0, 0, 0];
+  for (const c of cameras) {
+    const d = [c.rotation[6], c.rotation[7], c.rotation[8]];  // the optical axis in the world
+    for (let r = 0; r < 3; ++r) {
+      for (let k = 0; k < 3; ++k) {
+        const m = (r === k ? 1 : 0) - d[r] * d[k];
+        a[r * 3 + k] += m;
+        b[r] += m * c.centre[k];
+      }
+    }
+  }
+  // Cramer's rule on the 3x3 system a p = b.
+  const det = (m) => m[0] * (m[4] * m[8] - m[5] * m[7]) - m[1] * (m[3] * m[8] - m[5] * m[6]) +
+    m[2] * (m[3] * m[7] - m[4] * m[6]);
+  const d = det(a);
+  if (!(Math.abs(d) > 1e-9 * Math.max(1, cameras.length ** 3))) return null;
+  return [0, 1, 2].map((col) => det(a.map((v, i) => (i % 3 === col ? b[Math.floor(i / 3)] : v))) / d);
+}
