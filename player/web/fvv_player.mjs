@@ -529,6 +529,8 @@ class SequentialStream {
   async addParts() {}
   surfaceLearned() {}  // whole fragments: no fetch plan to inform
   // Waits until the GOP's frames decode: { fetched: the bytes fetched meanwhile }.
+  // Two calls may wait at once (the player fetches two GOPs at a time):
+  // each counts the bytes that came since the last call returned, once.
   async fetchGopBytes(span) {
     const before = this.fetched;
     const last = Math.min((span + 1) * this.info.gopFrames, this.info.frameCount);
@@ -537,6 +539,8 @@ class SequentialStream {
       if (this.ended) throw new FvvStreamError(`${this.url}: the stream ends at frame ${this.available}`);
       await new Promise((resolve) => this.waiters.push(resolve));
     }
-    return { fetched: this.fetched - before, parts: [] };
+    const fetched = this.fetched - Math.max(before, this.counted ?? 0);
+    this.counted = this.fetched;
+    return { fetched, parts: [] };
   }
 }
