@@ -17,7 +17,7 @@
 //   node web_player_test.mjs SITE_DIR WORK_DIR
 // WORK_DIR holds masks.fvv, depth.fvv, live.fvv, damaged.fvv, cut.fvv, path.json and
 // the native stills native_masks.png and native_depth.png (web_player_test.sh).
-import { readFileSync, writeFileSync } from 'node:fs';
+import { readFileSync, statSync, writeFileSync } from 'node:fs';
 import path from 'node:path';
 import { withBrowser } from '../tools/web/browser_harness.mjs';
 
@@ -185,6 +185,9 @@ await withBrowser(mounts, async ({ page, base, requests }) => {
   const live = await message(page);
   check(s && s.frame === s.frameCount - 1 && s.sequential && !s.error && /no index/.test(live.notice),
     `a stream without an index plays to its end (${s?.frame + 1} of ${s?.frameCount} frames); notice "${live.notice.split('\n')[0]}"`);
+  const liveSize = statSync(`${work}/live.fvv`).size;
+  check(s && s.bytesFetched === liveSize,
+    `its every byte counted, each once: ${s?.bytesFetched} of a ${liveSize}-byte stream`);
 
   const streamRequests = requests.filter((r) => r.path.startsWith('/data/') && r.path.endsWith('.fvv'));
   check(streamRequests.length > 4 && streamRequests.every((r) => r.path.endsWith('live.fvv') || (r.status === 206 && r.range)),

@@ -530,16 +530,16 @@ class SequentialStream {
   surfaceLearned() {}  // whole fragments: no fetch plan to inform
   // Waits until the GOP's frames decode: { fetched: the bytes fetched meanwhile }.
   // Two calls may wait at once (the player fetches two GOPs at a time):
-  // each counts the bytes that came since the last call returned, once.
+  // each counts the bytes that came since the last call returned (the first,
+  // every byte from the stream's start: the head's too), so each once.
   async fetchGopBytes(span) {
-    const before = this.fetched;
     const last = Math.min((span + 1) * this.info.gopFrames, this.info.frameCount);
     while (this.available < last) {
       if (this.error) throw new FvvStreamError(`${this.url}: ${this.error.message}`);
       if (this.ended) throw new FvvStreamError(`${this.url}: the stream ends at frame ${this.available}`);
       await new Promise((resolve) => this.waiters.push(resolve));
     }
-    const fetched = this.fetched - Math.max(before, this.counted ?? 0);
+    const fetched = this.fetched - (this.counted ?? 0);
     this.counted = this.fetched;
     return { fetched, parts: [] };
   }
