@@ -218,13 +218,10 @@ export class FvvStream {
   // from the request to the last byte, and whether the plan took every
   // fragment whole. The bytes reach the decoder with addParts(parts), which a
   // player may leave until the decoder is free, fetching on meanwhile.
-  // lastFetchSeconds and lastFetchWhole repeat the last call's. `planner`
-  // (FvvPlayback, on the page's thread) plans without waiting for the decoder.
-  // Calls may overlap (GOPs of different spans).
+  // `planner` (FvvPlayback, on the page's thread) plans without waiting for
+  // the decoder. Calls may overlap (GOPs of different spans).
   async fetchGopBytes(span, cameras, budget, planner = this.decoder) {
-    this.lastFetchSeconds = 0;
-    this.lastFetchWhole = true;
-    if (this.wholeFile) return { fetched: 0, parts: [] };
+    if (this.wholeFile) return { fetched: 0, parts: [], seconds: 0, whole: true };
     const fragments = this.fragmentsFor(span, cameras);
     if (budget === undefined) {
       for (const [bytes, seconds] of this.measured.splice(0)) {
@@ -240,7 +237,6 @@ export class FvvStream {
       surfaceSize: f.surfaceSize || (f.firstCamera === 0 ? this.surfaceBytes ?? 0 : 0),
     })), allowed);
     const whole = fragments.every((f, i) => plan[i] >= f.size);
-    this.lastFetchWhole = whole;
     const wanted = fragments.map((f, i) => [f, plan[i] - f.held]).filter(([, want]) => want > 0);
     const started = performance.now();
     let got = { parts: [], complete: true, whole: false, received: 0 };
@@ -250,7 +246,6 @@ export class FvvStream {
       got = await this.#getRanges(wanted.map(([f, want]) => [f.offset + f.held, want]));
     }
     const seconds = (performance.now() - started) / 1000;
-    this.lastFetchSeconds = seconds;
     if (got.whole) {
       this.wholeFile = true;
       for (const f of this.fragmentList) f.held = f.size;
