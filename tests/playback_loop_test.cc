@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <bitset>
+#include <cmath>
 #include <vector>
 
 #include "player/playback/requested_gops.h"
@@ -165,6 +167,59 @@ TEST(PlaybackLoopOverRequests, AQueuedGopIsFetchedWithTheLatestBudget) {
   ASSERT_TRUE(rig.gops.NextRequest(&gop, &request));
   EXPECT_EQ(gop, 1u);
   EXPECT_EQ(request.fetch_bytes, rig.loop.FetchBudget()) << "not the whole fragments first asked";
+}
+
+// Eight cameras round the actor, a view 10 degrees off camera 0: four within
+// the decode's 90-degree reach. The first GOP's decode takes 150 ms a camera
+// beyond its budget. GOP 1, fetched for four while GOP 0 decoded, decodes
+// only after frame 0 was taken, and then the closest three of them; the GOPs
+// fetched after it ask for three.
+TEST(PlaybackLoopOverRequests, ADecoderTooSlowForTheViewsCamerasGetsTheClosestThree) {
+  fvv_stream_info info = Info();
+  info.camera_count = 8;
+  std::vector<glm::vec3> ring;
+  for (int c = 0; c < 8; ++c) {
+    const float a = glm::radians(45.0f * c);
+    ring.emplace_back(2 * std::sin(a), 1, 2 * std::cos(a));
+  }
+  RequestedGops gops{kFrames, kGopFrames};
+  PlaybackLoop loop{&gops, info, ring};
+  const float a = glm::radians(10.0f);
+  const glm::vec3 eye{3 * std::sin(a), 1, 3 * std::cos(a)}, target{0, 1, 0};
+  auto count = [](uint64_t mask) { return std::bitset<64>(mask).count(); };
+  ASSERT_TRUE(loop.Advance(1 / kFps, eye, target).ok());
+  uint32_t gop, decoded;
+  GopRequest r, d;
+  ASSERT_TRUE(gops.NextRequest(&gop, &r));
+  ASSERT_EQ(gop, 0u);
+  const uint64_t four = r.budget.camera_mask;
+  ASSERT_EQ(count(four), 4u);
+  gops.Fetched(0);
+  ASSERT_TRUE(gops.NextDecode(&decoded, &d));
+  // While GOP 0 decodes, the link fetches GOP 1.
+  ASSERT_TRUE(loop.Advance(1 / kFps, eye, target).ok());
+  ASSERT_TRUE(gops.NextRequest(&gop, &r));
+  ASSERT_EQ(gop, 1u);
+  EXPECT_EQ(r.budget.camera_mask, four);
+  gops.Fetched(1);
+  fvv_decode_report slow = Whole();
+  slow.complete = 0;
+  slow.max_ms_per_gop = d.budget.max_ms_per_gop;
+  slow.decode_ms = d.budget.max_ms_per_gop + 150.0 * count(d.budget.camera_mask);
+  gops.Deliver(0, slow);  // as many cameras as its decode was asked for
+  EXPECT_FALSE(gops.NextDecode(&decoded, &d)) << "GOP 1 waits for GOP 0's measurement";
+  ASSERT_TRUE(loop.Advance(1 / kFps, eye, target).ok());  // frame 0 shown
+  ASSERT_TRUE(loop.has_frame());
+  EXPECT_EQ(loop.controller().max_cameras(), PlaybackController::kMinCameras);
+  ASSERT_TRUE(gops.NextDecode(&decoded, &d));
+  ASSERT_EQ(decoded, 1u);
+  EXPECT_EQ(count(d.budget.camera_mask), 3u);
+  EXPECT_EQ(d.budget.camera_mask & ~four, 0u) << "only cameras it was fetched for";
+  EXPECT_EQ(d.budget.camera_mask & 1u, 1u) << "camera 0, the closest, is kept";
+  ASSERT_TRUE(gops.NextRequest(&gop, &r));
+  EXPECT_EQ(gop, 2u);
+  EXPECT_EQ(count(r.budget.camera_mask), 3u);
+  EXPECT_EQ(r.budget.camera_mask & ~four, 0u);
 }
 
 TEST(PlaybackLoopOverRequests, ALateGopLowersTheNextFetches) {

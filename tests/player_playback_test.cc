@@ -155,6 +155,53 @@ TEST(PlaybackController, BudgetRisesInStepsAndFallsAtOnce) {
   EXPECT_LT(pc.NextMaxMs(), 0.5 * recovered);
 }
 
+// A decoder whose every camera costs its floor (transform, first bitplanes)
+// whatever the budget, with more cameras than that fits in a GOP's play: the
+// controller limits the cameras to those that fit, and playback keeps real
+// time where the budget alone (already at its smallest) could not; when
+// decoding gets cheap again the limit goes.
+TEST(PlaybackController, LimitsTheCamerasWhenEvenTheirFloorOutlastsTheGop) {
+  PlaybackController pc(25, 8);
+  EXPECT_EQ(pc.max_cameras(), 0u) << "no limit before anything was measured";
+  const uint32_t wanted = 6;
+  double per_camera_ms = 90;  // six cameras' floor: 540 ms of a GOP's 320
+  uint32_t cameras = wanted;
+  GopOutcome g;
+  for (int gop = 0; gop < 8; ++gop) {
+    cameras = pc.max_cameras() ? std::min(wanted, pc.max_cameras()) : wanted;
+    g = GopOutcome{};
+    g.budget_ms = pc.NextMaxMs();
+    g.decode_ms = per_camera_ms * cameras + std::min(g.budget_ms, 40.0 * cameras);
+    g.complete = g.budget_ms >= 40.0 * cameras;
+    g.frame_ms = 5;
+    g.cameras = cameras;
+    g.wait_ms = std::max(0.0, g.decode_ms - kGopMs);
+    pc.Report(g);
+  }
+  EXPECT_EQ(cameras, PlaybackController::kMinCameras);
+  EXPECT_EQ(g.wait_ms, 0) << "three cameras' floor fits";
+  EXPECT_FALSE(pc.below_real_time());
+  EXPECT_GT(pc.NextMaxMs(), 2.0) << "with room above the floor";
+  // Never fewer than the blend's closest three, however slow.
+  per_camera_ms = 400;
+  for (int gop = 0; gop < 4; ++gop) {
+    g.budget_ms = pc.NextMaxMs();
+    g.decode_ms = per_camera_ms * cameras + g.budget_ms;
+    g.complete = false;
+    pc.Report(g);
+  }
+  EXPECT_EQ(pc.max_cameras(), PlaybackController::kMinCameras);
+  // The load goes: whole decodes of three cameras in 60 ms lift the limit.
+  for (int gop = 0; gop < 3; ++gop) {
+    g.budget_ms = pc.NextMaxMs();
+    g.decode_ms = 60;
+    g.complete = true;
+    g.wait_ms = 0;
+    pc.Report(g);
+  }
+  EXPECT_TRUE(pc.max_cameras() == 0 || pc.max_cameras() >= wanted) << pc.max_cameras();
+}
+
 TEST(PlaybackController, FasterPlaybackTightensTheBudget) {
   PlaybackController pc(25, 8);
   pc.set_speed(2.0);

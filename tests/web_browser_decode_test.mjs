@@ -3,7 +3,7 @@
 // from the harness's server on 127.0.0.1 (the head as the decoder asks, then
 // span 0's fragments whole),
 // decodes frame 0 through the JavaScript API, on the page and in a Web Worker
-// (fvv_decoder_worker.mjs), and its RGB must be the native
+// (fvv_decoder_worker.mjs, a GOP's frames in one message), and its RGB must be the native
 // reference decoder's conformance output, byte for byte. The server's log
 // must show only range requests (206) for the stream, and the page must be
 // cross-origin isolated (the headers threads will need).
@@ -44,10 +44,14 @@ const result = await withBrowser(mounts, async ({ page, base, requests }) => {
     const stream = await FvvStream.open(url, dec, { headBytes: 4096 });
     const info = stream.info;
     await stream.fetchGop(0, undefined, Number.MAX_SAFE_INTEGER);
-    const frame = await dec.decodeFrame(0);
+    // In the worker, as the player asks: a GOP's frames in one message,
+    // after the memory the stream's head asked to be readied (warmMemory).
+    const frames = worker ? await dec.decodeFrames(0, 2) : [await dec.decodeFrame(0)];
+    const frame = frames[0];
     await dec.destroy();
     if (worker) dec.terminate();
     return { isolated: crossOriginIsolated, cameras: info.cameraCount,
+             indices: frames.map((f) => f.index),
              views: frame.views.map((v) => Array.from(v.pixels)) };
   }, base + streamUrl, inWorker);
   const out = await run(false);
@@ -62,6 +66,8 @@ check(result.isolated, 'the page is cross-origin isolated');
 check(result.requests === null ||
       (result.requests.length >= 2 && result.requests.every((r) => r.status === 206 && r.range)),
   `only range requests for the stream: ${JSON.stringify(result.requests)}`);
+check(JSON.stringify(result.worker.indices) === '[0,1]',
+  `decodeFrames(0, 2) in the worker gives frames 0 and 1: ${result.worker.indices}`);
 for (const [where, views] of [['page', result.views], ['worker', result.worker.views]]) {
   for (let c = 0; c < result.cameras; ++c) {
     const want = readFileSync(path.join(wholeDir, `rgb_000000_${String(c).padStart(3, '0')}.bin`));

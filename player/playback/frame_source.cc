@@ -21,4 +21,11 @@ StatusOr<bool> DecoderFrameSource::Take(uint32_t frame, const GopRequest& reques
   return true;
 }
 
+uint32_t DecoderFrameSource::CamerasTaken() const {
+  if (!frame_) return 0;
+  uint32_t cameras = 0;
+  for (uint32_t c = 0; c < frame_->camera_count; ++c) cameras += frame_->views[c].pixels != nullptr;
+  return cameras;
+}
+
 }  // namespace fvv

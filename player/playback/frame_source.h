@@ -31,6 +31,11 @@ class FrameSource {
   // GOP is not there yet (and asks for it).
   virtual StatusOr<bool> Take(uint32_t frame, const GopRequest& request,
                               fvv_decode_report* report) = 0;
+  // The loop's request changed since the last Take (fewer cameras keep up):
+  // what is asked for and not yet started takes it.
+  virtual void Retarget(const GopRequest& request) {}
+  // How many cameras the GOP of the frame last taken decoded (0: not known).
+  virtual uint32_t CamerasTaken() const { return 0; }
   // Whether the frame's GOP is still on its way (not all fetched): a wait for
   // it is then the network's, not the decoder's. A decoding source has it all.
   virtual bool Arriving(uint32_t frame) const { return false; }
@@ -47,6 +52,7 @@ class DecoderFrameSource : public FrameSource {
   void Prefetch(uint32_t frame, const GopRequest& request) override;
   StatusOr<bool> Take(uint32_t frame, const GopRequest& request,
                       fvv_decode_report* report) override;
+  uint32_t CamerasTaken() const override;
   // The frame last taken (null before any).
   const fvv_frame* frame() const { return frame_.get(); }
 

@@ -23,6 +23,13 @@ PlaybackController::PlaybackController(double fps, uint32_t gop_frames, double f
       reserve_ms_(0),
       max_ms_(gop_ms_) {}
 
+uint32_t PlaybackController::max_cameras() const {
+  if (camera_ms_ <= 0) return 0;
+  const double fits = kFloorShareOfTarget * target_ms_ / camera_ms_;
+  if (fits >= 64) return 0;
+  return std::max(kMinCameras, static_cast<uint32_t>(fits));
+}
+
 bool PlaybackController::at_floor() const { return max_ms_ <= 2 * kMinBudgetMs; }
 
 void PlaybackController::set_speed(double speed) { speed_ = std::max(0.05, speed); }
@@ -53,6 +60,14 @@ void PlaybackController::Report(const GopOutcome& gop) {
     // up smoothed (one slow GOP is not yet a load).
     const double fixed = std::max(0.0, gop.decode_ms - gop.budget_ms);
     fixed_ms_ = fixed_ms_ < 0 || fixed < fixed_ms_ ? fixed : 0.5 * fixed_ms_ + 0.5 * fixed;
+    // The same per camera decoded, for the cameras' limit: alike.
+    if (gop.cameras > 0) {
+      const double per = fixed / gop.cameras;
+      camera_ms_ = camera_ms_ < 0 || per < camera_ms_ ? per : 0.5 * camera_ms_ + 0.5 * per;
+    }
+  } else if (gop.complete && gop.cameras > 0 && camera_ms_ >= 0) {
+    // A whole decode took at most this per camera, its fixed part less.
+    camera_ms_ = std::min(camera_ms_, gop.decode_ms / gop.cameras);
   }
   below_real_time_ = gop.decode_ms > play_ms || gop.wait_ms > 0.5 * play_ms;
 

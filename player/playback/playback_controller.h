@@ -22,6 +22,7 @@ struct GopOutcome {
   bool complete = true;  // every stream decoded to its end
   double wait_ms = 0;    // how long the playhead waited for it (0: it was ready in time)
   double frame_ms = 0;   // the player's own time per frame (upload, draw), smoothed
+  uint32_t cameras = 0;  // the cameras it decoded (0: not known)
 };
 
 class PlaybackController {
@@ -47,6 +48,21 @@ class PlaybackController {
   // The decode's share that no budget shortens (transform, masks, output),
   // measured from decodes the deadline cut.
   double fixed_ms() const { return fixed_ms_; }
+  // The fewest cameras a limit leaves: the blend's closest three (ViewCameras).
+  static constexpr uint32_t kMinCameras = 3;
+  // The share of the target that the floor of the cameras decoded may take,
+  // leaving the rest for bitplanes above it.
+  static constexpr double kFloorShareOfTarget = 0.75;
+  // The most cameras the next GOPs should decode, 0 for no limit: as many as
+  // the measured time per camera that no budget shortens fits in
+  // kFloorShareOfTarget of the target, at least kMinCameras. Every camera
+  // decoded costs its transform and its floor whatever the budget, so when
+  // even the floor of the cameras a view wants takes longer than a GOP
+  // plays, fewer cameras (the closest, which the blend weighs most) keep
+  // playback in real time where the budget alone could not.
+  uint32_t max_cameras() const;
+  // That time per camera (ms), < 0 until measured.
+  double camera_ms() const { return camera_ms_; }
   // Even the floor did not keep up with the last GOP: playback is slower than
   // real time (the HUD says so).
   bool below_real_time() const { return below_real_time_; }
@@ -60,7 +76,8 @@ class PlaybackController {
   double speed_ = 1.0;
   double target_ms_;
   double reserve_ms_;
-  double fixed_ms_ = -1;  // < 0: not measured yet
+  double fixed_ms_ = -1;   // < 0: not measured yet
+  double camera_ms_ = -1;  // < 0: not measured yet
   double max_ms_;
   bool below_real_time_ = false;
 };

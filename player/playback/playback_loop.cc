@@ -1,6 +1,7 @@
 #include "player/playback/playback_loop.h"
 
 #include <algorithm>
+#include <bitset>
 #include <cmath>
 #include <glm/gtc/quaternion.hpp>
 #include <string>
@@ -59,14 +60,23 @@ uint64_t PlaybackLoop::ViewMask(const glm::vec3& eye, const glm::vec3& target) {
     turned_deg = glm::degrees(std::acos(cosine));
   }
   const float reach = std::min(180.0f, 90.0f + 2 * turned_deg);
-  uint64_t mask = ViewCameras(centres_, eye, target, reach);
-  // The closest cameras are capped (kMaxViewCameras): while the view turns,
-  // the closest to where it will be by then too, the turn carried on twice.
+  // The closest cameras are capped (kMaxViewCameras, or fewer where the
+  // decoder cannot keep up with more: PlaybackController::max_cameras).
+  const uint32_t limit = control_.max_cameras();
+  const int most =
+      limit ? std::min<int>(kMaxViewCameras, static_cast<int>(limit)) : kMaxViewCameras;
+  uint64_t mask = ViewCameras(centres_, eye, target, reach, 3, most);
+  // While the view turns, the closest to where it will be by then too, the
+  // turn carried on twice.
   const glm::vec3 axis = glm::cross(last_direction_, direction);  // 0 before the first view
   if (turned_deg > 1.0f && glm::length(axis) > 1e-6f) {
     const glm::vec3 ahead =
         glm::angleAxis(glm::radians(2 * turned_deg), glm::normalize(axis)) * direction;
-    mask |= ViewCameras(centres_, target + ahead * glm::length(eye - target), target, reach);
+    mask |=
+        ViewCameras(centres_, target + ahead * glm::length(eye - target), target, reach, 3, most);
+  }
+  if (limit && static_cast<int>(std::bitset<64>(mask).count()) > most) {
+    mask = ClosestCameras(centres_, mask, eye, target, most);
   }
   last_direction_ = direction;
   return mask;
@@ -175,7 +185,18 @@ Status PlaybackLoop::Advance(double dt, const glm::vec3& eye, const glm::vec3& t
     outcome.complete = r.complete != 0;
     outcome.wait_ms = wait_ms_;
     outcome.frame_ms = frame_ms_;
+    outcome.cameras = source_->CamerasTaken();
+    const uint32_t limit = control_.max_cameras();
     control_.Report(outcome);
+    // Fewer cameras keep up: the GOPs asked for from now on take the closest
+    // of this GOP's (a subset, which what was decoded ahead serves). More
+    // come with the next GOP's cameras.
+    const uint32_t lower = control_.max_cameras();
+    if (gop_mask_ != 0 && lower != 0 && (limit == 0 || lower < limit) &&
+        std::bitset<64>(gop_mask_).count() > lower) {
+      gop_mask_ = ClosestCameras(centres_, gop_mask_, eye, target, static_cast<int>(lower));
+      source_->Retarget(Request());
+    }
     // Back up towards the bandwidth's whole share while GOPs arrive in time.
     if (!fetch_late_) fetch_share_ = std::min(kSteadyFetchShare, fetch_share_ + 0.1);
     fetch_late_ = false;

@@ -1,6 +1,7 @@
 #include "player/playback/requested_gops.h"
 
 #include <algorithm>
+#include <bitset>
 
 namespace fvv {
 
@@ -49,9 +50,16 @@ StatusOr<bool> RequestedGops::Take(uint32_t frame, const GopRequest& request,
   if (it == held_.end()) {
     wanted_ = gop;
     Ask(gop, request, /*urgent=*/true);
+    // Its bytes are in and it decodes: the link would idle, so the GOPs
+    // after it are fetched meanwhile.
+    if (fetched_.count(gop) || gop == decoding_) {
+      for (uint32_t g = gop + 1; g <= gop + kAhead && g < gops_; ++g) Ask(g, request, false);
+    }
     return false;
   }
-  *report = it->second;
+  taken_ = true;
+  *report = it->second.report;
+  cameras_taken_ = it->second.cameras;
   shown_gop_ = gop;
   if (wanted_ == gop) wanted_ = UINT32_MAX;
   last_ = request;
@@ -104,11 +112,18 @@ bool RequestedGops::NextDecode(uint32_t* gop, GopRequest* request) {
     next = std::min_element(fetched_.begin(), fetched_.end(), [this](const auto& a, const auto& b) {
       return Ahead(a.first) < Ahead(b.first);
     });
-    if (Ahead(next->first) > kAhead) return false;
+    if (Ahead(next->first) > kAhead || !taken_) return false;
   }
   *gop = next->first;
   *request = next->second;
-  // The cameras it was fetched for; the time the loop gives a decode now.
+  // Fetched for more cameras than the loop wants now (decoding fewer keeps
+  // up): those of them it wants. The time the loop gives a decode now.
+  const uint64_t wanted = last_.budget.camera_mask, fetched = request->budget.camera_mask;
+  const auto count = [](uint64_t mask) { return mask ? std::bitset<64>(mask).count() : 64; };
+  if (wanted != 0 && count(fetched) > count(wanted) && (fetched == 0 || (fetched & wanted) != 0)) {
+    request->budget.camera_mask = fetched == 0 ? wanted : fetched & wanted;
+  }
+  decoding_cameras_ = request->budget.camera_mask;
   request->budget.max_ms_per_gop = last_.budget.max_ms_per_gop;
   request->budget.floor_share = last_.budget.floor_share;
   decoding_ = *gop;
@@ -116,13 +131,20 @@ bool RequestedGops::NextDecode(uint32_t* gop, GopRequest* request) {
   return true;
 }
 
-void RequestedGops::Deliver(uint32_t gop, const fvv_decode_report& report) {
-  held_[gop] = report;
+void RequestedGops::Deliver(uint32_t gop, const fvv_decode_report& report, uint32_t cameras) {
+  if (cameras == 0 && gop == decoding_)
+    cameras = static_cast<uint32_t>(std::bitset<64>(decoding_cameras_).count());
+  held_[gop] = {report, cameras};
   if (gop == decoding_) decoding_ = UINT32_MAX;
   in_flight_.erase(gop);
   fetched_.erase(gop);
   // The network stays busy: the next GOP, while it is within reach of the one shown.
   if (gop + 1 < gops_ && Ahead(gop + 1) <= fetch_ahead_) Ask(gop + 1, last_, false);
+}
+
+void RequestedGops::Retarget(const GopRequest& request) {
+  last_ = request;
+  for (Pending& p : queue_) p.request = request;
 }
 
 void RequestedGops::Failed(uint32_t gop) {

@@ -45,6 +45,8 @@ class RequestedGops : public FrameSource {
                       fvv_decode_report* report) override;
   bool Arriving(uint32_t frame) const override;
   double FetchWindowFilled() const override;
+  uint32_t CamerasTaken() const override { return cameras_taken_; }
+  void Retarget(const GopRequest& request) override;
 
   // The next request to serve, taken off the queue (it is then being
   // fetched); false when there is none or kFetchesInFlight are under way. A
@@ -54,12 +56,16 @@ class RequestedGops : public FrameSource {
   // The GOP's bytes are in: the next request may be fetched.
   void Fetched(uint32_t gop);
   // The next fetched GOP to decode (it is then decoding), with its request:
-  // the cameras it was fetched for, the loop's latest time budget. Only
-  // within kAhead of the GOP shown, or the one the playhead waits for; false
-  // when none is due or one is decoding already.
+  // the cameras it was fetched for (where they are more than the loop's
+  // latest request wants, those of them it wants) and the loop's latest
+  // time budget. Only within kAhead of the GOP shown, or the one the
+  // playhead waits for (before the first frame is taken, only that one: what
+  // its decode measured sets the cameras of the next); false when none is
+  // due or one is decoding already.
   bool NextDecode(uint32_t* gop, GopRequest* request);
-  // The GOP arrived, decoded: the loop can take its frames.
-  void Deliver(uint32_t gop, const fvv_decode_report& report);
+  // The GOP arrived, decoded (of `cameras`; 0: as many as its decode was
+  // asked for): the loop can take its frames.
+  void Deliver(uint32_t gop, const fvv_decode_report& report, uint32_t cameras = 0);
   // The GOP could not be served: it is asked for again when needed.
   void Failed(uint32_t gop);
   // The embedding dropped a GOP's frames (its cache is full).
@@ -81,13 +87,20 @@ class RequestedGops : public FrameSource {
   uint32_t gop_frames_;
   uint32_t fetch_ahead_;
   std::deque<Pending> queue_;
-  std::map<uint32_t, fvv_decode_report> held_;
+  struct HeldGop {
+    fvv_decode_report report;
+    uint32_t cameras;
+  };
+  std::map<uint32_t, HeldGop> held_;
   std::map<uint32_t, GopRequest> in_flight_;  // being fetched
   std::map<uint32_t, GopRequest> fetched_;    // fetched, not decoding yet
   uint32_t decoding_ = UINT32_MAX;            // being decoded
+  uint64_t decoding_cameras_ = 0;             // its decode's camera mask
   uint32_t wanted_ = UINT32_MAX;              // the GOP the playhead waits for
   uint32_t shown_gop_ = 0;
   GopRequest last_{};  // the request of the GOP shown: the one the GOPs ahead take
+  uint32_t cameras_taken_ = 0;
+  bool taken_ = false;  // a frame was taken
 };
 
 }  // namespace fvv

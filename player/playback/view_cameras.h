@@ -32,6 +32,11 @@ uint64_t ViewCameras(const std::vector<glm::vec3>& centres, const glm::vec3& eye
                      const glm::vec3& target, float max_angle_deg = 90.0f, int min_cameras = 3,
                      int max_cameras = kMaxViewCameras);
 
+// Of the cameras in `mask` (0: all), the `count` closest in angle to the view
+// from `eye` to `target`.
+uint64_t ClosestCameras(const std::vector<glm::vec3>& centres, uint64_t mask, const glm::vec3& eye,
+                        const glm::vec3& target, int count);
+
 }  // namespace fvv
 
 #endif  // FVV_PLAYER_PLAYBACK_VIEW_CAMERAS_H_

@@ -122,6 +122,11 @@ export class FvvDecoder {
     this.#withBytes(bytes, (p) =>
       this.#check(this.m._fvv_decoder_add_range(this.handle, BigInt(offset), p, bytes.length)));
   }
+  // Several ranges in one call ([offset, bytes] pairs, in order): a page
+  // whose decoder sits in a worker pays one message for a GOP's fragments.
+  addRanges(ranges) {
+    for (const [offset, bytes] of ranges) this.addRange(offset, bytes);
+  }
   push(bytes) {
     this.#withBytes(bytes, (p) => this.#check(this.m._fvv_decoder_push(this.handle, p, bytes.length)));
   }
@@ -251,6 +256,14 @@ export class FvvDecoder {
       frame.surfaceBytes = this.fragment(Math.floor(index / this.grid.gopFrames) * groups).surfaceSize;
     }
     return frame;
+  }
+
+  // Frames first .. first + count - 1 under the same options (decodeFrame's),
+  // in one call: a GOP's frames for a worker's one message.
+  decodeFrames(first, count, options = {}) {
+    const frames = [];
+    for (let i = first; i < first + count; ++i) frames.push(this.decodeFrame(i, options));
+    return frames;
   }
 
   #readFrame(f) {

@@ -14,7 +14,8 @@ import { FvvDecoderWorker } from './fvv_decoder_worker_client.mjs';
 const FIRST = ['wantedRange', 'framesAvailable', 'info', 'camera', 'model', 'fragmentCount',
   'fragment', 'fragments', 'planPrefixes', 'bandwidthAfter', 'gopFetchBudget'];
 // Calls every worker makes (input, state).
-const ALL = ['openRanges', 'addRange', 'push', 'pushEnd', 'process', 'destroy'];
+const ALL = ['openRanges', 'addRange', 'addRanges', 'push', 'pushEnd', 'process', 'destroy',
+  'warmMemory'];
 
 export class FvvDecoderPool {
   static async create(workerUrl, options, count = 2) {
@@ -51,19 +52,32 @@ export class FvvDecoderPool {
     const shares = (await this.#shares(options.cameras)).filter((s) => s.length > 0);
     const frames = await Promise.all(shares.map((cameras, i) =>
       this.workers[i].decodeFrame(index, { ...options, cameras })));
-    // The views of each worker's cameras, in one frame; the report over all.
-    const frame = frames[0];
-    frames.slice(1).forEach((f, i) => {
-      for (const c of shares[i + 1]) frame.views[c] = f.views[c];
-      const r = frame.report, o = f.report;
-      r.bytesDecoded += o.bytesDecoded;
-      r.bytesAvailable += o.bytesAvailable;
-      r.bitplanes = r.bitplanes.map((b, k) => Math.min(b, o.bitplanes[k]));
-      r.decodeMs = Math.max(r.decodeMs, o.decodeMs);
-      r.complete = r.complete && o.complete;
-    });
-    return frame;
+    return merged(frames, shares);
   }
+
+  // decodeFrames (a GOP's frames in one message per worker), merged frame by frame.
+  async decodeFrames(first, count, options = {}) {
+    const shares = (await this.#shares(options.cameras)).filter((s) => s.length > 0);
+    const lists = await Promise.all(shares.map((cameras, i) =>
+      this.workers[i].decodeFrames(first, count, { ...options, cameras })));
+    return lists[0].map((_, k) => merged(lists.map((l) => l[k]), shares));
+  }
+}
+
+// The views of each worker's cameras (shares[i] for frames[i]) in one frame;
+// the report over all.
+function merged(frames, shares) {
+  const frame = frames[0];
+  frames.slice(1).forEach((f, i) => {
+    for (const c of shares[i + 1]) frame.views[c] = f.views[c];
+    const r = frame.report, o = f.report;
+    r.bytesDecoded += o.bytesDecoded;
+    r.bytesAvailable += o.bytesAvailable;
+    r.bitplanes = r.bitplanes.map((b, k) => Math.min(b, o.bitplanes[k]));
+    r.decodeMs = Math.max(r.decodeMs, o.decodeMs);
+    r.complete = r.complete && o.complete;
+  });
+  return frame;
 }
 for (const method of FIRST) {
   FvvDecoderPool.prototype[method] = function (...args) {

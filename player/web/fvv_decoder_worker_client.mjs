@@ -47,9 +47,10 @@ export class FvvDecoderWorker {
     this.worker.terminate();
   }
 }
-for (const method of ['openRanges', 'addRange', 'push', 'pushEnd', 'process', 'wantedRange',
+for (const method of ['openRanges', 'addRange', 'addRanges', 'push', 'pushEnd', 'process', 'wantedRange',
                       'framesAvailable', 'info', 'camera', 'model', 'fragmentCount', 'fragment', 'fragments',
-                      'decodeFrame', 'planPrefixes', 'bandwidthAfter', 'gopFetchBudget', 'destroy']) {
+                      'decodeFrame', 'decodeFrames', 'planPrefixes', 'bandwidthAfter', 'gopFetchBudget', 'destroy',
+                      'warmMemory']) {
   FvvDecoderWorker.prototype[method] = function (...args) {
     return this.call(method, ...args);
   };

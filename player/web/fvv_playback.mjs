@@ -9,7 +9,7 @@
 //   const r = pb.nextRequest();   // { gop, cameras, maxMs, floorShare, fetchBytes } or null
 //   pb.fetched(r.gop);            // its bytes are in: the next fetch may start
 //   const d = pb.nextDecode();    // a fetched GOP due for decoding, or null
-//   pb.deliver(d.gop, frame.report);
+//   pb.deliver(d.gop, frame.report, cameras.length);   // the cameras it decoded
 
 import { instantiateFrom, planPrefixes } from './fvv_decoder_api.mjs';
 
@@ -89,10 +89,11 @@ export class FvvPlayback {
     return { gop: v[0], cameras, maxMs: v[3], floorShare: v[4], fetchBytes: v[5] };
   }
 
-  deliver(gop, report) {
+  // `cameras`: how many it decoded (0 or absent: as many as nextDecode asked).
+  deliver(gop, report, cameras = 0) {
     const [y, u, v] = report.bitplanes;
     this.m._fvv_web_playback_deliver(this.handle, gop, report.bytesDecoded, report.bytesAvailable,
-      report.decodeMs, report.maxMs ?? 0, report.complete ? 1 : 0, y, u, v);
+      report.decodeMs, report.maxMs ?? 0, report.complete ? 1 : 0, y, u, v, cameras);
   }
   fetched(gop) { this.m._fvv_web_playback_fetched(this.handle, gop); }
   failed(gop) { this.m._fvv_web_playback_failed(this.handle, gop); }

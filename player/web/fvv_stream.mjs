@@ -189,6 +189,13 @@ export class FvvStream {
       await this.#call('addRange', want.offset, part.bytes);
     }
     this.info = await this.#call('info');
+    // What the first decodes will hold, readied while the first GOP comes:
+    // two GOPs (one shown, one decoded next) of the five cameras a view of
+    // a ring decodes at most, about 10 bytes a texel (coefficients, YUV,
+    // RGB), as measured on the sample stream. A worker's own call.
+    const i = this.info;
+    this.decoder.warmMemory?.(2 * i.gopFrames * Math.min(i.cameraCount, 5) * i.atlasWidth *
+                              i.atlasHeight * 10)?.catch(() => {});
     this.groups = Math.ceil(this.info.cameraCount / this.info.gopCameras);
     this.gopSeconds = this.info.gopFrames / this.info.frameRate;
     // Where each fragment is, from the index, once: later fetches ask the
@@ -286,7 +293,7 @@ export class FvvStream {
   }
 
   async addParts(parts) {
-    for (const p of parts) await this.#call('addRange', p.offset, p.bytes);
+    if (parts.length > 0) await this.#call('addRanges', parts.map((p) => [p.offset, p.bytes]));
   }
 
   // fetchGopBytes, its bytes given to the decoder: returns the bytes fetched.

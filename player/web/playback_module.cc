@@ -136,7 +136,7 @@ EMSCRIPTEN_KEEPALIVE void fvv_web_playback_deliver(WebPlayback* p, uint32_t gop,
                                                    double bytes_decoded, double bytes_available,
                                                    double decode_ms, double max_ms, int complete,
                                                    uint32_t luma_planes, uint32_t cb_planes,
-                                                   uint32_t cr_planes) {
+                                                   uint32_t cr_planes, uint32_t cameras) {
   fvv_decode_report r{};
   r.bytes_decoded = uint64_t(bytes_decoded);
   r.bytes_available = uint64_t(bytes_available);
@@ -146,7 +146,7 @@ EMSCRIPTEN_KEEPALIVE void fvv_web_playback_deliver(WebPlayback* p, uint32_t gop,
   r.bitplanes[0] = luma_planes;
   r.bitplanes[1] = cb_planes;
   r.bitplanes[2] = cr_planes;
-  p->gops.Deliver(gop, r);
+  p->gops.Deliver(gop, r, cameras);
 }
 
 EMSCRIPTEN_KEEPALIVE void fvv_web_playback_fetched(WebPlayback* p, uint32_t gop) {
