@@ -147,6 +147,7 @@ struct Sample {  // one shown frame of a run
 
 struct Result {
   double fps = 0, speed = 0, share = 0, min_psnr = 99, mean_psnr = 0, seconds = 0;
+  double cameras = 0;  // decoded, mean over the frames drawn
   uint64_t stalls = 0, untextured = 0, frames = 0;
   std::vector<Sample> samples;
 };
@@ -207,6 +208,7 @@ bool Play(const std::string& path, double floor_share, double seconds, LoadAt lo
       const double psnr = ActorPsnr(rgb, ref, f);
       out->min_psnr = std::min(out->min_psnr, psnr);
       psnr_sum += psnr;
+      out->cameras += source.CamerasTaken();
       ++out->frames;
       size_t recent = 0;
       for (auto it = drawn_at.rbegin(); it != drawn_at.rend() && *it > t - 0.5; ++it) ++recent;
@@ -229,6 +231,7 @@ bool Play(const std::string& path, double floor_share, double seconds, LoadAt lo
   out->stalls = st.stalls;
   out->untextured = st.frames_without_texture;
   out->mean_psnr = out->frames ? psnr_sum / out->frames : 0;
+  out->cameras = out->frames ? out->cameras / out->frames : 0;
   return true;
 }
 
@@ -270,8 +273,9 @@ bool FloorRow(const std::string& path, double share, fvv::Renderer* renderer,
 }
 
 void PrintRow(const std::string& name, const Result& r) {
-  std::printf("%-22s %6.1f %7.2fx %7.1f%% %9.2f %9.2f %7llu %10llu\n", name.c_str(), r.fps, r.speed,
-              100 * r.share, r.min_psnr, r.mean_psnr, static_cast<unsigned long long>(r.stalls),
+  std::printf("%-22s %6.1f %7.2fx %7.1f%% %8.1f %9.2f %9.2f %7llu %10llu\n", name.c_str(), r.fps,
+              r.speed, 100 * r.share, r.cameras, r.min_psnr, r.mean_psnr,
+              static_cast<unsigned long long>(r.stalls),
               static_cast<unsigned long long>(r.untextured));
 }
 
@@ -349,8 +353,8 @@ int main(int argc, char** argv) {
       if (!FloorRow(path, share, renderer->get(), ref)) return 1;
     }
   }
-  std::printf("%-22s %6s %8s %8s %9s %9s %7s %10s\n", "condition", "fps", "speed", "bytes",
-              "min dB", "mean dB", "stalls", "untextured");
+  std::printf("%-22s %6s %8s %8s %8s %9s %9s %7s %10s\n", "condition", "fps", "speed", "bytes",
+              "cameras", "min dB", "mean dB", "stalls", "untextured");
   // The last row is the peer: the same controller without a floor, under the
   // heaviest load.
   const struct {
