@@ -18,7 +18,7 @@ const STATE = [
   'stalls', 'framesWithoutTexture', 'gops', 'bytesFetched', 'decodeMs', 'nextMaxMs',
   'belowRealTime', 'framesDrawn', 'framesAdvanced', 'bytesDecoded', 'bytesAvailable',
   'gopBytesDecoded', 'gopBytesAvailable', 'gopDecodeMs', 'lumaPlanes', 'cbPlanes', 'crPlanes',
-  'waits',
+  'waits', 'maxCameras',
 ];
 
 export class FvvPlayback {

@@ -78,7 +78,7 @@ EMSCRIPTEN_KEEPALIVE int fvv_web_playback_advance(WebPlayback* p, double dt, flo
   return p->loop.Advance(dt, {ex, ey, ez}, {tx, ty, tz}).ok() ? 0 : 1;
 }
 
-// The loop's state after a tick, as 25 doubles (fvv_playback.mjs names them).
+// The loop's state after a tick, as 26 doubles (fvv_playback.mjs names them).
 EMSCRIPTEN_KEEPALIVE void fvv_web_playback_state(const WebPlayback* p, double* out) {
   const fvv::PlaybackLoop& l = p->loop;
   const fvv::PlaybackStats& s = l.stats();
@@ -108,7 +108,8 @@ EMSCRIPTEN_KEEPALIVE void fvv_web_playback_state(const WebPlayback* p, double* o
                       double(r.bitplanes[0]),
                       double(r.bitplanes[1]),
                       double(r.bitplanes[2]),
-                      double(s.waits)};
+                      double(s.waits),
+                      double(l.controller().max_cameras())};
   for (size_t i = 0; i < sizeof(v) / sizeof(v[0]); ++i) out[i] = v[i];
 }
 

@@ -68,9 +68,13 @@ std::vector<std::string> HudLines(const PlaybackLoop& loop, uint32_t frames, dou
                 r.bytes_decoded / 1024.0, r.bytes_available / 1024.0,
                 r.bytes_available ? 100.0 * r.bytes_decoded / r.bytes_available : 100.0,
                 r.bitplanes[0], r.bitplanes[1], r.bitplanes[2]);
+  const uint32_t most = loop.controller().max_cameras();
   std::snprintf(line[3], sizeof(line[3]), "exponent %.1f  %s  cameras %d/%d%s", s.exponent,
                 s.camera >= 0 ? ("camera " + std::to_string(s.camera + 1)).c_str() : "orbit",
-                cameras_decoded, cameras, *s.all_cameras ? " (all)" : "");
+                cameras_decoded, cameras,
+                *s.all_cameras ? " (all)"
+                : most         ? (" (at most " + std::to_string(most) + ": decoding time)").c_str()
+                               : "");
   std::vector<std::string> lines = {line[0], line[1], line[2], line[3]};
   if (loop.controller().below_real_time()) {
     lines.push_back(loop.controller().at_floor()
