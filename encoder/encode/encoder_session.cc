@@ -30,8 +30,10 @@ Status Session::SetShape(const BodyShape& shape, const RefinementFrame* first) {
         line, sizeof(line),
         "encode: shape refined on the first frame in %.1f s (mean move per level:", sum_.refine_s);
     std::string say = line;
-    for (double m : sum_.refine_moves) {
-      std::snprintf(line, sizeof(line), " %.1f mm", m * 1e3);
+    for (const auto& l : report.levels) {
+      std::snprintf(line, sizeof(line),
+                    l.dropped ? " the %.0f mm level undone (it diverged)" : " %.1f mm",
+                    (l.dropped ? l.range : l.mean_move) * 1e3);
       say += line;
     }
     if (s_.progress) s_.progress(say + ")");

@@ -523,9 +523,14 @@ Status RefineFrame(const BodyModel& model, const std::vector<Camera>& cameras,
         // the hull).
         Vector3d target;
         if (!hull->Contains(pv)) {
+          // Only within the level's range, as the other terms search: a hull
+          // surface further away is a hole in a silhouette or a pose off the
+          // footage, not the shape (pulled there, limbs flew off by metres).
           hull_surface.Nearest(pv, &target);
-          sum += o.silhouette_weight * (target - pv);
-          w += o.silhouette_weight;
+          if ((target - pv).norm() <= range) {
+            sum += o.silhouette_weight * (target - pv);
+            w += o.silhouette_weight;
+          }
         } else if (contour_camera[v] >= 0) {
           const int c = contour_camera[v];
           const Vector3d ray = (pv - ctx.centres[c]).normalized();
@@ -569,15 +574,34 @@ Status RefineFrame(const BodyModel& model, const std::vector<Camera>& cameras,
           reg = reg / double(local[v].size()) - pv;
         }
         const double lambda = o.regularisation_weight;
-        const Vector3d step = (weight[v] * move[v] + lambda * reg) / (weight[v] + lambda);
+        Vector3d step = (weight[v] * move[v] + lambda * reg) / (weight[v] + lambda);
+        // No step beyond the level's range: where the local frames of a few
+        // vertices degenerate, the regularisation's pull feeds on itself
+        // (tracked poses on background-subtracted silhouettes sent vertices
+        // 25 m off at the middle level and 20 km at the finest).
+        if (step.norm() > range) step *= range / step.norm();
         next[v] = (pv + o.step * step).cast<float>();
       });
       for (size_t v = 0; v < p.size(); ++v) next[v] = next[topo.welded[v]];
       p.swap(next);
     }
+    // No target lies further than the level's search range: no vertex moves
+    // further over the level, and a level that moved the surface further
+    // than that on average diverged (a pose off the footage, a hull with
+    // holes) and is undone.
     double moved = 0;
-    for (uint32_t v : canon) moved += (p[v] - level_start[v]).norm();
+    for (uint32_t v : canon) {
+      const Vector3f d = p[v] - level_start[v];
+      if (d.norm() > range) p[v] = level_start[v] + d * float(range / d.norm());
+      moved += (p[v] - level_start[v]).norm();
+    }
+    for (size_t v = 0; v < p.size(); ++v) p[v] = p[topo.welded[v]];
     stats.mean_move = canon.empty() ? 0 : moved / canon.size();
+    if (stats.mean_move > 0.5 * range) {
+      p = level_start;
+      stats.mean_move = 0;
+      stats.dropped = 1;
+    }
     if (report) {
       auto& l = report->levels[level];
       l.range = range;
@@ -585,6 +609,7 @@ Status RefineFrame(const BodyModel& model, const std::vector<Camera>& cameras,
       l.contour_vertices += stats.contour_vertices;
       l.outside_hull += stats.outside_hull;
       l.mean_move += stats.mean_move;
+      l.dropped += stats.dropped;
     }
   }
   *posed = std::move(p);

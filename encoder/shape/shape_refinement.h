@@ -83,7 +83,8 @@ struct ShapeRefinementReport {
     size_t stereo_matches = 0;    // vertices with an accepted stereo target (summed over frames)
     size_t contour_vertices = 0;  // pulled to the hull from inside
     size_t outside_hull = 0;      // outside the hull at the level's start
-    double mean_move = 0;         // metres, over the level, mean over vertices
+    double mean_move = 0;         // metres, over the level, mean over vertices (those kept)
+    size_t dropped = 0;           // frames whose level diverged and was undone
   };
   std::vector<Level> levels;
   double seconds = 0;
