@@ -67,7 +67,8 @@ struct Args {
   uint32_t first = 0, last = 29;
   uint32_t render_frames = 30;
   bool render = true;
-  bool surface = false;  // encode with the surface of every frame (fvv encode --surface)
+  bool surface = false;       // encode with the surface of every frame (fvv encode --surface)
+  std::string surface_prior;  // fvv encode --surface-prior, where given
 };
 
 // What the person network saw in every camera of every benchmarked frame.
@@ -435,6 +436,9 @@ int Run(const Args& a) {
           "encode",   dir,   "-o",      masked, "--poses",        poses,
           "--frames", range, "--masks", "-q",   "--summary-json", masked_json};
       if (a.surface) masked_args.push_back("--surface");
+      if (a.surface && !a.surface_prior.empty()) {
+        masked_args.insert(masked_args.end(), {"--surface-prior", a.surface_prior});
+      }
       Status s = RunFvv(a, masked_args);
       StatusOr<nlohmann::json> masked_summary = ReadJson(masked_json);
       if (s.ok() && !masked_summary.ok()) s = masked_summary.status();
@@ -447,6 +451,9 @@ int Run(const Args& a) {
             poses,    "--frames", range, "--bytes", std::to_string(per_gop),
             "-q"};
         if (a.surface) args.push_back("--surface");
+        if (a.surface && !a.surface_prior.empty()) {
+          args.insert(args.end(), {"--surface-prior", a.surface_prior});
+        }
         s = RunFvv(a, args);
       }
       const std::string out2 = dir + "/renderer2", out2m = dir + "/renderer2_masks",
@@ -667,7 +674,7 @@ int Run(const Args& a) {
 int Usage(const char* self, int code) {
   std::printf(
       "usage: %s CAPTURE [--frames A:B] [--render-frames N] [--out DIR] [--fvv PATH]\n"
-      "       [--models DIR] [--held-out NAME] [--no-render] [--surface]\n"
+      "       [--models DIR] [--held-out NAME] [--no-render] [--surface] [--surface-prior W]\n"
       "Leave-one-camera-out tracking and rendering on a real capture (bench/README.md).\n"
       "  --frames A:B         frames to track (default 0:29)\n"
       "  --render-frames N    frames from A to encode and render per held-out camera (default 30)\n"
@@ -676,7 +683,8 @@ int Usage(const char* self, int code) {
       "  --models DIR         the person models (default: $FVV_MODEL_DIR or ~/.cache/fvv/models)\n"
       "  --held-out NAME      hold out this camera only (default: each in turn)\n"
       "  --no-render          tracking figures only\n"
-      "  --surface            encode with the surface of every frame (fvv encode --surface)\n",
+      "  --surface            encode with the surface of every frame (fvv encode --surface)\n"
+      "  --surface-prior W    with it, fvv encode --surface-prior W\n",
       self);
   return code;
 }
@@ -710,6 +718,11 @@ int main(int argc, char** argv) {
       a.render = false;
     } else if (s == "--surface") {
       a.surface = true;
+    } else if (s == "--surface-prior") {
+      const char* v = value();
+      if (!v) return Usage(argv[0], 2);
+      a.surface = true;
+      a.surface_prior = v;
     } else if (a.capture.empty() && s[0] != '-') {
       a.capture = s;
     } else {

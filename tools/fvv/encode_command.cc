@@ -34,6 +34,7 @@ struct EncodeArgs {
        refine_shape = false, no_fallback = false, no_prune = false, model_floats = false,
        whole_texture = false, surface = false, no_occluders = false;
   int surface_step = EncoderSettings{}.surface_step_exponent;
+  double surface_prior = EncoderSettings{}.surface_tracking.prior;
   int margin = 2;
   double agreement = EncoderSettings{}.agreement.max_difference;
   double occluder_clearance = ResampleOptions{}.occluder_clearance;
@@ -96,6 +97,7 @@ int RunEncode(const EncodeArgs& a) {
   s.texture_chunks = !a.whole_texture;
   s.surface = a.surface;
   s.surface_step_exponent = static_cast<uint8_t>(a.surface_step);
+  s.surface_tracking.prior = a.surface_prior;
   if (a.texture_codec == "predictive") {
     // Its defaults: all cameras in one GOP (it predicts across them) and the
     // 5/3 kernel (better than the 9/7 with BISK: docs/encoder.md).
@@ -254,6 +256,11 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
   e->add_option("--surface-step", a->surface_step,
                 "With --surface: the displacements' step, 2^-N metres (8: 3.9 mm)")
       ->check(CLI::Range(int(kMinSurfaceStepExponent), int(kMaxSurfaceStepExponent)))
+      ->capture_default_str();
+  e->add_option("--surface-prior", a->surface_prior,
+                "With --surface: how strongly each frame's surface is held to the fitted body "
+                "where the silhouettes say little (docs/encoder.md: stronger suits tracked poses)")
+      ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
   e->add_option("--motion-coder", a->motion_coder, "Motion track entropy coder")
       ->check(CLI::IsMember({"arith", "zstd"}))
