@@ -71,6 +71,13 @@ struct Args {
   std::string surface_prior;  // fvv encode --surface-prior, where given
 };
 
+// fvv encode's arguments for the surface of every frame, as asked.
+std::vector<std::string> SurfaceArgs(const Args& a) {
+  if (!a.surface) return {};
+  if (a.surface_prior.empty()) return {"--surface"};
+  return {"--surface", "--surface-prior", a.surface_prior};
+}
+
 // What the person network saw in every camera of every benchmarked frame.
 struct Reference {
   std::vector<std::vector<Image>> masks;  // [frame][camera]
@@ -435,10 +442,8 @@ int Run(const Args& a) {
       std::vector<std::string> masked_args = {
           "encode",   dir,   "-o",      masked, "--poses",        poses,
           "--frames", range, "--masks", "-q",   "--summary-json", masked_json};
-      if (a.surface) masked_args.push_back("--surface");
-      if (a.surface && !a.surface_prior.empty()) {
-        masked_args.insert(masked_args.end(), {"--surface-prior", a.surface_prior});
-      }
+      const std::vector<std::string> surface = SurfaceArgs(a);
+      masked_args.insert(masked_args.end(), surface.begin(), surface.end());
       Status s = RunFvv(a, masked_args);
       StatusOr<nlohmann::json> masked_summary = ReadJson(masked_json);
       if (s.ok() && !masked_summary.ok()) s = masked_summary.status();
@@ -450,10 +455,7 @@ int Run(const Args& a) {
             "encode", dir,        "-o",  stream,    "--poses",
             poses,    "--frames", range, "--bytes", std::to_string(per_gop),
             "-q"};
-        if (a.surface) args.push_back("--surface");
-        if (a.surface && !a.surface_prior.empty()) {
-          args.insert(args.end(), {"--surface-prior", a.surface_prior});
-        }
+        args.insert(args.end(), surface.begin(), surface.end());
         s = RunFvv(a, args);
       }
       const std::string out2 = dir + "/renderer2", out2m = dir + "/renderer2_masks",

@@ -61,8 +61,6 @@ class PlaybackController {
   // plays, fewer cameras (the closest, which the blend weighs most) keep
   // playback in real time where the budget alone could not.
   uint32_t max_cameras() const;
-  // That time per camera (ms), < 0 until measured.
-  double camera_ms() const { return camera_ms_; }
   // Even the floor did not keep up with the last GOP: playback is slower than
   // real time (the HUD says so).
   bool below_real_time() const { return below_real_time_; }

@@ -84,12 +84,6 @@ std::vector<std::string> HudLines(const PlaybackLoop& loop, uint32_t frames, dou
   return lines;
 }
 
-int CountViews(const fvv_frame& frame) {
-  int n = 0;
-  for (uint32_t c = 0; c < frame.camera_count; ++c) n += frame.views[c].pixels != nullptr;
-  return n;
-}
-
 State* StateOf(GLFWwindow* w) { return static_cast<State*>(glfwGetWindowUserPointer(w)); }
 
 void OnKey(GLFWwindow* w, int key, int, int action, int) {
@@ -276,8 +270,9 @@ int RunPlayer(const PlayerOptions& o) {
         o.seconds > 0 && std::chrono::duration<double>(now - start).count() >= o.seconds;
     std::vector<std::string> hud_lines;
     if (state.hud) {
-      hud_lines = HudLines(loop, info.frame_count, shown_fps, state, CountViews(*frame),
-                           static_cast<int>(info.camera_count));
+      hud_lines =
+          HudLines(loop, info.frame_count, shown_fps, state,
+                   static_cast<int>(source.CamerasTaken()), static_cast<int>(info.camera_count));
     }
     // Draw only when something changed: a still view of a frame already on
     // screen would cost the cores that decoding needs (a software GL renderer
