@@ -3,7 +3,9 @@
 // harness's server on 127.0.0.1 while the DevTools protocol holds the
 // network to each rate, and reports per rate:
 // - start-up: from opening the stream on a page whose code is loaded to its
-//   first frame drawn, and from opening the page with nothing loaded;
+//   first frame drawn and to its playhead moving (the start holds the first
+//   frame until the GOP after it is decoded: PlaybackLoop's preroll), and
+//   from opening the page with nothing loaded to its first frame;
 // - after the first frame: waits (the playhead held for a GOP not there
 //   yet) and stalls (frames on screen over two frame times, a slow display's
 //   too);
@@ -88,6 +90,8 @@ async function run(page, base, mbit) {
   await page.waitForFunction(() => window.fvvPlayer.stats().framesDrawn > 0, { timeout: 60000, polling: 20 });
   const startup = (Date.now() - opened) / 1000;
   const atStart = await page.evaluate(() => window.fvvPlayer.stats());
+  await page.waitForFunction(() => window.fvvPlayer.stats().framesAdvanced > 0, { timeout: 60000, polling: 20 });
+  const moving = (Date.now() - opened) / 1000;
   // When each wait began, from the first frame on (ms, the frame waited at).
   await page.evaluate(() => {
     window.benchWaits = [];
@@ -138,7 +142,7 @@ async function run(page, base, mbit) {
   const share = played.map((g) => (allowed ? g.fetched / allowed : 0));
   const wholeFragments = played.every((g) => g.whole);
   return {
-    mbit, startup_s: startup, seconds,
+    mbit, startup_s: startup, moving_s: moving, seconds,
     frames_advanced: end.framesAdvanced - atStart.framesAdvanced,
     frames_drawn: end.framesDrawn - atStart.framesDrawn,
     stalls_after_start: end.stalls - atStart.stalls,
@@ -183,7 +187,8 @@ for (const mbit of rates) {
   }, { timeoutMs: 240000 });
   results.push(r);
   const label = mbit > 0 ? `${mbit} Mbit/s` : 'unthrottled';
-  console.log(`${label}: playing ${r.startup_s.toFixed(2)} s after opening the stream ` +
+  console.log(`${label}: first frame ${r.startup_s.toFixed(2)} s and playing ${r.moving_s.toFixed(2)} s ` +
+    `after opening the stream ` +
     `(${r.cold_startup_s.toFixed(2)} s after opening the page with nothing loaded); ` +
     `after it ${r.waits_after_start} waits for a GOP, ${r.stalls_after_start} frames held over two frame times; ` +
     `${r.frames_without_texture} frames untextured; ${r.gops} GOPs, ${(r.mean_gop_bytes / 1024).toFixed(1)} KiB each` +

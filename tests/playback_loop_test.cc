@@ -170,10 +170,12 @@ TEST(PlaybackLoopOverRequests, AQueuedGopIsFetchedWithTheLatestBudget) {
 }
 
 // Eight cameras round the actor, a view 10 degrees off camera 0: four within
-// the decode's 90-degree reach. The first GOP's decode takes 150 ms a camera
-// beyond its budget. GOP 1, fetched for four while GOP 0 decoded, decodes
-// only after frame 0 was taken, and then the closest three of them; the GOPs
-// fetched after it ask for three.
+// the decode's 90-degree reach. The start asks for the closest three (nothing
+// measured yet); GOPs 0 and 1 decode whole in time and the limit lifts, so
+// GOP 2 is fetched for the four. Its decode takes 150 ms a camera beyond its
+// budget; GOP 3, fetched for four while it decoded and decoded after frame
+// 16 was taken, decodes the closest three of them; the GOPs fetched after
+// it ask for three.
 TEST(PlaybackLoopOverRequests, ADecoderTooSlowForTheViewsCamerasGetsTheClosestThree) {
   fvv_stream_info info = Info();
   info.camera_count = 8;
@@ -187,37 +189,57 @@ TEST(PlaybackLoopOverRequests, ADecoderTooSlowForTheViewsCamerasGetsTheClosestTh
   const float a = glm::radians(10.0f);
   const glm::vec3 eye{3 * std::sin(a), 1, 3 * std::cos(a)}, target{0, 1, 0};
   auto count = [](uint64_t mask) { return std::bitset<64>(mask).count(); };
-  ASSERT_TRUE(loop.Advance(1 / kFps, eye, target).ok());
+  auto tick = [&] { return loop.Advance(1 / kFps, eye, target).ok(); };
+  ASSERT_TRUE(tick());
   uint32_t gop, decoded;
   GopRequest r, d;
   ASSERT_TRUE(gops.NextRequest(&gop, &r));
   ASSERT_EQ(gop, 0u);
-  const uint64_t four = r.budget.camera_mask;
-  ASSERT_EQ(count(four), 4u);
+  EXPECT_EQ(count(r.budget.camera_mask), 3u) << "the start: the closest three";
+  EXPECT_EQ(r.budget.camera_mask & 1u, 1u);
   gops.Fetched(0);
   ASSERT_TRUE(gops.NextDecode(&decoded, &d));
-  // While GOP 0 decodes, the link fetches GOP 1.
-  ASSERT_TRUE(loop.Advance(1 / kFps, eye, target).ok());
+  ASSERT_TRUE(tick());
   ASSERT_TRUE(gops.NextRequest(&gop, &r));
   ASSERT_EQ(gop, 1u);
-  EXPECT_EQ(r.budget.camera_mask, four);
+  EXPECT_EQ(count(r.budget.camera_mask), 3u);
   gops.Fetched(1);
+  gops.Deliver(0, Whole());
+  ASSERT_TRUE(tick());  // frame 0 shown: GOP 0 was whole in time
+  ASSERT_TRUE(loop.has_frame());
+  EXPECT_EQ(loop.controller().max_cameras(), 0u);
+  ASSERT_TRUE(gops.NextDecode(&decoded, &d));
+  ASSERT_EQ(decoded, 1u);
+  gops.Deliver(1, Whole());
+  // Into GOP 1: the view's cameras, four, for the GOPs asked for from now.
+  while (loop.frame_index() < kGopFrames) ASSERT_TRUE(tick());
+  ASSERT_TRUE(gops.NextRequest(&gop, &r));
+  ASSERT_EQ(gop, 2u);
+  const uint64_t four = r.budget.camera_mask;
+  ASSERT_EQ(count(four), 4u);
+  gops.Fetched(2);
+  ASSERT_TRUE(gops.NextDecode(&decoded, &d));
+  ASSERT_EQ(decoded, 2u);
+  // While GOP 2 decodes, the link fetches GOP 3 for the four.
+  ASSERT_TRUE(gops.NextRequest(&gop, &r));
+  ASSERT_EQ(gop, 3u);
+  EXPECT_EQ(r.budget.camera_mask, four);
+  gops.Fetched(3);
   fvv_decode_report slow = Whole();
   slow.complete = 0;
   slow.max_ms_per_gop = d.budget.max_ms_per_gop;
   slow.decode_ms = d.budget.max_ms_per_gop + 150.0 * count(d.budget.camera_mask);
-  gops.Deliver(0, slow);  // as many cameras as its decode was asked for
-  EXPECT_FALSE(gops.NextDecode(&decoded, &d)) << "GOP 1 waits for GOP 0's measurement";
-  ASSERT_TRUE(loop.Advance(1 / kFps, eye, target).ok());  // frame 0 shown
-  ASSERT_TRUE(loop.has_frame());
+  gops.Deliver(2, slow);  // as many cameras as its decode was asked for
+  // The decoder takes GOP 3 only once frame 16 was shown (it was busy).
+  while (loop.frame_index() < 2 * kGopFrames) ASSERT_TRUE(tick());  // frame 16 shown
   EXPECT_EQ(loop.controller().max_cameras(), PlaybackController::kMinCameras);
   ASSERT_TRUE(gops.NextDecode(&decoded, &d));
-  ASSERT_EQ(decoded, 1u);
+  ASSERT_EQ(decoded, 3u);
   EXPECT_EQ(count(d.budget.camera_mask), 3u);
   EXPECT_EQ(d.budget.camera_mask & ~four, 0u) << "only cameras it was fetched for";
   EXPECT_EQ(d.budget.camera_mask & 1u, 1u) << "camera 0, the closest, is kept";
   ASSERT_TRUE(gops.NextRequest(&gop, &r));
-  EXPECT_EQ(gop, 2u);
+  EXPECT_EQ(gop, 4u);
   EXPECT_EQ(count(r.budget.camera_mask), 3u);
   EXPECT_EQ(r.budget.camera_mask & ~four, 0u);
 }
@@ -253,7 +275,8 @@ TEST(PlaybackLoopOverRequests, AWaitForTheDecoderLeavesTheFetchesAlone) {
   GopRequest request;
   ASSERT_TRUE(rig.gops.NextRequest(&gop, &request));
   rig.gops.Fetched(gop);  // its bytes are in; it decodes for a long time
-  for (int i = 0; i < 30; ++i) ASSERT_TRUE(rig.Tick().ok());
+  // The start's preroll gives up on it after kMaxPrerollS, then GOP 0 plays.
+  for (int i = 0; i < 60; ++i) ASSERT_TRUE(rig.Tick().ok());
   ASSERT_EQ(rig.loop.stats().waits, 1u);
   EXPECT_EQ(rig.loop.FetchBudget(), before) << "the network was not late";
 }
@@ -263,8 +286,10 @@ TEST(PlaybackLoopOverRequests, ALateGopHoldsThePlayheadInsteadOfSkipping) {
   ASSERT_TRUE(rig.Tick().ok());
   rig.Serve();  // GOP 0
   ASSERT_TRUE(rig.Tick().ok());
-  // GOP 1 is late: nothing is served for a second.
-  for (int i = 0; i < 25; ++i) ASSERT_TRUE(rig.Tick().ok());
+  // GOP 1 is late: nothing is served for two seconds. The start's preroll
+  // holds frame 0 for kMaxPrerollS of them, then GOP 0 plays and the
+  // playhead waits at its end.
+  for (int i = 0; i < 50; ++i) ASSERT_TRUE(rig.Tick().ok());
   EXPECT_EQ(rig.loop.frame_index(), kGopFrames - 1) << "the last frame of GOP 0 stays";
   EXPECT_EQ(rig.loop.stats().frames_advanced, kGopFrames - 1);
   rig.Serve();  // GOP 1 arrives
@@ -272,6 +297,30 @@ TEST(PlaybackLoopOverRequests, ALateGopHoldsThePlayheadInsteadOfSkipping) {
   EXPECT_EQ(rig.loop.frame_index(), kGopFrames) << "played on from where it waited";
   EXPECT_EQ(rig.loop.stats().stalls, 1u);
   EXPECT_EQ(rig.loop.stats().waits, 1u) << "one wait, however many ticks it lasted";
+}
+
+// The GOP after the first decodes while the first frames are drawn: the
+// playhead holds at the first frame until it is there (no wait, no stall
+// counted), then plays through the GOP boundary without waiting.
+TEST(PlaybackLoopOverRequests, TheStartHoldsTheFirstFrameUntilTheNextGopIsReady) {
+  Rig rig;
+  ASSERT_TRUE(rig.Tick().ok());
+  rig.Serve();  // GOP 0 only
+  ASSERT_TRUE(rig.Tick().ok());
+  ASSERT_TRUE(rig.loop.has_frame());
+  EXPECT_TRUE(rig.loop.prerolling());
+  for (int i = 0; i < 10; ++i) ASSERT_TRUE(rig.Tick().ok());
+  EXPECT_EQ(rig.loop.frame_index(), 0u);
+  EXPECT_EQ(rig.loop.stats().frames_advanced, 0u);
+  EXPECT_TRUE(rig.loop.prerolling());
+  while (rig.Serve() >= 0) {
+  }  // GOPs 1 and 2
+  ASSERT_TRUE(rig.Tick().ok());
+  EXPECT_FALSE(rig.loop.prerolling());
+  for (int i = 0; i < 10; ++i) ASSERT_TRUE(rig.Tick().ok());
+  EXPECT_GT(rig.loop.frame_index(), kGopFrames) << "through GOP 1 without a wait";
+  EXPECT_EQ(rig.loop.stats().waits, 0u);
+  EXPECT_EQ(rig.loop.stats().stalls, 0u) << "the hold was the start's, not a stall";
 }
 
 TEST(PlaybackLoopOverRequests, ASeekWaitsForItsGopAndIsNotLost) {

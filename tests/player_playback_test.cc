@@ -162,7 +162,8 @@ TEST(PlaybackController, BudgetRisesInStepsAndFallsAtOnce) {
 // decoding gets cheap again the limit goes.
 TEST(PlaybackController, LimitsTheCamerasWhenEvenTheirFloorOutlastsTheGop) {
   PlaybackController pc(25, 8);
-  EXPECT_EQ(pc.max_cameras(), 0u) << "no limit before anything was measured";
+  EXPECT_EQ(pc.max_cameras(), PlaybackController::kMinCameras)
+      << "the closest three before anything was measured";
   const uint32_t wanted = 6;
   double per_camera_ms = 90;  // six cameras' floor: 540 ms of a GOP's 320
   uint32_t cameras = wanted;
@@ -200,6 +201,26 @@ TEST(PlaybackController, LimitsTheCamerasWhenEvenTheirFloorOutlastsTheGop) {
     pc.Report(g);
   }
   EXPECT_TRUE(pc.max_cameras() == 0 || pc.max_cameras() >= wanted) << pc.max_cameras();
+}
+
+// The first GOPs decode before anything is measured, while the first frames
+// are drawn, and the start waits for them: the blend's closest three. The
+// first outcome sets the limit: none after a whole decode in time.
+TEST(PlaybackController, TheStartDecodesTheClosestThreeUntilAGopIsMeasured) {
+  PlaybackController pc(25, 8);
+  EXPECT_EQ(pc.max_cameras(), PlaybackController::kMinCameras);
+  GopOutcome g;
+  g.budget_ms = pc.NextMaxMs();
+  g.decode_ms = 40;
+  g.complete = true;
+  g.cameras = 3;
+  pc.Report(g);
+  EXPECT_EQ(pc.max_cameras(), 0u) << "a whole decode in time: no limit";
+  PlaybackController slow(25, 8);
+  g.decode_ms = g.budget_ms + 3 * 150;  // 150 ms a camera that no budget shortens
+  g.complete = false;
+  slow.Report(g);
+  EXPECT_EQ(slow.max_cameras(), PlaybackController::kMinCameras);
 }
 
 TEST(PlaybackController, FasterPlaybackTightensTheBudget) {

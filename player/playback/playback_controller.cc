@@ -24,6 +24,7 @@ PlaybackController::PlaybackController(double fps, uint32_t gop_frames, double f
       max_ms_(gop_ms_) {}
 
 uint32_t PlaybackController::max_cameras() const {
+  if (!reported_) return kMinCameras;
   if (camera_ms_ <= 0) return 0;
   const double fits = kFloorShareOfTarget * target_ms_ / camera_ms_;
   if (fits >= 64) return 0;
@@ -35,6 +36,7 @@ bool PlaybackController::at_floor() const { return max_ms_ <= 2 * kMinBudgetMs; 
 void PlaybackController::set_speed(double speed) { speed_ = std::max(0.05, speed); }
 
 void PlaybackController::Report(const GopOutcome& gop) {
+  reported_ = true;
   // The next GOP is decoded while this one plays, so it has this one's play
   // time, less what shares the cores with it. That share is measured: a GOP the
   // playhead waited for was late by the wait, so the reserve grows by it; while

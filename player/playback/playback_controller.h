@@ -60,6 +60,9 @@ class PlaybackController {
   // even the floor of the cameras a view wants takes longer than a GOP
   // plays, fewer cameras (the closest, which the blend weighs most) keep
   // playback in real time where the budget alone could not.
+  // Before any GOP was reported, the closest three: the first GOPs decode
+  // while nothing is measured and the first frames are drawn, and the start
+  // waits for them.
   uint32_t max_cameras() const;
   // Even the floor did not keep up with the last GOP: playback is slower than
   // real time (the HUD says so).
@@ -76,6 +79,7 @@ class PlaybackController {
   double reserve_ms_;
   double fixed_ms_ = -1;   // < 0: not measured yet
   double camera_ms_ = -1;  // < 0: not measured yet
+  bool reported_ = false;  // a GOP's outcome came in
   double max_ms_;
   bool below_real_time_ = false;
 };

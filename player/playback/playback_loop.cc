@@ -46,6 +46,7 @@ void PlaybackLoop::Seek(uint32_t frame) {
   if (info_.frame_count == 0) return;
   transport_.playhead = std::min(frame, info_.frame_count - 1);
   waiting_ = true;
+  preroll_due_ = true;
 }
 
 uint64_t PlaybackLoop::ViewMask(const glm::vec3& eye, const glm::vec3& target) {
@@ -106,9 +107,22 @@ GopRequest PlaybackLoop::Request() const {
 Status PlaybackLoop::Advance(double dt, const glm::vec3& eye, const glm::vec3& target) {
   Transport& t = transport_;
   const uint32_t frames = info_.frame_count;
+  if (prerolling() && t.playing) {
+    preroll_s_ += dt;
+    const uint32_t next = shown_ / info_.gop_frames + 1;
+    if (next > LastGop() || preroll_s_ >= kMaxPrerollS ||
+        source_->Ready(next * info_.gop_frames, Request())) {
+      preroll_s_ = -1;
+      on_screen_s_ = 0;  // held by the start-up, not by a late GOP
+    } else {
+      // No frame is taken meanwhile: the GOPs queued ahead learn the latest
+      // budget and cameras here instead.
+      source_->Retarget(Request());
+    }
+  }
   // A playhead waiting for a frame (the first, a late GOP's, a seek's) starts
   // from it once it is there, rather than from where the wait's time took it.
-  if (t.playing && !waiting_) {
+  if (t.playing && !waiting_ && !prerolling()) {
     t.playhead += dt * fps_ * t.speed;
     if (t.playhead >= frames) {
       t.playhead = t.loop ? std::fmod(t.playhead, double(frames)) : frames - 1;
@@ -170,6 +184,10 @@ Status PlaybackLoop::Advance(double dt, const glm::vec3& eye, const glm::vec3& t
   }
   changed_ = true;
   waiting_ = false;
+  if (preroll_due_) {
+    preroll_due_ = false;
+    preroll_s_ = 0;
+  }
   if (shown_ != UINT32_MAX && t.playing) {
     stats_.frames_advanced += f > shown_ ? f - shown_ : f + frames - shown_;
     if (on_screen_s_ > 2.0 / (fps_ * t.speed)) ++stats_.stalls;

@@ -74,6 +74,13 @@ class PlaybackLoop {
   Transport& transport() { return transport_; }
   const Transport& transport() const { return transport_; }
   bool all_cameras = false;  // decode every camera, not only those the view blends
+  // After the first frame of a start or a seek the playhead holds, the frame
+  // on screen, until the GOP after it is ready too, at most kMaxPrerollS: that
+  // GOP decodes while the first frames are drawn (when a software rasteriser
+  // compiles its pipelines) and would otherwise come late, a wait just after
+  // the start. Not counted as a wait or a stall: it is the start-up's.
+  static constexpr double kMaxPrerollS = 1.0;
+  bool prerolling() const { return preroll_s_ >= 0; }
   const PlaybackController& controller() const { return control_; }
   const PlaybackStats& stats() const { return stats_; }
   // The last GOP's decode report, for the HUD.
@@ -118,10 +125,12 @@ class PlaybackLoop {
   bool wrap_asked_ = false;
   glm::vec3 last_direction_{0.0f};  // from the actor to the eye, when cameras were last picked
   bool changed_ = false;
-  bool waiting_ = true;     // the playhead is held at the frame it wants (the first, at first)
-  double frame_ms_ = 0;     // smoothed upload + draw time
-  double wait_ms_ = 0;      // the playhead's wait for the GOP being waited for
-  double on_screen_s_ = 0;  // how long the shown frame has been on screen
+  bool waiting_ = true;      // the playhead is held at the frame it wants (the first, at first)
+  bool preroll_due_ = true;  // the next frame taken starts a preroll (a start, a seek)
+  double preroll_s_ = -1;    // how long the preroll has held the playhead; < 0: none
+  double frame_ms_ = 0;      // smoothed upload + draw time
+  double wait_ms_ = 0;       // the playhead's wait for the GOP being waited for
+  double on_screen_s_ = 0;   // how long the shown frame has been on screen
 };
 
 }  // namespace fvv
