@@ -60,7 +60,10 @@ void AddGrid(double z, double half, int cells, std::vector<Eigen::Vector3f>* pos
   }
 }
 
-TEST(ExpandSilhouette, GrowsByTheGivenPixelsWithTheActorsColour) {
+// The silhouette grows by the given pixels with the actor's colour; beyond,
+// every pixel takes the actor's colour too, at kFarFillAlpha (what fills
+// Renderer I where no silhouette covers the model); the studio's never.
+TEST(ExpandSilhouette, GrowsByTheGivenPixelsAndFillsTheRestWithTheActorsColour) {
   Image rgb, sil;
   rgb.width = sil.width = 20;
   rgb.height = sil.height = 20;
@@ -85,14 +88,9 @@ TEST(ExpandSilhouette, GrowsByTheGivenPixelsWithTheActorsColour) {
       // Chebyshev distance to the 4x4 actor square.
       const int dx = std::max({8 - x, x - 11, 0}), dy = std::max({8 - y, y - 11, 0});
       const bool inside = std::max(dx, dy) <= 3;
-      EXPECT_EQ(out.pixels[i * 4 + 3], inside ? 255 : 0) << x << "," << y;
-      if (inside) {
-        EXPECT_EQ(out.pixels[i * 4 + 0], 200) << x << "," << y;
-        EXPECT_EQ(out.pixels[i * 4 + 1], 0) << "studio colour in the ring at " << x << "," << y;
-      } else {
-        // Premultiplied: nothing of the studio survives.
-        EXPECT_EQ(out.pixels[i * 4 + 0] + out.pixels[i * 4 + 1] + out.pixels[i * 4 + 2], 0);
-      }
+      EXPECT_EQ(out.pixels[i * 4 + 3], inside ? 255 : kFarFillAlpha) << x << "," << y;
+      EXPECT_EQ(out.pixels[i * 4 + 0], 200) << "the actor's colour at " << x << "," << y;
+      EXPECT_EQ(out.pixels[i * 4 + 1], 0) << "the studio's colour at " << x << "," << y;
     }
   }
   // No silhouette: every pixel kept as it is.
@@ -101,6 +99,10 @@ TEST(ExpandSilhouette, GrowsByTheGivenPixelsWithTheActorsColour) {
     EXPECT_EQ(all.pixels[i * 4 + 3], 255);
     EXPECT_EQ(all.pixels[i * 4 + 1], rgb.pixels[i * 3 + 1]);
   }
+  // A silhouette with no pixel: nothing of this camera is the actor.
+  sil.pixels.assign(20 * 20, 0);
+  const Image none = ExpandSilhouette(rgb, sil, 3);
+  for (size_t i = 0; i < 400; ++i) EXPECT_EQ(none.pixels[i * 4 + 3], 0);
 }
 
 TEST(VertexVisibility, OccludedVerticesAndThoseAtTheOccludersEdgeAreHidden) {

@@ -1,6 +1,7 @@
 #include "encoder/shape/projective_texturing.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "encoder/body/kinematics.h"
@@ -100,42 +101,63 @@ Image ExpandSilhouette(const Image& rgb, const Image& silhouette, int pixels) {
   out.channels = 4;
   const int w = int(rgb.width), h = int(rgb.height);
   const size_t count = size_t(w) * h;
-  out.pixels.resize(count * 4);
+  out.pixels.assign(count * 4, 0);
   std::vector<uint8_t> filled(count, 1);
   if (!silhouette.pixels.empty()) {
     for (size_t i = 0; i < count; ++i) filled[i] = silhouette.pixels[i] != 0;
   }
   for (size_t i = 0; i < count; ++i) {
-    for (int k = 0; k < 3; ++k) out.pixels[i * 4 + k] = filled[i] ? rgb.pixels[i * 3 + k] : 0;
-    out.pixels[i * 4 + 3] = filled[i] ? 255 : 0;
+    if (!filled[i]) continue;
+    for (int k = 0; k < 3; ++k) out.pixels[i * 4 + k] = rgb.pixels[i * 3 + k];
+    out.pixels[i * 4 + 3] = 255;
   }
-  // Ring by ring: each unfilled pixel next to filled ones takes their mean.
-  std::vector<size_t> ring;
-  for (int step = 0; step < pixels; ++step) {
-    ring.clear();
-    for (int y = 0; y < h; ++y) {
-      for (int x = 0; x < w; ++x) {
-        const size_t i = size_t(y) * w + x;
-        if (filled[i]) continue;
-        int sum[3] = {0, 0, 0}, n = 0;
-        for (int dy = -1; dy <= 1; ++dy) {
-          for (int dx = -1; dx <= 1; ++dx) {
-            const int xx = x + dx, yy = y + dy;
-            if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
-            const size_t j = size_t(yy) * w + xx;
-            if (!filled[j]) continue;
-            for (int k = 0; k < 3; ++k) sum[k] += out.pixels[j * 4 + k];
-            ++n;
-          }
-        }
-        if (n == 0) continue;
-        for (int k = 0; k < 3; ++k) out.pixels[i * 4 + k] = uint8_t((sum[k] + n / 2) / n);
-        ring.push_back(i);
+  // Ring by ring, each pixel next to filled ones takes their mean: the rings
+  // within `pixels` as the actor, the rest with kFarFillAlpha. The next ring is
+  // the unfilled neighbours of this one, so the whole image costs one pass.
+  auto neighbours = [w, h](size_t i, auto&& visit) {
+    const int x = int(i % size_t(w)), y = int(i / size_t(w));
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int xx = x + dx, yy = y + dy;
+        if ((dx || dy) && xx >= 0 && yy >= 0 && xx < w && yy < h) visit(size_t(yy) * w + xx);
       }
     }
-    if (ring.empty()) break;
+  };
+  std::vector<uint8_t> queued(count, 0);
+  std::vector<size_t> ring, next;
+  for (size_t i = 0; i < count; ++i) {
+    if (filled[i]) continue;
+    bool edge = false;
+    neighbours(i, [&](size_t j) { edge = edge || filled[j]; });
+    if (edge) ring.push_back(i), queued[i] = 1;
+  }
+  std::vector<std::array<uint8_t, 3>> colours;
+  for (int step = 0; !ring.empty(); ++step) {
+    colours.resize(ring.size());
+    for (size_t r = 0; r < ring.size(); ++r) {
+      int sum[3] = {0, 0, 0}, n = 0;
+      neighbours(ring[r], [&](size_t j) {
+        if (!filled[j]) return;
+        for (int k = 0; k < 3; ++k) sum[k] += out.pixels[j * 4 + k];
+        ++n;
+      });
+      for (int k = 0; k < 3; ++k) colours[r][k] = uint8_t((sum[k] + n / 2) / n);
+    }
     // Written after the sweep: a pixel of this ring does not feed its neighbours.
-    for (size_t i : ring) filled[i] = 1, out.pixels[i * 4 + 3] = 255;
+    const uint8_t alpha = step < pixels ? 255 : kFarFillAlpha;
+    next.clear();
+    for (size_t r = 0; r < ring.size(); ++r) {
+      const size_t i = ring[r];
+      filled[i] = 1;
+      for (int k = 0; k < 3; ++k) out.pixels[i * 4 + k] = colours[r][k];
+      out.pixels[i * 4 + 3] = alpha;
+    }
+    for (size_t i : ring) {
+      neighbours(i, [&](size_t j) {
+        if (!filled[j] && !queued[j]) next.push_back(j), queued[j] = 1;
+      });
+    }
+    ring.swap(next);
   }
   return out;
 }

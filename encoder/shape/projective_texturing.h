@@ -20,6 +20,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "codec/base/parallel.h"
@@ -56,18 +57,21 @@ std::vector<float> BlendWeights(const std::vector<Eigen::Vector3f>& positions,
                                 const std::vector<std::vector<uint8_t>>& visibility,
                                 double dominance);
 
-// RGBA: alpha 255 inside the silhouette grown by `pixels`, 0 outside; the
-// grown ring takes the colour of the actor pixels next to it (ring by ring), so
-// a model slightly larger than the silhouette picks up the actor, not the
-// studio. Premultiplied: RGB is 0 where alpha is. An empty silhouette keeps
-// every pixel (alpha 255).
+// RGBA, straight (not premultiplied): alpha 255 inside the silhouette grown by
+// `pixels`, kFarFillAlpha beyond. Every pixel outside the silhouette takes the
+// colour of the actor pixels nearest it (ring by ring), so a model larger than
+// the silhouette picks up the actor, never the studio: within `pixels` as much
+// as the silhouette, beyond only where no camera has better (Renderer I weighs
+// those samples down, so they fill what would be grey). An empty silhouette
+// keeps every pixel (alpha 255); a silhouette with no pixel, none (alpha 0).
+constexpr uint8_t kFarFillAlpha = 1;
 Image ExpandSilhouette(const Image& rgb, const Image& silhouette, int pixels);
 
 // One frame as Renderer I takes it.
 struct ProjectiveFrame {
-  std::vector<float> positions;  // posed vertices, xyz
-  std::vector<float> weights;    // [camera][vertex]
-  std::vector<Image> images;     // per camera RGBA, premultiplied (RGB 0 where alpha is 0)
+  std::vector<float> positions;                  // posed vertices, xyz
+  std::vector<float> weights;                    // [camera][vertex]
+  std::vector<Image> images;                     // per camera RGBA, straight (ExpandSilhouette)
   std::vector<std::vector<uint8_t>> visibility;  // [camera][vertex]
   Eigen::Vector3d root{0, 0, 0};                 // the root joint, where views look
 };

@@ -39,7 +39,9 @@ class ProjectiveRenderer {
 
   // One frame: posed vertex positions (world, xyz per vertex), blending weights
   // camera-major ([camera][vertex]), and per camera its image as RGBA8 rows,
-  // premultiplied (alpha 0 off the silhouette, RGB 0 there), top-down.
+  // straight, top-down: alpha 255 on the (expanded) silhouette, 0 where a
+  // camera has nothing, and kFarFillAlpha where its colour only fills what no
+  // silhouette covers (ExpandSilhouette, encoder/shape/projective_texturing.h).
   Status SetFrame(const std::vector<float>& positions, const std::vector<float>& weights,
                   const std::vector<const uint8_t*>& images);
   // RenderView.exponent is not used: the weights carry the blending.

@@ -8,11 +8,12 @@ uniform vec4 u_intrinsics;     // fx fy cx cy (pixel centres at integers)
 uniform vec4 u_distortion;     // k1 k2 p1 p2
 uniform float u_k3;
 uniform vec2 u_size;           // image width, height
-uniform sampler2D u_image;     // premultiplied RGBA, row 0 at the top
+uniform sampler2D u_image;     // straight RGBA, row 0 at the top
 out vec4 o_accum;
 void main() {
   if (u_pass == 0) {
-    o_accum = vec4(0.5, 0.5, 0.5, 1.0) * 1e-7;
+    // Grey, weighed below anything a camera gives (a fill's least is ~1e-10).
+    o_accum = vec4(0.5, 0.5, 0.5, 1.0) * 1e-14;
     return;
   }
   vec3 p = u_rotation * v_world + u_translation;
@@ -26,9 +27,11 @@ void main() {
   vec2 uv = (u_intrinsics.xy * d + u_intrinsics.zw + 0.5) / u_size;
   if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) discard;
   vec4 s = texture(u_image, uv);
-  // Premultiplied: s.rgb / s.a is the actor's colour, s.a how much of the
-  // sample lies on the (expanded) silhouette.
-  if (s.a < 0.02) discard;
-  float w = v_weight * s.a;
-  o_accum = vec4(s.rgb / s.a * w, w);
+  // Straight colour, the actor's or the nearest of it (ExpandSilhouette);
+  // s.a how much of the sample lies on the (expanded) silhouette. The fill
+  // beyond it (alpha 1/255) counts a thousandth as much: it only colours
+  // what no camera's silhouette covers, which would otherwise be grey.
+  if (s.a <= 0.0) discard;
+  float w = v_weight * (s.a >= 0.02 ? s.a : s.a * 1e-3);
+  o_accum = vec4(s.rgb * w, w);
 }
