@@ -73,8 +73,10 @@ std::vector<std::string> HudLines(const PlaybackLoop& loop, uint32_t frames, dou
                 s.camera >= 0 ? ("camera " + std::to_string(s.camera + 1)).c_str() : "orbit",
                 cameras_decoded, cameras,
                 *s.all_cameras ? " (all)"
-                : most         ? (" (at most " + std::to_string(most) + ": decoding time)").c_str()
-                               : "");
+                : most         ? (" (at most " + std::to_string(most) +
+                          (loop.stats().gops ? ": decoding time)" : " until a GOP is timed)"))
+                             .c_str()
+                       : "");
   std::vector<std::string> lines = {line[0], line[1], line[2], line[3]};
   if (loop.controller().below_real_time()) {
     lines.push_back(loop.controller().at_floor()
