@@ -68,15 +68,18 @@ std::vector<std::string> HudLines(const PlaybackLoop& loop, uint32_t frames, dou
                 r.bytes_decoded / 1024.0, r.bytes_available / 1024.0,
                 r.bytes_available ? 100.0 * r.bytes_decoded / r.bytes_available : 100.0,
                 r.bitplanes[0], r.bitplanes[1], r.bitplanes[2]);
-  const uint32_t most = loop.controller().max_cameras();
+  // Which cameras are decoded: all, or at most the controller's limit (the
+  // start's three until a GOP is timed, then what the decoding time allows).
+  std::string decoded;
+  if (*s.all_cameras) {
+    decoded = " (all)";
+  } else if (const uint32_t most = loop.controller().max_cameras()) {
+    decoded = " (at most " + std::to_string(most) +
+              (loop.stats().gops ? ": decoding time)" : " until a GOP is timed)");
+  }
   std::snprintf(line[3], sizeof(line[3]), "exponent %.1f  %s  cameras %d/%d%s", s.exponent,
                 s.camera >= 0 ? ("camera " + std::to_string(s.camera + 1)).c_str() : "orbit",
-                cameras_decoded, cameras,
-                *s.all_cameras ? " (all)"
-                : most         ? (" (at most " + std::to_string(most) +
-                          (loop.stats().gops ? ": decoding time)" : " until a GOP is timed)"))
-                             .c_str()
-                       : "");
+                cameras_decoded, cameras, decoded.c_str());
   std::vector<std::string> lines = {line[0], line[1], line[2], line[3]};
   if (loop.controller().below_real_time()) {
     lines.push_back(loop.controller().at_floor()
