@@ -39,6 +39,7 @@
 #include "encoder/body/kinematics.h"
 #include "encoder/capture/calibration.h"
 #include "encoder/capture/capture.h"
+#include "encoder/capture/colour_gain.h"
 #include "encoder/io/child_process.h"
 #include "encoder/io/image_io.h"
 #include "encoder/track/camera_sync.h"
@@ -341,6 +342,9 @@ int Run(const Args& a) {
   std::vector<Image> sheet;
   std::vector<FitScore> held(n), own(n);
   std::vector<RenderScore> renderer2(n), renderer2_masks(n), renderer1(n);
+  // Renderer II in the rig's common colour, as the stream carries it: before
+  // the held-out camera's own colour response (its colour_gain undone).
+  std::vector<RenderScore> renderer2_rig_colour(n);
   struct Times {
     double decode = 0, persons = 0, masks = 0, initialise = 0, fit = 0;
   };
@@ -531,6 +535,11 @@ int Run(const Args& a) {
           return 1;
         }
         const Image& region = ref.masks[f - first][k];
+        ScoreRender(*real, *two, region, &renderer2_rig_colour[k]);
+        // The renders are in the rig's common colour; the held-out camera
+        // sees it through its own response (its calibration, like its pose).
+        const std::array<double, 3> response = InverseGain(full.cameras[k].colour_gain);
+        for (Image* im : {&*two, &*two_masks, &*one}) ApplyColourGain(response, im);
         ScoreRender(*real, *two, region, &renderer2[k]);
         // What the surface as rendered covers: against the mask, and the
         // pixels both cover (where the texture, not the outline, is scored).
@@ -554,10 +563,12 @@ int Run(const Args& a) {
         if (f == first) rendered2.push_back(*two), rendered1.push_back(*one);
       }
       std::printf(
-          "  Renderer II: IoU %.3f as rendered, PSNR %.2f dB (%.2f dB where both cover), SSIM "
+          "  Renderer II: IoU %.3f as rendered, PSNR %.2f dB (%.2f dB where both cover; %.2f dB "
+          "in the rig's colour, before the camera's response), SSIM "
           "%.3f (with masks, same bytes: %.2f dB, %.3f); Renderer I: PSNR %.2f dB, SSIM %.3f\n",
           renderer2[k].iou / renderer2[k].coverage_frames, renderer2[k].psnr / renderer2[k].frames,
           renderer2[k].psnr_both / renderer2[k].coverage_frames,
+          renderer2_rig_colour[k].psnr / renderer2_rig_colour[k].frames,
           renderer2[k].ssim / renderer2[k].frames,
           renderer2_masks[k].psnr / renderer2_masks[k].frames,
           renderer2_masks[k].ssim / renderer2_masks[k].frames,
@@ -614,6 +625,9 @@ int Run(const Args& a) {
          {"own_iou", w.iou / w.frames},
          {"own_joint_px", wj},
          {"renderer2_psnr", mean(r2.psnr, r2.frames)},
+         {"renderer2_psnr_rig_colour",
+          mean(renderer2_rig_colour[k].psnr, renderer2_rig_colour[k].frames)},
+         {"colour_gain", full.cameras[k].colour_gain},
          {"renderer2_iou", mean(r2.iou, r2.coverage_frames)},
          {"renderer2_psnr_both_cover", mean(r2.psnr_both, r2.coverage_frames)},
          {"renderer2_ssim", mean(r2.ssim, r2.frames)},

@@ -7,7 +7,7 @@
 # view).
 #
 # Usage: bench/run_real_bench.sh [FRAMES A:B] [RENDER_FRAMES N] [--refine[=FROM]] [--strict]
-#                               [--surface]
+#                               [--surface] [--no-colour]
 #   --refine            camera poses from the keypoints (refine-calib --from keypoints)
 #   --refine=silhouettes  camera orientations from the tracked actor's outlines
 #   --strict            the held-out camera as imported, the other cameras refined among
@@ -16,6 +16,10 @@
 #                       shoot). Either way the refinement reads the 68 frames after B only:
 #                       no scored frame shapes the calibration.
 #   --surface           encode with the surface of every frame (fvv encode --surface)
+#   --no-colour         with --refine: the cameras' colour gains left out (without it the
+#                       refined cameras' gains come from the same frames, fvv capture
+#                       calibrate-colour, and the held-out camera's response is applied to the
+#                       renders it is scored against)
 # Needs the person models (tools/setup.sh fetches them) and a Release build in build/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -26,6 +30,7 @@ if [ ! -d "$real" ]; then
 fi
 refine=""
 strict=0
+colour=1
 args=()
 bench_args=()
 for a in "$@"; do
@@ -34,6 +39,7 @@ for a in "$@"; do
     --refine=*) refine=${a#--refine=} ;;
     --strict) strict=1 ;;
     --surface) bench_args+=(--surface) ;;
+    --no-colour) colour=0 ;;
     *) args+=("$a") ;;
   esac
 done
@@ -60,6 +66,9 @@ $fvv capture sync "$out/capture" --write
 if [ $strict = 0 ]; then
   if [ -n "$refine" ]; then
     $fvv capture refine-calib "$out/capture" --from "$refine" --frames "$span" --write
+    if [ $colour = 1 ]; then
+      $fvv capture calibrate-colour "$out/capture" --frames "$span" --write -q
+    fi
   fi
   build/bench/real_bench "$out/capture" --frames "$frames" --render-frames "$render_frames" \
     --out "$out" --fvv $fvv "${bench_args[@]}"
@@ -77,6 +86,9 @@ for held in $names; do
   echo "== $held held out: $others refined among themselves"
   $fvv capture refine-calib "$dir/capture" --from "$refine" --cameras "$others" --frames "$span" \
     --write
+  if [ $colour = 1 ]; then
+    $fvv capture calibrate-colour "$dir/capture" --cameras "$others" --frames "$span" --write -q
+  fi
   build/bench/real_bench "$dir/capture" --frames "$frames" --render-frames "$render_frames" \
     --out "$dir" --fvv $fvv --held-out "$held"
 done

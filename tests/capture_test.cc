@@ -100,6 +100,15 @@ TEST(Capture, ParsesAndRoundTrips) {
   ASSERT_TRUE(again.ok()) << again.status().ToString();
   EXPECT_EQ(again->cameras[1].calibration.rotation, c->cameras[1].calibration.rotation);
   EXPECT_EQ(again->cameras[0].frames.first, 1);
+  // A camera's colour gain: absent is 1, 1, 1 (and not written); set, it
+  // comes back as written.
+  EXPECT_EQ(c->cameras[0].colour_gain, (std::array<double, 3>{1, 1, 1}));
+  EXPECT_EQ(CaptureToJson(*c).find("colour_gain"), std::string::npos);
+  c->cameras[1].colour_gain = {0.9, 1.05, 1.25};
+  again = ParseCapture(CaptureToJson(*c), "/data/take1");
+  ASSERT_TRUE(again.ok()) << again.status().ToString();
+  EXPECT_EQ(again->cameras[1].colour_gain, c->cameras[1].colour_gain);
+  EXPECT_EQ(again->cameras[0].colour_gain, (std::array<double, 3>{1, 1, 1}));
 }
 
 // A z-up capture (as many studios calibrate) is turned into fvv's y-up world:
@@ -189,6 +198,21 @@ TEST(Capture, MalformedCapturesNameTheProblem) {
       {"images and video",
        [](nlohmann::json* j) { (*j)["cameras"][0]["frames"]["video"] = "a.mp4"; },
        "exactly one of"},
+      {"colour gain of two numbers",
+       [](nlohmann::json* j) {
+         (*j)["cameras"][1]["colour_gain"] = {1, 1};
+       },
+       "cameras[1] (\"right\").colour_gain: expected 3 numbers"},
+      {"colour gain of zero",
+       [](nlohmann::json* j) {
+         (*j)["cameras"][0]["colour_gain"] = {1, 0, 1};
+       },
+       "gains must lie in [0.25, 4]"},
+      {"colour gain not a number",
+       [](nlohmann::json* j) {
+         (*j)["cameras"][0]["colour_gain"] = {1, "x", 1};
+       },
+       "colour_gain: expected a number"},
       {"too many distortion terms",
        [](nlohmann::json* j) { (*j)["cameras"][0]["distortion"] = {0, 0, 0, 0, 0, 0}; }, "up to 5"},
   };

@@ -152,4 +152,33 @@ grep -q "warning: the cameras do not stand upright in this capture's world" <<<"
 printf '[cam00]\nwidth = 96\n' >"$dir/partial.toml"
 out=$("$fvv" capture import-calib "$dir/partial.toml" -o "$dir/imported" 2>&1) && fail "partial calibration accepted"
 grep -q "partial.toml: cam00: no camera matrix\|no camera found" <<<"$out" || fail "partial message: $out"
+
+# Cameras of different colour responses: calibrate-colour finds gains that
+# bring them to one colour (against the responses synth drew), writes them
+# only with --write, and refuses what it cannot use.
+out=$("$fvv" synth -o "$dir/colour" --cameras 6 --width 320 --height 240 --frames 4 --held-out 0 \
+  --colour-mismatch 0.15 2>&1) || fail "synth --colour-mismatch: $out"
+cp "$dir/colour/capture.json" "$dir/colour.before"
+out=$("$fvv" capture calibrate-colour "$dir/colour" --frames 0:3 -q 2>&1) || fail "calibrate-colour: $out"
+grep -q "colour gains of 6 cameras" <<<"$out" && grep -q "differ by" <<<"$out" ||
+  fail "calibrate-colour report: $out"
+cmp -s "$dir/colour/capture.json" "$dir/colour.before" || fail "calibrate-colour wrote without --write"
+out=$("$fvv" capture calibrate-colour "$dir/colour" --frames 0:3 -q --write 2>&1) ||
+  fail "calibrate-colour --write: $out"
+python3 - "$dir/colour" <<'PY' || fail "calibrate-colour gains against the truth: $(cat "$dir/colour/capture.json")"
+import json, sys
+d = sys.argv[1]
+cams = json.load(open(d + "/capture.json"))["cameras"]
+truth = json.load(open(d + "/truth/truth.json"))["camera_responses"]
+for k in range(3):
+    common = [c["colour_gain"][k] * r[k] for c, r in zip(cams, truth)]
+    assert max(common) / min(common) < 1.04, (k, common)
+PY
+"$fvv" capture check "$dir/colour" >/dev/null 2>&1 || fail "a capture with colour gains does not check"
+out=$("$fvv" capture calibrate-colour "$dir/colour" --cameras cam00,nobody 2>&1) &&
+  fail "calibrate-colour with an unknown camera succeeded"
+grep -q 'no camera "nobody"' <<<"$out" || fail "unknown camera message: $out"
+out=$("$fvv" capture calibrate-colour "$dir/colour" --frames 40:50 2>&1) &&
+  fail "calibrate-colour beyond the take succeeded"
+grep -q "the capture has 4 frames" <<<"$out" || fail "frame range message: $out"
 echo "cli capture: OK"

@@ -381,6 +381,53 @@ TEST_F(EncodeTest, EncodesAgainFromSavedTexturesToTheSameStream) {
   EXPECT_DOUBLE_EQ(a->psnr_rgb, b->psnr_rgb);
 }
 
+// A camera's colour gain (capture.json) scales what the encoder resamples
+// from it, and nothing else: the textures of the same capture without the
+// gain, times the gain.
+TEST_F(EncodeTest, TexturesReadTheCamerasThroughTheirColourGain) {
+  StatusOr<Capture> cap = LoadCapture(dir_ + "/cap");
+  ASSERT_TRUE(cap.ok());
+  Capture gained = *cap;
+  gained.directory = dir_ + "/gained";
+  ASSERT_EQ(std::system(("mkdir -p '" + gained.directory + "'").c_str()), 0);
+  for (CaptureCamera& c : gained.cameras) {
+    c.frames.path = dir_ + "/cap/" + c.frames.path;
+    if (c.background) c.background = dir_ + "/cap/" + *c.background;
+    if (c.silhouettes) c.silhouettes->path = dir_ + "/cap/" + c.silhouettes->path;
+  }
+  const std::array<double, 3> gain{0.8, 1.0, 1.25};
+  gained.cameras[1].colour_gain = gain;
+  ASSERT_TRUE(SaveCapture(gained).ok());
+  EncoderSettings s = Settings();
+  s.gop_frames = 1;
+  s.save_textures = dir_ + "/plain_textures";
+  ASSERT_TRUE(EncodeCapture(dir_ + "/cap", dir_ + "/plain.fvv", s).ok());
+  s.save_textures = dir_ + "/gained_textures";
+  StatusOr<EncodeSummary> sum = EncodeCapture(gained.directory, dir_ + "/gained.fvv", s);
+  ASSERT_TRUE(sum.ok()) << sum.status().ToString();
+  for (uint32_t c : {0u, 1u}) {
+    const std::string name = cap->cameras[c].calibration.name;
+    StatusOr<Image> plain = ReadImage(TexturePath(dir_ + "/plain_textures", name, 0));
+    StatusOr<Image> with = ReadImage(TexturePath(dir_ + "/gained_textures", name, 0));
+    StatusOr<Image> plain_mask = ReadImage(TextureMaskPath(dir_ + "/plain_textures", name, 0));
+    StatusOr<Image> with_mask = ReadImage(TextureMaskPath(dir_ + "/gained_textures", name, 0));
+    ASSERT_TRUE(plain.ok() && with.ok() && plain_mask.ok() && with_mask.ok()) << name;
+    size_t compared = 0, equal = 0;
+    for (size_t t = 0; t < plain_mask->pixels.size(); ++t) {
+      if (plain_mask->pixels[t] != kSeenTexel || with_mask->pixels[t] != kSeenTexel) continue;
+      bool same = true;
+      for (int k = 0; k < 3; ++k) {
+        const double g = c == 1 ? gain[k] : 1.0;
+        const long want = std::min(255L, std::lround(plain->pixels[3 * t + k] * g));
+        same = same && with->pixels[3 * t + k] == want;
+      }
+      ++compared, equal += same;
+    }
+    EXPECT_GT(compared, 1000u) << name;
+    EXPECT_EQ(equal, compared) << name;
+  }
+}
+
 TEST_F(EncodeTest, RefusesBadInputWithErrorsThatNameIt) {
   const std::string out = dir_ + "/bad.fvv";
   auto expect_error = [&](const EncoderSettings& s, const std::string& capture,

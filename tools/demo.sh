@@ -144,6 +144,9 @@ if [ -d "$real" ]; then
     echo "== its calibration disagrees by a constant shift per camera (docs/capture-format.md): the"
     echo "   cameras turned to meet the actor's outline over frames 30-59 (refine-calib --from silhouettes)"
     $fvv capture refine-calib "$out/real" --from silhouettes --frames 30:59 --rounds 2 --write
+    echo "== its cameras disagree on colour too (exposure, white balance): each camera's gain from the"
+    echo "   actor's surface as two cameras see it, frames 30-59 (calibrate-colour)"
+    $fvv capture calibrate-colour "$out/real" --frames 30:59 --write -q
     echo "== camera cam02 held out: tracked from the other three on person masks and keypoints, encoded,"
     echo "   and its view rendered with Renderer II (the stream with the surface of every frame)"
     echo "   and Renderer I against the real frames"
@@ -176,7 +179,8 @@ echo "         $out/shape/capture (the bumpy actor's synthetic capture the shape
 echo "         $out/dome, $out/dome_poses.json and $out/dome.fvv (a 24-camera dome, tracked on 10 of its"
 echo "         cameras, encoded from all 24; $out/dome_views: 6 views of its first frame),"
 echo "         $out/capture_predictive.fvv and $out/render_predictive (the predictive texture codec),"
-echo "         $out/real (the real capture's capture.json, its cameras turned to the actor's outline),"
+echo "         $out/real (the real capture's capture.json, its cameras turned to the actor's outline"
+echo "         and their colour gains),"
 echo "         $out/real_sheet.png and"
 echo "         $out/real_persons.png (the network's person masks and keypoints),"
 echo "         $out/real_poses.json (all four cameras tracked, frames 30-59: camera_shifts, side_exchanges),"

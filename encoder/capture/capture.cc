@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "encoder/capture/calibration.h"
+#include "encoder/capture/colour_gain.h"
 #include "encoder/capture/video_reader.h"
 
 namespace fvv {
@@ -183,6 +184,20 @@ Status ParseCamera(const json& j, const Where& w, CaptureCamera* out) {
     if (!s.ok()) return s;
     out->silhouettes = sil;
   }
+  if (j.contains("colour_gain")) {
+    const json& g = j["colour_gain"];
+    if (!g.is_array() || g.size() != 3) {
+      return w.Child("colour_gain").Bad("expected 3 numbers (R, G and B gains)");
+    }
+    for (size_t ch = 0; ch < 3; ++ch) {
+      s = GetNumber(g[ch], w.Child("colour_gain"), &out->colour_gain[ch]);
+      if (!s.ok()) return s;
+      if (!(out->colour_gain[ch] >= kMinColourGain && out->colour_gain[ch] <= kMaxColourGain)) {
+        return w.Child("colour_gain")
+            .Bad("gains must lie in [0.25, 4], not " + std::to_string(out->colour_gain[ch]));
+      }
+    }
+  }
   return Status::Ok();
 }
 
@@ -315,6 +330,7 @@ std::string CaptureToJson(const Capture& c) {
     cj["frames"] = SourceToJson(cam.frames);
     if (cam.background) cj["background"] = *cam.background;
     if (cam.silhouettes) cj["silhouettes"] = SourceToJson(*cam.silhouettes);
+    if (!IsUnitGain(cam.colour_gain)) cj["colour_gain"] = cam.colour_gain;
     j["cameras"].push_back(cj);
   }
   return j.dump(2) + "\n";

@@ -7,6 +7,7 @@
 #ifndef FVV_ENCODER_CAPTURE_CAPTURE_H_
 #define FVV_ENCODER_CAPTURE_CAPTURE_H_
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
@@ -35,6 +36,9 @@ struct CaptureCamera {
   FrameSource frames;
   std::optional<std::string> background;   // a plate of the empty studio
   std::optional<FrameSource> silhouettes;  // grey images, non-zero = actor
+  // What the camera's R, G and B values are multiplied by to read the rig's
+  // common colour (fvv capture calibrate-colour; colour_gain.h).
+  std::array<double, 3> colour_gain{1.0, 1.0, 1.0};
 };
 
 struct Capture {

@@ -1,7 +1,10 @@
 #include "encoder/encode/encoder.h"
 
+#include <algorithm>
+
 #include "container/stream_join.h"
 #include "container/surface_displacement.h"
+#include "encoder/capture/colour_gain.h"
 #include "encoder/encode/encoder_session.h"
 
 namespace fvv {
@@ -228,6 +231,13 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
   FVV_ASSIGN_OR_RETURN(const TakeFeatures features, TakeFeatures::Load(*cap, s.features));
   Session session(*cap, output, s, first, last);
   EncodeSummary& sum = session.summary();
+  const size_t gained =
+      size_t(std::count_if(cap->cameras.begin(), cap->cameras.end(),
+                           [](const auto& c) { return !IsUnitGain(c.colour_gain); }));
+  if (gained > 0 && s.textures.empty()) {
+    Say(s, "encode: " + std::to_string(gained) + " camera(s) read through their colour_gain " +
+               "(capture.json): the textures in the rig's common colour");
+  }
   const uint32_t total = last - first + 1;
   auto progress = [&](uint32_t frame, const std::string& extra) {
     const uint32_t done = frame - first + 1;

@@ -3,6 +3,7 @@
 #include "encoder/encode/encoder_session.h"
 
 #include "encoder/capture/calibration.h"
+#include "encoder/capture/colour_gain.h"
 #include "encoder/encode/blend_share.h"
 
 namespace fvv {
@@ -200,6 +201,8 @@ StatusOr<std::vector<Eigen::Vector3f>> Session::Resample(uint32_t frame, uint32_
                    &span_rgb_[plane * texels * 3], &span_mask_[plane * texels],
                    span_usable_.empty() ? nullptr : &span_usable_[plane * texels],
                    occluders.empty() ? nullptr : &occluders[c], &hidden[c]);
+      // In the rig's common colour, before the cameras compare colours.
+      ApplyColourGain(cap_.cameras[c].colour_gain, &span_rgb_[plane * texels * 3], texels);
     });
     for (uint64_t h : hidden) sum_.occluded_samples += h;
     // The cameras check each other's colours (in parts of the atlas's

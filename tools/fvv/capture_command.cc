@@ -21,6 +21,7 @@
 #include "encoder/track/capture_frames.h"
 #include "encoder/track/person_observer.h"
 #include "encoder/track/silhouette_calibration.h"
+#include "tools/fvv/calibrate_colour_command.h"
 #include "tools/fvv/frame_range.h"
 #include "tools/fvv/register_command.h"
 #include "tools/synth/synth.h"
@@ -775,6 +776,7 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
                "Background subtraction even when the capture lists silhouettes");
   vh->callback([hull, exit_code] { *exit_code = RunHull(*hull); });
   AddRegisterCommand(cap, exit_code);
+  AddCalibrateColourCommand(cap, exit_code);
 }
 
 }  // namespace fvv

@@ -9,6 +9,7 @@
 #include "encoder/body/kinematics.h"
 #include "encoder/body/mesh_ops.h"
 #include "encoder/capture/capture.h"
+#include "encoder/capture/colour_gain.h"
 #include "encoder/encode/pose_file.h"
 #include "encoder/io/image_io.h"
 #include "encoder/shape/surface_tracking.h"
@@ -200,6 +201,10 @@ class CaptureFramesSource : public FramesDrawnBy<ProjectiveRenderer> {
     const auto t0 = Clock::now();
     std::vector<Image> images, silhouettes;
     FVV_RETURN_IF_ERROR(frames_->Read(f, &images, &silhouettes));
+    // In the rig's common colour, as the encoder's textures are.
+    for (size_t c = 0; c < images.size() && c < capture_.cameras.size(); ++c) {
+      ApplyColourGain(capture_.cameras[c].colour_gain, &images[c]);
+    }
     read_s_ += Since(t0);
     const auto t1 = Clock::now();
     const std::vector<double>& dofs = poses_[f - first_];

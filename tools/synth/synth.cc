@@ -412,6 +412,9 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
   truth["noise"] = o.noise;
   truth["unlit"] = o.unlit;
   truth["colour_mismatch"] = o.colour_mismatch;
+  // Each camera's colour response (the studio's cameras, then the held-out
+  // ones): what its pixel values were multiplied by.
+  truth["camera_responses"] = gain;
   truth["plates"] = o.plates;
   truth["clutter"] = o.clutter;
   truth["bystander"] = o.bystander;
