@@ -174,7 +174,8 @@ for k in range(3):
     common = [c["colour_gain"][k] * r[k] for c, r in zip(cams, truth)]
     assert max(common) / min(common) < 1.04, (k, common)
 PY
-"$fvv" capture check "$dir/colour" >/dev/null 2>&1 || fail "a capture with colour gains does not check"
+out=$("$fvv" capture check "$dir/colour" 2>&1) || fail "a capture with colour gains does not check: $out"
+grep -q "cam01 .* colour gain [0-9.]* [0-9.]* [0-9.]*" <<<"$out" || fail "check does not show the gains: $out"
 out=$("$fvv" capture calibrate-colour "$dir/colour" --cameras cam00,nobody 2>&1) &&
   fail "calibrate-colour with an unknown camera succeeded"
 grep -q 'no camera "nobody"' <<<"$out" || fail "unknown camera message: $out"

@@ -12,6 +12,7 @@
 #include "encoder/capture/calibration.h"
 #include "encoder/capture/calibration_import.h"
 #include "encoder/capture/capture.h"
+#include "encoder/capture/colour_gain.h"
 #include "encoder/capture/up_axis.h"
 #include "encoder/capture/video_reader.h"
 #include "encoder/io/image_io.h"
@@ -151,9 +152,16 @@ int RunCheck(const std::string& path) {
   for (const CaptureCamera& cam : c->cameras) {
     const Camera& k = cam.calibration;
     const auto centre = k.Centre();
-    std::printf("  %-8s %ux%u  f=%.1f  centre (%.2f, %.2f, %.2f) m  %s\n", k.name.c_str(), k.width,
-                k.height, k.fx, centre[0], centre[1], centre[2],
-                cam.frames.kind == FrameSource::Kind::kVideo ? "video" : "images");
+    std::string gain;
+    if (!IsUnitGain(cam.colour_gain)) {
+      char text[64];
+      std::snprintf(text, sizeof(text), "  colour gain %.3f %.3f %.3f", cam.colour_gain[0],
+                    cam.colour_gain[1], cam.colour_gain[2]);
+      gain = text;
+    }
+    std::printf("  %-8s %ux%u  f=%.1f  centre (%.2f, %.2f, %.2f) m  %s%s\n", k.name.c_str(),
+                k.width, k.height, k.fx, centre[0], centre[1], centre[2],
+                cam.frames.kind == FrameSource::Kind::kVideo ? "video" : "images", gain.c_str());
   }
   return 0;
 }
