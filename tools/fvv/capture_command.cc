@@ -649,8 +649,8 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
 
   CLI::App* cap = app->add_subcommand(
       "capture",
-      "Capture directories: check, contact sheet, calibration import, frame sync, visual hull, "
-      "registration from feature points");
+      "Capture directories: check, contact sheet, calibration import, frame sync, calibration "
+      "refinement, colour calibration, visual hull, registration from feature points");
   cap->require_subcommand(1);
   auto check_path = std::make_shared<std::string>();
   CLI::App* check =
