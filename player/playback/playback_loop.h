@@ -111,7 +111,7 @@ class PlaybackLoop {
   // until they bring what the link does (a measured rate undercounts it,
   // each request paying its round trip), and the network never idles while
   // the window has room.
-  static constexpr double kSteadyFetchShare = 0.9, kMaxFetchShare = 1.2, kMinFetchShare = 0.4;
+  static constexpr double kSteadyFetchShare = 0.97, kMaxFetchShare = 1.2, kMinFetchShare = 0.4;
   double FetchShare() const;
   double fetch_share_ = 0.6;
   double fetch_filled_ = 0;     // the source's FetchWindowFilled, as of the last Advance
