@@ -56,7 +56,7 @@ double MedianAbsoluteFrom(const std::vector<uint32_t>& h, double centre, double 
 ColourCalibration::ColourCalibration(std::vector<Camera> cameras, ColourCalibrationOptions options)
     : cameras_(std::move(cameras)), o_(options) {
   const size_t n = cameras_.size();
-  histograms_.resize(n * (n - (n > 0)) / 2);
+  histograms_.resize(n < 2 ? 0 : n * (n - 1) / 2);  // one per pair
   for (auto& pair : histograms_) {
     for (auto& h : pair) h.assign(kBins, 0);
   }
@@ -94,15 +94,17 @@ Status ColourCalibration::AddFrame(const std::vector<std::array<uint32_t, 3>>& t
                              std::to_string(cam.width) + "x" + std::to_string(cam.height) + " RGB");
     }
     const Image* sil = silhouettes.empty() ? nullptr : &silhouettes[c];
-    if (sil && !sil->pixels.empty() && (sil->width != image.width || sil->height != image.height)) {
+    if (sil && !sil->pixels.empty() &&
+        (sil->width != image.width || sil->height != image.height ||
+         sil->pixels.size() != size_t(w) * h * size_t(std::max(sil->channels, 1)))) {
       return InvalidArgument("colour calibration: camera \"" + cam.name +
                              "\"'s silhouette is not the size of its image");
     }
     const bool use_sil = sil && !sil->pixels.empty();
     const int margin = std::max(1, int(std::lround(o_.inner_margin * std::max(w, h))));
+    const int ch = use_sil ? int(sil->channels) : 1;
     auto inside = [&](int x, int y) {
       if (!use_sil) return true;
-      const int ch = int(sil->pixels.size() / (size_t(w) * h));
       auto at = [&](int px, int py) {
         return px >= 0 && py >= 0 && px < w && py < h &&
                sil->pixels[(size_t(py) * w + px) * ch] != 0;

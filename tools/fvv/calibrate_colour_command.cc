@@ -12,6 +12,7 @@
 #include "encoder/capture/colour_gain.h"
 #include "encoder/shape/colour_calibration.h"
 #include "encoder/track/track_capture.h"
+#include "tools/fvv/camera_names.h"
 #include "tools/fvv/frame_range.h"
 
 namespace fvv {
@@ -39,18 +40,9 @@ int RunCalibrateColour(const CalibrateColourArgs& a) {
   }
   last = std::min(last, cap->frame_count - 1);
   // The chosen cameras alone: the others keep their gains.
-  std::vector<size_t> chosen;
-  for (size_t c = 0; c < cap->cameras.size(); ++c) {
-    const std::string& name = cap->cameras[c].calibration.name;
-    if (a.cameras.empty() || std::find(a.cameras.begin(), a.cameras.end(), name) != a.cameras.end())
-      chosen.push_back(c);
-  }
-  for (const std::string& name : a.cameras) {
-    if (std::none_of(cap->cameras.begin(), cap->cameras.end(),
-                     [&](const CaptureCamera& c) { return c.calibration.name == name; })) {
-      return Fail(InvalidArgument("--cameras: the capture has no camera \"" + name + "\""));
-    }
-  }
+  StatusOr<std::vector<size_t>> picked = ChooseCameras(*cap, a.cameras);
+  if (!picked.ok()) return Fail(picked.status());
+  const std::vector<size_t>& chosen = *picked;
   if (chosen.size() < 2)
     return Fail(InvalidArgument("colour calibration needs two cameras or more"));
   Capture sub = *cap;

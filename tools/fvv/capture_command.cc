@@ -23,6 +23,7 @@
 #include "encoder/track/person_observer.h"
 #include "encoder/track/silhouette_calibration.h"
 #include "tools/fvv/calibrate_colour_command.h"
+#include "tools/fvv/camera_names.h"
 #include "tools/fvv/frame_range.h"
 #include "tools/fvv/register_command.h"
 #include "tools/synth/synth.h"
@@ -384,24 +385,6 @@ std::vector<double> HeldOutAgreement(const std::vector<Camera>& cameras,
     median[k] = v[v.size() / 2];
   }
   return median;
-}
-
-// The cameras named (all where none is), as indices into the capture's.
-StatusOr<std::vector<size_t>> ChooseCameras(const Capture& cap,
-                                            const std::vector<std::string>& names) {
-  std::vector<size_t> chosen;
-  for (size_t c = 0; c < cap.cameras.size(); ++c) {
-    if (names.empty() ||
-        std::find(names.begin(), names.end(), cap.cameras[c].calibration.name) != names.end()) {
-      chosen.push_back(c);
-    }
-  }
-  for (const std::string& name : names) {
-    const bool known = std::any_of(cap.cameras.begin(), cap.cameras.end(),
-                                   [&](const auto& c) { return c.calibration.name == name; });
-    if (!known) return InvalidArgument("--cameras: the capture has no camera \"" + name + "\"");
-  }
-  return chosen;
 }
 
 // Camera orientations from the outlines of the actor tracked with the chosen
