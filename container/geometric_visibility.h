@@ -25,6 +25,14 @@ constexpr int kDepthMapLongSide = 640;
 // slope away from the camera (a tilted surface's depth changes across a texel).
 constexpr double kDepthTolerance = 0.02;
 constexpr double kSlopeTexels = 1.5;
+// fvv's players draw the depth maps from the body simplified to at most this
+// share of its triangles, each merge kept within kSimplifyError of the model's
+// extent (root mean square distance to the merged triangles' planes: a few
+// millimetres on a body, well inside kDepthTolerance); a software
+// rasteriser's depth passes cost what their triangles do
+// (player/playback/depth_map_triangles.h).
+constexpr double kSimplifyShare = 0.25;
+constexpr double kSimplifyError = 0.002;
 // Facing (cosine between the normal and the direction to the camera): no
 // weight at or below kMinFacing, full weight from kFullFacing.
 constexpr double kMinFacing = 0.0;

@@ -215,8 +215,9 @@ void MakeMaskless(Scene* s, uint32_t index, const std::vector<glm::u8vec3>* colo
 }
 
 // Without masks the renderer draws each camera's depth map of the posed
-// model on the GPU: the same surface at the same depth as a CPU rasterisation
-// of the frame's skinned mesh through the camera's pinhole, row 0 at the top.
+// model on the GPU, from the simplified body (depth_map_triangles.h): the same
+// surface at the same depth, within a centimetre, as a CPU rasterisation of
+// the frame's whole skinned mesh through the camera's pinhole, row 0 at the top.
 TEST(Renderer, WithoutMasksTheDepthMapsAreTheCamerasViewsOfThePosedModel) {
   Scene s;
   MakeScene(&s);

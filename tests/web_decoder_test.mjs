@@ -5,18 +5,24 @@
 // decodes better; the errors a page meets come back as FvvError statuses.
 //
 //   node web_decoder_test.mjs BUILD_WASM_DIR STREAM NATIVE_OUT_DIR PREFIX WHOLE_OUT_DIR
-//                            SURFACE_STREAM
+//                            SURFACE_STREAM BODY_STREAM NATIVE_DEPTH_TRIANGLES
 // NATIVE_OUT_DIR: tools/conformance_decode's output for STREAM at PREFIX bytes
 // per fragment; WHOLE_OUT_DIR: at 0 (whole fragments). SURFACE_STREAM: a
 // stream with the surface of every frame (format version 12).
+// BODY_STREAM: a stream with the generic body model; NATIVE_DEPTH_TRIANGLES:
+// "COUNT HASH" of the triangles the native players' depth maps draw for its
+// model (tests/depth_map_triangles_print.cc), which the module's
+// (FvvPlayback.depthMapTriangles) must equal.
 import { readFileSync } from 'node:fs';
 import path from 'node:path';
 import { createRequire } from 'node:module';
 import { decompress } from '../tools/web/node_modules/fzstd/esm/index.mjs';
 import { FvvDecoder, FvvError } from '../player/web/fvv_decoder_api.mjs';
+import { FvvPlayback } from '../player/web/fvv_playback.mjs';
 import { lookedAtPoint } from '../player/web/fvv_view.mjs';
 
-const [buildDir, streamPath, prefixDir, prefixArg, wholeDir, surfacePath] = process.argv.slice(2);
+const [buildDir, streamPath, prefixDir, prefixArg, wholeDir, surfacePath, bodyPath,
+  nativeDepthTriangles] = process.argv.slice(2);
 const prefix = Number(prefixArg);
 let failures = 0;
 const check = (ok, what) => {
@@ -155,6 +161,28 @@ for (const budget of [g0.headSize + 1, g0.headSize + g0.surfaceSize - 1, g0.head
     `camera group 0 at its head or past its whole surface (${p0} of budget ${budget + heads})`);
 }
 sd.destroy();
+
+// The page's depth maps draw the native players' triangles, index for index.
+{
+  const body = readFileSync(bodyPath);
+  const bd = await FvvDecoder.create({ moduleFactory, zstd: decompress });
+  bd.openRanges(body.length);
+  bd.addRange(0, body);
+  check(bd.process() === 'ready', 'the body stream opens');
+  const binfo = bd.info(), bmodel = bd.model();
+  const centres = Array.from({ length: binfo.cameraCount }, (_, c) => bd.camera(c).centre);
+  const playback = await FvvPlayback.create({ moduleFactory, info: binfo, centres });
+  const kept = playback.depthMapTriangles(bmodel.positions, bmodel.triangles);
+  playback.destroy();
+  bd.destroy();
+  let hash = 2166136261;
+  for (const i of kept) hash = Math.imul((hash ^ i) >>> 0, 16777619) >>> 0;
+  const mine = `${kept.length} ${hash.toString(16).padStart(8, '0')}`;
+  check(mine === nativeDepthTriangles.trim(),
+    `the depth maps' triangles: ${mine} here, ${nativeDepthTriangles.trim()} native`);
+  check(kept.length > 0 && kept.length <= bmodel.triangles.length / 3,
+    `the depth maps draw a quarter of the body's triangles or fewer (${kept.length / 3} of ${bmodel.triangles.length / 3})`);
+}
 
 console.log(`${failures ? 'FAILED' : 'passed'}: ${info.frameCount} frames, ${info.cameraCount} cameras, ` +
   `head in ${requests} requests of 4 KiB`);

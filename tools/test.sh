@@ -74,7 +74,7 @@ stage "WebAssembly build"
 build/tools/fvv/fvv conform conformance/cases -q \
   --decoder 'node --no-experimental-fetch build-wasm/conformance_decode.js {stream} {out} {bytes}'
 tests/web_decoder_test.sh build/tools/fvv/fvv build/tools/conformance_decode build-wasm \
-  build-wasm/web_decoder_test
+  build-wasm/web_decoder_test build/tests/depth_map_triangles_print
 tests/web_lighttpd_test.sh build-wasm/web_decoder_test/s.fvv build-wasm/web_decoder_test/whole \
   build-wasm build-wasm/web_lighttpd_test
 tests/web_player_test.sh build/tools/fvv/fvv build-wasm/site build-wasm/web_player_test

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "container/geometric_visibility.h"
+#include "player/playback/depth_map_triangles.h"
 #include "player/render/camera_depth_maps.h"
 #include "player/render/shaders.h"
 
@@ -108,6 +109,15 @@ StatusOr<std::unique_ptr<Renderer>> Renderer::Create(const GlApi& gl, const fvv_
   r->index_count_ = static_cast<GLsizei>(model.triangle_count * 3);
   r->vertex_count_ = model.vertex_count;
   g.BindVertexArray(0);
+  const std::vector<uint32_t> depth_map_triangles =
+      DepthMapTriangles(model.positions, model.vertex_count, model.triangles, model.triangle_count);
+  g.GenBuffers(1, &r->depth_map_ibo_);
+  g.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->depth_map_ibo_);
+  g.BufferData(GL_ELEMENT_ARRAY_BUFFER,
+               static_cast<GLsizeiptr>(depth_map_triangles.size() * sizeof(uint32_t)),
+               depth_map_triangles.data(), GL_STATIC_DRAW);
+  g.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
+  r->depth_map_index_count_ = static_cast<GLsizei>(depth_map_triangles.size());
 
   g.GenBuffers(1, &r->bones_ubo_);
   g.BindBuffer(GL_UNIFORM_BUFFER, r->bones_ubo_);
@@ -141,6 +151,7 @@ Renderer::~Renderer() {
   if (vbo_) gl_.DeleteBuffers(1, &vbo_);
   if (positions_vbo_) gl_.DeleteBuffers(1, &positions_vbo_);
   if (ibo_) gl_.DeleteBuffers(1, &ibo_);
+  if (depth_map_ibo_) gl_.DeleteBuffers(1, &depth_map_ibo_);
   if (vao_) gl_.DeleteVertexArrays(1, &vao_);
   if (program_) gl_.DeleteProgram(program_);
   if (depth_program_) gl_.DeleteProgram(depth_program_);
@@ -272,8 +283,8 @@ Status Renderer::RenderDepthMaps(uint64_t cameras) {
   GLint framebuffer = 0;
   gl_.GetIntegerv(GL_FRAMEBUFFER_BINDING, &framebuffer);
   const auto t0 = std::chrono::steady_clock::now();
-  FVV_RETURN_IF_ERROR(
-      depth_maps_->Render(vao_, GLsizei(vertex_count_), ibo_, index_count_, bones_ubo_, needed));
+  FVV_RETURN_IF_ERROR(depth_maps_->Render(vao_, GLsizei(vertex_count_), depth_map_ibo_,
+                                          depth_map_index_count_, bones_ubo_, needed));
   if (measure_depth_maps_) {
     gl_.Finish();
     depth_map_ms_ +=

@@ -75,6 +75,8 @@ class Renderer {
   GlApi gl_;
   GLuint program_ = 0, depth_program_ = 0, vao_ = 0, vbo_ = 0, ibo_ = 0, bones_ubo_ = 0,
          textures_ = 0, masks_ = 0, positions_vbo_ = 0;
+  GLuint depth_map_ibo_ = 0;  // the simplified body the depth maps draw (depth_map_triangles.h)
+  GLsizei depth_map_index_count_ = 0;
   std::vector<float> model_positions_;  // the model's bind pose (fvv_model)
   bool positions_are_surface_ = false;  // positions_vbo_ holds a frame's surface
   GLsizei index_count_ = 0;

@@ -122,6 +122,24 @@ export class FvvPlayback {
     return { depthTolerance, slopeTexels, minFacing, fullFacing, angleEpsilon, viewExponent,
       facingExponent };
   }
+  // The triangles the depth maps draw (player/playback/depth_map_triangles.h):
+  // the model simplified, over its own vertices, as the native renderer draws
+  // them. positions: Float32Array (x y z per vertex); triangles: Uint32Array.
+  depthMapTriangles(positions, triangles) {
+    const m = this.m;
+    const p = m._malloc(positions.byteLength), t = m._malloc(triangles.byteLength);
+    const out = m._malloc(triangles.byteLength);
+    try {
+      m.HEAPF32.set(positions, p >> 2);
+      m.HEAPU32.set(triangles, t >> 2);
+      const n = m._fvv_web_depth_map_triangles(p, positions.length / 3, t, triangles.length / 3, out);
+      return m.HEAPU32.slice(out >> 2, (out >> 2) + n);
+    } finally {
+      m._free(out);
+      m._free(t);
+      m._free(p);
+    }
+  }
   // A camera's depth map size for its image size: [width, height].
   depthMapSize(width, height) {
     const p = this.m._malloc(8);

@@ -3,10 +3,9 @@
 // textures by viewing angle and facing, each camera's visibility from the
 // stream's masks or, without masks, from its depth map of the posed model.
 // The shaders are the native renderer's files (player/render/shaders, copied
-// beside the module by the build), given GLSL ES 3.00's header; the constants
-// and the choice of cameras come from the module (FvvPlayback). One change of
-// means, not of result: the depth maps skin the model in each camera's pass
-// instead of once by transform feedback.
+// beside the module by the build), given GLSL ES 3.00's header; the constants,
+// the choice of cameras and the simplified body the depth maps draw come from
+// the module (FvvPlayback), which runs the native player's code.
 //
 //   const r = await FvvRenderer.create(gl, { shaderUrl, model, cameras, info, playback });
 //   r.setFrame(frame);   // from FvvDecoder.decodeFrame (RGB)
@@ -114,7 +113,9 @@ export class FvvRenderer {
     this.vao = vao;
     this.indexCount = model.triangles.length;
     this.vertexCount = model.positions.length / 3;
-    // The skinned positions the depth maps draw, and their vertex array.
+    // The skinned positions the depth maps draw, and their vertex array over
+    // the simplified body (player/playback/depth_map_triangles.h, the native
+    // renderer's triangles).
     this.skinned = gl.createBuffer();
     gl.bindBuffer(gl.ARRAY_BUFFER, this.skinned);
     gl.bufferData(gl.ARRAY_BUFFER, this.vertexCount * 12, gl.DYNAMIC_COPY);
@@ -122,7 +123,10 @@ export class FvvRenderer {
     gl.bindVertexArray(this.skinnedVao);
     gl.enableVertexAttribArray(0);
     gl.vertexAttribPointer(0, 3, gl.FLOAT, false, 12, 0);
-    gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, ibo);
+    const depthTriangles = playback.depthMapTriangles(model.positions, model.triangles);
+    gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, gl.createBuffer());
+    gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, depthTriangles, gl.STATIC_DRAW);
+    this.depthIndexCount = depthTriangles.length;
     gl.bindVertexArray(null);
     gl.bindBuffer(gl.ARRAY_BUFFER, null);
 
@@ -341,7 +345,7 @@ export class FvvRenderer {
       gl.clearBufferfv(gl.COLOR, 0, far);
       gl.clearBufferfv(gl.DEPTH, 0, new Float32Array([1]));
       gl.uniformMatrix4fv(viewProj, false, d.viewProj[c]);
-      gl.drawElements(gl.TRIANGLES, this.indexCount, gl.UNSIGNED_INT, 0);
+      gl.drawElements(gl.TRIANGLES, this.depthIndexCount, gl.UNSIGNED_INT, 0);
       this.depthRendered.add(c);
     }
     gl.bindVertexArray(null);

@@ -4,11 +4,13 @@
 // JavaScript over it is player/web/fvv_playback.mjs.
 #include <emscripten.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <vector>
 
 #include "container/geometric_visibility.h"
+#include "player/playback/depth_map_triangles.h"
 #include "player/playback/playback_loop.h"
 #include "player/playback/requested_gops.h"
 #include "player/playback/view_cameras.h"
@@ -207,6 +209,18 @@ EMSCRIPTEN_KEEPALIVE void fvv_web_render_constants(double* out) {
 // The size of a camera's depth map (geometric_visibility::DepthMapSize).
 EMSCRIPTEN_KEEPALIVE void fvv_web_depth_map_size(uint32_t width, uint32_t height, int32_t* out) {
   fvv::geometric_visibility::DepthMapSize(width, height, &out[0], &out[1]);
+}
+
+// The triangles the depth maps draw (player/playback/depth_map_triangles.h),
+// written to `out` (room for triangle_count * 3); returns how many indices.
+EMSCRIPTEN_KEEPALIVE uint32_t fvv_web_depth_map_triangles(const float* positions,
+                                                          uint32_t vertex_count,
+                                                          const uint32_t* triangles,
+                                                          uint32_t triangle_count, uint32_t* out) {
+  const std::vector<uint32_t> kept =
+      fvv::DepthMapTriangles(positions, vertex_count, triangles, triangle_count);
+  std::copy(kept.begin(), kept.end(), out);
+  return uint32_t(kept.size());
 }
 
 }  // extern "C"
