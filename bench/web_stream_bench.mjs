@@ -5,7 +5,10 @@
 // - start-up: from opening the stream on a page whose code is loaded to its
 //   first frame drawn and to its playhead moving (the start holds the first
 //   frame until the GOP after it is decoded: PlaybackLoop's preroll), and
-//   from opening the page with nothing loaded to its first frame;
+//   from opening the page with nothing loaded to its first frame (with
+//   --lighttpd, served as docs/web.md serves it: tools/web/lighttpd.conf, the
+//   page's code compressed and kept by the browser, and then also a second
+//   visit's, the code asked again by its ETag and the stream fetched anew);
 // - after the first frame: waits (the playhead held for a GOP not there
 //   yet) and stalls (frames on screen over two frame times, a slow display's
 //   too);
@@ -17,9 +20,13 @@
 // and, unthrottled, whether it fetched whole fragments.
 //
 //   node bench/web_stream_bench.mjs SITE_DIR STREAM [--rates 0.5,1] [--seconds 25]
-//        [--latency-ms 20] [--json OUT]
-import { writeFileSync } from 'node:fs';
+//        [--latency-ms 20] [--lighttpd] [--json OUT]
+import { spawn } from 'node:child_process';
+import { mkdtempSync, rmSync, symlinkSync, writeFileSync } from 'node:fs';
+import { createServer } from 'node:net';
+import os from 'node:os';
 import path from 'node:path';
+import { fileURLToPath } from 'node:url';
 import { withBrowser } from '../tools/web/browser_harness.mjs';
 
 const args = process.argv.slice(2);
@@ -36,6 +43,7 @@ if (!stream) {
 const rates = option('--rates', '0.5,1,0').split(',').map(Number);  // Mbit/s; 0: unthrottled
 const seconds = Number(option('--seconds', '25'));
 const latencyMs = Number(option('--latency-ms', '20'));
+const useLighttpd = args.includes('--lighttpd');
 const mounts = { '/site/': path.resolve(site), '/streams/': path.dirname(path.resolve(stream)) };
 const url = `../streams/${path.basename(stream)}`;
 
@@ -57,6 +65,42 @@ async function coldStart(page, base, mbit) {
   await page.waitForFunction(() => window.fvvPlayer?.stats().framesDrawn > 0 || window.fvvError,
     { timeout: 120000, polling: 20 });
   return (Date.now() - opened) / 1000;
+}
+
+// The same start through lighttpd as docs/web.md serves a page: the first
+// visit with nothing cached, then a second (the page's code kept, asked again
+// by its ETag; the stream fetched anew). Seconds to the first frame of each.
+async function servedStarts(mbit) {
+  const root = mkdtempSync(path.join(os.tmpdir(), 'fvv-bench-'));
+  symlinkSync(mounts['/site/'], path.join(root, 'site'));
+  symlinkSync(mounts['/streams/'], path.join(root, 'streams'));
+  const port = await new Promise((resolve) => {
+    const probe = createServer().listen(0, '127.0.0.1', () => {
+      const p = probe.address().port;
+      probe.close(() => resolve(p));
+    });
+  });
+  const conf = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../tools/web/lighttpd.conf');
+  const server = spawn('lighttpd', ['-D', '-f', conf], {
+    env: { ...process.env, FVV_WEB_ROOT: root, FVV_WEB_PORT: String(port) }, stdio: 'ignore',
+  });
+  try {
+    const base = `http://127.0.0.1:${port}`;
+    for (let i = 0; i < 50; ++i) {
+      if (await fetch(`${base}/site/index.html`).then((r) => r.ok, () => false)) break;
+      await new Promise((r) => setTimeout(r, 100));
+    }
+    return await withBrowser(mounts, async ({ page }) => {
+      await page.setViewport({ width: 640, height: 520 });
+      const first = await coldStart(page, base, mbit);
+      await page.goto('about:blank');
+      const second = await coldStart(page, base, mbit);
+      return { first, second };
+    }, { timeoutMs: 480000, server: base });
+  } finally {
+    server.kill();
+    rmSync(root, { recursive: true, force: true });
+  }
 }
 
 async function run(page, base, mbit) {
@@ -185,11 +229,18 @@ for (const mbit of rates) {
     await page.setViewport({ width: 640, height: 520 });
     return coldStart(page, base, mbit);
   }, { timeoutMs: 240000 });
+  if (useLighttpd) {
+    const served = await servedStarts(mbit);
+    r.served_first_visit_s = served.first;
+    r.served_second_visit_s = served.second;
+  }
   results.push(r);
   const label = mbit > 0 ? `${mbit} Mbit/s` : 'unthrottled';
   console.log(`${label}: first frame ${r.startup_s.toFixed(2)} s and playing ${r.moving_s.toFixed(2)} s ` +
     `after opening the stream ` +
-    `(${r.cold_startup_s.toFixed(2)} s after opening the page with nothing loaded); ` +
+    `(${r.cold_startup_s.toFixed(2)} s after opening the page with nothing loaded` +
+    (useLighttpd ? `; served by lighttpd, the code compressed: ${r.served_first_visit_s.toFixed(2)} s on a ` +
+      `first visit, ${r.served_second_visit_s.toFixed(2)} s on a second` : '') + '); ' +
     `after it ${r.waits_after_start} waits for a GOP, ${r.stalls_after_start} frames held over two frame times; ` +
     `${r.frames_without_texture} frames untextured; ${r.gops} GOPs, ${(r.mean_gop_bytes / 1024).toFixed(1)} KiB each` +
     (r.allowed_gop_bytes ? ` of ${(r.allowed_gop_bytes / 1024).toFixed(1)} KiB allowed ` +

@@ -23,7 +23,7 @@ packages=(
   chromium  # headless browser tests (tools/web/browser_harness.mjs): three.js on exported glTF
   parallel  # GNU parallel: shards of an encode side by side (bench/run_shard_bench.sh, docs/scale-out.md)
   emscripten  # the decoder library in WebAssembly (player/web/CMakeLists.txt)
-  lighttpd  # serving streams and the web player with byte ranges (tools/web/lighttpd.conf)
+  lighttpd lighttpd-mod-deflate  # serving streams and the web player: byte ranges, compressed code (tools/web/lighttpd.conf)
 )
 
 missing=()
