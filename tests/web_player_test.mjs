@@ -5,7 +5,8 @@
 // - a still of a frame from a fixed view matches `fvv render --path` of the
 //   same frame, view, size and bytes (>= 35 dB over the actor: the same
 //   decoder, the same shaders), for a stream with masks and one without
-//   (depth maps), whole and at a byte budget;
+//   (depth maps), whole and at a byte budget, and for the generic body
+//   without masks (its depth maps drawn from the simplified body);
 // - a missing, damaged or cut stream: the page says what happened and
 //   never hangs; a server that drops connections mid-fragment or ignores
 //   Range: the page plays on from what arrived and says so;
@@ -15,8 +16,8 @@
 //   draws it.
 //
 //   node web_player_test.mjs SITE_DIR WORK_DIR
-// WORK_DIR holds masks.fvv, depth.fvv, live.fvv, damaged.fvv, cut.fvv, path.json and
-// the native stills native_masks.png and native_depth.png (web_player_test.sh).
+// WORK_DIR holds masks.fvv, depth.fvv, surface.fvv, body.fvv, live.fvv, damaged.fvv,
+// cut.fvv, path.json and the native stills native_KIND.png (web_player_test.sh).
 import { readFileSync, statSync, writeFileSync } from 'node:fs';
 import path from 'node:path';
 import { withBrowser } from '../tools/web/browser_harness.mjs';
@@ -130,6 +131,9 @@ await withBrowser(mounts, async ({ page, base, requests }) => {
     const apart = psnrOverActor(surfaced, wholeStills.masks, [0.12, 0.12, 0.14].map((v) => Math.round(v * 255))).psnr;
     check(apart < 30, `surface: the still is not the model's (${apart.toFixed(2)} dB from the stream without it)`);
   }
+  // The generic body without masks: both players draw its depth maps from
+  // the simplified body (player/playback/depth_map_triangles.h).
+  await stillAgainst(page, 'body', 0);
   // The three.js adapter: the actor (FvvActor) in a scene of three.js's own
   // (floor, grid, box), drawn by three's render() in its context: over the
   // actor, fvv render's still again; around it, three's scene.

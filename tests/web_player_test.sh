@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
-# The web player in headless chromium (tests/web_player_test.mjs): two sample
+# The web player in headless chromium (tests/web_player_test.mjs): sample
 # streams with the texture in chunks (with masks; without, so that visibility
-# comes from depth maps; with masks and the surface of every frame), fvv
-# render's stills of them from a fixed view, and
+# comes from depth maps; with masks and the surface of every frame), a
+# synthetic actor's stream of the generic body without masks (whose depth maps
+# both players draw from the simplified body), fvv render's stills of them
+# from a fixed view, and
 # the faulty streams the page must report: damaged (a byte flipped inside a
 # texture chunk), cut (the last fragment half gone).
 # Usage: web_player_test.sh FVV SITE_DIR WORK_DIR
@@ -14,10 +16,12 @@ common=(--frames 24 --cameras 4 --atlas 128 128 --gop 8 1 --bpp 2 --texture-chun
 "$fvv" sample -o "$dir/masks.fvv" "${common[@]}" >/dev/null
 "$fvv" sample -o "$dir/depth.fvv" "${common[@]}" --no-masks >/dev/null
 "$fvv" sample -o "$dir/surface.fvv" "${common[@]}" --surface >/dev/null
+"$fvv" synth -o "$dir/body" --cameras 3 --width 160 --height 120 --frames 6 >/dev/null
+"$fvv" encode "$dir/body" -o "$dir/body.fvv" --poses "$dir/body" --atlas 128 -q >/dev/null
 cat >"$dir/path.json" <<'JSON'
 {"keyframes": [{"frame": 0, "eye": [1.6, 1.3, 2.6], "target": [0, 0.9, 0], "fov": 40}]}
 JSON
-for kind in masks depth surface; do
+for kind in masks depth surface body; do
   "$fvv" render "$dir/$kind.fvv" --path "$dir/path.json" --first 5 --last 5 --size 640x480 \
     -o "$dir/native_$kind" >/dev/null
   cp "$dir/native_$kind/render_f00005.png" "$dir/native_$kind.png"
