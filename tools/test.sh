@@ -57,7 +57,7 @@ slow+='SightingSides\.InARigOfTwelveTryingTheCamerasThatStandOutDecidesAsTryingA
 slow+='GarmentTest\.)'
 CC=cc CXX=c++ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DFVV_WERROR=ON >/dev/null
 cmake --build build -j2 --target track_test encode_shards_test track_person_observer_test track_sighting_sides_test \
-  shape_refinement_test fvv conformance_decode
+  shape_refinement_test fvv conformance_decode depth_map_triangles_print
 stage "optimised build"
 ctest --test-dir build-asan -j2 --output-on-failure -E "$slow"
 stage "sanitizer suites"
