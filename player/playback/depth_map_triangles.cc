@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstring>
 #include <numeric>
-#include <queue>
 #include <unordered_map>
 
 #include "container/geometric_visibility.h"
@@ -53,18 +52,16 @@ struct Quadric {
 };
 
 // Moving vertex `from` onto vertex `to`, at `cost`. Ordered cheapest first,
-// ties by the vertices' indices: a total order, so every heap pops the same.
+// ties by the vertices' indices: a total order, so every sort agrees.
 struct Collapse {
   double cost;
   uint32_t from, to;
 };
-struct CostlierFirst {
-  bool operator()(const Collapse& a, const Collapse& b) const {
-    if (a.cost != b.cost) return a.cost > b.cost;
-    if (a.from != b.from) return a.from > b.from;
-    return a.to > b.to;
-  }
-};
+bool Cheaper(const Collapse& a, const Collapse& b) {
+  if (a.cost != b.cost) return a.cost < b.cost;
+  if (a.from != b.from) return a.from < b.from;
+  return a.to < b.to;
+}
 
 class Simplifier {
  public:
@@ -109,29 +106,61 @@ class Simplifier {
   }
 
   // Collapses until at most `target` triangles live or none costs at most
-  // `bound` (a mean squared distance).
+  // `bound` (a mean squared distance), in rounds. Each vertex offers its
+  // cheapest allowed collapse (kept from round to round until a collapse
+  // changes its neighbourhood); of the offers, the cheaper half is taken,
+  // cheapest first, each where no collapse of the round has touched its two
+  // vertices' neighbourhoods yet (so its cost still holds). A heap of every
+  // vertex's offer, renewed at each change, spent its time missing the cache
+  // on large models; rounds sort instead.
   void Run(uint32_t target, double bound) {
-    for (uint32_t t = 0; t < alive_.size(); ++t) {
-      for (int k = 0; k < 3; ++k)
-        Offer(corners_[size_t{t} * 3 + k], corners_[size_t{t} * 3 + (k + 1) % 3]);
-    }
-    while (live_ > target && !heap_.empty()) {
-      const Collapse c = heap_.top();
-      heap_.pop();
-      if (gone_[c.from] || gone_[c.to] || locked_[c.from] || !Adjacent(c.from, c.to)) continue;
-      const double now = Cost(c.from, c.to);
-      if (now != c.cost) {  // the quadrics grew since it was offered
-        if (now <= bound) heap_.push({now, c.from, c.to});
-        continue;
+    const uint32_t n = uint32_t(triangles_of_.size());
+    std::vector<uint32_t> touched(n, 0);
+    std::vector<uint8_t> stale(n, 1);
+    std::vector<Collapse> offer(n), offers, choices;
+    for (uint32_t v = 0; v < n; ++v) offer[v] = {0, v, v};  // to == from: none
+    for (uint32_t round = 1; live_ > target; ++round) {
+      offers.clear();
+      for (uint32_t v = 0; v < n; ++v) {
+        if (locked_[v] || gone_[v] || triangles_of_[v].empty()) continue;
+        if (stale[v]) {
+          stale[v] = 0;
+          offer[v] = {0, v, v};
+          choices.clear();
+          for (uint32_t to : Neighbours(v)) {
+            const Collapse c{Cost(v, to), v, to};
+            if (c.cost <= bound) choices.push_back(c);
+          }
+          std::sort(choices.begin(), choices.end(), Cheaper);
+          for (const Collapse& c : choices) {
+            if (Allowed(c.from, c.to)) {
+              offer[v] = c;
+              break;
+            }
+          }
+        }
+        if (offer[v].to != v) offers.push_back(offer[v]);
       }
-      if (now > bound || !Allowed(c.from, c.to)) continue;
-      Apply(c.from, c.to);
-      for (uint32_t t : triangles_of_[c.to]) {
-        const uint32_t* tri = &corners_[size_t{t} * 3];
-        for (int k = 0; k < 3; ++k) {
-          if (tri[k] == c.to || tri[(k + 1) % 3] == c.to) Offer(tri[k], tri[(k + 1) % 3]);
+      std::sort(offers.begin(), offers.end(), Cheaper);
+      offers.resize((offers.size() + 1) / 2);  // the cheaper half: near the greedy order
+      bool any = false;
+      for (const Collapse& c : offers) {
+        if (live_ <= target) break;
+        if (touched[c.from] == round || touched[c.to] == round) continue;
+        if (!Allowed(c.from, c.to)) {  // its neighbours' collapses changed that
+          stale[c.from] = 1;
+          continue;
+        }
+        Apply(c.from, c.to);
+        any = true;
+        touched[c.to] = round;
+        stale[c.to] = 1;
+        for (uint32_t w : Neighbours(c.to)) {
+          touched[w] = round;
+          stale[w] = 1;
         }
       }
+      if (!any) break;
     }
   }
 
@@ -151,8 +180,17 @@ class Simplifier {
     return q.MeanSquared(position_[to]);
   }
 
-  void Offer(uint32_t from, uint32_t to) {
-    if (!locked_[from]) heap_.push({Cost(from, to), from, to});
+  // The distinct vertices sharing a triangle with v, in index order.
+  std::vector<uint32_t> Neighbours(uint32_t v) const {
+    std::vector<uint32_t> out;
+    for (uint32_t t : triangles_of_[v]) {
+      for (int k = 0; k < 3; ++k) {
+        if (corners_[size_t{t} * 3 + k] != v) out.push_back(corners_[size_t{t} * 3 + k]);
+      }
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
   }
 
   bool Contains(uint32_t t, uint32_t v) const {
@@ -234,7 +272,6 @@ class Simplifier {
   std::vector<uint8_t> locked_, gone_, alive_;
   std::vector<uint32_t> seen_, common_;  // marks of Allowed's current call
   uint32_t stamp_ = 0, live_ = 0;
-  std::priority_queue<Collapse, std::vector<Collapse>, CostlierFirst> heap_;
 };
 
 }  // namespace

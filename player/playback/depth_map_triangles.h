@@ -6,8 +6,11 @@
 // the model does. A software rasteriser's depth pass costs what its triangles
 // do; the visibility test's 2 cm tolerance covers a few millimetres of surface.
 //
-// Edge collapses onto an existing vertex, cheapest first by the mean squared
-// distance to the planes of the triangles merged into it; vertices at one
+// Edge collapses onto an existing vertex, in rounds of the cheapest by the
+// mean squared distance to the planes of the triangles merged into it (the
+// generic body in 65 ms natively, 56 ms in WebAssembly in Node once warm; half
+// a million triangles in about 2 s, two million in about 10 s, once when a
+// renderer is made); vertices at one
 // position (the atlas's seams) count as one; a collapse that would fold a
 // triangle over or join the surface to itself is refused, and a vertex on an
 // open border stays. The same code runs in both players (the page's in
