@@ -173,6 +173,7 @@ sd.destroy();
   const centres = Array.from({ length: binfo.cameraCount }, (_, c) => bd.camera(c).centre);
   const playback = await FvvPlayback.create({ moduleFactory, info: binfo, centres });
   const kept = playback.depthMapTriangles(bmodel.positions, bmodel.triangles);
+  const inWorker = bd.depthMapTriangles();  // what a page's decoder worker gives its renderer
   playback.destroy();
   bd.destroy();
   let hash = 2166136261;
@@ -180,6 +181,7 @@ sd.destroy();
   const mine = `${kept.length} ${hash.toString(16).padStart(8, '0')}`;
   check(mine === nativeDepthTriangles.trim(),
     `the depth maps' triangles: ${mine} here, ${nativeDepthTriangles.trim()} native`);
+  check(same(inWorker, kept), 'FvvDecoder.depthMapTriangles gives FvvPlayback\'s triangles');
   check(kept.length > 0 && kept.length <= bmodel.triangles.length / 3,
     `the depth maps draw a quarter of the body's triangles or fewer (${kept.length / 3} of ${bmodel.triangles.length / 3})`);
 }

@@ -190,6 +190,22 @@ export class FvvDecoder {
     };
   }
 
+  // The triangles both players' depth maps draw for this stream's model
+  // (player/playback/depth_map_triangles.h), as FvvPlayback.depthMapTriangles
+  // gives them: here, so that a page computes them in its decoder worker.
+  depthMapTriangles() {
+    const s = this.scratch, m = this.m;
+    this.#check(m._fvv_decoder_get_model(this.handle, s));
+    const [, , , vertices, pos, , , , , triangles, tri] = m.HEAPU32.subarray(s >> 2, (s >> 2) + 11);
+    const out = m._malloc(Math.max(4, triangles * 12));
+    try {
+      const n = m._fvv_web_depth_map_triangles(pos, vertices, tri, triangles, out);
+      return m.HEAPU32.slice(out >> 2, (out >> 2) + n);
+    } finally {
+      m._free(out);
+    }
+  }
+
   // Fragments [first, first + count) at once (one message to a worker).
   fragments(first, count) {
     const out = [];

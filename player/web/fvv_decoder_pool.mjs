@@ -12,7 +12,7 @@ import { FvvDecoderWorker } from './fvv_decoder_worker_client.mjs';
 
 // Calls answered by the first worker alone (they read what every worker holds alike).
 const FIRST = ['wantedRange', 'framesAvailable', 'info', 'camera', 'model', 'fragmentCount',
-  'fragment', 'fragments', 'planPrefixes', 'bandwidthAfter', 'gopFetchBudget'];
+  'fragment', 'fragments', 'planPrefixes', 'bandwidthAfter', 'gopFetchBudget', 'depthMapTriangles'];
 // Calls every worker makes (input, state).
 const ALL = ['openRanges', 'addRange', 'addRanges', 'push', 'pushEnd', 'process', 'destroy',
   'warmMemory'];

@@ -14,7 +14,7 @@ import { FvvDecoder } from './fvv_decoder_api.mjs';
 // The FvvDecoder methods a page may call (fvv_decoder_worker_client.mjs).
 const METHODS = new Set(['openRanges', 'addRange', 'addRanges', 'push', 'pushEnd', 'process',
   'wantedRange', 'framesAvailable', 'info', 'camera', 'model', 'fragmentCount', 'fragment', 'fragments',
-  'decodeFrame', 'decodeFrames',
+  'decodeFrame', 'decodeFrames', 'depthMapTriangles',
   'planPrefixes', 'bandwidthAfter', 'gopFetchBudget', 'destroy']);
 let decoder = null;
 

@@ -50,7 +50,7 @@ export class FvvDecoderWorker {
 for (const method of ['openRanges', 'addRange', 'addRanges', 'push', 'pushEnd', 'process', 'wantedRange',
                       'framesAvailable', 'info', 'camera', 'model', 'fragmentCount', 'fragment', 'fragments',
                       'decodeFrame', 'decodeFrames', 'planPrefixes', 'bandwidthAfter', 'gopFetchBudget', 'destroy',
-                      'warmMemory']) {
+                      'warmMemory', 'depthMapTriangles']) {
   FvvDecoderWorker.prototype[method] = function (...args) {
     return this.call(method, ...args);
   };

@@ -124,6 +124,9 @@ export class FvvPlayer {
     // will blend, not for a guess's.
     this.aim = lookedAtPoint(this.cameras) ?? [0, 1, 0];
     const model = await this.worker.model();
+    // The simplified body for the depth maps, off the page's thread (a large
+    // model takes seconds).
+    const depthTriangles = await this.worker.depthMapTriangles();
     this.playback = await FvvPlayback.create({
       moduleUrl: o.moduleUrl, wasmModule: this.wasmModule, info, centres: this.cameras.map((c) => c.centre),
     });
@@ -133,7 +136,7 @@ export class FvvPlayer {
       this.playback.fetchMeasured(this.stream.fetched, this.stream.fetchSeconds);
     }
     this.renderer = await FvvRenderer.create(this.gl, {
-      shaderUrl: o.shaderUrl, model, cameras: this.cameras, info, playback: this.playback,
+      shaderUrl: o.shaderUrl, model, cameras: this.cameras, info, playback: this.playback, depthTriangles,
     });
     this.last = performance.now();
     this.running = true;

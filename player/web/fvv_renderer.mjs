@@ -8,6 +8,8 @@
 // the module (FvvPlayback), which runs the native player's code.
 //
 //   const r = await FvvRenderer.create(gl, { shaderUrl, model, cameras, info, playback });
+//   // depthTriangles: the simplified body already made (FvvDecoder.depthMapTriangles,
+//   // in a worker); else the renderer makes it with `playback`.
 //   r.setFrame(frame);   // from FvvDecoder.decodeFrame (RGB)
 //   r.draw(view, width, height);   // view: { viewMatrix, projection, eye }
 
@@ -50,7 +52,7 @@ function program(gl, vertex, fragment, what, feedback) {
 }
 
 export class FvvRenderer {
-  static async create(gl, { shaderUrl, model, cameras, info, playback }) {
+  static async create(gl, { shaderUrl, model, cameras, info, playback, depthTriangles }) {
     const load = async (name) => {
       const r = await fetch(new URL(name, shaderUrl));
       if (!r.ok) throw new Error(`shader ${name}: ${r.status}`);
@@ -58,10 +60,11 @@ export class FvvRenderer {
     };
     const [skinning, blend, depthVert, depthFrag] = await Promise.all(
       ['skinning.vert', 'renderer.frag', 'camera_depth.vert', 'camera_depth.frag'].map(load));
-    return new FvvRenderer(gl, { skinning, blend, depthVert, depthFrag }, model, cameras, info, playback);
+    return new FvvRenderer(gl, { skinning, blend, depthVert, depthFrag }, model, cameras, info, playback,
+      depthTriangles);
   }
 
-  constructor(gl, src, model, cameras, info, playback) {
+  constructor(gl, src, model, cameras, info, playback, depthTriangles) {
     if (cameras.length === 0 || cameras.length > MAX_CAMERAS) {
       throw new Error(`the renderer takes 1 to 64 cameras, not ${cameras.length}`);
     }
@@ -123,10 +126,10 @@ export class FvvRenderer {
     gl.bindVertexArray(this.skinnedVao);
     gl.enableVertexAttribArray(0);
     gl.vertexAttribPointer(0, 3, gl.FLOAT, false, 12, 0);
-    const depthTriangles = playback.depthMapTriangles(model.positions, model.triangles);
+    const triangles = depthTriangles ?? playback.depthMapTriangles(model.positions, model.triangles);
     gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, gl.createBuffer());
-    gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, depthTriangles, gl.STATIC_DRAW);
-    this.depthIndexCount = depthTriangles.length;
+    gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, triangles, gl.STATIC_DRAW);
+    this.depthIndexCount = triangles.length;
     gl.bindVertexArray(null);
     gl.bindBuffer(gl.ARRAY_BUFFER, null);
 
