@@ -4,6 +4,10 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
+#include <limits>
 #include <numeric>
 #include <unordered_map>
 
@@ -12,13 +16,7 @@
 namespace fvv {
 namespace {
 
-using Vec = std::array<double, 3>;
-
-Vec Sub(const Vec& a, const Vec& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Vec Cross(const Vec& a, const Vec& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-double Dot(const Vec& a, const Vec& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+using Vec = glm::dvec3;
 
 // The sum of weight * (n . p + d)^2 over planes, and the sum of weights.
 struct Quadric {
@@ -75,7 +73,8 @@ class Simplifier {
         seen_(vertex_count, 0),
         common_(vertex_count, 0) {
     for (uint32_t v = 0; v < vertex_count; ++v) {
-      for (int k = 0; k < 3; ++k) position_[v][k] = double(positions[size_t{v} * 3 + k]);
+      position_[v] =
+          Vec(positions[size_t{v} * 3], positions[size_t{v} * 3 + 1], positions[size_t{v} * 3 + 2]);
     }
     const uint32_t triangles = uint32_t(corners_.size() / 3);
     alive_.assign(triangles, 1);
@@ -84,16 +83,16 @@ class Simplifier {
     for (uint32_t t = 0; t < triangles; ++t) {
       const uint32_t* c = &corners_[size_t{t} * 3];
       const Vec n =
-          Cross(Sub(position_[c[1]], position_[c[0]]), Sub(position_[c[2]], position_[c[0]]));
-      const double length = std::sqrt(Dot(n, n));
+          glm::cross(position_[c[1]] - position_[c[0]], position_[c[2]] - position_[c[0]]);
+      const double length = std::sqrt(glm::dot(n, n));
       for (int k = 0; k < 3; ++k) {
         triangles_of_[c[k]].push_back(t);
         const uint32_t a = std::min(c[k], c[(k + 1) % 3]), b = std::max(c[k], c[(k + 1) % 3]);
         ++edge_uses[uint64_t{a} << 32 | b];
       }
       if (!(length > 0)) continue;
-      const Vec unit = {n[0] / length, n[1] / length, n[2] / length};
-      const double d = -Dot(unit, position_[c[0]]);
+      const Vec unit = n / length;
+      const double d = -glm::dot(unit, position_[c[0]]);
       for (int k = 0; k < 3; ++k) quadric_[c[k]].AddPlane(unit, d, length / 2);
     }
     // An edge of one triangle (an open border) or of more (a seam of
@@ -180,29 +179,23 @@ class Simplifier {
     return q.MeanSquared(position_[to]);
   }
 
-  // The distinct vertices sharing a triangle with v, in index order.
-  std::vector<uint32_t> Neighbours(uint32_t v) const {
-    std::vector<uint32_t> out;
+  // The distinct vertices sharing a triangle with v, in index order, in
+  // `neighbours_` (one buffer for every call: this runs for each collapse).
+  const std::vector<uint32_t>& Neighbours(uint32_t v) {
+    neighbours_.clear();
     for (uint32_t t : triangles_of_[v]) {
       for (int k = 0; k < 3; ++k) {
-        if (corners_[size_t{t} * 3 + k] != v) out.push_back(corners_[size_t{t} * 3 + k]);
+        if (corners_[size_t{t} * 3 + k] != v) neighbours_.push_back(corners_[size_t{t} * 3 + k]);
       }
     }
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-    return out;
+    std::sort(neighbours_.begin(), neighbours_.end());
+    neighbours_.erase(std::unique(neighbours_.begin(), neighbours_.end()), neighbours_.end());
+    return neighbours_;
   }
 
   bool Contains(uint32_t t, uint32_t v) const {
     const uint32_t* c = &corners_[size_t{t} * 3];
     return c[0] == v || c[1] == v || c[2] == v;
-  }
-
-  bool Adjacent(uint32_t a, uint32_t b) const {
-    for (uint32_t t : triangles_of_[a]) {
-      if (Contains(t, b)) return true;
-    }
-    return false;
   }
 
   // Whether moving `from` onto `to` keeps the surface a surface: the two
@@ -233,10 +226,12 @@ class Simplifier {
         p[k] = position_[c[k]];
         q[k] = c[k] == from ? position_[to] : p[k];
       }
-      const Vec before = Cross(Sub(p[1], p[0]), Sub(p[2], p[0]));
-      const Vec after = Cross(Sub(q[1], q[0]), Sub(q[2], q[0]));
-      const double dot = Dot(before, after);
-      if (!(dot > 0) || dot * dot <= 0.04 * Dot(before, before) * Dot(after, after)) return false;
+      const Vec before = glm::cross(p[1] - p[0], p[2] - p[0]);
+      const Vec after = glm::cross(q[1] - q[0], q[2] - q[0]);
+      const double dot = glm::dot(before, after);
+      if (!(dot > 0) || dot * dot <= 0.04 * glm::dot(before, before) * glm::dot(after, after)) {
+        return false;
+      }
     }
     return true;
   }
@@ -271,6 +266,7 @@ class Simplifier {
   std::vector<std::vector<uint32_t>> triangles_of_;
   std::vector<uint8_t> locked_, gone_, alive_;
   std::vector<uint32_t> seen_, common_;  // marks of Allowed's current call
+  std::vector<uint32_t> neighbours_;
   uint32_t stamp_ = 0, live_ = 0;
 };
 
@@ -296,25 +292,23 @@ std::vector<uint32_t> SimplifiedTriangles(const float* positions, uint32_t verte
   }
   std::vector<uint32_t> corners;
   corners.reserve(size_t{triangle_count} * 3);
-  Vec low = {0, 0, 0}, high = {0, 0, 0};
-  bool any = false;
+  Vec low(std::numeric_limits<double>::max()), high(std::numeric_limits<double>::lowest());
   for (uint32_t t = 0; t < triangle_count; ++t) {
     const uint32_t* c = &triangles[size_t{t} * 3];
     if (c[0] >= vertex_count || c[1] >= vertex_count || c[2] >= vertex_count) continue;
     const uint32_t a = first[c[0]], b = first[c[1]], d = first[c[2]];
     if (a == b || b == d || a == d) continue;
     for (uint32_t v : {a, b, d}) {
-      for (int k = 0; k < 3; ++k) {
-        const double x = double(positions[size_t{v} * 3 + k]);
-        low[k] = any ? std::min(low[k], x) : x;
-        high[k] = any ? std::max(high[k], x) : x;
-      }
-      any = true;
+      const Vec p(positions[size_t{v} * 3], positions[size_t{v} * 3 + 1],
+                  positions[size_t{v} * 3 + 2]);
+      low = glm::min(low, p);
+      high = glm::max(high, p);
     }
     corners.insert(corners.end(), {a, b, d});
   }
   if (corners.empty()) return {};
-  const double extent = std::max({high[0] - low[0], high[1] - low[1], high[2] - low[2]});
+  const Vec size = high - low;
+  const double extent = std::max({size.x, size.y, size.z});
   const double bound = (max_error * extent) * (max_error * extent);
   const uint32_t kept = uint32_t(corners.size() / 3);
   Simplifier s(positions, vertex_count, std::move(corners));

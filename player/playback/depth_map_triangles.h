@@ -9,8 +9,8 @@
 // Edge collapses onto an existing vertex, in rounds of the cheapest by the
 // mean squared distance to the planes of the triangles merged into it (the
 // generic body in 65 ms natively, 56 ms in WebAssembly in Node once warm; half
-// a million triangles in about 2 s, two million in about 10 s, once when a
-// renderer is made; the page makes it in its decoder worker); vertices at one
+// a million triangles in about 2 s, two million in about 10 s, once, for a
+// stream without masks; the page makes it in its decoder worker); vertices at one
 // position (the atlas's seams) count as one; a collapse that would fold a
 // triangle over or join the surface to itself is refused, and a vertex on an
 // open border stays. The same code runs in both players (the page's in

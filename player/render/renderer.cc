@@ -109,15 +109,7 @@ StatusOr<std::unique_ptr<Renderer>> Renderer::Create(const GlApi& gl, const fvv_
   r->index_count_ = static_cast<GLsizei>(model.triangle_count * 3);
   r->vertex_count_ = model.vertex_count;
   g.BindVertexArray(0);
-  const std::vector<uint32_t> depth_map_triangles =
-      DepthMapTriangles(model.positions, model.vertex_count, model.triangles, model.triangle_count);
-  g.GenBuffers(1, &r->depth_map_ibo_);
-  g.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->depth_map_ibo_);
-  g.BufferData(GL_ELEMENT_ARRAY_BUFFER,
-               static_cast<GLsizeiptr>(depth_map_triangles.size() * sizeof(uint32_t)),
-               depth_map_triangles.data(), GL_STATIC_DRAW);
-  g.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
-  r->depth_map_index_count_ = static_cast<GLsizei>(depth_map_triangles.size());
+  r->model_triangles_.assign(model.triangles, model.triangles + size_t{model.triangle_count} * 3);
 
   g.GenBuffers(1, &r->bones_ubo_);
   g.BindBuffer(GL_UNIFORM_BUFFER, r->bones_ubo_);
@@ -279,6 +271,19 @@ Status Renderer::RenderDepthMaps(uint64_t cameras) {
   if (!needed) return Status::Ok();
   if (!depth_maps_) {
     FVV_ASSIGN_OR_RETURN(depth_maps_, CameraDepthMaps::Create(gl_, camera_list_));
+    // The simplified body they draw, made now: a stream with masks never needs it.
+    const std::vector<uint32_t> triangles =
+        DepthMapTriangles(model_positions_.data(), vertex_count_, model_triangles_.data(),
+                          static_cast<uint32_t>(model_triangles_.size() / 3));
+    gl_.BindVertexArray(0);  // the index buffer binding is a vertex array's state
+    gl_.GenBuffers(1, &depth_map_ibo_);
+    gl_.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, depth_map_ibo_);
+    gl_.BufferData(GL_ELEMENT_ARRAY_BUFFER,
+                   static_cast<GLsizeiptr>(triangles.size() * sizeof(uint32_t)), triangles.data(),
+                   GL_STATIC_DRAW);
+    gl_.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
+    depth_map_index_count_ = static_cast<GLsizei>(triangles.size());
+    model_triangles_ = {};
   }
   GLint framebuffer = 0;
   gl_.GetIntegerv(GL_FRAMEBUFFER_BINDING, &framebuffer);

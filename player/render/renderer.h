@@ -77,8 +77,9 @@ class Renderer {
          textures_ = 0, masks_ = 0, positions_vbo_ = 0;
   GLuint depth_map_ibo_ = 0;  // the simplified body the depth maps draw (depth_map_triangles.h)
   GLsizei depth_map_index_count_ = 0;
-  std::vector<float> model_positions_;  // the model's bind pose (fvv_model)
-  bool positions_are_surface_ = false;  // positions_vbo_ holds a frame's surface
+  std::vector<uint32_t> model_triangles_;  // the model's, until the depth maps' body is made
+  std::vector<float> model_positions_;     // the model's bind pose (fvv_model)
+  bool positions_are_surface_ = false;     // positions_vbo_ holds a frame's surface
   GLsizei index_count_ = 0;
   uint32_t vertex_count_ = 0;
   uint32_t cameras_ = 0, width_ = 0, height_ = 0, bones_ = 0;

@@ -41,6 +41,19 @@ function writeU64(m, p, v) {
   m.HEAPU32[(p >> 2) + 1] = Number(big >> 32n);
 }
 
+// The triangles both players' depth maps draw (player/playback/depth_map_triangles.h)
+// for the model whose positions and triangles lie at `positions` and
+// `triangles` in module instance m's memory.
+export function depthMapTrianglesAt(m, positions, vertexCount, triangles, triangleCount) {
+  const out = m._malloc(Math.max(4, triangleCount * 12));
+  try {
+    const n = m._fvv_web_depth_map_triangles(positions, vertexCount, triangles, triangleCount, out);
+    return m.HEAPU32.slice(out >> 2, (out >> 2) + n);
+  } finally {
+    m._free(out);
+  }
+}
+
 // The fetch plan (player/playback/fetch_plan.h) of a module instance, the
 // decoder's or the page's loop's: the prefix of each fragment ({ headSize,
 // size, surfaceSize }) to fetch within `budget` bytes.
@@ -197,13 +210,7 @@ export class FvvDecoder {
     const s = this.scratch, m = this.m;
     this.#check(m._fvv_decoder_get_model(this.handle, s));
     const [, , , vertices, pos, , , , , triangles, tri] = m.HEAPU32.subarray(s >> 2, (s >> 2) + 11);
-    const out = m._malloc(Math.max(4, triangles * 12));
-    try {
-      const n = m._fvv_web_depth_map_triangles(pos, vertices, tri, triangles, out);
-      return m.HEAPU32.slice(out >> 2, (out >> 2) + n);
-    } finally {
-      m._free(out);
-    }
+    return depthMapTrianglesAt(m, pos, vertices, tri, triangles);
   }
 
   // Fragments [first, first + count) at once (one message to a worker).

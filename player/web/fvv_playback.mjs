@@ -11,7 +11,7 @@
 //   const d = pb.nextDecode();    // a fetched GOP due for decoding, or null
 //   pb.deliver(d.gop, frame.report, cameras.length);   // the cameras it decoded
 
-import { instantiateFrom, planPrefixes } from './fvv_decoder_api.mjs';
+import { depthMapTrianglesAt, instantiateFrom, planPrefixes } from './fvv_decoder_api.mjs';
 
 const STATE = [
   'hasFrame', 'frame', 'changed', 'playhead', 'playing', 'bytesPerSecond', 'fetchBudget',
@@ -128,14 +128,11 @@ export class FvvPlayback {
   depthMapTriangles(positions, triangles) {
     const m = this.m;
     const p = m._malloc(positions.byteLength), t = m._malloc(triangles.byteLength);
-    const out = m._malloc(triangles.byteLength);
     try {
       m.HEAPF32.set(positions, p >> 2);
       m.HEAPU32.set(triangles, t >> 2);
-      const n = m._fvv_web_depth_map_triangles(p, positions.length / 3, t, triangles.length / 3, out);
-      return m.HEAPU32.slice(out >> 2, (out >> 2) + n);
+      return depthMapTrianglesAt(m, p, positions.length / 3, t, triangles.length / 3);
     } finally {
-      m._free(out);
       m._free(t);
       m._free(p);
     }

@@ -125,8 +125,8 @@ export class FvvPlayer {
     this.aim = lookedAtPoint(this.cameras) ?? [0, 1, 0];
     const model = await this.worker.model();
     // The simplified body for the depth maps, off the page's thread (a large
-    // model takes seconds).
-    const depthTriangles = await this.worker.depthMapTriangles();
+    // model takes seconds); a stream with masks draws none.
+    const depthTriangles = info.hasMasks ? undefined : await this.worker.depthMapTriangles();
     this.playback = await FvvPlayback.create({
       moduleUrl: o.moduleUrl, wasmModule: this.wasmModule, info, centres: this.cameras.map((c) => c.centre),
     });

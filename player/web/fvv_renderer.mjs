@@ -9,7 +9,8 @@
 //
 //   const r = await FvvRenderer.create(gl, { shaderUrl, model, cameras, info, playback });
 //   // depthTriangles: the simplified body already made (FvvDecoder.depthMapTriangles,
-//   // in a worker); else the renderer makes it with `playback`.
+//   // in a worker); else the renderer makes it with `playback` when a frame
+//   // without masks first needs depth maps.
 //   r.setFrame(frame);   // from FvvDecoder.decodeFrame (RGB)
 //   r.draw(view, width, height);   // view: { viewMatrix, projection, eye }
 
@@ -116,9 +117,8 @@ export class FvvRenderer {
     this.vao = vao;
     this.indexCount = model.triangles.length;
     this.vertexCount = model.positions.length / 3;
-    // The skinned positions the depth maps draw, and their vertex array over
-    // the simplified body (player/playback/depth_map_triangles.h, the native
-    // renderer's triangles).
+    // The skinned positions the depth maps draw, and their vertex array (its
+    // triangles, the simplified body, set when the depth maps are made).
     this.skinned = gl.createBuffer();
     gl.bindBuffer(gl.ARRAY_BUFFER, this.skinned);
     gl.bufferData(gl.ARRAY_BUFFER, this.vertexCount * 12, gl.DYNAMIC_COPY);
@@ -126,11 +126,9 @@ export class FvvRenderer {
     gl.bindVertexArray(this.skinnedVao);
     gl.enableVertexAttribArray(0);
     gl.vertexAttribPointer(0, 3, gl.FLOAT, false, 12, 0);
-    const triangles = depthTriangles ?? playback.depthMapTriangles(model.positions, model.triangles);
-    gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, gl.createBuffer());
-    gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, triangles, gl.STATIC_DRAW);
-    this.depthIndexCount = triangles.length;
     gl.bindVertexArray(null);
+    this.modelTriangles = model.triangles;
+    this.depthTriangles = depthTriangles ?? null;
     gl.bindBuffer(gl.ARRAY_BUFFER, null);
 
     this.bonesUbo = gl.createBuffer();
@@ -310,6 +308,17 @@ export class FvvRenderer {
     const ubo = gl.createBuffer();
     gl.bindBuffer(gl.UNIFORM_BUFFER, ubo);
     gl.bufferData(gl.UNIFORM_BUFFER, block, gl.STATIC_DRAW);
+    // The simplified body (player/playback/depth_map_triangles.h, the native
+    // renderer's triangles): given, or made now (a stream with masks never
+    // needs it).
+    const triangles = this.depthTriangles ??
+      this.playback.depthMapTriangles(this.modelPositions, this.modelTriangles);
+    gl.bindVertexArray(this.skinnedVao);
+    gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, gl.createBuffer());
+    gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, triangles, gl.STATIC_DRAW);
+    gl.bindVertexArray(null);
+    this.depthIndexCount = triangles.length;
+    this.depthTriangles = this.modelTriangles = null;
     this.depth = { texture, framebuffer, block: ubo, width, height, viewProj };
   }
 
