@@ -107,7 +107,100 @@ struct RenderScore {
   // the pixels both cover.
   double iou = 0, psnr_both = 0;
   int coverage_frames = 0;
+  // Where the error over the mask is: the share of the mask's pixels the
+  // render misses, the render's pixels beyond the mask (as a share of the
+  // mask), and the share of the squared error that the missed pixels hold.
+  double missed = 0, beyond = 0, missed_error = 0;
+  // PSNR as the learned methods' papers score novel views (BoxScore).
+  double psnr_box = 0;
 };
+
+// The projection of the posed model's 3D bounding box, grown by 5 cm each
+// way, into `camera`: the region the learned human-rendering methods (Neural
+// Body and those it compares with, on ZJU-MoCap) score a novel view over,
+// with the background black in both images. Convex: the hull of the corners.
+Image BoxRegion(const BodyModel& model, const Camera& camera, const std::vector<double>& dofs) {
+  const std::vector<Eigen::Vector3f> posed =
+      SkinPositions(model.mesh, SkinningMatrices(model.skeleton, dofs));
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e30), hi = -lo;
+  for (const Eigen::Vector3f& p : posed) {
+    lo = lo.cwiseMin(p.cast<double>()), hi = hi.cwiseMax(p.cast<double>());
+  }
+  lo.array() -= 0.05, hi.array() += 0.05;
+  std::vector<Eigen::Vector2d> corners;
+  for (int c = 0; c < 8; ++c) {
+    const Eigen::Vector3d x(c & 1 ? hi.x() : lo.x(), c & 2 ? hi.y() : lo.y(),
+                            c & 4 ? hi.z() : lo.z());
+    Eigen::Vector2d q;
+    if (ProjectPoint(camera, x, &q)) corners.push_back(q);
+  }
+  Image region;
+  region.width = camera.width, region.height = camera.height, region.channels = 1;
+  region.pixels.assign(size_t(region.width) * region.height, 0);
+  if (corners.size() < 3) return region;
+  // The convex hull (monotone chain), counter-clockwise in image axes.
+  std::sort(corners.begin(), corners.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  const auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a,
+                        const Eigen::Vector2d& b) {
+    return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
+  };
+  std::vector<Eigen::Vector2d> hull(2 * corners.size());
+  size_t k = 0;
+  for (size_t i = 0; i < corners.size(); ++i) {
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], corners[i]) <= 0) --k;
+    hull[k++] = corners[i];
+  }
+  for (size_t i = corners.size() - 1, t = k + 1; i-- > 0;) {
+    while (k >= t && cross(hull[k - 2], hull[k - 1], corners[i]) <= 0) --k;
+    hull[k++] = corners[i];
+  }
+  hull.resize(k - 1);
+  for (uint32_t y = 0; y < region.height; ++y) {
+    for (uint32_t x = 0; x < region.width; ++x) {
+      const Eigen::Vector2d q(x, y);
+      bool inside = true;
+      for (size_t i = 0; i < hull.size() && inside; ++i) {
+        inside = cross(hull[i], hull[(i + 1) % hull.size()], q) >= 0;
+      }
+      region.pixels[size_t(y) * region.width + x] = inside ? 255 : 0;
+    }
+  }
+  return region;
+}
+
+// PSNR over `box` with the background black in both: the footage outside the
+// actor's mask, the render outside its coverage.
+double BoxPsnr(const Image& real, const Image& mask, const Image& render, const Image& coverage,
+               const Image& box) {
+  double se = 0;
+  int64_t count = 0;
+  for (size_t i = 0; i < box.pixels.size(); ++i) {
+    if (!box.pixels[i]) continue;
+    for (int k = 0; k < 3; ++k) {
+      const double a = mask.pixels[i] ? real.pixels[3 * i + k] : 0;
+      const double b = coverage.pixels[i] ? render.pixels[3 * i + k] : 0;
+      se += (a - b) * (a - b);
+    }
+    count += 3;
+  }
+  if (count == 0) return 0;
+  return 10 * std::log10(255.0 * 255.0 / std::max(se / double(count), 1e-10));
+}
+
+// The squared RGB error summed over the region's pixels.
+double SquaredError(const Image& real, const Image& render, const Image& region) {
+  double se = 0;
+  for (size_t i = 0; i < region.pixels.size(); ++i) {
+    if (!region.pixels[i]) continue;
+    for (int k = 0; k < 3; ++k) {
+      const double d = double(real.pixels[3 * i + k]) - render.pixels[3 * i + k];
+      se += d * d;
+    }
+  }
+  return se;
+}
 
 double Iou(const Image& a, const Image& b) {
   int64_t inter = 0, uni = 0;
@@ -549,12 +642,25 @@ int Run(const Args& a) {
           std::fprintf(stderr, "real_bench: %s\n", coverage.status().ToString().c_str());
           return 1;
         }
-        Image both = region;
+        Image both = region, missed = region;
+        int64_t area = 0, missed_area = 0, beyond_area = 0;
         for (size_t i = 0; i < both.pixels.size(); ++i) {
-          both.pixels[i] = region.pixels[i] && coverage->pixels[i] ? 255 : 0;
+          const bool in = region.pixels[i] != 0, covered = coverage->pixels[i] != 0;
+          both.pixels[i] = in && covered ? 255 : 0;
+          missed.pixels[i] = in && !covered ? 255 : 0;
+          area += in, missed_area += in && !covered, beyond_area += covered && !in;
         }
         RenderScore both_score;
         ScoreRender(*real, *two, both, &both_score);
+        if (area > 0) {
+          const double all = SquaredError(*real, *two, region);
+          renderer2[k].missed += double(missed_area) / double(area);
+          renderer2[k].beyond += double(beyond_area) / double(area);
+          renderer2[k].missed_error += all > 0 ? SquaredError(*real, *two, missed) / all : 0;
+        }
+        renderer2[k].psnr_box +=
+            BoxPsnr(*real, region, *two, *coverage,
+                    BoxRegion(r->model, full.cameras[k].calibration, r->fits[f - first].dofs));
         renderer2[k].iou += Iou(*coverage, region);
         renderer2[k].psnr_both += both_score.psnr;
         ++renderer2[k].coverage_frames;
@@ -573,6 +679,13 @@ int Run(const Args& a) {
           renderer2_masks[k].psnr / renderer2_masks[k].frames,
           renderer2_masks[k].ssim / renderer2_masks[k].frames,
           renderer1[k].psnr / renderer1[k].frames, renderer1[k].ssim / renderer1[k].frames);
+      std::printf(
+          "  Renderer II misses %.1f %% of the mask (%.1f %% of the squared error), covers %.1f "
+          "%% of its area beyond it; %.2f dB over the actor's box, background black\n",
+          100 * renderer2[k].missed / renderer2[k].coverage_frames,
+          100 * renderer2[k].missed_error / renderer2[k].coverage_frames,
+          100 * renderer2[k].beyond / renderer2[k].coverage_frames,
+          renderer2[k].psnr_box / renderer2[k].coverage_frames);
     }
     // Contact sheet row: the real frame, the network's mask, the fitted
     // model against it, Renderer I and Renderer II.
@@ -630,6 +743,10 @@ int Run(const Args& a) {
          {"colour_gain", full.cameras[k].colour_gain},
          {"renderer2_iou", mean(r2.iou, r2.coverage_frames)},
          {"renderer2_psnr_both_cover", mean(r2.psnr_both, r2.coverage_frames)},
+         {"renderer2_missed_share", mean(r2.missed, r2.coverage_frames)},
+         {"renderer2_psnr_box", mean(r2.psnr_box, r2.coverage_frames)},
+         {"renderer2_beyond_share", mean(r2.beyond, r2.coverage_frames)},
+         {"renderer2_missed_error_share", mean(r2.missed_error, r2.coverage_frames)},
          {"renderer2_ssim", mean(r2.ssim, r2.frames)},
          {"renderer2_masks_psnr", mean(renderer2_masks[k].psnr, renderer2_masks[k].frames)},
          {"renderer2_masks_ssim", mean(renderer2_masks[k].ssim, renderer2_masks[k].frames)},
@@ -647,6 +764,10 @@ int Run(const Args& a) {
     all2.psnr += mean(r2.psnr, r2.frames), all2.ssim += mean(r2.ssim, r2.frames);
     all2.iou += mean(r2.iou, r2.coverage_frames);
     all2.psnr_both += mean(r2.psnr_both, r2.coverage_frames);
+    all2.missed += mean(r2.missed, r2.coverage_frames);
+    all2.psnr_box += mean(r2.psnr_box, r2.coverage_frames);
+    all2.beyond += mean(r2.beyond, r2.coverage_frames);
+    all2.missed_error += mean(r2.missed_error, r2.coverage_frames);
     all1.psnr += mean(r1.psnr, r1.frames), all1.ssim += mean(r1.ssim, r1.frames);
   }
   const double count = double(scored.size());
@@ -657,6 +778,14 @@ int Run(const Args& a) {
   if (a.render) {
     std::printf("Renderer II as rendered, mean: IoU %.3f, PSNR %.2f dB where both cover\n",
                 all2.iou / count, all2.psnr_both / count);
+    std::printf(
+        "  the render misses %.1f %% of the mask (%.1f %% of the squared error is there) and "
+        "covers %.1f %% of the mask's area beyond it\n",
+        100 * all2.missed / count, 100 * all2.missed_error / count, 100 * all2.beyond / count);
+    std::printf(
+        "  PSNR %.2f dB over the projection of the actor's 3D box grown by 5 cm, the background "
+        "black in both (how the learned methods' papers score a novel view)\n",
+        all2.psnr_box / count);
   }
   std::printf("\nseconds per frame, %u cameras tracking (after the first frame)\n", n - 1);
   std::printf("%-10s %8s %8s %8s %8s %8s %12s\n", "held out", "decode", "network", "masks", "fit",

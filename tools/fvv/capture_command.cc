@@ -55,8 +55,10 @@ int RunSynthCommand(SynthOptions o) {
   if (!s.ok()) return Fail(s.status());
   std::printf("synthetic capture: %s\n", o.output_dir.c_str());
   std::printf("  actor:    %s\n", s->actor.c_str());
-  std::printf("  cameras:  %zu at %ux%u, %u held out (truth/heldout)\n", s->capture.cameras.size(),
-              o.width, o.height, o.held_out);
+  const Camera& first = s->capture.cameras.front().calibration;
+  std::printf("  cameras:  %zu at %ux%u%s, %u held out (truth/heldout)\n",
+              s->capture.cameras.size(), first.width, first.height,
+              o.rig.empty() ? "" : " and as the rig's", o.held_out);
   std::printf("  frames:   %u at %.3g fps\n", o.frames, o.fps);
   std::printf("  truth:    %s/truth (poses, 3D joints, silhouettes, texture)\n",
               o.output_dir.c_str());
@@ -612,6 +614,15 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
               "Furniture and equipment around the capture volume, as in a lab");
   s->add_flag("--bystander", o->bystander,
               "A second person walks through behind the actor (in the frames, not the truth)");
+  s->add_option("--rig", o->rig,
+                "Film with this capture's cameras instead of the ring (capture directory or "
+                "capture.json): their positions, orientations, focal lengths and image sizes, "
+                "calibrated exactly, lens distortion left out; moved on the floor so the actor "
+                "stands where the optical axes meet (docs/capture-format.md)");
+  s->add_option("--rig-poses", o->rig_poses,
+                "With --rig: the built-in actor moves as this poses.json (fvv track on a take "
+                "that rig filmed) says, in its fitted proportions, the rig moved to where it "
+                "puts him");
   auto real_conditions = std::make_shared<bool>(false);
   s->add_flag(
       "--real-conditions", *real_conditions,
@@ -621,6 +632,12 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
       "--classic", [o] { o->width = 320, o->height = 240, o->fps = 15; },
       "320x240 at 15 fps, as in the original studio");
   s->callback([s, o, real_conditions, exit_code] {
+    if (!o->rig.empty() && s->get_option("--cameras")->count() > 0) {
+      std::fprintf(stderr, "fvv synth: --rig brings its own cameras: leave out --cameras\n");
+      *exit_code = 2;
+      return;
+    }
+    if (!o->rig.empty() && s->get_option("--held-out")->count() == 0) o->held_out = 0;
     if (*real_conditions) {
       o->plates = false, o->clutter = true, o->bystander = true;
       if (s->get_option("--cameras")->count() == 0) o->cameras = 4;

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "codec/base/thread_pool.h"
+#include "encoder/body/body_shape_json.h"
 #include "encoder/body/generic_body.h"
 #include "encoder/body/kinematics.h"
 #include "encoder/capture/calibration.h"
@@ -18,6 +19,7 @@
 #include "tools/synth/garment.h"
 #include "tools/synth/gltf_actor.h"
 #include "tools/synth/procedural_motion.h"
+#include "tools/synth/rig.h"
 #include "tools/synth/surface_detail.h"
 #include "tools/synth/synth_renderer.h"
 
@@ -129,6 +131,12 @@ StatusOr<std::unique_ptr<Actor>> MakeSynthActor(const SynthOptions& o) {
   }
   BodyShape shape;
   shape.stature = o.stature;
+  Rig rig;
+  if (!o.rig_poses.empty()) {
+    if (!o.motion.empty()) return InvalidArgument("synth: --motion or --rig-poses, not both");
+    FVV_ASSIGN_OR_RETURN(rig, LoadRig(o.rig, o.rig_poses, o.frames));
+    shape = rig.shape;
+  }
   FVV_RETURN_IF_ERROR(ValidateBodyShape(shape));
   BodyModel model = MakeGenericBody(shape);
   if (!(o.surface_detail >= 0 && o.surface_detail <= 0.1)) {
@@ -137,7 +145,13 @@ StatusOr<std::unique_ptr<Actor>> MakeSynthActor(const SynthOptions& o) {
   AddSurfaceDetail(o.surface_detail, o.seed, &model);
   std::vector<std::vector<double>> poses;
   std::string motion = "built-in walk";
-  if (!o.motion.empty()) {
+  if (!rig.poses.empty()) {
+    poses = std::move(rig.poses);
+    const size_t slash = o.rig_poses.find_last_of('/');
+    motion = "the poses of " +
+             (slash == std::string::npos ? o.rig_poses : o.rig_poses.substr(slash + 1)) +
+             " in their proportions";
+  } else if (!o.motion.empty()) {
     // Only the proportions matter: the retargeter scales the root path by leg length.
     StatusOr<BvhMotion> bvh = ReadBvhFile(o.motion, 1.0);
     if (!bvh.ok()) return Status(bvh.status().code(), "synth: --motion: " + bvh.status().message());
@@ -221,6 +235,17 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
     return InvalidArgument("synth: --dome must be 4..256 cameras");
   }
   if (o.held_out > 16) return InvalidArgument("synth: --held-out must be 0..16");
+  if (!o.rig_poses.empty() && o.rig.empty()) {
+    return InvalidArgument("synth: --rig-poses places the actor in a --rig; give the rig too");
+  }
+  if (!o.rig.empty() && (o.dome != 0 || o.overhead || o.held_out != 0)) {
+    return InvalidArgument(
+        "synth: --rig films with the capture's cameras alone: no --dome, --overhead or "
+        "--held-out (hold one of the rig's cameras out instead)");
+  }
+  if (!o.rig_poses.empty() && o.actor != "builtin") {
+    return InvalidArgument("synth: --rig-poses drives the built-in actor");
+  }
   if (o.width < 16 || o.height < 16 || o.width > 4096 || o.height > 4096) {
     return InvalidArgument("synth: image size must be 16..4096 on each side");
   }
@@ -243,9 +268,21 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
   }
   say("synth: actor: " + actor.Describe());
 
-  std::vector<Camera> cameras = o.dome
-                                    ? MakeDomeCameras(o.dome, o.width, o.height)
-                                    : MakeStudioCameras(o.cameras, o.width, o.height, 0.0, "cam");
+  std::vector<Camera> cameras;
+  Rig rig;
+  if (!o.rig.empty()) {
+    FVV_ASSIGN_OR_RETURN(rig, LoadRig(o.rig, o.rig_poses, o.frames));
+    cameras = rig.cameras;
+    char line[160];
+    std::snprintf(line, sizeof(line),
+                  "synth: %zu cameras of %s, moved by (%.2f, %.2f) m on the floor to the actor",
+                  cameras.size(), o.rig.c_str(), rig.moved_by.x(), rig.moved_by.z());
+    say(line);
+  } else if (o.dome) {
+    cameras = MakeDomeCameras(o.dome, o.width, o.height);
+  } else {
+    cameras = MakeStudioCameras(o.cameras, o.width, o.height, 0.0, "cam");
+  }
   if (o.overhead) {
     cameras.push_back(LookAtCamera("top", o.width, o.height, 0.9 * o.height,
                                    Eigen::Vector3d(0, 4.2, 0.3), Eigen::Vector3d(0, 0, 0),
@@ -266,6 +303,8 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
   }
 
   uint32_t max_w = o.width, max_h = o.height;
+  for (const Camera& c : cameras)
+    max_w = std::max(max_w, c.width), max_h = std::max(max_h, c.height);
   StatusOr<std::unique_ptr<HeadlessContext>> context =
       HeadlessContext::Create(static_cast<int>(max_w), static_cast<int>(max_h));
   if (!context.ok()) return context.status();
@@ -420,7 +459,8 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
   truth["bystander"] = o.bystander;
   if (body) {
     truth["body_model"] = "generic";
-    truth["stature"] = o.stature;
+    truth["stature"] = o.rig_poses.empty() ? o.stature : rig.shape.stature;
+    if (!o.rig_poses.empty()) truth["body_shape"] = BodyShapeToJson(rig.shape);
     truth["surface_detail"] = o.surface_detail;
     truth["garment"] = o.garment;
     if (o.garment > 0)

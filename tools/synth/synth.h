@@ -49,6 +49,12 @@ struct SynthOptions {
   bool plates = true;
   bool clutter = false;
   bool bystander = false;
+  // Film with a capture's cameras instead of the ring (rig.h): a capture
+  // directory or capture.json. Each camera keeps its own image size.
+  std::string rig;
+  // With `rig`: the built-in actor moves as these poses say (a poses.json of
+  // a take that rig filmed), in their fitted proportions.
+  std::string rig_poses;
   std::function<void(const std::string&)> progress;  // one line per update
 };
 
