@@ -11,10 +11,12 @@
 // frames). One table; bench/README.md.
 // Usage: garment_bench [--out DIR] [--frames N] [--cameras N] [--width W --height H]
 //                      [--garment M] [--true-silhouettes 0|1] [--reuse 0|1]
-//                      [--quick 0|1] and the surface tracker's weights: [--prior W]
+//                      [--quick 0|1] [--true-poses 0|1] and the surface tracker's weights: [--prior
+//                      W]
 //                      [--temporal W] [--smoothness W] [--spread N]
 // --reuse 1 takes the capture and poses an earlier run left in DIR; --quick 1
-// encodes only the first two streams (no equal-bytes one): for trying weights.
+// encodes only the first two streams (no equal-bytes one): for trying weights;
+// --true-poses 1 encodes with the true poses instead of the tracked ones.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -80,7 +82,7 @@ int main(int argc, char** argv) {
   so.height = 240;
   so.held_out = 2;
   so.garment = 0.08;
-  bool reuse = false, quick = false;
+  bool reuse = false, quick = false, true_poses = false;
   fvv::SurfaceTrackingOptions tracking;
   for (int i = 1; i < argc; i += 2) {
     const std::string a = i + 1 < argc ? argv[i] : "--help";
@@ -103,6 +105,8 @@ int main(int argc, char** argv) {
       reuse = std::atoi(v) != 0;
     } else if (a == "--quick") {
       quick = std::atoi(v) != 0;
+    } else if (a == "--true-poses") {
+      true_poses = std::atoi(v) != 0;
     } else if (a == "--prior") {
       tracking.prior = std::atof(v);
     } else if (a == "--temporal") {
@@ -115,7 +119,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr,
                    "usage: %s [--out DIR] [--frames N] [--cameras N] [--width W --height H] "
                    "[--garment M] [--true-silhouettes 0|1] [--reuse 0|1] [--quick 0|1] "
-                   "[--prior W] [--temporal W] [--smoothness W] [--spread N]\n",
+                   "[--true-poses 0|1] [--prior W] [--temporal W] [--smoothness W] [--spread N]\n",
                    argv[0]);
       return 2;
     }
@@ -147,7 +151,10 @@ int main(int argc, char** argv) {
   std::fflush(stdout);
 
   fvv::EncoderSettings plain;
-  plain.poses = poses;
+  // The true poses: what the surface and the fitted body reach where the
+  // tracking is not in the way.
+  plain.poses = true_poses ? so.output_dir + "/truth/truth.json" : poses;
+  if (true_poses) std::printf("encoding with the true poses, not the tracked ones\n");
   plain.refine_shape = true;
   fvv::EncoderSettings surface = plain;
   surface.refine_shape = false;

@@ -1,7 +1,8 @@
 // fvv synth --rig: a capture's cameras film the synthetic actor where that
 // rig's take put the real one, with the same views (positions, orientations,
 // focal lengths, image sizes), so a bench can run a real rig's layout with
-// exact calibrations.
+// exact calibrations; --calibration-error then films it with cameras turned
+// from what capture.json records, as a real calibration is off.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -209,6 +210,53 @@ TEST(SynthRig, RefusesWhatItCannotFilm) {
   ASSERT_FALSE(s.ok());
   EXPECT_NE(s.status().message().find("1 frames, 2 asked"), std::string::npos)
       << s.status().message();
+}
+
+// The silhouette's centroid (pixels).
+Eigen::Vector2d Centroid(const Image& silhouette) {
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  double n = 0;
+  for (uint32_t y = 0; y < silhouette.height; ++y) {
+    for (uint32_t x = 0; x < silhouette.width; ++x) {
+      if (!silhouette.pixels[(size_t(y) * silhouette.width + x) * silhouette.channels]) continue;
+      sum += Eigen::Vector2d(x, y), ++n;
+    }
+  }
+  return n ? Eigen::Vector2d(sum / n) : Eigen::Vector2d(-1, -1);
+}
+
+TEST(SynthCalibrationError, CamerasFilmTurnedWhileTheCaptureKeepsThemAsCalibrated) {
+  const std::string dir = TempDir("turned");
+  SynthOptions o;
+  o.cameras = 3;
+  o.width = 240, o.height = 180;
+  o.frames = 1;
+  o.held_out = 0;
+  o.texture_size = 128;
+  o.output_dir = dir + "/exact";
+  StatusOr<SynthSummary> exact = RunSynth(o);
+  ASSERT_TRUE(exact.ok()) << exact.status().ToString();
+  const double degrees = 1.0;
+  o.calibration_error = degrees;
+  o.output_dir = dir + "/turned";
+  StatusOr<SynthSummary> turned = RunSynth(o);
+  ASSERT_TRUE(turned.ok()) << turned.status().ToString();
+  for (size_t c = 0; c < 3; ++c) {
+    const Camera& a = exact->capture.cameras[c].calibration;
+    const Camera& b = turned->capture.cameras[c].calibration;
+    EXPECT_EQ(a.rotation, b.rotation);  // recorded as calibrated
+    EXPECT_EQ(a.translation, b.translation);
+    const std::string sil = "/truth/silhouettes/" + a.name + "/000000.png";
+    StatusOr<Image> p = ReadImage(dir + "/exact" + sil), q = ReadImage(dir + "/turned" + sil);
+    ASSERT_TRUE(p.ok() && q.ok());
+    // A turn of the camera by a small angle moves the image of what it sees
+    // by about the focal length times the angle.
+    const double expected = a.fx * degrees * M_PI / 180;
+    const double moved = (Centroid(*q) - Centroid(*p)).norm();
+    EXPECT_NEAR(moved, expected, 0.25 * expected) << a.name;
+  }
+  o.calibration_error = -1;
+  EXPECT_FALSE(RunSynth(o).ok());
 }
 
 }  // namespace

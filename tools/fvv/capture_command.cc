@@ -623,6 +623,13 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
                 "With --rig: the built-in actor moves as this poses.json (fvv track on a take "
                 "that rig filmed) says, in its fitted proportions, the rig moved to where it "
                 "puts him");
+  s->add_option("--calibration-error", o->calibration_error,
+                "Degrees: each camera films turned by this much about an axis in its image plane "
+                "(drawn from the seed) while capture.json records it unturned, a calibration off "
+                "by about the focal length times this angle in pixels (truth.json: "
+                "calibration_error)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 10.0));
   auto real_conditions = std::make_shared<bool>(false);
   s->add_flag(
       "--real-conditions", *real_conditions,

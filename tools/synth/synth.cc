@@ -1,5 +1,6 @@
 #include "tools/synth/synth.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -235,6 +236,9 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
     return InvalidArgument("synth: --dome must be 4..256 cameras");
   }
   if (o.held_out > 16) return InvalidArgument("synth: --held-out must be 0..16");
+  if (!(o.calibration_error >= 0 && o.calibration_error <= 10)) {
+    return InvalidArgument("synth: --calibration-error must be 0..10 degrees");
+  }
   if (!o.rig_poses.empty() && o.rig.empty()) {
     return InvalidArgument("synth: --rig-poses places the actor in a --rig; give the rig too");
   }
@@ -289,6 +293,24 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
                                    Eigen::Vector3d(0, 1, 0)));
   }
   const std::vector<Camera> held = MakeStudioCameras(o.held_out, o.width, o.height, 0.5, "held");
+  // What the cameras film with: turned about their own centres by the
+  // calibration error, while capture.json keeps `cameras` as calibrated.
+  std::vector<Camera> filmed = cameras;
+  nlohmann::json turns = nlohmann::json::array();
+  if (o.calibration_error > 0) {
+    NoiseSource rng(uint64_t{o.seed} * 104729u + 3);
+    for (Camera& cam : filmed) {
+      const double direction = 2 * kPi * rng.Uniform();
+      const Eigen::Vector3d axis(std::cos(direction), std::sin(direction), 0);
+      const Eigen::Matrix3d turn =
+          Eigen::AngleAxisd(o.calibration_error * kPi / 180, axis).toRotationMatrix();
+      Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> r(cam.rotation.data());
+      Eigen::Map<Eigen::Vector3d> t(cam.translation.data());
+      r = (turn * r).eval();
+      t = (turn * t).eval();
+      turns.push_back({{"camera", cam.name}, {"axis", {axis.x(), axis.y(), 0.0}}});
+    }
+  }
 
   const std::string dir = o.output_dir;
   if (o.plates) FVV_RETURN_IF_ERROR(MakeDirectories(dir + "/background"));
@@ -354,8 +376,8 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
   // Background plates: the empty studio, with its own sensor noise.
   std::vector<Pending> pending;
   for (uint32_t c = 0; o.plates && c < cameras.size(); ++c) {
-    FVV_RETURN_IF_ERROR(r.DrawScene(cameras[c], nullptr, Eigen::Vector3d::Zero()));
-    StatusOr<Image> plate = r.Read(cameras[c], 3);
+    FVV_RETURN_IF_ERROR(r.DrawScene(filmed[c], nullptr, Eigen::Vector3d::Zero()));
+    StatusOr<Image> plate = r.Read(filmed[c], 3);
     if (!plate.ok()) return plate.status();
     ApplySensor(&*plate, o.noise, gain[c], seed_of(c, 0xFFFFFF));
     pending.push_back({dir + "/background/" + CameraDir(cameras[c]) + ".png", std::move(*plate)});
@@ -397,8 +419,7 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
     };
     for (uint32_t c = 0; c < cameras.size(); ++c) {
       const std::string name = CameraDir(cameras[c]);
-      FVV_RETURN_IF_ERROR(
-          film(cameras[c], c, dir + "/" + name, dir + "/truth/silhouettes/" + name));
+      FVV_RETURN_IF_ERROR(film(filmed[c], c, dir + "/" + name, dir + "/truth/silhouettes/" + name));
     }
     for (uint32_t c = 0; c < held.size(); ++c) {
       const std::string name = CameraDir(held[c]);
@@ -414,7 +435,7 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
       if (!IsFeatureName(j.name)) continue;
       for (uint32_t c = 0; c < cameras.size(); ++c) {
         Eigen::Vector2d px;
-        if (ProjectPoint(cameras[c], j.position, &px) && px.x() >= 0 && px.y() >= 0 &&
+        if (ProjectPoint(filmed[c], j.position, &px) && px.x() >= 0 && px.y() >= 0 &&
             px.x() <= cameras[c].width - 1 && px.y() <= cameras[c].height - 1) {
           features.frames[f][j.name][c] = px;
         }
@@ -457,6 +478,9 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
   truth["plates"] = o.plates;
   truth["clutter"] = o.clutter;
   truth["bystander"] = o.bystander;
+  // The cameras filmed turned by this many degrees, each about an axis in
+  // its image plane (camera coordinates), from what capture.json says.
+  truth["calibration_error"] = {{"degrees", o.calibration_error}, {"turns", turns}};
   if (body) {
     truth["body_model"] = "generic";
     truth["stature"] = o.rig_poses.empty() ? o.stature : rig.shape.stature;

@@ -55,6 +55,11 @@ struct SynthOptions {
   // With `rig`: the built-in actor moves as these poses say (a poses.json of
   // a take that rig filmed), in their fitted proportions.
   std::string rig_poses;
+  // Degrees: each camera films turned by this much about an axis in its
+  // image plane (a direction drawn from the seed), while capture.json
+  // records it unturned: a calibration off by about focal length times
+  // this angle in image shift, as real ones are.
+  double calibration_error = 0;
   std::function<void(const std::string&)> progress;  // one line per update
 };
 
