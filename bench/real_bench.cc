@@ -16,9 +16,11 @@
 // stream encoded by `fvv encode` at its default rate) and Renderer I (`fvv
 // render --renderer projective`, straight from the camera images): PSNR and
 // SSIM over the actor's region (the held-out camera's person mask) against the
-// real frame. A contact sheet of real frames, masks, the fitted model and the
-// rendered views (and Renderer II from halfway between the held-out camera and
-// the camera nearest it) goes to OUT/contact_sheet.png, the figures to
+// real frame; where Renderer II's error lies (the mask's pixels it misses
+// against those both cover), and its PSNR as the learned methods' papers
+// count it (over the actor's 3D box projected, the background black in both). A contact sheet of
+// real frames, masks, the fitted model and the rendered views (and Renderer II from halfway between
+// the held-out camera and the camera nearest it) goes to OUT/contact_sheet.png, the figures to
 // OUT/real_bench.json.
 //
 //   build/bench/real_bench CAPTURE [--frames A:B] [--render-frames N] [--out DIR]
@@ -30,6 +32,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -245,18 +248,10 @@ double Luma(const Image& im, size_t i) {
 // PSNR (RGB) over the region's pixels, and SSIM (luma, 7x7 windows, the
 // usual constants) averaged over the windows centred in the region.
 void ScoreRender(const Image& real, const Image& render, const Image& region, RenderScore* s) {
-  double se = 0;
   int64_t count = 0;
-  for (size_t i = 0; i < region.pixels.size(); ++i) {
-    if (!region.pixels[i]) continue;
-    for (int k = 0; k < 3; ++k) {
-      const double d = double(real.pixels[3 * i + k]) - render.pixels[3 * i + k];
-      se += d * d;
-    }
-    count += 3;
-  }
+  for (uint8_t v : region.pixels) count += v ? 3 : 0;
   if (count == 0) return;
-  const double mse = std::max(se / double(count), 1e-10);
+  const double mse = std::max(SquaredError(real, render, region) / double(count), 1e-10);
   const double c1 = 6.5025, c2 = 58.5225;  // (0.01 * 255)^2, (0.03 * 255)^2
   double ssim = 0;
   int64_t windows = 0;
@@ -363,7 +358,9 @@ Status RunFvv(const Args& a, std::vector<std::string> args) {
 }
 
 std::string Absolute(const std::string& directory, const std::string& path) {
-  return path.empty() || path[0] == '/' ? path : directory + "/" + path;
+  if (path.empty() || path[0] == '/') return path;
+  // The capture given by a relative path: its files from where this runs.
+  return std::filesystem::absolute(directory).lexically_normal().string() + "/" + path;
 }
 
 // The capture without camera `k`, in `directory`, its sources by absolute path.

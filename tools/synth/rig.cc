@@ -1,6 +1,7 @@
 #include "tools/synth/rig.h"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 
 #include "encoder/body/kinematics.h"

@@ -277,11 +277,10 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
   if (!o.rig.empty()) {
     FVV_ASSIGN_OR_RETURN(rig, LoadRig(o.rig, o.rig_poses, o.frames));
     cameras = rig.cameras;
-    char line[160];
-    std::snprintf(line, sizeof(line),
-                  "synth: %zu cameras of %s, moved by (%.2f, %.2f) m on the floor to the actor",
-                  cameras.size(), o.rig.c_str(), rig.moved_by.x(), rig.moved_by.z());
-    say(line);
+    char moved[64];
+    std::snprintf(moved, sizeof(moved), "(%.2f, %.2f) m", rig.moved_by.x(), rig.moved_by.z());
+    say("synth: " + std::to_string(cameras.size()) + " cameras of " + o.rig + ", moved by " +
+        moved + " on the floor to the actor");
   } else if (o.dome) {
     cameras = MakeDomeCameras(o.dome, o.width, o.height);
   } else {
@@ -480,7 +479,9 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
   truth["bystander"] = o.bystander;
   // The cameras filmed turned by this many degrees, each about an axis in
   // its image plane (camera coordinates), from what capture.json says.
-  truth["calibration_error"] = {{"degrees", o.calibration_error}, {"turns", turns}};
+  if (o.calibration_error > 0) {
+    truth["calibration_error"] = {{"degrees", o.calibration_error}, {"turns", turns}};
+  }
   if (body) {
     truth["body_model"] = "generic";
     truth["stature"] = o.rig_poses.empty() ? o.stature : rig.shape.stature;
