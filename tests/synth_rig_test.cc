@@ -46,6 +46,17 @@ std::string WriteRig(const std::string& dir, const Eigen::Vector3d& target) {
   return dir + "/capture.json";
 }
 
+// A short take of `rig`'s cameras into dir/take.
+SynthOptions RigTake(const std::string& dir, const std::string& rig, uint32_t frames) {
+  SynthOptions o;
+  o.output_dir = dir + "/take";
+  o.rig = rig;
+  o.held_out = 0;
+  o.frames = frames;
+  o.texture_size = 128;
+  return o;
+}
+
 std::string TempDir(const std::string& name) {
   return ::testing::TempDir() + "/synth_rig_" + name + "_" + std::to_string(getpid());
 }
@@ -82,12 +93,7 @@ TEST(SynthRig, TheRigsCamerasFilmTheActorInTheMiddleOfTheirViews) {
   const Eigen::Vector3d target(1.5, 0, -0.8);
   const std::string dir = TempDir("film");
   const std::string rig = WriteRig(dir + "/lab", target);
-  SynthOptions o;
-  o.output_dir = dir + "/take";
-  o.rig = rig;
-  o.held_out = 0;
-  o.frames = 2;
-  o.texture_size = 128;
+  const SynthOptions o = RigTake(dir, rig, 2);
   StatusOr<SynthSummary> s = RunSynth(o);
   ASSERT_TRUE(s.ok()) << s.status().ToString();
   StatusOr<Capture> lab = LoadCapture(rig);
@@ -142,13 +148,8 @@ TEST(SynthRig, PosesPutTheActorWhereTheTakePutHimInEveryCamera) {
   const std::string poses_path = dir + "/poses.json";
   std::ofstream(poses_path) << file.dump();
 
-  SynthOptions o;
-  o.output_dir = dir + "/take";
-  o.rig = rig;
+  SynthOptions o = RigTake(dir, rig, 3);
   o.rig_poses = poses_path;
-  o.held_out = 0;
-  o.frames = 3;
-  o.texture_size = 128;
   StatusOr<SynthSummary> s = RunSynth(o);
   ASSERT_TRUE(s.ok()) << s.status().ToString();
   StatusOr<Capture> lab = LoadCapture(rig);
