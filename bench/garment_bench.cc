@@ -11,9 +11,8 @@
 // frames). One table; bench/README.md.
 // Usage: garment_bench [--out DIR] [--frames N] [--cameras N] [--width W --height H]
 //                      [--garment M] [--true-silhouettes 0|1] [--reuse 0|1]
-//                      [--quick 0|1] [--true-poses 0|1] and the surface tracker's weights: [--prior
-//                      W]
-//                      [--temporal W] [--smoothness W] [--spread N]
+//                      [--quick 0|1] [--true-poses 0|1] and the surface tracker's
+//                      weights: [--prior W] [--temporal W] [--smoothness W] [--spread N]
 // --reuse 1 takes the capture and poses an earlier run left in DIR; --quick 1
 // encodes only the first two streams (no equal-bytes one): for trying weights;
 // --true-poses 1 encodes with the true poses instead of the tracked ones.

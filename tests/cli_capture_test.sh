@@ -20,6 +20,22 @@ out=$("$fvv" synth -o "$dir/real" --real-conditions --cameras 3 --frames 1 2>&1)
   fail "synth --real-conditions --cameras 3: $out"
 grep -q "cameras:  3 at 360x640" <<<"$out" || fail "real conditions kept the count given: $out"
 rm -rf "$dir/real"
+# A capture's own cameras film the synthetic actor (--rig), 1 degree off what is recorded.
+out=$("$fvv" synth -o "$dir/rig" --rig "$dir/cap" --frames 1 --calibration-error 1 2>&1) ||
+  fail "synth --rig: $out"
+grep -q "cameras:  2 of $dir/cap, each at its own size (the first 96x72)" <<<"$out" ||
+  fail "rig summary: $out"
+grep -q '"calibration_error"' "$dir/rig/truth/truth.json" || fail "the turns are not in the truth"
+cmp -s <(grep -v directory "$dir/cap/capture.json" | grep -A12 '"K"' | head -12) \
+  <(grep -v directory "$dir/rig/capture.json" | grep -A12 '"K"' | head -12) ||
+  fail "the rig's intrinsics changed"
+out=$("$fvv" synth -o "$dir/rig" --rig "$dir/cap" --cameras 3 --frames 1 2>&1) &&
+  fail "--rig with --cameras accepted"
+grep -q "leave out --cameras" <<<"$out" || fail "rig with cameras: $out"
+out=$("$fvv" synth -o "$dir/rig" --rig-poses "$dir/none.json" --frames 1 2>&1) &&
+  fail "--rig-poses without --rig accepted"
+grep -q "give the rig too" <<<"$out" || fail "rig poses without a rig: $out"
+rm -rf "$dir/rig"
 [ -f "$dir/cap/capture.json" ] && [ -f "$dir/cap/cam01/000002.png" ] && [ -f "$dir/cap/background/cam00.png" ] ||
   fail "synth outputs missing"
 [ -f "$dir/cap/truth/truth.json" ] && [ -f "$dir/cap/truth/silhouettes/cam00/000000.png" ] &&

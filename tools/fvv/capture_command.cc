@@ -56,9 +56,13 @@ int RunSynthCommand(SynthOptions o) {
   std::printf("synthetic capture: %s\n", o.output_dir.c_str());
   std::printf("  actor:    %s\n", s->actor.c_str());
   const Camera& first = s->capture.cameras.front().calibration;
-  std::printf("  cameras:  %zu at %ux%u%s, %u held out (truth/heldout)\n",
-              s->capture.cameras.size(), first.width, first.height,
-              o.rig.empty() ? "" : " and as the rig's", o.held_out);
+  if (o.rig.empty()) {
+    std::printf("  cameras:  %zu at %ux%u, %u held out (truth/heldout)\n",
+                s->capture.cameras.size(), first.width, first.height, o.held_out);
+  } else {
+    std::printf("  cameras:  %zu of %s, each at its own size (the first %ux%u)\n",
+                s->capture.cameras.size(), o.rig.c_str(), first.width, first.height);
+  }
   std::printf("  frames:   %u at %.3g fps\n", o.frames, o.fps);
   std::printf("  truth:    %s/truth (poses, 3D joints, silhouettes, texture)\n",
               o.output_dir.c_str());
