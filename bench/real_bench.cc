@@ -160,8 +160,14 @@ Image BoxRegion(const BodyModel& model, const Camera& camera, const std::vector<
     hull[k++] = corners[i];
   }
   hull.resize(k - 1);
-  for (uint32_t y = 0; y < region.height; ++y) {
-    for (uint32_t x = 0; x < region.width; ++x) {
+  // Only the hull's bounding box can be inside it.
+  Eigen::Vector2d lo2 = hull[0], hi2 = hull[0];
+  for (const Eigen::Vector2d& h : hull) lo2 = lo2.cwiseMin(h), hi2 = hi2.cwiseMax(h);
+  const int x0 = std::max(0, int(std::floor(lo2.x()))), y0 = std::max(0, int(std::floor(lo2.y())));
+  const int x1 = std::min(int(region.width) - 1, int(std::ceil(hi2.x())));
+  const int y1 = std::min(int(region.height) - 1, int(std::ceil(hi2.y())));
+  for (int y = y0; y <= y1; ++y) {
+    for (int x = x0; x <= x1; ++x) {
       const Eigen::Vector2d q(x, y);
       bool inside = true;
       for (size_t i = 0; i < hull.size() && inside; ++i) {

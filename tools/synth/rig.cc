@@ -10,13 +10,6 @@
 #include "encoder/encode/pose_file.h"
 
 namespace fvv {
-namespace {
-
-Eigen::Matrix3d Rotation(const Camera& c) {
-  return Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(c.rotation.data());
-}
-
-}  // namespace
 
 Eigen::Vector3d NearestPointToAxes(const std::vector<Camera>& cameras) {
   // Sum over cameras of (I - a a^T) (x - c) = 0: the point whose squared
@@ -25,7 +18,7 @@ Eigen::Vector3d NearestPointToAxes(const std::vector<Camera>& cameras) {
   Eigen::Vector3d b = Eigen::Vector3d::Zero(), mean = Eigen::Vector3d::Zero();
   for (const Camera& cam : cameras) {
     const Eigen::Vector3d c = CameraCentre(cam);
-    const Eigen::Vector3d a = Rotation(cam).row(2).transpose().normalized();
+    const Eigen::Vector3d a = CameraRotation(cam).row(2).transpose().normalized();
     const Eigen::Matrix3d p = Eigen::Matrix3d::Identity() - a * a.transpose();
     m += p, b += p * c, mean += c;
   }
@@ -73,7 +66,7 @@ StatusOr<Rig> LoadRig(const std::string& capture, const std::string& poses, uint
   rig.moved_by = -centre;
   for (Camera& cam : rig.cameras) {
     const Eigen::Vector3d t =
-        Eigen::Map<const Eigen::Vector3d>(cam.translation.data()) + Rotation(cam) * centre;
+        Eigen::Map<const Eigen::Vector3d>(cam.translation.data()) + CameraRotation(cam) * centre;
     cam.translation = {t.x(), t.y(), t.z()};
   }
   return rig;

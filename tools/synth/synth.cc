@@ -1,6 +1,5 @@
 #include "tools/synth/synth.h"
 
-#include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -15,6 +14,7 @@
 #include "encoder/import/bvh.h"
 #include "encoder/import/retarget.h"
 #include "encoder/track/features.h"
+#include "encoder/track/silhouette_calibration.h"
 #include "player/render/headless.h"
 #include "tools/synth/body_texture.h"
 #include "tools/synth/garment.h"
@@ -119,7 +119,11 @@ std::vector<Camera> MakeDomeCameras(uint32_t count, uint32_t width, uint32_t hei
   return out;
 }
 
-StatusOr<std::unique_ptr<Actor>> MakeSynthActor(const SynthOptions& o) {
+namespace {
+
+// The actor `o` describes; `rig`: o.rig as loaded, whose poses drive the
+// built-in actor where o.rig_poses names them.
+StatusOr<std::unique_ptr<Actor>> MakeActor(const SynthOptions& o, const Rig& rig) {
   if (o.actor != "builtin") {
     if (!o.motion.empty()) {
       return InvalidArgument(
@@ -132,10 +136,8 @@ StatusOr<std::unique_ptr<Actor>> MakeSynthActor(const SynthOptions& o) {
   }
   BodyShape shape;
   shape.stature = o.stature;
-  Rig rig;
   if (!o.rig_poses.empty()) {
     if (!o.motion.empty()) return InvalidArgument("synth: --motion or --rig-poses, not both");
-    FVV_ASSIGN_OR_RETURN(rig, LoadRig(o.rig, o.rig_poses, o.frames));
     shape = rig.shape;
   }
   FVV_RETURN_IF_ERROR(ValidateBodyShape(shape));
@@ -146,8 +148,8 @@ StatusOr<std::unique_ptr<Actor>> MakeSynthActor(const SynthOptions& o) {
   AddSurfaceDetail(o.surface_detail, o.seed, &model);
   std::vector<std::vector<double>> poses;
   std::string motion = "built-in walk";
-  if (!rig.poses.empty()) {
-    poses = std::move(rig.poses);
+  if (!o.rig_poses.empty()) {
+    poses = rig.poses;
     const size_t slash = o.rig_poses.find_last_of('/');
     motion = "the poses of " +
              (slash == std::string::npos ? o.rig_poses : o.rig_poses.substr(slash + 1)) +
@@ -195,6 +197,16 @@ StatusOr<std::unique_ptr<Actor>> MakeSynthActor(const SynthOptions& o) {
       "built-in body model, " + motion + (o.garment > 0 ? ", loose shorts" : ""));
   if (!garment.empty()) actor->SetFramePositions(std::move(garment));
   return std::unique_ptr<Actor>(std::move(actor));
+}
+
+}  // namespace
+
+StatusOr<std::unique_ptr<Actor>> MakeSynthActor(const SynthOptions& o) {
+  Rig rig;
+  if (!o.rig_poses.empty()) {
+    FVV_ASSIGN_OR_RETURN(rig, LoadRig(o.rig, o.rig_poses, o.frames));
+  }
+  return MakeActor(o, rig);
 }
 
 // The bystander: the generic body, a little shorter and dressed otherwise,
@@ -264,7 +276,11 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
     return InvalidArgument("synth: texture size must be 64..4096");
   }
 
-  StatusOr<std::unique_ptr<Actor>> made = MakeSynthActor(o);
+  Rig rig;
+  if (!o.rig.empty()) {
+    FVV_ASSIGN_OR_RETURN(rig, LoadRig(o.rig, o.rig_poses, o.frames));
+  }
+  StatusOr<std::unique_ptr<Actor>> made = MakeActor(o, rig);
   if (!made.ok()) return made.status();
   const Actor& actor = **made;
   if (actor.frame_count() < o.frames) {
@@ -273,9 +289,7 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
   say("synth: actor: " + actor.Describe());
 
   std::vector<Camera> cameras;
-  Rig rig;
   if (!o.rig.empty()) {
-    FVV_ASSIGN_OR_RETURN(rig, LoadRig(o.rig, o.rig_poses, o.frames));
     cameras = rig.cameras;
     char moved[64];
     std::snprintf(moved, sizeof(moved), "(%.2f, %.2f) m", rig.moved_by.x(), rig.moved_by.z());
@@ -299,15 +313,12 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
   if (o.calibration_error > 0) {
     NoiseSource rng(uint64_t{o.seed} * 104729u + 3);
     for (Camera& cam : filmed) {
-      const double direction = 2 * kPi * rng.Uniform();
-      const Eigen::Vector3d axis(std::cos(direction), std::sin(direction), 0);
-      const Eigen::Matrix3d turn =
-          Eigen::AngleAxisd(o.calibration_error * kPi / 180, axis).toRotationMatrix();
-      Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> r(cam.rotation.data());
-      Eigen::Map<Eigen::Vector3d> t(cam.translation.data());
-      r = (turn * r).eval();
-      t = (turn * t).eval();
-      turns.push_back({{"camera", cam.name}, {"axis", {axis.x(), axis.y(), 0.0}}});
+      // The image shift a turn by the error in this direction gives.
+      const double direction = 2 * kPi * rng.Uniform(), angle = o.calibration_error * kPi / 180;
+      const Eigen::Vector2d shift(angle * cam.fx * std::cos(direction),
+                                  angle * cam.fy * std::sin(direction));
+      cam = TurnedByImageShift(cam, shift);
+      turns.push_back({{"camera", cam.name}, {"shift_px", {shift.x(), shift.y()}}});
     }
   }
 
@@ -477,8 +488,8 @@ StatusOr<SynthSummary> RunSynth(const SynthOptions& o) {
   truth["plates"] = o.plates;
   truth["clutter"] = o.clutter;
   truth["bystander"] = o.bystander;
-  // The cameras filmed turned by this many degrees, each about an axis in
-  // its image plane (camera coordinates), from what capture.json says.
+  // The cameras filmed turned by this many degrees from what capture.json
+  // says, each by the image shift (pixels) recorded.
   if (o.calibration_error > 0) {
     truth["calibration_error"] = {{"degrees", o.calibration_error}, {"turns", turns}};
   }
