@@ -10,6 +10,9 @@
 #                               [--surface] [--no-colour]
 #   --refine            camera poses from the keypoints (refine-calib --from keypoints)
 #   --refine=silhouettes  camera orientations from the tracked actor's outlines
+#   --refine=tangents   the frame offsets checked again and the camera orientations refined
+#                       from the tangents of the actor's person masks (sync and refine-calib
+#                       --from tangents; no body model)
 #   --strict            the held-out camera as imported, the other cameras refined among
 #                       themselves, once per held-out camera (without it: the "studio"
 #                       protocol, every camera refined together, as a studio would before a
@@ -44,8 +47,8 @@ for a in "$@"; do
   esac
 done
 case $refine in
-  "" | keypoints | silhouettes) ;;
-  *) echo "run_real_bench: --refine=keypoints or --refine=silhouettes, not $refine" >&2; exit 2 ;;
+  "" | keypoints | silhouettes | tangents) ;;
+  *) echo "run_real_bench: --refine=keypoints, silhouettes or tangents, not $refine" >&2; exit 2 ;;
 esac
 if [ $strict = 1 ] && [ -z "$refine" ]; then
   echo "run_real_bench: --strict needs --refine (as imported, every protocol is the same)" >&2
@@ -63,6 +66,11 @@ $fvv capture import-calib "$real/calibration/Calib.qca.txt" -o "$out/capture" \
   --video "$(cd "$real/videos" && pwd)/{camera}.mp4"
 # The cameras were not started together: skip each one's early frames.
 $fvv capture sync "$out/capture" --write
+# The keypoints can leave a camera a frame or two off; the masks' tangents,
+# from the frames after the scored ones, check each offset again.
+if [ "$refine" = tangents ]; then
+  $fvv capture sync "$out/capture" --from tangents --frames "$((last + 3)):$((last + 64))" --write
+fi
 if [ $strict = 0 ]; then
   if [ -n "$refine" ]; then
     $fvv capture refine-calib "$out/capture" --from "$refine" --frames "$span" --write

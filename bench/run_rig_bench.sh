@@ -14,9 +14,11 @@
 #   refined      as calibration, then the cameras refined from the outlines of the frames
 #                after the scored ones (fvv capture refine-calib --from silhouettes), as the
 #                real take's studio protocol does
+#   tangents     as calibration, then the cameras refined from the tangents of their person
+#                masks in the same frames (fvv capture refine-calib --from tangents)
 #   all          shape, colour and calibration together
 #
-# Usage: bench/run_rig_bench.sh [CONDITION ...]   (default: all six)
+# Usage: bench/run_rig_bench.sh [CONDITION ...]   (default: all seven)
 # Needs bench/run_real_bench.sh run first (its imported capture, in step, and
 # its poses of frames 0-29 with cam01 held out), the person models and a
 # Release build in build/. Frames 0-15 are scored and 0-7 rendered; the
@@ -33,7 +35,7 @@ for f in "$capture/capture.json" "$poses"; do
   fi
 done
 conditions=("$@")
-[ ${#conditions[@]} -gt 0 ] || conditions=(exact shape colour calibration refined all)
+[ ${#conditions[@]} -gt 0 ] || conditions=(exact shape colour calibration refined tangents all)
 out=out/rig_bench
 mkdir -p "$out"
 for c in "${conditions[@]}"; do
@@ -41,9 +43,12 @@ for c in "${conditions[@]}"; do
     exact) extra=() ;;
     shape) extra=(--surface-detail 0.03) ;;
     colour) extra=(--colour-mismatch 0.1) ;;
-    calibration | refined) extra=(--calibration-error 0.15) ;;
+    calibration | refined | tangents) extra=(--calibration-error 0.15) ;;
     all) extra=(--surface-detail 0.03 --colour-mismatch 0.1 --calibration-error 0.15) ;;
-    *) echo "run_rig_bench: no condition $c (exact shape colour calibration refined all)" >&2; exit 2 ;;
+    *)
+      echo "run_rig_bench: no condition $c (exact shape colour calibration refined tangents all)" >&2
+      exit 2
+      ;;
   esac
   take="$out/$c/take"
   rm -rf "$take"
@@ -53,6 +58,7 @@ for c in "${conditions[@]}"; do
   case $c in
     colour | all) $fvv capture calibrate-colour "$take" --frames 16:29 --write -q ;;
     refined) $fvv capture refine-calib "$take" --from silhouettes --frames 16:29 --write ;;
+    tangents) $fvv capture refine-calib "$take" --from tangents --frames 16:29 --write ;;
   esac
   build/bench/real_bench "$take" --frames 0:15 --render-frames 8 --surface --out "$out/$c" \
     --fvv $fvv >"$out/$c/real_bench.log"

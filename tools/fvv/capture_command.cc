@@ -20,8 +20,12 @@
 #include "encoder/track/calibration_refinement.h"
 #include "encoder/track/camera_sync.h"
 #include "encoder/track/capture_frames.h"
+#include "encoder/track/outline_hull.h"
 #include "encoder/track/person_observer.h"
 #include "encoder/track/silhouette_calibration.h"
+#include "encoder/track/tangent_calibration.h"
+#include "encoder/track/tangent_sync.h"
+#include "encoder/track/track_capture.h"
 #include "tools/fvv/calibrate_colour_command.h"
 #include "tools/fvv/camera_names.h"
 #include "tools/fvv/frame_range.h"
@@ -310,18 +314,119 @@ int RunImportCalib(const ImportArgs& a) {
 
 }  // namespace
 
+// The outline hulls of the actor's masks (given silhouettes, or the person
+// network's) in frames first..last, `[frame][camera]`; `who` starts the
+// progress lines.
+StatusOr<std::vector<std::vector<OutlineHull>>> ReadOutlines(const Capture& cap,
+                                                             const std::string& models,
+                                                             uint32_t first, uint32_t last,
+                                                             const std::string& who) {
+  std::string note;
+  FVV_ASSIGN_OR_RETURN(
+      std::unique_ptr<PersonObserver> persons,
+      PersonsForCapture(cap, false, TrackCaptureOptions::Persons::kAuto, models, &note));
+  if (!note.empty()) std::fprintf(stderr, "%s: %s\n", who.c_str(), note.c_str());
+  ThreadPool pool(2);
+  FVV_ASSIGN_OR_RETURN(std::unique_ptr<CaptureFrames> frames,
+                       CaptureFrames::Open(cap, false, &pool, persons.get()));
+  std::vector<std::vector<OutlineHull>> outlines;
+  std::vector<Image> masks;
+  for (uint32_t f = first; f <= last; ++f) {
+    FVV_RETURN_IF_ERROR(frames->Read(f, nullptr, &masks));
+    if (f < last) frames->Prefetch(f + 1);
+    std::vector<OutlineHull> hulls;
+    for (size_t c = 0; c < cap.cameras.size(); ++c) {
+      hulls.push_back(MakeOutlineHull(cap.cameras[c].calibration, masks[c]));
+    }
+    outlines.push_back(std::move(hulls));
+    if ((f - first) % 10 == 9 || f == last) {
+      std::fprintf(stderr, "%s: outlines of frame %u (%u of %u; %s)\n", who.c_str(), f,
+                   f - first + 1, last - first + 1, frames->silhouette_source().c_str());
+    }
+  }
+  return outlines;
+}
+
 struct SyncArgs {
   std::string capture, frames = "0:59", models;
-  int max_offset = 8;
+  std::string from = "keypoints";  // or "tangents"
+  int max_offset = 0;              // 0: 8 frames from keypoints, 2 from tangents
   bool write = false;
 };
+
+// `cap` with each camera's frames starting later by its offset, and the frame
+// count cut by the largest.
+StatusOr<Capture> Offset(const Capture& cap, const std::vector<int>& offsets) {
+  Capture out = cap;
+  const int most = *std::max_element(offsets.begin(), offsets.end());
+  for (size_t c = 0; c < out.cameras.size(); ++c) {
+    out.cameras[c].frames.first += uint32_t(offsets[c]);
+    if (out.cameras[c].silhouettes) out.cameras[c].silhouettes->first += uint32_t(offsets[c]);
+  }
+  if (out.frame_count <= uint32_t(most)) {
+    return InvalidArgument("sync: offsets of up to " + std::to_string(most) +
+                           " frames leave no frame of the capture");
+  }
+  out.frame_count -= uint32_t(most);
+  return out;
+}
+
+// Offsets from the tangents of the actor's masks, on top of those the capture
+// has: SyncFromTangents over the span, `range` frames either way.
+int RunSyncFromTangents(const SyncArgs& a, const Capture& cap, uint32_t first, uint32_t last) {
+  const int range = a.max_offset > 0 ? a.max_offset : 2;
+  last = std::min(last, cap.frame_count - 1);
+  if (first < uint32_t(range) || last + uint32_t(range) >= cap.frame_count || last < first + 2) {
+    return Fail(
+        InvalidArgument("sync: --frames " + a.frames + ": tangents compare 3 frames or more with " +
+                        std::to_string(range) + " frames either side within the capture's " +
+                        std::to_string(cap.frame_count) + " (--max-offset sets how many)"));
+  }
+  StatusOr<std::vector<std::vector<OutlineHull>>> by_frame =
+      ReadOutlines(cap, a.models, first - uint32_t(range), last + uint32_t(range), "sync");
+  if (!by_frame.ok()) return Fail(by_frame.status());
+  std::vector<std::vector<OutlineHull>> by_camera(cap.cameras.size());
+  for (auto& frame : *by_frame) {
+    for (size_t c = 0; c < frame.size(); ++c) by_camera[c].push_back(std::move(frame[c]));
+  }
+  std::vector<Camera> cameras;
+  for (const CaptureCamera& c : cap.cameras) cameras.push_back(c.calibration);
+  TangentSyncOptions o;
+  o.range = range;
+  o.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+  StatusOr<TangentSync> r = SyncFromTangents(cameras, by_camera, o);
+  if (!r.ok()) return Fail(r.status());
+  std::printf(
+      "frame offsets of %s on top of capture.json's, from the tangents of the actor's masks in "
+      "frames %u..%u (%d refinements; the tangents' cost %.3f as recorded, %.3f in step):\n",
+      cap.directory.c_str(), first, last, r->evaluations, r->cost_before, r->cost_after);
+  std::printf("  %-12s %8s\n", "camera", "offset");
+  for (size_t c = 0; c < cameras.size(); ++c) {
+    std::printf("  %-12s %8d\n", cameras[c].name.c_str(), r->offsets[c]);
+  }
+  if (*std::max_element(r->offsets.begin(), r->offsets.end()) == 0) {
+    std::printf("the cameras run in step\n");
+    return 0;
+  }
+  if (!a.write) {
+    std::printf("(--write adds these offsets to capture.json's)\n");
+    return 0;
+  }
+  StatusOr<Capture> out = Offset(cap, r->offsets);
+  if (!out.ok()) return Fail(out.status());
+  if (Status s = SaveCapture(*out); !s.ok()) return Fail(s);
+  std::printf("wrote %s/capture.json: %u frames (was %u)\n", out->directory.c_str(),
+              out->frame_count, cap.frame_count);
+  return 0;
+}
 
 int RunSync(const SyncArgs& a) {
   StatusOr<Capture> cap = LoadCapture(a.capture);
   if (!cap.ok()) return Fail(cap.status());
   FrameOffsetOptions o;
   if (Status s = ParseFrameRange(a.frames, &o.first, &o.last); !s.ok()) return Fail(s);
-  o.max_offset = a.max_offset;
+  if (a.from == "tangents") return RunSyncFromTangents(a, *cap, o.first, o.last);
+  o.max_offset = a.max_offset > 0 ? a.max_offset : 8;
   o.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   StatusOr<std::unique_ptr<PersonObserver>> observer = LoadPersons(a.models, "sync");
   if (!observer.ok()) return Fail(observer.status());
@@ -348,27 +453,19 @@ int RunSync(const SyncArgs& a) {
         "capture.json)\n");
     return 0;
   }
-  Capture out = *cap;
-  for (size_t c = 0; c < out.cameras.size(); ++c) {
-    out.cameras[c].frames.first += r->offsets[c];
-    if (out.cameras[c].silhouettes) out.cameras[c].silhouettes->first += r->offsets[c];
-  }
-  if (out.frame_count <= uint32_t(most)) {
-    return Fail(InvalidArgument("sync: offsets of up to " + std::to_string(most) +
-                                " frames leave no frame of the capture"));
-  }
-  out.frame_count -= uint32_t(most);
-  if (Status s = SaveCapture(out); !s.ok()) return Fail(s);
+  StatusOr<Capture> out = Offset(*cap, r->offsets);
+  if (!out.ok()) return Fail(out.status());
+  if (Status s = SaveCapture(*out); !s.ok()) return Fail(s);
   std::printf(
       "wrote %s/capture.json: each camera's frames start later by its offset; %u frames "
       "(was %u)\n",
-      out.directory.c_str(), out.frame_count, cap->frame_count);
+      out->directory.c_str(), out->frame_count, cap->frame_count);
   return 0;
 }
 
 struct RefineArgs {
   std::string capture, frames = "0:59", models;
-  std::string from = "keypoints";    // or "silhouettes"
+  std::string from = "keypoints";    // or "silhouettes", "tangents"
   std::vector<std::string> cameras;  // refined among themselves; empty: all
   int rounds = SilhouetteCalibrationOptions{}.rounds;
   CalibrationRefinementOptions options;
@@ -445,6 +542,52 @@ int RunRefineFromSilhouettes(const RefineArgs& a, const Capture& cap, const Capt
   return 0;
 }
 
+// Camera orientations from the tangents of every pair of cameras' masks
+// (RefineCamerasFromTangents); `sub` is the capture cut down to the chosen
+// cameras.
+int RunRefineFromTangents(const RefineArgs& a, const Capture& cap, const Capture& sub,
+                          const std::vector<size_t>& chosen, uint32_t first, uint32_t last) {
+  StatusOr<std::vector<std::vector<OutlineHull>>> outlines =
+      ReadOutlines(sub, a.models, first, last, "refine-calib");
+  if (!outlines.ok()) return Fail(outlines.status());
+  std::vector<Camera> cameras;
+  for (const CaptureCamera& c : sub.cameras) cameras.push_back(c.calibration);
+  StatusOr<TangentCalibration> r = RefineCamerasFromTangents(cameras, *outlines);
+  if (!r.ok()) return Fail(r.status());
+  std::printf(
+      "camera orientations of %s refined from the tangents of the actor's silhouettes in frames "
+      "%u..%u (%d iterations; %d combination(s) of turns the tangents hardly measure left as "
+      "calibrated):\n",
+      cap.directory.c_str(), first, last, r->iterations, r->held_directions);
+  std::printf("  %-10s %9s %20s %12s\n", "camera", "tangents", "median px", "turned");
+  double most_gain = 0;
+  for (size_t c = 0; c < cameras.size(); ++c) {
+    std::printf("  %-10s %9u %8.2f -> %6.2f %8.3f deg\n", cameras[c].name.c_str(), r->tangents[c],
+                r->before_px[c], r->after_px[c], r->turn_deg[c]);
+    if (r->before_px[c] > 0) most_gain = std::max(most_gain, r->before_px[c] - r->after_px[c]);
+  }
+  // Under half a pixel is within what masks cut at pixels say.
+  if (most_gain < 0.5) {
+    std::printf(
+        "no camera's tangents meet the others' half a pixel closer: the calibration agrees with "
+        "the silhouettes as it is; capture.json left unchanged\n");
+    return 0;
+  }
+  if (!a.write) {
+    std::printf("(--write stores the refined orientations in capture.json)\n");
+    return 0;
+  }
+  Capture out = cap;
+  for (size_t i = 0; i < chosen.size(); ++i) {
+    const Camera& k = r->cameras[i];
+    if (Status s = ValidateCalibration(k, k.name); !s.ok()) return Fail(s);
+    out.cameras[chosen[i]].calibration = k;
+  }
+  if (Status s = SaveCapture(out); !s.ok()) return Fail(s);
+  std::printf("wrote %s/capture.json with the refined orientations\n", out.directory.c_str());
+  return 0;
+}
+
 int RunRefineCalib(const RefineArgs& a) {
   StatusOr<Capture> loaded = LoadCapture(a.capture);
   if (!loaded.ok()) return Fail(loaded.status());
@@ -459,6 +602,7 @@ int RunRefineCalib(const RefineArgs& a) {
   for (size_t c : *chosen) sub.cameras.push_back(loaded->cameras[c]);
   if (a.from == "silhouettes")
     return RunRefineFromSilhouettes(a, *loaded, sub, *chosen, first, last);
+  if (a.from == "tangents") return RunRefineFromTangents(a, *loaded, sub, *chosen, first, last);
   StatusOr<std::unique_ptr<PersonObserver>> observer =
       LoadPersons(a.models, "refining the calibration");
   if (!observer.ok()) return Fail(observer.status());
@@ -692,9 +836,17 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
                  "Frames compared A:B (a span where the actor moves; at least 2 x "
                  "--max-offset + 2)")
       ->capture_default_str();
-  sy->add_option("--max-offset", sync->max_offset, "Largest offset looked for, frames")
-      ->capture_default_str()
+  sy->add_option("--max-offset", sync->max_offset,
+                 "Largest offset looked for, frames (default: 8 from keypoints; from tangents 2, "
+                 "either way of capture.json's offsets)")
       ->check(CLI::Range(1, 1000));
+  sy->add_option("--from", sync->from,
+                 "keypoints: offsets from the body keypoints; tangents: offsets on top of "
+                 "capture.json's from the tangents of the actor's masks (refine-calib --from "
+                 "tangents for each candidate; needs a calibration good to a few pixels: run it "
+                 "after sync from keypoints)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"keypoints", "tangents"}));
   sy->add_flag("--write", sync->write,
                "Write the offsets into capture.json (each camera's frames 'first'; the frame "
                "count shrinks by the largest)");
@@ -726,9 +878,11 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
                  "keypoints: camera poses from the body keypoints (bundle adjustment); "
                  "silhouettes: orientations only, each camera turned by the one image shift that "
                  "lays the tracked body's outlines on its person masks, tracked again, for "
-                 "--rounds rounds (docs/tracking.md)")
+                 "--rounds rounds (docs/tracking.md); tangents: orientations only, all cameras "
+                 "turned together until the lines through each other camera's centre that touch "
+                 "one camera's person masks map to those that touch the other's (no body model)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"keypoints", "silhouettes"}));
+      ->check(CLI::IsMember({"keypoints", "silhouettes", "tangents"}));
   rc->add_option("--cameras", refine->cameras,
                  "Refine these cameras among themselves (names, comma-separated); the others take "
                  "no part and keep their calibration (default: all)")
