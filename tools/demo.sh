@@ -136,14 +136,17 @@ if [ -d "$real" ]; then
   # The person the pretrained network sees in each camera (masks and keypoints),
   # where this build has OpenCV's dnn module and tools/setup.sh fetched the models.
   if $fvv capture sheet "$out/real" --frame 50 --persons -o "$out/real_persons.png"; then
-    echo "== the real capture in step: its cameras started a few frames apart (fvv capture sync)"
+    echo "== the real capture in step: its cameras started a few frames apart (fvv capture sync),"
+    echo "   each offset checked again by the tangents of the actor's masks, frames 32-93"
     $fvv capture sync "$out/real" --write
+    $fvv capture sync "$out/real" --from tangents --frames 32:93 --write
     echo "== tracked with all four cameras, frames 30-59: a camera whose network named left and right"
     echo "   the other way round is put right, and a camera whose calibration disagrees is named"
     $fvv track "$out/real" --frames 30:59 -o "$out/real_poses.json" -q
     echo "== its calibration disagrees by a constant shift per camera (docs/capture-format.md): the"
-    echo "   cameras turned to meet the actor's outline over frames 30-59 (refine-calib --from silhouettes)"
-    $fvv capture refine-calib "$out/real" --from silhouettes --frames 30:59 --rounds 2 --write
+    echo "   cameras turned until the tangents of the actor's masks agree, frames 30-94 (refine-calib"
+    echo "   --from tangents)"
+    $fvv capture refine-calib "$out/real" --from tangents --frames 30:94 --write
     echo "== its cameras disagree on colour too (exposure, white balance): each camera's gain from the"
     echo "   actor's surface as two cameras see it, frames 30-59 (calibrate-colour)"
     $fvv capture calibrate-colour "$out/real" --frames 30:59 --write -q
@@ -179,7 +182,7 @@ echo "         $out/shape/capture (the bumpy actor's synthetic capture the shape
 echo "         $out/dome, $out/dome_poses.json and $out/dome.fvv (a 24-camera dome, tracked on 10 of its"
 echo "         cameras, encoded from all 24; $out/dome_views: 6 views of its first frame),"
 echo "         $out/capture_predictive.fvv and $out/render_predictive (the predictive texture codec),"
-echo "         $out/real (the real capture's capture.json, its cameras turned to the actor's outline"
+echo "         $out/real (the real capture's capture.json, in step and its cameras turned by the tangents"
 echo "         and their colour gains),"
 echo "         $out/real_sheet.png and"
 echo "         $out/real_persons.png (the network's person masks and keypoints),"

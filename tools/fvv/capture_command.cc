@@ -490,6 +490,25 @@ std::vector<double> HeldOutAgreement(const std::vector<Camera>& cameras,
   return median;
 }
 
+// With --write, `cameras` (refined orientations of the chosen cameras) into
+// capture.json; without, a hint.
+int WriteOrientations(const RefineArgs& a, const Capture& cap, const std::vector<size_t>& chosen,
+                      const std::vector<Camera>& cameras) {
+  if (!a.write) {
+    std::printf("(--write stores the refined orientations in capture.json)\n");
+    return 0;
+  }
+  Capture out = cap;
+  for (size_t i = 0; i < chosen.size(); ++i) {
+    const Camera& k = cameras[i];
+    if (Status s = ValidateCalibration(k, k.name); !s.ok()) return Fail(s);
+    out.cameras[chosen[i]].calibration = k;
+  }
+  if (Status s = SaveCapture(out); !s.ok()) return Fail(s);
+  std::printf("wrote %s/capture.json with the refined orientations\n", out.directory.c_str());
+  return 0;
+}
+
 // Camera orientations from the outlines of the actor tracked with the chosen
 // cameras (RefineCamerasFromSilhouettes); `sub` is the capture cut down to them.
 int RunRefineFromSilhouettes(const RefineArgs& a, const Capture& cap, const Capture& sub,
@@ -527,19 +546,7 @@ int RunRefineFromSilhouettes(const RefineArgs& a, const Capture& cap, const Capt
     std::printf("the outlines agree within %.0f pixels: capture.json left unchanged\n", o.stop_px);
     return 0;
   }
-  if (!a.write) {
-    std::printf("(--write stores the refined orientations in capture.json)\n");
-    return 0;
-  }
-  Capture out = cap;
-  for (size_t i = 0; i < chosen.size(); ++i) {
-    const Camera& k = r->cameras[i];
-    if (Status s = ValidateCalibration(k, k.name); !s.ok()) return Fail(s);
-    out.cameras[chosen[i]].calibration = k;
-  }
-  if (Status s = SaveCapture(out); !s.ok()) return Fail(s);
-  std::printf("wrote %s/capture.json with the refined orientations\n", out.directory.c_str());
-  return 0;
+  return WriteOrientations(a, cap, chosen, r->cameras);
 }
 
 // Camera orientations from the tangents of every pair of cameras' masks
@@ -573,19 +580,7 @@ int RunRefineFromTangents(const RefineArgs& a, const Capture& cap, const Capture
         "the silhouettes as it is; capture.json left unchanged\n");
     return 0;
   }
-  if (!a.write) {
-    std::printf("(--write stores the refined orientations in capture.json)\n");
-    return 0;
-  }
-  Capture out = cap;
-  for (size_t i = 0; i < chosen.size(); ++i) {
-    const Camera& k = r->cameras[i];
-    if (Status s = ValidateCalibration(k, k.name); !s.ok()) return Fail(s);
-    out.cameras[chosen[i]].calibration = k;
-  }
-  if (Status s = SaveCapture(out); !s.ok()) return Fail(s);
-  std::printf("wrote %s/capture.json with the refined orientations\n", out.directory.c_str());
-  return 0;
+  return WriteOrientations(a, cap, chosen, r->cameras);
 }
 
 int RunRefineCalib(const RefineArgs& a) {
