@@ -76,12 +76,12 @@ Image Silhouette(const Camera& camera, const std::vector<Sphere>& figure) {
 }
 
 // Cameras on a circle of 3.5 m around the figure at `heights`, looking at its
-// middle, 480 x 640 portrait.
+// middle, 240 x 320 portrait.
 std::vector<Camera> Ring(const std::vector<double>& heights) {
   std::vector<Camera> cams;
   for (size_t k = 0; k < heights.size(); ++k) {
     const double a = 2 * kPi * double(k) / double(heights.size()) + 0.3;
-    cams.push_back(LookAtCamera("cam" + std::to_string(k), 480, 640, 700,
+    cams.push_back(LookAtCamera("cam" + std::to_string(k), 240, 320, 350,
                                 Eigen::Vector3d(3.5 * std::cos(a), heights[k], 3.5 * std::sin(a)),
                                 Eigen::Vector3d(0, 1.0, 0), Eigen::Vector3d(0, 1, 0)));
   }
