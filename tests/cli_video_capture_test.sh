@@ -69,18 +69,33 @@ no_children "render"
 # little to go on: then a clear error. Either way capture.json stays as it was:
 # the synthetic calibration is true, so refine-calib finds nothing to write.
 cp "$dir/cap/capture.json" "$dir/capture.json.before"
-for cmd in "sync --max-offset 2" "refine-calib --write"; do
+for cmd in "sync --max-offset 2" "refine-calib --write" "refine-calib --from tangents --write"; do
   out=$(run capture $cmd "$dir/cap" --frames 0:5 2>&1)
   rc=$?
   if [ $rc -ne 0 ]; then
     grep -Eq "person network|needs 20|too few" <<<"$out" || fail "capture $cmd: unclear error: $out"
-  elif [ "$cmd" = "refine-calib --write" ]; then
-    grep -q "left unchanged" <<<"$out" || fail "refine-calib rewrote a true calibration: $out"
+  elif [ "${cmd#refine-calib}" != "$cmd" ]; then
+    grep -q "left unchanged" <<<"$out" || fail "$cmd rewrote a true calibration: $out"
   fi
   cmp -s "$dir/cap/capture.json" "$dir/capture.json.before" ||
     fail "capture $cmd: capture.json changed"
   no_children "capture $cmd"
 done
+
+# The tangents' sync needs frames either side of its span: a clear error at the
+# capture's start; within it, cameras in step stay so.
+out=$(run capture sync "$dir/cap" --from tangents --frames 0:5 --write 2>&1) &&
+  fail "sync --from tangents with no frames before its span succeeded"
+grep -q "2 frames either side" <<<"$out" || fail "sync --from tangents at the start: $out"
+out=$(run capture sync "$dir/cap" --from tangents --frames 2:9 --write 2>&1)
+if [ $? -ne 0 ]; then
+  grep -Eq "person network|too few" <<<"$out" || fail "sync --from tangents: unclear error: $out"
+else
+  grep -q "run in step" <<<"$out" || fail "sync --from tangents moved cameras in step: $out"
+fi
+cmp -s "$dir/cap/capture.json" "$dir/capture.json.before" ||
+  fail "sync --from tangents: capture.json changed"
+no_children "capture sync --from tangents"
 
 # A video shorter than the capture says: a clear error naming the video and the
 # frame, a non-zero exit, no output, no child.
@@ -144,4 +159,4 @@ else
   echo "SKIP (real capture part): no $real (FVV_TEST_DATA_DIR)"
 fi
 
-echo "video captures: 8 commands stop early and exit; short and missing videos fail cleanly; SIGTERM leaves no child"
+echo "video captures: 10 commands stop early and exit; short and missing videos fail cleanly; SIGTERM leaves no child"
