@@ -37,6 +37,9 @@ bool TangentPoints(const OutlineHull& hull, const Eigen::Vector3d& e, double max
                        : e.z();
   if (z == 0) return false;
   const Eigen::Vector2d epipole = e.head<2>() / z;
+  // Every line through a point inside the hull crosses it (behind the camera
+  // as well: the lines are the same).
+  if (InsideOutlineHull(hull, epipole)) return false;
   const Eigen::Vector2d ref = centre - epipole;
   double lo = 1e9, hi = -1e9;
   size_t ilo = 0, ihi = 0;
