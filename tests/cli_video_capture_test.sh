@@ -82,16 +82,18 @@ for cmd in "sync --max-offset 2" "refine-calib --write" "refine-calib --from tan
   no_children "capture $cmd"
 done
 
-# The tangents' sync needs frames either side of its span: a clear error at the
-# capture's start; within it, cameras in step stay so.
-out=$(run capture sync "$dir/cap" --from tangents --frames 0:5 --write 2>&1) &&
-  fail "sync --from tangents with no frames before its span succeeded"
-grep -q "2 frames either side" <<<"$out" || fail "sync --from tangents at the start: $out"
-out=$(run capture sync "$dir/cap" --from tangents --frames 2:9 --write 2>&1)
+# The tangents' sync needs frames either side of its span: a span with too few
+# is a clear error; one at the capture's start is narrowed, and cameras in step
+# stay so.
+out=$(run capture sync "$dir/cap" --from tangents --frames 0:3 --max-offset 5 --write 2>&1) &&
+  fail "sync --from tangents with no room for its offsets succeeded"
+grep -q "5 frames either side" <<<"$out" || fail "sync --from tangents, too few frames: $out"
+out=$(run capture sync "$dir/cap" --from tangents --frames 0:9 --write 2>&1)
 if [ $? -ne 0 ]; then
   grep -Eq "person network|too few" <<<"$out" || fail "sync --from tangents: unclear error: $out"
 else
   grep -q "run in step" <<<"$out" || fail "sync --from tangents moved cameras in step: $out"
+  grep -q "frames 2..9 compared" <<<"$out" || fail "sync --from tangents: span not narrowed: $out"
 fi
 cmp -s "$dir/cap/capture.json" "$dir/capture.json.before" ||
   fail "sync --from tangents: capture.json changed"

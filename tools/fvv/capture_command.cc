@@ -374,16 +374,24 @@ StatusOr<Capture> Offset(const Capture& cap, const std::vector<int>& offsets) {
 // Offsets from the tangents of the actor's masks, on top of those the capture
 // has: SyncFromTangents over the span, `range` frames either way.
 int RunSyncFromTangents(const SyncArgs& a, const Capture& cap, uint32_t first, uint32_t last) {
-  const int range = a.max_offset > 0 ? a.max_offset : 2;
-  last = std::min(last, cap.frame_count - 1);
-  if (first < uint32_t(range) || last + uint32_t(range) >= cap.frame_count || last < first + 2) {
+  const uint32_t range = uint32_t(a.max_offset > 0 ? a.max_offset : 2);
+  // Every candidate offset reads frames up to `range` either side of the span.
+  const uint32_t from = std::max(first, range);
+  const uint32_t to = cap.frame_count > range ? std::min(last, cap.frame_count - 1 - range) : 0;
+  if (to < from + 2) {
     return Fail(
         InvalidArgument("sync: --frames " + a.frames + ": tangents compare 3 frames or more with " +
                         std::to_string(range) + " frames either side within the capture's " +
                         std::to_string(cap.frame_count) + " (--max-offset sets how many)"));
   }
+  if (from != first || to != last) {
+    std::fprintf(stderr, "sync: frames %u..%u compared (%u either side kept for the offsets)\n",
+                 from, to, range);
+  }
+  first = from;
+  last = to;
   StatusOr<std::vector<std::vector<OutlineHull>>> by_frame =
-      ReadOutlines(cap, a.models, first - uint32_t(range), last + uint32_t(range), "sync");
+      ReadOutlines(cap, a.models, first - range, last + range, "sync");
   if (!by_frame.ok()) return Fail(by_frame.status());
   std::vector<std::vector<OutlineHull>> by_camera(cap.cameras.size());
   for (auto& frame : *by_frame) {
@@ -392,7 +400,7 @@ int RunSyncFromTangents(const SyncArgs& a, const Capture& cap, uint32_t first, u
   std::vector<Camera> cameras;
   for (const CaptureCamera& c : cap.cameras) cameras.push_back(c.calibration);
   TangentSyncOptions o;
-  o.range = range;
+  o.range = int(range);
   o.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   StatusOr<TangentSync> r = SyncFromTangents(cameras, by_camera, o);
   if (!r.ok()) return Fail(r.status());
@@ -853,12 +861,13 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
   CLI::App* rc = cap->add_subcommand(
       "refine-calib",
       "Refine the camera poses from the person network's body keypoints (bundle adjustment "
-      "over a span of frames; intrinsics kept) or, --from silhouettes, the cameras' "
-      "orientations from the tracked actor's outlines; --write stores them. Bring the cameras "
-      "in step (sync) first");
+      "over a span of frames; intrinsics kept) or the cameras' orientations from the tracked "
+      "actor's outlines (--from silhouettes) or from the tangents of his masks (--from "
+      "tangents); --write stores them. Bring the cameras in step (sync) first");
   rc->add_option("capture", refine->capture, "Capture directory or capture.json")->required();
   rc->add_option("--frames", refine->frames,
-                 "Frames A:B whose keypoints are used (the actor in view, moving about)")
+                 "Frames A:B whose keypoints, outlines or masks are used (the actor in view, "
+                 "moving about)")
       ->capture_default_str();
   rc->add_option("--prior-rotation", refine->options.prior_rotation_deg,
                  "How far (degrees, one standard deviation) the calibration's orientations are "
