@@ -4,7 +4,8 @@
 // cameras turned a few pixels from what their calibration says, gives the
 // turns back; masks off at the feet do not turn the rig along what the
 // tangents barely measure; too little to measure is an error. A camera whose
-// recording runs frames ahead of the others' is found out of step.
+// recording runs frames ahead of the others' is found out of step, the first
+// camera too.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -248,6 +249,10 @@ TEST(TangentSync, ACameraFramesAheadIsFound) {
   ASSERT_TRUE(r.ok()) << r.status().message();
   EXPECT_EQ(r->offsets, (std::vector<int>{2, 2, 0, 2}));
   EXPECT_LT(r->cost_after, 0.5 * r->cost_before);
+  // The first camera out of step: the other three move together.
+  r = SyncFromTangents(given, Recordings(filmed, {2, 0, 0, 0}, 26), o);
+  ASSERT_TRUE(r.ok()) << r.status().message();
+  EXPECT_EQ(r->offsets, (std::vector<int>{0, 2, 2, 2}));
   // In step already: nothing to add.
   r = SyncFromTangents(given, Recordings(filmed, {0, 0, 0, 0}, 26), o);
   ASSERT_TRUE(r.ok()) << r.status().message();

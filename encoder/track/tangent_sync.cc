@@ -35,10 +35,11 @@ StatusOr<TangentSync> SyncFromTangents(const std::vector<Camera>& cameras,
   std::vector<int> at(n, 0);
   FVV_ASSIGN_OR_RETURN(result.cost_before, cost(at));
   double best = result.cost_before;
-  // The first camera stays: only differences between offsets count.
+  // Every camera moves in turn, the first too (a first camera out of step with
+  // the rest is found only so); only differences between offsets count.
   for (int pass = 0; pass < 4; ++pass) {
     bool changed = false;
-    for (size_t c = 1; c < n; ++c) {
+    for (size_t c = 0; c < n; ++c) {
       int best_d = at[c];
       for (int d = -o.range; d <= o.range; ++d) {
         if (d == at[c]) continue;
