@@ -136,8 +136,8 @@ if [ -d "$real" ]; then
   # The person the pretrained network sees in each camera (masks and keypoints),
   # where this build has OpenCV's dnn module and tools/setup.sh fetched the models.
   if $fvv capture sheet "$out/real" --frame 50 --persons -o "$out/real_persons.png"; then
-    echo "== the real capture in step: its cameras started a few frames apart (fvv capture sync),"
-    echo "   each offset checked again by the tangents of the actor's masks, frames 32-93"
+    echo "== the real capture's frame offsets from the keypoints (fvv capture sync), checked again by the"
+    echo "   tangents of the actor's masks, frames 32-93 (sync --from tangents: they run in step)"
     $fvv capture sync "$out/real" --write
     $fvv capture sync "$out/real" --from tangents --frames 32:93 --write
     echo "== tracked with all four cameras, frames 30-59: a camera whose network named left and right"
