@@ -17,8 +17,9 @@
 #   tangents     as calibration, then the cameras refined from the tangents of their person
 #                masks in the same frames (fvv capture refine-calib --from tangents)
 #   all          shape, colour and calibration together
+#   all-tangents all, the cameras refined from their tangents first, then their colours
 #
-# Usage: bench/run_rig_bench.sh [CONDITION ...]   (default: all seven)
+# Usage: bench/run_rig_bench.sh [CONDITION ...]   (default: all eight)
 # Needs bench/run_real_bench.sh run first (its imported capture, in step, and
 # its poses of frames 0-29 with cam01 held out), the person models and a
 # Release build in build/. Frames 0-15 are scored and 0-7 rendered; the
@@ -35,7 +36,8 @@ for f in "$capture/capture.json" "$poses"; do
   fi
 done
 conditions=("$@")
-[ ${#conditions[@]} -gt 0 ] || conditions=(exact shape colour calibration refined tangents all)
+[ ${#conditions[@]} -gt 0 ] ||
+  conditions=(exact shape colour calibration refined tangents all all-tangents)
 out=out/rig_bench
 mkdir -p "$out"
 for c in "${conditions[@]}"; do
@@ -44,9 +46,10 @@ for c in "${conditions[@]}"; do
     shape) extra=(--surface-detail 0.03) ;;
     colour) extra=(--colour-mismatch 0.1) ;;
     calibration | refined | tangents) extra=(--calibration-error 0.15) ;;
-    all) extra=(--surface-detail 0.03 --colour-mismatch 0.1 --calibration-error 0.15) ;;
+    all | all-tangents) extra=(--surface-detail 0.03 --colour-mismatch 0.1 --calibration-error 0.15) ;;
     *)
-      echo "run_rig_bench: no condition $c (exact shape colour calibration refined tangents all)" >&2
+      echo "run_rig_bench: no condition $c (exact shape colour calibration refined tangents all" \
+        "all-tangents)" >&2
       exit 2
       ;;
   esac
@@ -59,6 +62,10 @@ for c in "${conditions[@]}"; do
     colour | all) $fvv capture calibrate-colour "$take" --frames 16:29 --write -q ;;
     refined) $fvv capture refine-calib "$take" --from silhouettes --frames 16:29 --write ;;
     tangents) $fvv capture refine-calib "$take" --from tangents --frames 16:29 --write ;;
+    all-tangents)
+      $fvv capture refine-calib "$take" --from tangents --frames 16:29 --write
+      $fvv capture calibrate-colour "$take" --frames 16:29 --write -q
+      ;;
   esac
   build/bench/real_bench "$take" --frames 0:15 --render-frames 8 --surface --out "$out/$c" \
     --fvv $fvv >"$out/$c/real_bench.log"
