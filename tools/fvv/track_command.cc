@@ -170,8 +170,9 @@ int RunTrack(const TrackArgs& a) {
     }
     std::printf(
         "  warning: the cameras look out of step (the first frames tracked, %u compared): their "
-        "keypoints meet best with these frame offsets: %s; bring them in step with fvv capture "
-        "sync --write and track again\n",
+        "keypoints meet best with these frame offsets: %s; check with the masks' tangents, "
+        "which place no joint (fvv capture sync --from tangents), bring them in step with fvv "
+        "capture sync --write and track again\n",
         r->steps.frames, which.c_str());
   }
   // Per frame tracked, warm-up included.
