@@ -212,9 +212,9 @@ std::vector<double> TangentDistances(const std::vector<Camera>& cameras,
   const TangentProblem problem(cameras, outlines, options.max_cone_deg * kPi / 180);
   std::vector<Residual> residuals;
   std::vector<size_t> layout;
-  const Layout at{cameras.size(), 2};
-  problem.Evaluate(at.Rotations(cameras, Eigen::VectorXd::Zero(at.size())), nullptr, &residuals,
-                   &layout);
+  std::vector<Eigen::Matrix3d> rotations;
+  for (const Camera& c : cameras) rotations.push_back(CameraRotation(c));
+  problem.Evaluate(rotations, nullptr, &residuals, &layout);
   return MedianPerCamera(cameras.size(), residuals, tangents);
 }
 
@@ -350,9 +350,9 @@ StatusOr<TangentCalibration> RefineCamerasFromTangents(
                              "capture sheet --persons)");
     }
   }
-  result.after_px = TangentDistances(result.cameras, outlines, o);
   layout.clear();
   problem.Evaluate(rotations, nullptr, &residuals, &layout);
+  result.after_px = MedianPerCamera(n, residuals, nullptr);
   for (const Residual& e : residuals) result.mean_cost += Huber(e.value, o.huber_px);
   result.mean_cost /= double(std::max<size_t>(1, residuals.size()));
   return result;

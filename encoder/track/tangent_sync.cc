@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <map>
 
 namespace fvv {
 
@@ -20,17 +21,21 @@ StatusOr<TangentSync> SyncFromTangents(const std::vector<Camera>& cameras,
     return InvalidArgument("sync: a span of 3 frames or more is needed besides the range");
   }
   const size_t span = frames - size_t(2 * o.range);
-  // The cost of the cameras at offsets `at` (each within the range).
+  // The cost of the cameras at offsets `at` (each within the range), each
+  // set of offsets refined once: a later pass tries many of them again.
   TangentSync result;
+  std::map<std::vector<int>, StatusOr<double>> tried;
   auto cost = [&](const std::vector<int>& at) -> StatusOr<double> {
+    if (auto it = tried.find(at); it != tried.end()) return it->second;
     std::vector<std::vector<OutlineHull>> by_frame(span, std::vector<OutlineHull>(n));
     for (size_t f = 0; f < span; ++f) {
       for (size_t c = 0; c < n; ++c) by_frame[f][c] = outlines[c][size_t(int(f) + o.range + at[c])];
     }
     ++result.evaluations;
-    FVV_ASSIGN_OR_RETURN(TangentCalibration r,
-                         RefineCamerasFromTangents(cameras, by_frame, o.refine));
-    return r.mean_cost;
+    StatusOr<TangentCalibration> r = RefineCamerasFromTangents(cameras, by_frame, o.refine);
+    StatusOr<double> c = r.ok() ? StatusOr<double>(r->mean_cost) : StatusOr<double>(r.status());
+    tried.emplace(at, c);
+    return c;
   };
   std::vector<int> at(n, 0);
   FVV_ASSIGN_OR_RETURN(result.cost_before, cost(at));
