@@ -441,6 +441,10 @@ int Run(const Args& a) {
   // Renderer II in the rig's common colour, as the stream carries it: before
   // the held-out camera's own colour response (its colour_gain undone).
   std::vector<RenderScore> renderer2_rig_colour(n);
+  // The surface as rendered from the cameras the stream was made from, against
+  // their own masks (the floor the held-out IoU is read beside).
+  std::vector<double> own_rendered_iou(n, 0);
+  std::vector<int> own_rendered_frames(n, 0);
   struct Times {
     double decode = 0, persons = 0, masks = 0, initialise = 0, fit = 0;
   };
@@ -573,6 +577,23 @@ int Run(const Args& a) {
                        "--cameras-from", full.directory, "--camera", std::to_string(k), "--first",
                        std::to_string(first), "--last", std::to_string(render_last), "-o", out1});
       }
+      for (uint32_t c = 0; s.ok() && c < n; ++c) {
+        if (c == k) continue;
+        const std::string fitted = dir + "/renderer2_fitted_" + full.cameras[c].calibration.name;
+        s = RunFvv(a, {"render", stream, "--cameras-from", full.directory, "--camera",
+                       std::to_string(c), "-o", fitted, "--coverage"});
+        for (uint32_t f = first; s.ok() && f <= render_last; ++f) {
+          char file[64];
+          std::snprintf(file, sizeof(file), "/coverage_f%05u.png", f - first);
+          StatusOr<Image> coverage = ReadImage(fitted + file);
+          if (!coverage.ok()) {
+            s = coverage.status();
+            break;
+          }
+          own_rendered_iou[k] += Iou(*coverage, ref.masks[f - first][c]);
+          ++own_rendered_frames[k];
+        }
+      }
       // Between cameras: Renderer II from halfway between the held-out
       // camera and the camera nearest it, at the first frame, for the sheet.
       const std::string between = dir + "/between";
@@ -682,6 +703,8 @@ int Run(const Args& a) {
           renderer2_masks[k].psnr / renderer2_masks[k].frames,
           renderer2_masks[k].ssim / renderer2_masks[k].frames,
           renderer1[k].psnr / renderer1[k].frames, renderer1[k].ssim / renderer1[k].frames);
+      std::printf("  Renderer II from the cameras the stream was made from: IoU %.3f as rendered\n",
+                  own_rendered_iou[k] / std::max(1, own_rendered_frames[k]));
       std::printf(
           "  Renderer II misses %.1f %% of the mask (%.1f %% of the squared error), covers %.1f "
           "%% of its area beyond it; %.2f dB over the actor's box, background black\n",
@@ -715,6 +738,7 @@ int Run(const Args& a) {
               "I PSNR", "I SSIM");
   FitScore all_held, all_own;
   RenderScore all2, all1;
+  double all_own_rendered = 0;
   nlohmann::json rows = nlohmann::json::array();
   for (uint32_t k : scored) {
     const FitScore &h = held[k], &w = own[k];
@@ -745,6 +769,7 @@ int Run(const Args& a) {
           mean(renderer2_rig_colour[k].psnr, renderer2_rig_colour[k].frames)},
          {"colour_gain", full.cameras[k].colour_gain},
          {"renderer2_iou", mean(r2.iou, r2.coverage_frames)},
+         {"renderer2_own_iou", mean(own_rendered_iou[k], own_rendered_frames[k])},
          {"renderer2_psnr_both_cover", mean(r2.psnr_both, r2.coverage_frames)},
          {"renderer2_missed_share", mean(r2.missed, r2.coverage_frames)},
          {"renderer2_psnr_box", mean(r2.psnr_box, r2.coverage_frames)},
@@ -766,6 +791,7 @@ int Run(const Args& a) {
     all_own.iou += w.iou / w.frames, all_own.joint_px += wj;
     all2.psnr += mean(r2.psnr, r2.frames), all2.ssim += mean(r2.ssim, r2.frames);
     all2.iou += mean(r2.iou, r2.coverage_frames);
+    all_own_rendered += mean(own_rendered_iou[k], own_rendered_frames[k]);
     all2.psnr_both += mean(r2.psnr_both, r2.coverage_frames);
     all2.missed += mean(r2.missed, r2.coverage_frames);
     all2.psnr_box += mean(r2.psnr_box, r2.coverage_frames);
@@ -779,8 +805,10 @@ int Run(const Args& a) {
               all_held.shifted_iou / count, "", all_own.iou / count, all_own.joint_px / count,
               all2.psnr / count, all2.ssim / count, all1.psnr / count, all1.ssim / count);
   if (a.render) {
-    std::printf("Renderer II as rendered, mean: IoU %.3f, PSNR %.2f dB where both cover\n",
-                all2.iou / count, all2.psnr_both / count);
+    std::printf(
+        "Renderer II as rendered, mean: IoU %.3f (%.3f in the cameras the stream was made from), "
+        "PSNR %.2f dB where both cover\n",
+        all2.iou / count, all_own_rendered / count, all2.psnr_both / count);
     std::printf(
         "  the render misses %.1f %% of the mask (%.1f %% of the squared error is there) and "
         "covers %.1f %% of the mask's area beyond it\n",

@@ -261,6 +261,7 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
                            encoding::OpenTextureFrames(*cap, s, &session.pool(), &note));
       if (!note.empty()) Say(s, "encode: " + note);
       frames = texture_frames.frames.get();
+      session.SetPersonMasks(frames->person_masks());
     } else if (s.refine_shape) {
       return InvalidArgument("--refine-shape needs the capture's images, not --textures");
     }
@@ -320,11 +321,15 @@ StatusOr<EncodeSummary> EncodeCapture(const std::string& capture_path, const std
       FVV_ASSIGN_OR_RETURN(every_camera_frames,
                            encoding::OpenTextureFrames(*cap, s, &session.pool(), nullptr));
       every_camera = every_camera_frames.frames.get();
+      session.SetPersonMasks(every_camera->person_masks());
     }
     // Resampling and coding a frame run on a thread of their own, beside the
     // tracking of the next frames (at most one GOP and a frame queued), in
     // frame order, so the output is what a sequential run writes.
     OrderedQueue behind_tracking(s.gop_frames + 1);
+    if (!every_camera) {
+      to.on_open = [&session](const CaptureFrames& f) { session.SetPersonMasks(f.person_masks()); };
+    }
     to.on_frame = [&](uint32_t f, const FrameFit& fit, const Tracker& tracker,
                       const std::vector<Image>& images, const std::vector<Image>& sils) -> Status {
       if (!session.HasShape() && prepared) {

@@ -194,10 +194,12 @@ StatusOr<std::vector<Eigen::Vector3f>> Session::Resample(uint32_t frame, uint32_
       sum_.occluder_s += Since(t1);
     }
     std::vector<uint64_t> hidden(sum_.cameras, 0);
+    ResampleOptions resample = s_.resample;
+    resample.silhouette_margin = SilhouetteMargin(resample.silhouette_margin, person_masks_);
     pool_.Run(sum_.cameras, [&](uint32_t c) {
       const size_t plane = size_t(slot) * sum_.cameras + c;
       ResampleView(map_, *surface, positions, normals, cameras_[c], images[c],
-                   silhouettes.empty() ? Image() : silhouettes[c], s_.resample,
+                   silhouettes.empty() ? Image() : silhouettes[c], resample,
                    &span_rgb_[plane * texels * 3], &span_mask_[plane * texels],
                    span_usable_.empty() ? nullptr : &span_usable_[plane * texels],
                    occluders.empty() ? nullptr : &occluders[c], &hidden[c]);

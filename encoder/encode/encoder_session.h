@@ -122,6 +122,9 @@ class Session {
   const std::vector<std::string>& camera_dirs() const { return camera_dirs_; }
 
   bool HasShape() const { return !model_.mesh.positions.empty(); }
+  // The silhouettes frames come with are the person network's masks: the
+  // resampling's margin follows (SilhouetteMargin).
+  void SetPersonMasks(bool person_masks) { person_masks_ = person_masks; }
   // The body model and atlas for the actor's shape (once); with
   // refine_shape, the model refined on `first` (its pose, images and
   // silhouettes) first.
@@ -235,6 +238,7 @@ class Session {
 
   const Capture& cap_;
   const EncoderSettings& s_;
+  bool person_masks_ = false;
   mutable ThreadPool pool_;  // shared by the const coding of camera groups
   uint32_t first_, last_;
   EncodeSummary sum_;

@@ -6,6 +6,14 @@
 namespace fvv {
 
 std::vector<uint8_t> DilateMask(const uint8_t* mask, int w, int h, int r) {
+  if (r < 0) {
+    // Shrinking is growing the complement.
+    std::vector<uint8_t> outside(size_t(w) * h);
+    for (size_t i = 0; i < outside.size(); ++i) outside[i] = mask[i] == 0;
+    std::vector<uint8_t> grown = DilateMask(outside.data(), w, h, -r);
+    for (uint8_t& v : grown) v = !v;
+    return grown;
+  }
   std::vector<uint8_t> rows(size_t(w) * h), out(size_t(w) * h);
   for (int y = 0; y < h; ++y) {
     const uint8_t* in = &mask[size_t(y) * w];

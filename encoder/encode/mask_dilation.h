@@ -10,7 +10,8 @@
 namespace fvv {
 
 // `mask`: w x h, row-major, non-0 = set. Returns 0/1, the same size, grown by
-// `r` pixels.
+// `r` pixels; a negative `r` shrinks it by -r (what lies beyond the image
+// counts as set, so the image's edge does not eat into it).
 std::vector<uint8_t> DilateMask(const uint8_t* mask, int w, int h, int r);
 
 }  // namespace fvv

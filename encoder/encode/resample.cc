@@ -63,6 +63,11 @@ std::vector<float> MaxFilter(const DepthMap& depth, int r) {
 
 }  // namespace
 
+int SilhouetteMargin(const std::optional<int>& setting, bool person_masks) {
+  if (setting) return *setting;
+  return person_masks ? kPersonMaskMargin : kSilhouetteMargin;
+}
+
 TexelMap MapAtlasTexels(const Mesh& mesh, uint32_t size, double dilation) {
   TexelMap map;
   map.size = size;
@@ -128,7 +133,7 @@ void ResampleView(const TexelMap& map, const Mesh& mesh, const std::vector<Vecto
   std::vector<uint8_t> inside;
   if (!silhouette.pixels.empty()) {
     inside = DilateMask(silhouette.pixels.data(), int(silhouette.width), int(silhouette.height),
-                        o.silhouette_margin);
+                        o.silhouette_margin.value_or(kSilhouetteMargin));
   }
 
   const Vector3f centre = CameraCentre(camera).cast<float>();

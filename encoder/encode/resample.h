@@ -2,9 +2,8 @@
 // frame and one camera, every atlas texel's surface point on the posed model is
 // projected into that camera's image and sampled there, when the camera sees it:
 // in front of the camera's depth map of the posed model (shadow-map style),
-// facing the camera, and inside the image silhouette grown by a margin (texels
-// near outlines are kept even where the model and the silhouette disagree
-// slightly). Texels the camera does not see are unused.
+// facing the camera, and inside the image silhouette grown or shrunk by a
+// margin (SilhouetteMargin). Texels the camera does not see are unused.
 //
 // For streams without masks it also marks the texels a player may take from
 // the camera (container/geometric_visibility.h), loosened so that it covers
@@ -19,6 +18,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <optional>
 #include <vector>
 
 #include "container/body_model.h"
@@ -39,8 +39,21 @@ struct TexelMap {
 };
 TexelMap MapAtlasTexels(const Mesh& mesh, uint32_t size, double dilation = 1.0);
 
+// The image silhouette's margin by where it comes from. Given or subtracted
+// silhouettes are pixel-accurate: grown a little, so that texels near the
+// outline are kept where the model and the silhouette disagree slightly. The
+// person network's masks are coarse (a 256x256 crop's cells) and their edge
+// pixels mix the actor with what stands behind him, where a small error in
+// the pose or the calibration moves a surface point's projection furthest:
+// sampled a little inside, so that the background stays out.
+constexpr int kSilhouetteMargin = 2;
+constexpr int kPersonMaskMargin = -2;
+int SilhouetteMargin(const std::optional<int>& setting, bool person_masks);
+
 struct ResampleOptions {
-  int silhouette_margin = 2;      // pixels the image silhouette grows by
+  // Pixels the image silhouette grows by; negative shrinks it. Unset: by the
+  // silhouettes' source (SilhouetteMargin).
+  std::optional<int> silhouette_margin;
   double depth_tolerance = 0.02;  // metres behind the depth map still counted visible
   double min_facing = 0.1;        // cosine of the largest viewing angle to the normal
   // Something else must stand this far (metres) in front of a surface point

@@ -120,6 +120,7 @@ StatusOr<PrepareSummary> PrepareTake(const std::string& capture_path, const std:
   FVV_ASSIGN_OR_RETURN(encoding::TextureFrames texture_frames,
                        encoding::OpenTextureFrames(*cap, s, &session.pool(), nullptr));
   CaptureFrames* const frames = texture_frames.frames.get();
+  session.SetPersonMasks(frames->person_masks());
   const auto PoseOf = [&](uint32_t f) { return poses.at(f); };
 
   for (uint32_t f : sum.texture_frames) {

@@ -31,6 +31,9 @@ class CaptureFrames {
                                                        PersonObserver* persons = nullptr);
 
   bool given_silhouettes() const { return given_; }
+  // The silhouettes are the person network's masks (alone or with background
+  // subtraction): their outlines are coarser than given or subtracted ones.
+  bool person_masks() const { return !given_ && persons_ != nullptr; }
   // "given", "person masks", "person masks and background subtraction" or
   // "background subtraction".
   std::string silhouette_source() const;

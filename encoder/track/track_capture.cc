@@ -157,6 +157,7 @@ StatusOr<TrackCaptureResult> TrackCapture(const Capture& capture, const TrackCap
   if (!frames.ok()) return frames.status();
   r.given_silhouettes = (*frames)->given_silhouettes();
   r.silhouette_source = (*frames)->silhouette_source();
+  if (o.on_open) o.on_open(**frames);
   std::vector<Camera> cameras;
   for (const CaptureCamera& c : cap.cameras) cameras.push_back(c.calibration);
   StatusOr<std::unique_ptr<Tracker>> tracker = Tracker::Create(cameras, o.tracker);

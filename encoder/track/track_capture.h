@@ -21,6 +21,8 @@
 
 namespace fvv {
 
+class CaptureFrames;
+
 struct TrackCaptureOptions {
   // The frames reported (fits, on_frame).
   uint32_t first = 0;
@@ -69,6 +71,9 @@ struct TrackCaptureOptions {
   std::string save_silhouettes;  // directory for the silhouettes used (PNG), or empty
   std::string overlays;          // directory for fit overlays (PNG), or empty
   std::function<void(const std::string&)> progress;  // one line per frame
+  // Called once the frames are open, before any is read: where the
+  // silhouettes on_frame gets come from.
+  std::function<void(const CaptureFrames&)> on_open;
   // Called after each frame's fit (smoothed: later by the smoothing's radius)
   // with that frame's images and silhouettes (the
   // encoder resamples textures here, so frames are read once). An error stops

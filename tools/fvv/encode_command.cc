@@ -2,7 +2,9 @@
 
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <stdexcept>
+#include <string>
 
 #include "container/surface_displacement.h"
 #include "encoder/encode/encoder.h"
@@ -35,7 +37,7 @@ struct EncodeArgs {
        whole_texture = false, surface = false, no_occluders = false;
   int surface_step = EncoderSettings{}.surface_step_exponent;
   double surface_prior = EncoderSettings{}.surface_tracking.prior;
-  int margin = 2;
+  std::optional<int> margin;  // by the silhouettes' source
   double agreement = EncoderSettings{}.agreement.max_difference;
   double occluder_clearance = ResampleOptions{}.occluder_clearance;
   double suspect_share = OccluderOptions{}.suspect_share;
@@ -269,8 +271,13 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
                 "Motion key-frame interval (> 1: frames between are interpolated)")
       ->capture_default_str();
   e->add_option("--silhouette-margin", a->margin,
-                "Pixels the image silhouettes grow by before resampling")
-      ->capture_default_str();
+                "Pixels the image silhouettes grow by before a camera's samples are taken; "
+                "negative shrinks them. Default: " +
+                    std::to_string(kSilhouetteMargin) + " for given or subtracted silhouettes, " +
+                    std::to_string(kPersonMaskMargin) +
+                    " for the person network's masks (their outline pixels hold some of the "
+                    "background: docs/encoder.md)")
+      ->check(CLI::Range(-32, 32));
   e->add_option("--agreement", a->agreement,
                 "Drop a camera's sample of a surface point where every other camera that saw the "
                 "point differs from it by more than this many levels (mean over R, G, B): "
