@@ -1,6 +1,6 @@
 // Growing a binary mask: every pixel within a square neighbourhood of a set
-// one is set. Separable (rows, then columns), so its cost does not grow with
-// the square's area.
+// one is set; shrinking is growing its complement. Separable (rows, then
+// columns), so its cost does not grow with the square's area.
 #ifndef FVV_ENCODER_ENCODE_MASK_DILATION_H_
 #define FVV_ENCODER_ENCODE_MASK_DILATION_H_
 
