@@ -133,7 +133,7 @@ void ResampleView(const TexelMap& map, const Mesh& mesh, const std::vector<Vecto
   std::vector<uint8_t> inside;
   if (!silhouette.pixels.empty()) {
     inside = DilateMask(silhouette.pixels.data(), int(silhouette.width), int(silhouette.height),
-                        o.silhouette_margin.value_or(kSilhouetteMargin));
+                        SilhouetteMargin(o.silhouette_margin, false));
   }
 
   const Vector3f centre = CameraCentre(camera).cast<float>();
