@@ -6,18 +6,29 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <string>
+#include <system_error>
 
 namespace fvv {
 
-// A directory of this process's own under /tmp, made on the first call.
+// A directory of this process's own under /tmp, made on the first call and
+// removed with everything in it when the process exits.
 inline const std::string& FuzzTempDir() {
-  static const std::string dir = [] {
+  // Never destroyed: the exit handler that removes the directory reads it
+  // after static objects are gone.
+  static const std::string* dir = [] {
     char tmpl[] = "/tmp/fvv_fuzz_XXXXXX";
     const char* made = mkdtemp(tmpl);
-    return std::string(made ? made : "/tmp");
+    if (!made) return new std::string("/tmp");
+    std::atexit([] {
+      std::error_code ec;
+      std::filesystem::remove_all(FuzzTempDir(), ec);
+    });
+    return new std::string(made);
   }();
-  return dir;
+  return *dir;
 }
 
 inline bool WriteFuzzFile(const std::string& path, const void* data, size_t size) {
