@@ -17,7 +17,8 @@
 // render --renderer projective`, straight from the camera images): PSNR and
 // SSIM over the actor's region (the held-out camera's person mask) against the
 // real frame; where Renderer II's error lies (the mask's pixels it misses
-// against those both cover), and its PSNR as the learned methods' papers
+// against those both cover, and of those the ones deep inside the outline,
+// where no outline error reaches), and its PSNR as the learned methods' papers
 // count it (over the actor's 3D box projected, the background black in both). A contact sheet of
 // real frames, masks, the fitted model and the rendered views (and Renderer II from halfway between
 // the held-out camera and the camera nearest it) goes to OUT/contact_sheet.png, the figures to
@@ -29,10 +30,12 @@
 // CAPTURE: an imported capture (bench/run_real_bench.sh imports
 // ../shared/data/real/pose2sim_single and runs this).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -43,8 +46,10 @@
 #include "encoder/capture/calibration.h"
 #include "encoder/capture/capture.h"
 #include "encoder/capture/colour_gain.h"
+#include "encoder/encode/mask_dilation.h"
 #include "encoder/io/child_process.h"
 #include "encoder/io/image_io.h"
+#include "encoder/shape/depth_map.h"
 #include "encoder/track/camera_sync.h"
 #include "encoder/track/capture_frames.h"
 #include "encoder/track/person_observer.h"
@@ -109,6 +114,18 @@ struct RenderScore {
   // Renderer II: the render's coverage against the mask (IoU), and PSNR over
   // the pixels both cover.
   double iou = 0, psnr_both = 0;
+  // Of the pixels both cover, those kInnerPx or more inside the mask's
+  // outline: their PSNR and their share.
+  double psnr_inner = 0, inner_share = 0;
+  // The share of the squared error, where both cover, that the 5 % of those
+  // pixels furthest off hold: a colour in the wrong place (an edge of the
+  // shorts a few centimetres off) against a texture a little off everywhere.
+  double worst_share = 0;
+  // Where both cover, by how many of the other cameras see the surface there
+  // (SeenByOthers): none, one, two or more. PSNR (summed over the frames
+  // with such pixels, counted in seen_frames) and share.
+  std::array<double, 3> seen_psnr{}, seen_share{};
+  std::array<int, 3> seen_frames{};
   int coverage_frames = 0;
   // Where the error over the mask is: the share of the mask's pixels the
   // render misses, the render's pixels beyond the mask (as a share of the
@@ -117,6 +134,11 @@ struct RenderScore {
   // PSNR as the learned methods' papers score novel views (BoxScore).
   double psnr_box = 0;
 };
+
+// Pixels this far inside the mask's outline (the half side of a square) are
+// also scored apart: what a pose, a calibration or a mask a few pixels off
+// moves is the outline, so there the error is the texture's own.
+constexpr int kInnerPx = 12;
 
 // The projection of the posed model's 3D bounding box, grown by 5 cm each
 // way, into `camera`: the region the learned human-rendering methods (Neural
@@ -196,6 +218,69 @@ double BoxPsnr(const Image& real, const Image& mask, const Image& render, const 
   }
   if (count == 0) return 0;
   return 10 * std::log10(255.0 * 255.0 / std::max(se / double(count), 1e-10));
+}
+
+// Per pixel of `camera`'s view, how many of the other cameras see the fitted
+// body's surface there (0-3, 3 for three or more; 255 where the body is not):
+// the view's depth taken to the surface point, which another camera sees
+// when it lies in its image, within 3 cm of its depth map and inside its
+// mask. What one camera alone sees, a held-out view gets from that camera
+// through the surface's depth; what two see agrees between them.
+std::vector<uint8_t> SeenByOthers(const BodyModel& model, const std::vector<double>& dofs,
+                                  const std::vector<Camera>& cameras,
+                                  const std::vector<Image>& masks, size_t camera) {
+  const std::vector<Eigen::Vector3f> posed =
+      SkinPositions(model.mesh, SkinningMatrices(model.skeleton, dofs));
+  const Camera& view = cameras[camera];
+  const DepthMap depth = RenderDepthMap(model.mesh.triangles, posed, view);
+  std::vector<DepthMap> others(cameras.size());
+  for (size_t c = 0; c < cameras.size(); ++c) {
+    if (c != camera) others[c] = RenderDepthMap(model.mesh.triangles, posed, cameras[c]);
+  }
+  std::vector<uint8_t> seen(depth.depth.size(), 255);
+  for (int y = 0; y < depth.height; ++y) {
+    for (int x = 0; x < depth.width; ++x) {
+      const float z = depth.depth[size_t(y) * depth.width + x];
+      if (!std::isfinite(z)) continue;
+      const Eigen::Vector3d p = UnprojectPixel(view, Eigen::Vector2d(x, y), z);
+      uint8_t count = 0;
+      for (size_t c = 0; c < cameras.size(); ++c) {
+        if (c == camera) continue;
+        Eigen::Vector2d q;
+        double zc = 0;
+        if (!ProjectPoint(cameras[c], p, &q, &zc)) continue;
+        const int qx = int(std::lround(q.x())), qy = int(std::lround(q.y()));
+        if (qx < 0 || qy < 0 || qx >= int(masks[c].width) || qy >= int(masks[c].height)) continue;
+        if (!masks[c].pixels[size_t(qy) * masks[c].width + qx]) continue;
+        if (zc > others[c].At(q) + 0.03) continue;
+        ++count;
+      }
+      seen[size_t(y) * depth.width + x] = std::min<uint8_t>(count, 3);
+    }
+  }
+  return seen;
+}
+
+// The share of the squared RGB error over the region that its `fraction` of
+// pixels with the largest errors hold.
+double WorstShare(const Image& real, const Image& render, const Image& region, double fraction) {
+  std::vector<double> errors;
+  double all = 0;
+  for (size_t i = 0; i < region.pixels.size(); ++i) {
+    if (!region.pixels[i]) continue;
+    double se = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double d = double(real.pixels[3 * i + k]) - render.pixels[3 * i + k];
+      se += d * d;
+    }
+    errors.push_back(se), all += se;
+  }
+  const size_t n = size_t(std::ceil(fraction * double(errors.size())));
+  if (n == 0 || all <= 0) return 0;
+  std::nth_element(errors.begin(), errors.begin() + (n - 1), errors.end(), std::greater<double>());
+  double worst = 0;
+  for (size_t i = 0; i < n; ++i) worst += errors[i];
+  return worst / all;
 }
 
 // The squared RGB error summed over the region's pixels.
@@ -676,6 +761,36 @@ int Run(const Args& a) {
         }
         RenderScore both_score;
         ScoreRender(*real, *two, both, &both_score);
+        const std::vector<uint8_t> deep =
+            DilateMask(region.pixels.data(), int(region.width), int(region.height), -kInnerPx);
+        Image inner = both;
+        int64_t both_area = 0, inner_area = 0;
+        for (size_t i = 0; i < inner.pixels.size(); ++i) {
+          inner.pixels[i] = both.pixels[i] && deep[i] ? 255 : 0;
+          both_area += both.pixels[i] != 0, inner_area += inner.pixels[i] != 0;
+        }
+        RenderScore inner_score;
+        ScoreRender(*real, *two, inner, &inner_score);
+        renderer2[k].psnr_inner += inner_score.psnr;
+        renderer2[k].inner_share += both_area ? double(inner_area) / double(both_area) : 0;
+        renderer2[k].worst_share += WorstShare(*real, *two, both, 0.05);
+        const std::vector<uint8_t> seen =
+            SeenByOthers(r->model, r->fits[f - first].dofs, calibrations, ref.masks[f - first], k);
+        for (int c = 0; c < 3; ++c) {
+          Image by = both;
+          int64_t count = 0;
+          for (size_t i = 0; i < by.pixels.size(); ++i) {
+            const bool in = both.pixels[i] && seen[i] != 255 && std::min<int>(seen[i], 2) == c;
+            by.pixels[i] = in ? 255 : 0;
+            count += in;
+          }
+          if (count == 0 || both_area == 0) continue;
+          RenderScore by_score;
+          ScoreRender(*real, *two, by, &by_score);
+          renderer2[k].seen_psnr[c] += by_score.psnr;
+          renderer2[k].seen_share[c] += double(count) / double(both_area);
+          ++renderer2[k].seen_frames[c];
+        }
         if (area > 0) {
           const double all = SquaredError(*real, *two, region);
           renderer2[k].missed += double(missed_area) / double(area);
@@ -693,11 +808,13 @@ int Run(const Args& a) {
         if (f == first) rendered2.push_back(*two), rendered1.push_back(*one);
       }
       std::printf(
-          "  Renderer II: IoU %.3f as rendered, PSNR %.2f dB (%.2f dB where both cover; %.2f dB "
+          "  Renderer II: IoU %.3f as rendered, PSNR %.2f dB (%.2f dB where both cover, %.2f dB "
+          "of them %d px or more inside the outline; %.2f dB "
           "in the rig's colour, before the camera's response), SSIM "
           "%.3f (with masks, same bytes: %.2f dB, %.3f); Renderer I: PSNR %.2f dB, SSIM %.3f\n",
           renderer2[k].iou / renderer2[k].coverage_frames, renderer2[k].psnr / renderer2[k].frames,
           renderer2[k].psnr_both / renderer2[k].coverage_frames,
+          renderer2[k].psnr_inner / renderer2[k].coverage_frames, kInnerPx,
           renderer2_rig_colour[k].psnr / renderer2_rig_colour[k].frames,
           renderer2[k].ssim / renderer2[k].frames,
           renderer2_masks[k].psnr / renderer2_masks[k].frames,
@@ -707,11 +824,22 @@ int Run(const Args& a) {
                   own_rendered_iou[k] / std::max(1, own_rendered_frames[k]));
       std::printf(
           "  Renderer II misses %.1f %% of the mask (%.1f %% of the squared error), covers %.1f "
-          "%% of its area beyond it; %.2f dB over the actor's box, background black\n",
+          "%% of its area beyond it; %.2f dB over the actor's box, background black; where both "
+          "cover, the 5 %% of pixels furthest off hold %.1f %% of the squared error\n",
           100 * renderer2[k].missed / renderer2[k].coverage_frames,
           100 * renderer2[k].missed_error / renderer2[k].coverage_frames,
           100 * renderer2[k].beyond / renderer2[k].coverage_frames,
-          renderer2[k].psnr_box / renderer2[k].coverage_frames);
+          renderer2[k].psnr_box / renderer2[k].coverage_frames,
+          100 * renderer2[k].worst_share / renderer2[k].coverage_frames);
+      const RenderScore& r2 = renderer2[k];
+      std::printf(
+          "  where both cover, the surface seen by none / one / two or more of the other cameras: "
+          "%.1f / %.1f / %.1f %% of the pixels, %.2f / %.2f / %.2f dB\n",
+          100 * r2.seen_share[0] / r2.coverage_frames, 100 * r2.seen_share[1] / r2.coverage_frames,
+          100 * r2.seen_share[2] / r2.coverage_frames,
+          r2.seen_psnr[0] / std::max(1, r2.seen_frames[0]),
+          r2.seen_psnr[1] / std::max(1, r2.seen_frames[1]),
+          r2.seen_psnr[2] / std::max(1, r2.seen_frames[2]));
     }
     // Contact sheet row: the real frame, the network's mask, the fitted
     // model against it, Renderer I and Renderer II.
@@ -771,6 +899,16 @@ int Run(const Args& a) {
          {"renderer2_iou", mean(r2.iou, r2.coverage_frames)},
          {"renderer2_own_iou", mean(own_rendered_iou[k], own_rendered_frames[k])},
          {"renderer2_psnr_both_cover", mean(r2.psnr_both, r2.coverage_frames)},
+         {"renderer2_psnr_inner", mean(r2.psnr_inner, r2.coverage_frames)},
+         {"renderer2_inner_share", mean(r2.inner_share, r2.coverage_frames)},
+         {"renderer2_worst5_error_share", mean(r2.worst_share, r2.coverage_frames)},
+         {"renderer2_seen_by_others",
+          {{"share",
+            {mean(r2.seen_share[0], r2.coverage_frames), mean(r2.seen_share[1], r2.coverage_frames),
+             mean(r2.seen_share[2], r2.coverage_frames)}},
+           {"psnr",
+            {mean(r2.seen_psnr[0], r2.seen_frames[0]), mean(r2.seen_psnr[1], r2.seen_frames[1]),
+             mean(r2.seen_psnr[2], r2.seen_frames[2])}}}},
          {"renderer2_missed_share", mean(r2.missed, r2.coverage_frames)},
          {"renderer2_psnr_box", mean(r2.psnr_box, r2.coverage_frames)},
          {"renderer2_beyond_share", mean(r2.beyond, r2.coverage_frames)},
@@ -793,6 +931,16 @@ int Run(const Args& a) {
     all2.iou += mean(r2.iou, r2.coverage_frames);
     all_own_rendered += mean(own_rendered_iou[k], own_rendered_frames[k]);
     all2.psnr_both += mean(r2.psnr_both, r2.coverage_frames);
+    all2.psnr_inner += mean(r2.psnr_inner, r2.coverage_frames);
+    all2.inner_share += mean(r2.inner_share, r2.coverage_frames);
+    all2.worst_share += mean(r2.worst_share, r2.coverage_frames);
+    for (int c = 0; c < 3; ++c) {
+      all2.seen_share[c] += mean(r2.seen_share[c], r2.coverage_frames);
+      if (r2.seen_frames[c] > 0) {
+        all2.seen_psnr[c] += mean(r2.seen_psnr[c], r2.seen_frames[c]);
+        ++all2.seen_frames[c];
+      }
+    }
     all2.missed += mean(r2.missed, r2.coverage_frames);
     all2.psnr_box += mean(r2.psnr_box, r2.coverage_frames);
     all2.beyond += mean(r2.beyond, r2.coverage_frames);
@@ -809,6 +957,18 @@ int Run(const Args& a) {
         "Renderer II as rendered, mean: IoU %.3f (%.3f in the cameras the stream was made from), "
         "PSNR %.2f dB where both cover\n",
         all2.iou / count, all_own_rendered / count, all2.psnr_both / count);
+    std::printf(
+        "  of the pixels both cover, %.1f %% lie %d px or more inside the mask's outline: %.2f dB "
+        "there; the 5 %% furthest off hold %.1f %% of their squared error\n",
+        100 * all2.inner_share / count, kInnerPx, all2.psnr_inner / count,
+        100 * all2.worst_share / count);
+    std::printf(
+        "  where both cover, the surface seen by none / one / two or more of the other cameras: "
+        "%.1f / %.1f / %.1f %% of the pixels, %.2f / %.2f / %.2f dB\n",
+        100 * all2.seen_share[0] / count, 100 * all2.seen_share[1] / count,
+        100 * all2.seen_share[2] / count, all2.seen_psnr[0] / std::max(1, all2.seen_frames[0]),
+        all2.seen_psnr[1] / std::max(1, all2.seen_frames[1]),
+        all2.seen_psnr[2] / std::max(1, all2.seen_frames[2]));
     std::printf(
         "  the render misses %.1f %% of the mask (%.1f %% of the squared error is there) and "
         "covers %.1f %% of the mask's area beyond it\n",
