@@ -20,8 +20,9 @@
 // against those both cover, and of those the ones deep inside the outline,
 // where no outline error reaches), and its PSNR as the learned methods' papers
 // count it (over the actor's 3D box projected, the background black in both). A contact sheet of
-// real frames, masks, the fitted model and the rendered views (and Renderer II from halfway between
-// the held-out camera and the camera nearest it) goes to OUT/contact_sheet.png, the figures to
+// real frames, masks, the fitted model, the rendered views, where Renderer II's is off (and
+// Renderer II from halfway between the held-out camera and the camera nearest it) goes to
+// OUT/contact_sheet.png, the figures to
 // OUT/real_bench.json.
 //
 //   build/bench/real_bench CAPTURE [--frames A:B] [--render-frames N] [--out DIR]
@@ -430,6 +431,31 @@ Image Tinted(const Image& frame, const Image& mask, const Image* model) {
   return out;
 }
 
+// Where Renderer II's view is off, drawn on the footage (dimmed): red where
+// render and mask both cover and the colour is more than `levels` off (RMS
+// over R, G and B), blue where the mask has the actor and the render nothing.
+Image ErrorView(const Image& real, const Image& render, const Image& mask, const Image& coverage,
+                double levels) {
+  Image out = real;
+  for (size_t i = 0; i < mask.pixels.size(); ++i) {
+    uint8_t* p = &out.pixels[3 * i];
+    const bool in = mask.pixels[i] != 0, covered = coverage.pixels[i] != 0;
+    double se = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double d = double(real.pixels[3 * i + k]) - render.pixels[3 * i + k];
+      se += d * d;
+    }
+    if (in && covered && se > 3 * levels * levels) {
+      p[0] = 255, p[1] = 0, p[2] = 0;
+    } else if (in && !covered) {
+      p[0] = 0, p[1] = 0, p[2] = 255;
+    } else {
+      for (int k = 0; k < 3; ++k) p[k] = uint8_t(p[k] / 3);
+    }
+  }
+  return out;
+}
+
 int Fail(const Status& s) {
   std::fprintf(stderr, "real_bench: %s\n", s.ToString().c_str());
   return 1;
@@ -617,7 +643,7 @@ int Run(const Args& a) {
         h.shift.x(), h.shift.y());
 
     const uint32_t render_last = std::min(last, first + std::max(1u, a.render_frames) - 1);
-    std::vector<Image> rendered2, rendered1;
+    std::vector<Image> rendered2, rendered1, errors2;
     Image between_view;
     if (a.render) {
       const std::string range = std::to_string(first) + ":" + std::to_string(render_last);
@@ -805,7 +831,10 @@ int Run(const Args& a) {
         ++renderer2[k].coverage_frames;
         ScoreRender(*real, *two_masks, region, &renderer2_masks[k]);
         ScoreRender(*real, *one, region, &renderer1[k]);
-        if (f == first) rendered2.push_back(*two), rendered1.push_back(*one);
+        if (f == first) {
+          rendered2.push_back(*two), rendered1.push_back(*one);
+          errors2.push_back(ErrorView(*real, *two, region, *coverage, 60));
+        }
       }
       std::printf(
           "  Renderer II: IoU %.3f as rendered, PSNR %.2f dB (%.2f dB where both cover, %.2f dB "
@@ -842,7 +871,7 @@ int Run(const Args& a) {
           r2.seen_psnr[2] / std::max(1, r2.seen_frames[2]));
     }
     // Contact sheet row: the real frame, the network's mask, the fitted
-    // model against it, Renderer I and Renderer II.
+    // model against it, Renderer I, Renderer II and where it is off.
     StatusOr<Image> real = CaptureReader(full).ReadFrame(k, first);
     if (real.ok()) {
       const Image& mask = ref.masks[0][k];
@@ -851,8 +880,9 @@ int Run(const Args& a) {
       sheet.push_back(CropScaled(*real, box, 480));
       sheet.push_back(CropScaled(Tinted(*real, mask, nullptr), box, 480));
       sheet.push_back(CropScaled(Tinted(*real, mask, &model), box, 480));
-      for (const Image* im : {rendered1.empty() ? nullptr : &rendered1[0],
-                              rendered2.empty() ? nullptr : &rendered2[0]}) {
+      for (const Image* im :
+           {rendered1.empty() ? nullptr : &rendered1[0],
+            rendered2.empty() ? nullptr : &rendered2[0], errors2.empty() ? nullptr : &errors2[0]}) {
         if (im) sheet.push_back(CropScaled(*im, box, 480));
       }
       if (!between_view.pixels.empty()) sheet.push_back(between_view);
@@ -992,7 +1022,7 @@ int Run(const Args& a) {
   Status s = WriteFileAtomic(a.out + "/real_bench.json",
                              reinterpret_cast<const uint8_t*>(text.data()), text.size());
   if (s.ok() && !sheet.empty()) {
-    s = WritePng(a.out + "/contact_sheet.png", MakeContactSheet(sheet, a.render ? 6 : 3));
+    s = WritePng(a.out + "/contact_sheet.png", MakeContactSheet(sheet, a.render ? 7 : 3));
   }
   if (!s.ok()) {
     std::fprintf(stderr, "real_bench: %s\n", s.ToString().c_str());
@@ -1002,7 +1032,9 @@ int Run(const Args& a) {
       "\nfigures: %s/real_bench.json; contact sheet (per held-out camera: frame, mask, "
       "fitted model%s): %s/contact_sheet.png\n",
       a.out.c_str(),
-      a.render ? ", Renderer I, Renderer II, Renderer II between it and the nearest camera" : "",
+      a.render ? ", Renderer I, Renderer II, where Renderer II is off (red: more than 60 levels, "
+                 "blue: the actor missed), Renderer II between it and the nearest camera"
+               : "",
       a.out.c_str());
   return 0;
 }
