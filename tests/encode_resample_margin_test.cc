@@ -4,6 +4,8 @@
 // resample.h); and the mask shrinking that asks for (mask_dilation.h).
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "encoder/encode/mask_dilation.h"
 #include "encoder/encode/resample.h"
 
@@ -37,10 +39,14 @@ TEST(MaskDilation, GrowsAndShrinksBySquares) {
 // is and his mask 1 pixel looser than him: the model's border falls on the
 // background.
 struct Scene {
-  Scene() {
-    camera.width = 160, camera.height = 120;
-    camera.fx = camera.fy = 200, camera.cx = 79.5, camera.cy = 59.5;
-    // Corners at x = +-0.4, y = +-0.3, 2 m away: pixels 40-120 by 30-90.
+  // `fx`: the focal length (pixels), which sets the actor's size in the
+  // image; `atlas`: the texture's size, fine enough to resolve the outline.
+  Scene(double fx, uint32_t atlas) {
+    const int w = int(std::lround(4 * fx)), h = int(std::lround(3 * fx));
+    camera.width = uint32_t(w), camera.height = uint32_t(h);
+    camera.fx = camera.fy = fx, camera.cx = 0.5 * w - 0.5, camera.cy = 0.5 * h - 0.5;
+    // Corners at x = +-0.4, y = +-0.3, 2 m away: the middle half of the image
+    // each way (pixels 40-120 by 30-90 at fx 200).
     const float xs[2] = {-0.4f, 0.4f}, ys[2] = {-0.3f, 0.3f};
     for (float y : ys) {
       for (float x : xs) {
@@ -55,9 +61,12 @@ struct Scene {
     image.width = silhouette.width = camera.width;
     image.height = silhouette.height = camera.height;
     silhouette.channels = 1;
-    const int w = int(camera.width), h = int(camera.height);
-    const std::vector<uint8_t> actor = Rect(w, h, 43, 33, 116, 86);
-    silhouette.pixels = Rect(w, h, 42, 32, 117, 87);
+    // The actor 3 px inside the model on every side; the mask 1 px looser
+    // than the actor.
+    const int x0 = int(std::ceil(camera.cx - 0.2 * fx)) + 3, x1 = int(camera.cx + 0.2 * fx) - 3;
+    const int y0 = int(std::ceil(camera.cy - 0.15 * fx)) + 3, y1 = int(camera.cy + 0.15 * fx) - 3;
+    const std::vector<uint8_t> actor = Rect(w, h, x0, y0, x1, y1);
+    silhouette.pixels = Rect(w, h, x0 - 1, y0 - 1, x1 + 1, y1 + 1);
     for (uint8_t& v : silhouette.pixels) v *= 255;
     image.pixels.resize(actor.size() * 3);
     for (size_t i = 0; i < actor.size(); ++i) {
@@ -65,7 +74,7 @@ struct Scene {
                               uint8_t(actor[i] ? 50 : 220)};
       for (int k = 0; k < 3; ++k) image.pixels[i * 3 + k] = rgb[k];
     }
-    map = MapAtlasTexels(mesh, 64);
+    map = MapAtlasTexels(mesh, atlas);
   }
   // Sampled texels, and those with any of the background's blue in them.
   void Sample(const ResampleOptions& o, int* seen, int* blue) const {
@@ -87,21 +96,43 @@ struct Scene {
   TexelMap map;
 };
 
+// A person mask of `w` x `h` set pixels in a larger image.
+Image PersonMask(int w, int h) {
+  Image m;
+  m.width = uint32_t(w + 20), m.height = uint32_t(h + 20), m.channels = 1;
+  m.pixels = Rect(w + 20, h + 20, 10, 10, 10 + w - 1, 10 + h - 1);
+  for (uint8_t& v : m.pixels) v *= 255;
+  return m;
+}
+
 TEST(ResampleMargin, TheMarginFollowsTheSilhouettesSource) {
-  EXPECT_LT(SilhouetteMargin(std::nullopt, true), 0);
-  EXPECT_GT(SilhouetteMargin(std::nullopt, false), 0);
-  EXPECT_EQ(SilhouetteMargin(3, true), 3);
-  EXPECT_EQ(SilhouetteMargin(-1, false), -1);
+  const Image person = PersonMask(300, 800);
+  EXPECT_EQ(SilhouetteMargin(std::nullopt, false, person), kSilhouetteMargin);
+  EXPECT_EQ(SilhouetteMargin(std::nullopt, true, person), -2);
+  EXPECT_EQ(SilhouetteMargin(3, true, person), 3);
+  EXPECT_EQ(SilhouetteMargin(-1, false, person), -1);
+}
+
+// Half the network's mask cell, whichever way the person is longer: the
+// cells grow with him in the image.
+TEST(ResampleMargin, APersonMasksMarginGrowsWithHisSizeInTheImage) {
+  EXPECT_EQ(PersonMaskMargin(PersonMask(150, 400)), -1);
+  EXPECT_EQ(PersonMaskMargin(PersonMask(800, 300)), -2);
+  EXPECT_EQ(PersonMaskMargin(PersonMask(500, 1600)), -4);
+  EXPECT_EQ(PersonMaskMargin(PersonMask(20, 40)), -1);  // at least a pixel
+  EXPECT_EQ(PersonMaskMargin(PersonMask(0, 0)), -1);    // nobody
 }
 
 TEST(ResampleMargin, APersonMasksOutlinePixelsStayOutOfTheTexture) {
-  const Scene scene;
+  // The actor 634 x 474 px: the mask's margin is -2, its cells about 3 px.
+  const Scene scene(1600, 256);
   int seen = 0, blue = 0;
   ResampleOptions person;
-  person.silhouette_margin = SilhouetteMargin(std::nullopt, true);
+  person.person_masks = true;
+  ASSERT_EQ(SilhouetteMargin(std::nullopt, true, scene.silhouette), -2);
   scene.Sample(person, &seen, &blue);
-  // The actor is 91 % of the model's area; most of it is still sampled.
-  EXPECT_GT(seen, int(0.75 * double(scene.map.texel.size())));
+  // The actor is 98 % of the model's area; most of it is still sampled.
+  EXPECT_GT(seen, int(0.9 * double(scene.map.texel.size())));
   EXPECT_EQ(blue, 0);
   // Grown, as a pixel-accurate silhouette is (unset: the given silhouettes'
   // margin), the same mask lets the model's border take the background.

@@ -195,7 +195,7 @@ StatusOr<std::vector<Eigen::Vector3f>> Session::Resample(uint32_t frame, uint32_
     }
     std::vector<uint64_t> hidden(sum_.cameras, 0);
     ResampleOptions resample = s_.resample;
-    resample.silhouette_margin = SilhouetteMargin(resample.silhouette_margin, person_masks_);
+    resample.person_masks = person_masks_;
     pool_.Run(sum_.cameras, [&](uint32_t c) {
       const size_t plane = size_t(slot) * sum_.cameras + c;
       ResampleView(map_, *surface, positions, normals, cameras_[c], images[c],

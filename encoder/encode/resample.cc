@@ -63,9 +63,25 @@ std::vector<float> MaxFilter(const DepthMap& depth, int r) {
 
 }  // namespace
 
-int SilhouetteMargin(const std::optional<int>& setting, bool person_masks) {
+int PersonMaskMargin(const Image& silhouette) {
+  const int w = int(silhouette.width), h = int(silhouette.height);
+  const int stride = std::max(1, silhouette.channels);
+  int x0 = w, y0 = h, x1 = -1, y1 = -1;
+  for (int y = 0; y < h; ++y) {
+    const uint8_t* row = silhouette.pixels.data() + size_t(y) * w * stride;
+    for (int x = 0; x < w; ++x) {
+      if (!row[size_t(x) * stride]) continue;
+      x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+    }
+  }
+  const int extent = x1 < 0 ? 0 : std::max(x1 - x0, y1 - y0) + 1;
+  return -std::max(1, int(std::lround(extent / kPersonExtentPerMarginPixel)));
+}
+
+int SilhouetteMargin(const std::optional<int>& setting, bool person_masks,
+                     const Image& silhouette) {
   if (setting) return *setting;
-  return person_masks ? kPersonMaskMargin : kSilhouetteMargin;
+  return person_masks ? PersonMaskMargin(silhouette) : kSilhouetteMargin;
 }
 
 TexelMap MapAtlasTexels(const Mesh& mesh, uint32_t size, double dilation) {
@@ -133,7 +149,7 @@ void ResampleView(const TexelMap& map, const Mesh& mesh, const std::vector<Vecto
   std::vector<uint8_t> inside;
   if (!silhouette.pixels.empty()) {
     inside = DilateMask(silhouette.pixels.data(), int(silhouette.width), int(silhouette.height),
-                        SilhouetteMargin(o.silhouette_margin, false));
+                        SilhouetteMargin(o.silhouette_margin, o.person_masks, silhouette));
   }
 
   const Vector3f centre = CameraCentre(camera).cast<float>();

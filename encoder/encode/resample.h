@@ -42,18 +42,22 @@ TexelMap MapAtlasTexels(const Mesh& mesh, uint32_t size, double dilation = 1.0);
 // The image silhouette's margin by where it comes from. Given or subtracted
 // silhouettes are pixel-accurate: grown a little, so that texels near the
 // outline are kept where the model and the silhouette disagree slightly. The
-// person network's masks are coarse (a 256x256 crop's cells) and their edge
-// pixels mix the actor with what stands behind him, where a small error in
-// the pose or the calibration moves a surface point's projection furthest:
-// sampled a little inside, so that the background stays out.
+// person network's masks are coarse: it cuts them on 256 cells across a
+// square about 1.25 times the person, so a cell is about a 200th of the
+// person's extent, and the outline pixels mix the actor with what stands
+// behind him. Samples come from half a cell inside: the person's extent (the
+// longer side of the mask's box) over kPersonExtentPerMarginPixel, at least
+// a pixel.
 constexpr int kSilhouetteMargin = 2;
-constexpr int kPersonMaskMargin = -2;
-int SilhouetteMargin(const std::optional<int>& setting, bool person_masks);
+constexpr double kPersonExtentPerMarginPixel = 400;
+int PersonMaskMargin(const Image& silhouette);
+int SilhouetteMargin(const std::optional<int>& setting, bool person_masks, const Image& silhouette);
 
 struct ResampleOptions {
   // Pixels the image silhouette grows by; negative shrinks it. Unset: by the
   // silhouettes' source (SilhouetteMargin).
   std::optional<int> silhouette_margin;
+  bool person_masks = false;      // the silhouettes are the person network's masks
   double depth_tolerance = 0.02;  // metres behind the depth map still counted visible
   double min_facing = 0.1;        // cosine of the largest viewing angle to the normal
   // Something else must stand this far (metres) in front of a surface point

@@ -273,10 +273,12 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
   e->add_option("--silhouette-margin", a->margin,
                 "Pixels the image silhouettes grow by before a camera's samples are taken; "
                 "negative shrinks them. Default: " +
-                    std::to_string(kSilhouetteMargin) + " for given or subtracted silhouettes, " +
-                    std::to_string(kPersonMaskMargin) +
-                    " for the person network's masks (their outline pixels hold some of the "
-                    "background: docs/encoder.md)")
+                    std::to_string(kSilhouetteMargin) +
+                    " for given or subtracted silhouettes; for the person network's masks, minus "
+                    "half its mask cell: the person's extent in pixels / " +
+                    std::to_string(int(kPersonExtentPerMarginPixel)) +
+                    ", at least 1 (their outline pixels hold some of the background: "
+                    "docs/encoder.md)")
       ->check(CLI::Range(-32, 32));
   e->add_option("--agreement", a->agreement,
                 "Drop a camera's sample of a surface point where every other camera that saw the "
