@@ -42,7 +42,7 @@ struct Scene {
   // `fx`: the focal length (pixels), which sets the actor's size in the
   // image; `atlas`: the texture's size, fine enough to resolve the outline.
   Scene(double fx, uint32_t atlas) {
-    const int w = int(std::lround(4 * fx)), h = int(std::lround(3 * fx));
+    const int w = int(std::lround(0.8 * fx)), h = int(std::lround(0.6 * fx));
     camera.width = uint32_t(w), camera.height = uint32_t(h);
     camera.fx = camera.fy = fx, camera.cx = 0.5 * w - 0.5, camera.cy = 0.5 * h - 0.5;
     // Corners at x = +-0.4, y = +-0.3, 2 m away: the middle half of the image
