@@ -141,13 +141,11 @@ struct RenderScore {
 // moves is the outline, so there the error is the texture's own.
 constexpr int kInnerPx = 12;
 
-// The projection of the posed model's 3D bounding box, grown by 5 cm each
+// The projection of the posed model's (`posed`: its vertices) 3D bounding box, grown by 5 cm each
 // way, into `camera`: the region the learned human-rendering methods (Neural
 // Body and those it compares with, on ZJU-MoCap) score a novel view over,
 // with the background black in both images. Convex: the hull of the corners.
-Image BoxRegion(const BodyModel& model, const Camera& camera, const std::vector<double>& dofs) {
-  const std::vector<Eigen::Vector3f> posed =
-      SkinPositions(model.mesh, SkinningMatrices(model.skeleton, dofs));
+Image BoxRegion(const std::vector<Eigen::Vector3f>& posed, const Camera& camera) {
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e30), hi = -lo;
   for (const Eigen::Vector3f& p : posed) {
     lo = lo.cwiseMin(p.cast<double>()), hi = hi.cwiseMax(p.cast<double>());
@@ -221,22 +219,31 @@ double BoxPsnr(const Image& real, const Image& mask, const Image& render, const 
   return 10 * std::log10(255.0 * 255.0 / std::max(se / double(count), 1e-10));
 }
 
+// The squared RGB error of pixel `i`.
+double PixelSquaredError(const Image& real, const Image& render, size_t i) {
+  double se = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double d = double(real.pixels[3 * i + k]) - render.pixels[3 * i + k];
+    se += d * d;
+  }
+  return se;
+}
+
 // Per pixel of `camera`'s view, how many of the other cameras see the fitted
-// body's surface there (0-3, 3 for three or more; 255 where the body is not):
+// body's surface there (`posed`: its vertices; 0-3, 3 for three or more; 255
+// where the body is not):
 // the view's depth taken to the surface point, which another camera sees
 // when it lies in its image, within 3 cm of its depth map and inside its
 // mask. What one camera alone sees, a held-out view gets from that camera
 // through the surface's depth; what two see agrees between them.
-std::vector<uint8_t> SeenByOthers(const BodyModel& model, const std::vector<double>& dofs,
+std::vector<uint8_t> SeenByOthers(const Mesh& mesh, const std::vector<Eigen::Vector3f>& posed,
                                   const std::vector<Camera>& cameras,
                                   const std::vector<Image>& masks, size_t camera) {
-  const std::vector<Eigen::Vector3f> posed =
-      SkinPositions(model.mesh, SkinningMatrices(model.skeleton, dofs));
   const Camera& view = cameras[camera];
-  const DepthMap depth = RenderDepthMap(model.mesh.triangles, posed, view);
+  const DepthMap depth = RenderDepthMap(mesh.triangles, posed, view);
   std::vector<DepthMap> others(cameras.size());
   for (size_t c = 0; c < cameras.size(); ++c) {
-    if (c != camera) others[c] = RenderDepthMap(model.mesh.triangles, posed, cameras[c]);
+    if (c != camera) others[c] = RenderDepthMap(mesh.triangles, posed, cameras[c]);
   }
   std::vector<uint8_t> seen(depth.depth.size(), 255);
   for (int y = 0; y < depth.height; ++y) {
@@ -269,11 +276,7 @@ double WorstShare(const Image& real, const Image& render, const Image& region, d
   double all = 0;
   for (size_t i = 0; i < region.pixels.size(); ++i) {
     if (!region.pixels[i]) continue;
-    double se = 0;
-    for (int k = 0; k < 3; ++k) {
-      const double d = double(real.pixels[3 * i + k]) - render.pixels[3 * i + k];
-      se += d * d;
-    }
+    const double se = PixelSquaredError(real, render, i);
     errors.push_back(se), all += se;
   }
   const size_t n = size_t(std::ceil(fraction * double(errors.size())));
@@ -288,13 +291,19 @@ double WorstShare(const Image& real, const Image& render, const Image& region, d
 double SquaredError(const Image& real, const Image& render, const Image& region) {
   double se = 0;
   for (size_t i = 0; i < region.pixels.size(); ++i) {
-    if (!region.pixels[i]) continue;
-    for (int k = 0; k < 3; ++k) {
-      const double d = double(real.pixels[3 * i + k]) - render.pixels[3 * i + k];
-      se += d * d;
-    }
+    if (region.pixels[i]) se += PixelSquaredError(real, render, i);
   }
   return se;
+}
+
+// PSNR (RGB) over the region's pixels; false for an empty region.
+bool RegionPsnr(const Image& real, const Image& render, const Image& region, double* psnr) {
+  int64_t count = 0;
+  for (uint8_t v : region.pixels) count += v ? 3 : 0;
+  if (count == 0) return false;
+  const double mse = std::max(SquaredError(real, render, region) / double(count), 1e-10);
+  *psnr = 10 * std::log10(255.0 * 255.0 / mse);
+  return true;
 }
 
 double Iou(const Image& a, const Image& b) {
@@ -340,10 +349,8 @@ double Luma(const Image& im, size_t i) {
 // PSNR (RGB) over the region's pixels, and SSIM (luma, 7x7 windows, the
 // usual constants) averaged over the windows centred in the region.
 void ScoreRender(const Image& real, const Image& render, const Image& region, RenderScore* s) {
-  int64_t count = 0;
-  for (uint8_t v : region.pixels) count += v ? 3 : 0;
-  if (count == 0) return;
-  const double mse = std::max(SquaredError(real, render, region) / double(count), 1e-10);
+  double psnr = 0;
+  if (!RegionPsnr(real, render, region, &psnr)) return;
   const double c1 = 6.5025, c2 = 58.5225;  // (0.01 * 255)^2, (0.03 * 255)^2
   double ssim = 0;
   int64_t windows = 0;
@@ -366,9 +373,21 @@ void ScoreRender(const Image& real, const Image& render, const Image& region, Re
       ++windows;
     }
   }
-  s->psnr += 10 * std::log10(255.0 * 255.0 / mse);
+  s->psnr += psnr;
   s->ssim += windows ? ssim / double(windows) : 0;
   ++s->frames;
+}
+
+// The pixels both cover by how many other cameras see the surface there: the
+// shares summed over `count` frames (or cameras), the PSNRs over seen_frames.
+void PrintSeenByOthers(const RenderScore& s, double count) {
+  std::printf(
+      "  where both cover, the surface seen by none / one / two or more of the other cameras: "
+      "%.1f / %.1f / %.1f %% of the pixels, %.2f / %.2f / %.2f dB\n",
+      100 * s.seen_share[0] / count, 100 * s.seen_share[1] / count, 100 * s.seen_share[2] / count,
+      s.seen_psnr[0] / std::max(1, s.seen_frames[0]),
+      s.seen_psnr[1] / std::max(1, s.seen_frames[1]),
+      s.seen_psnr[2] / std::max(1, s.seen_frames[2]));
 }
 
 // The box around the non-zero pixels of the masks, grown by a tenth.
@@ -440,12 +459,7 @@ Image ErrorView(const Image& real, const Image& render, const Image& mask, const
   for (size_t i = 0; i < mask.pixels.size(); ++i) {
     uint8_t* p = &out.pixels[3 * i];
     const bool in = mask.pixels[i] != 0, covered = coverage.pixels[i] != 0;
-    double se = 0;
-    for (int k = 0; k < 3; ++k) {
-      const double d = double(real.pixels[3 * i + k]) - render.pixels[3 * i + k];
-      se += d * d;
-    }
-    if (in && covered && se > 3 * levels * levels) {
+    if (in && covered && PixelSquaredError(real, render, i) > 3 * levels * levels) {
       p[0] = 255, p[1] = 0, p[2] = 0;
     } else if (in && !covered) {
       p[0] = 0, p[1] = 0, p[2] = 255;
@@ -795,13 +809,16 @@ int Run(const Args& a) {
           inner.pixels[i] = both.pixels[i] && deep[i] ? 255 : 0;
           both_area += both.pixels[i] != 0, inner_area += inner.pixels[i] != 0;
         }
-        RenderScore inner_score;
-        ScoreRender(*real, *two, inner, &inner_score);
-        renderer2[k].psnr_inner += inner_score.psnr;
+        double inner_psnr = 0;
+        if (RegionPsnr(*real, *two, inner, &inner_psnr)) renderer2[k].psnr_inner += inner_psnr;
         renderer2[k].inner_share += both_area ? double(inner_area) / double(both_area) : 0;
         renderer2[k].worst_share += WorstShare(*real, *two, both, 0.05);
+        // The fitted body in this frame, for what the other cameras see and
+        // for the box the learned methods score.
+        const std::vector<Eigen::Vector3f> posed = SkinPositions(
+            r->model.mesh, SkinningMatrices(r->model.skeleton, r->fits[f - first].dofs));
         const std::vector<uint8_t> seen =
-            SeenByOthers(r->model, r->fits[f - first].dofs, calibrations, ref.masks[f - first], k);
+            SeenByOthers(r->model.mesh, posed, calibrations, ref.masks[f - first], k);
         for (int c = 0; c < 3; ++c) {
           Image by = both;
           int64_t count = 0;
@@ -811,9 +828,9 @@ int Run(const Args& a) {
             count += in;
           }
           if (count == 0 || both_area == 0) continue;
-          RenderScore by_score;
-          ScoreRender(*real, *two, by, &by_score);
-          renderer2[k].seen_psnr[c] += by_score.psnr;
+          double by_psnr = 0;
+          RegionPsnr(*real, *two, by, &by_psnr);
+          renderer2[k].seen_psnr[c] += by_psnr;
           renderer2[k].seen_share[c] += double(count) / double(both_area);
           ++renderer2[k].seen_frames[c];
         }
@@ -824,8 +841,7 @@ int Run(const Args& a) {
           renderer2[k].missed_error += all > 0 ? SquaredError(*real, *two, missed) / all : 0;
         }
         renderer2[k].psnr_box +=
-            BoxPsnr(*real, region, *two, *coverage,
-                    BoxRegion(r->model, full.cameras[k].calibration, r->fits[f - first].dofs));
+            BoxPsnr(*real, region, *two, *coverage, BoxRegion(posed, full.cameras[k].calibration));
         renderer2[k].iou += Iou(*coverage, region);
         renderer2[k].psnr_both += both_score.psnr;
         ++renderer2[k].coverage_frames;
@@ -860,15 +876,7 @@ int Run(const Args& a) {
           100 * renderer2[k].beyond / renderer2[k].coverage_frames,
           renderer2[k].psnr_box / renderer2[k].coverage_frames,
           100 * renderer2[k].worst_share / renderer2[k].coverage_frames);
-      const RenderScore& r2 = renderer2[k];
-      std::printf(
-          "  where both cover, the surface seen by none / one / two or more of the other cameras: "
-          "%.1f / %.1f / %.1f %% of the pixels, %.2f / %.2f / %.2f dB\n",
-          100 * r2.seen_share[0] / r2.coverage_frames, 100 * r2.seen_share[1] / r2.coverage_frames,
-          100 * r2.seen_share[2] / r2.coverage_frames,
-          r2.seen_psnr[0] / std::max(1, r2.seen_frames[0]),
-          r2.seen_psnr[1] / std::max(1, r2.seen_frames[1]),
-          r2.seen_psnr[2] / std::max(1, r2.seen_frames[2]));
+      PrintSeenByOthers(renderer2[k], renderer2[k].coverage_frames);
     }
     // Contact sheet row: the real frame, the network's mask, the fitted
     // model against it, Renderer I, Renderer II and where it is off.
@@ -992,13 +1000,7 @@ int Run(const Args& a) {
         "there; the 5 %% furthest off hold %.1f %% of their squared error\n",
         100 * all2.inner_share / count, kInnerPx, all2.psnr_inner / count,
         100 * all2.worst_share / count);
-    std::printf(
-        "  where both cover, the surface seen by none / one / two or more of the other cameras: "
-        "%.1f / %.1f / %.1f %% of the pixels, %.2f / %.2f / %.2f dB\n",
-        100 * all2.seen_share[0] / count, 100 * all2.seen_share[1] / count,
-        100 * all2.seen_share[2] / count, all2.seen_psnr[0] / std::max(1, all2.seen_frames[0]),
-        all2.seen_psnr[1] / std::max(1, all2.seen_frames[1]),
-        all2.seen_psnr[2] / std::max(1, all2.seen_frames[2]));
+    PrintSeenByOthers(all2, count);
     std::printf(
         "  the render misses %.1f %% of the mask (%.1f %% of the squared error is there) and "
         "covers %.1f %% of the mask's area beyond it\n",

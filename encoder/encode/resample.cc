@@ -65,12 +65,11 @@ std::vector<float> MaxFilter(const DepthMap& depth, int r) {
 
 int PersonMaskMargin(const Image& silhouette) {
   const int w = int(silhouette.width), h = int(silhouette.height);
-  const int stride = std::max(1, silhouette.channels);
   int x0 = w, y0 = h, x1 = -1, y1 = -1;
   for (int y = 0; y < h; ++y) {
-    const uint8_t* row = silhouette.pixels.data() + size_t(y) * w * stride;
+    const uint8_t* row = silhouette.pixels.data() + size_t(y) * w;
     for (int x = 0; x < w; ++x) {
-      if (!row[size_t(x) * stride]) continue;
+      if (!row[x]) continue;
       x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
     }
   }
