@@ -13,12 +13,22 @@ dir=$(cd "$dir" && pwd)
 fail() { echo "FAIL: $*" >&2; exit 1; }
 command -v ffmpeg >/dev/null || { echo "SKIP: ffmpeg not installed (tools/setup.sh installs it)"; exit 0; }
 
-# Children of any fvv of this test: ffmpeg processes reading this directory's videos.
-leftover() { pgrep -f "ffmpeg.*$dir" || true; }
+# Children of any fvv of this test: ffmpeg processes that carry this test's
+# mark in their environment (fvv passes its environment on). The mark, not the
+# videos' paths, tells them apart from another program's decoders of the same
+# videos (the real capture's, in a bench running beside the tests).
+export FVV_TEST_MARK="$dir"
+leftover() {
+  local p
+  for p in $(pgrep -x ffmpeg); do
+    tr '\0' '\n' <"/proc/$p/environ" 2>/dev/null | grep -qxF "FVV_TEST_MARK=$dir" && echo "$p"
+  done
+  return 0
+}
 no_children() {
   local left
   left=$(leftover)
-  [ -z "$left" ] || { pgrep -af "ffmpeg.*$dir" >&2; fail "$1: ffmpeg children left behind"; }
+  [ -z "$left" ] || { ps -o pid,args -p "$(echo $left | tr " " ,)" >&2; fail "$1: ffmpeg children left behind"; }
 }
 # Runs fvv under a timeout; a hang is a failure of its own.
 run() {
@@ -155,8 +165,7 @@ if [ -n "$data" ] && [ -f "$real/calibration/Calib.qca.txt" ]; then
   grep -q "(100 frames at 60 fps)" <<<"$out" || fail "frames and rate from the videos: $out"
   out=$(run capture sheet "$dir/real" --frame 10 -o "$dir/real.png" 2>&1) || fail "real sheet: $out"
   [ -s "$dir/real.png" ] || fail "real sheet missing"
-  leftover_real=$(pgrep -f "ffmpeg.*pose2sim_single" || true)
-  [ -z "$leftover_real" ] || fail "real capture: ffmpeg children left behind"
+  no_children "real capture sheet"
 else
   echo "SKIP (real capture part): no $real (FVV_TEST_DATA_DIR)"
 fi
