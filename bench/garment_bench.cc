@@ -11,11 +11,13 @@
 // frames). One table; bench/README.md.
 // Usage: garment_bench [--out DIR] [--frames N] [--cameras N] [--width W --height H]
 //                      [--garment M] [--true-silhouettes 0|1] [--reuse 0|1]
-//                      [--quick 0|1] [--true-poses 0|1] and the surface tracker's
+//                      [--quick 0|1] [--true-poses 0|1] [--persons 0|1] and the surface tracker's
 //                      weights: [--prior W] [--temporal W] [--smoothness W] [--spread N]
 // --reuse 1 takes the capture and poses an earlier run left in DIR; --quick 1
 // encodes only the first two streams (no equal-bytes one): for trying weights;
-// --true-poses 1 encodes with the true poses instead of the tracked ones.
+// --true-poses 1 encodes with the true poses instead of the tracked ones;
+// --persons 1 tracks as on real footage, with the person network's masks and
+// keypoints (the encoder's silhouettes stay the background subtraction's).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -81,7 +83,7 @@ int main(int argc, char** argv) {
   so.height = 240;
   so.held_out = 2;
   so.garment = 0.08;
-  bool reuse = false, quick = false, true_poses = false;
+  bool reuse = false, quick = false, true_poses = false, persons = false;
   fvv::SurfaceTrackingOptions tracking;
   for (int i = 1; i < argc; i += 2) {
     const std::string a = i + 1 < argc ? argv[i] : "--help";
@@ -104,6 +106,8 @@ int main(int argc, char** argv) {
       reuse = std::atoi(v) != 0;
     } else if (a == "--quick") {
       quick = std::atoi(v) != 0;
+    } else if (a == "--persons") {
+      persons = std::atoi(v) != 0;
     } else if (a == "--true-poses") {
       true_poses = std::atoi(v) != 0;
     } else if (a == "--prior") {
@@ -118,7 +122,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr,
                    "usage: %s [--out DIR] [--frames N] [--cameras N] [--width W --height H] "
                    "[--garment M] [--true-silhouettes 0|1] [--reuse 0|1] [--quick 0|1] "
-                   "[--true-poses 0|1] [--prior W] [--temporal W] [--smoothness W] [--spread N]\n",
+                   "[--true-poses 0|1] [--persons 0|1] [--prior W] [--temporal W] [--smoothness W] [--spread N]\n",
                    argv[0]);
       return 2;
     }
@@ -133,11 +137,13 @@ int main(int argc, char** argv) {
       "silhouettes %s\n",
       so.cameras, so.width, so.height, so.held_out, so.frames, so.garment,
       so.link_silhouettes ? "true" : "by background subtraction");
+  if (persons) std::printf("tracked with the person network's masks and keypoints\n");
   std::fflush(stdout);
   const std::string poses = out + "/poses.json";
   if (!reuse || !std::ifstream(poses)) {
     if (auto r = fvv::RunSynth(so); !r.ok()) return Fail("synth", r.status());
     fvv::TrackCaptureOptions to;
+    if (persons) to.persons = fvv::TrackCaptureOptions::Persons::kOn;
     const auto tracked = fvv::TrackCapture(so.output_dir, to);
     if (!tracked.ok()) return Fail("track", tracked.status());
     std::ofstream f(poses);
