@@ -122,7 +122,8 @@ int main(int argc, char** argv) {
       std::fprintf(stderr,
                    "usage: %s [--out DIR] [--frames N] [--cameras N] [--width W --height H] "
                    "[--garment M] [--true-silhouettes 0|1] [--reuse 0|1] [--quick 0|1] "
-                   "[--true-poses 0|1] [--persons 0|1] [--prior W] [--temporal W] [--smoothness W] [--spread N]\n",
+                   "[--true-poses 0|1] [--persons 0|1] [--prior W] [--temporal W] [--smoothness W] "
+                   "[--spread N]\n",
                    argv[0]);
       return 2;
     }
