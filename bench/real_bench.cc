@@ -77,15 +77,22 @@ struct Args {
   uint32_t first = 0, last = 29;
   uint32_t render_frames = 30;
   bool render = true;
-  bool surface = false;       // encode with the surface of every frame (fvv encode --surface)
-  std::string surface_prior;  // fvv encode --surface-prior, where given
+  bool surface = false;           // encode with the surface of every frame (fvv encode --surface)
+  std::string surface_prior;      // fvv encode --surface-prior, where given
+  std::string silhouette_margin;  // fvv encode --silhouette-margin, where given
 };
 
-// fvv encode's arguments for the surface of every frame, as asked.
-std::vector<std::string> SurfaceArgs(const Args& a) {
-  if (!a.surface) return {};
-  if (a.surface_prior.empty()) return {"--surface"};
-  return {"--surface", "--surface-prior", a.surface_prior};
+// fvv encode's arguments beyond the stream's own: the surface of every frame
+// and the silhouette margin, as asked.
+std::vector<std::string> EncodeOptions(const Args& a) {
+  std::vector<std::string> out;
+  if (a.surface) out.push_back("--surface");
+  if (a.surface && !a.surface_prior.empty())
+    out.insert(out.end(), {"--surface-prior", a.surface_prior});
+  if (!a.silhouette_margin.empty()) {
+    out.insert(out.end(), {"--silhouette-margin", a.silhouette_margin});
+  }
+  return out;
 }
 
 // What the person network saw in every camera of every benchmarked frame.
@@ -671,8 +678,8 @@ int Run(const Args& a) {
       std::vector<std::string> masked_args = {
           "encode",   dir,   "-o",      masked, "--poses",        poses,
           "--frames", range, "--masks", "-q",   "--summary-json", masked_json};
-      const std::vector<std::string> surface = SurfaceArgs(a);
-      masked_args.insert(masked_args.end(), surface.begin(), surface.end());
+      const std::vector<std::string> options = EncodeOptions(a);
+      masked_args.insert(masked_args.end(), options.begin(), options.end());
       Status s = RunFvv(a, masked_args);
       StatusOr<nlohmann::json> masked_summary = ReadJson(masked_json);
       if (s.ok() && !masked_summary.ok()) s = masked_summary.status();
@@ -684,7 +691,7 @@ int Run(const Args& a) {
             "encode", dir,        "-o",  stream,    "--poses",
             poses,    "--frames", range, "--bytes", std::to_string(per_gop),
             "-q"};
-        args.insert(args.end(), surface.begin(), surface.end());
+        args.insert(args.end(), options.begin(), options.end());
         s = RunFvv(a, args);
       }
       const std::string out2 = dir + "/renderer2", out2m = dir + "/renderer2_masks",
@@ -1045,6 +1052,7 @@ int Usage(const char* self, int code) {
   std::printf(
       "usage: %s CAPTURE [--frames A:B] [--render-frames N] [--out DIR] [--fvv PATH]\n"
       "       [--models DIR] [--held-out NAME] [--no-render] [--surface] [--surface-prior W]\n"
+      "       [--silhouette-margin N]\n"
       "Leave-one-camera-out tracking and rendering on a real capture (bench/README.md).\n"
       "  --frames A:B         frames to track (default 0:29)\n"
       "  --render-frames N    frames from A to encode and render per held-out camera (default 30)\n"
@@ -1054,7 +1062,8 @@ int Usage(const char* self, int code) {
       "  --held-out NAME      hold out this camera only (default: each in turn)\n"
       "  --no-render          tracking figures only\n"
       "  --surface            encode with the surface of every frame (fvv encode --surface)\n"
-      "  --surface-prior W    with it, fvv encode --surface-prior W\n",
+      "  --surface-prior W    with it, fvv encode --surface-prior W\n"
+      "  --silhouette-margin N  fvv encode --silhouette-margin N (default: the encoder's)\n",
       self);
   return code;
 }
@@ -1093,6 +1102,11 @@ int main(int argc, char** argv) {
       if (!v) return Usage(argv[0], 2);
       a.surface = true;
       a.surface_prior = v;
+    } else if (s == "--silhouette-margin") {
+      const char* v = value();
+      int margin = 0;
+      if (!v || std::sscanf(v, "%d", &margin) != 1) return Usage(argv[0], 2);
+      a.silhouette_margin = std::to_string(margin);
     } else if (a.capture.empty() && s[0] != '-') {
       a.capture = s;
     } else {

@@ -18,8 +18,14 @@
 #                masks in the same frames (fvv capture refine-calib --from tangents)
 #   all          shape, colour and calibration together
 #   all-tangents all, the cameras refined from their tangents first, then their colours
+# and two of another size, exactly calibrated, for the person-mask margin
+# (docs/encoder.md, "The margin scales with the person"); not in the default:
+#   closeup      focal lengths times 1.5: the actor 1.5 times as large in the same frames
+#   halfsize     focal lengths, principal points and image sizes halved (540x960)
 #
-# Usage: bench/run_rig_bench.sh [CONDITION ...]   (default: all eight)
+# Usage: bench/run_rig_bench.sh [--margin=N] [CONDITION ...]   (default: the first eight)
+#   --margin=N   the encoder's --silhouette-margin N instead of its default (the
+#                results go to out/rig_bench/CONDITION_marginN)
 # Needs bench/run_real_bench.sh run first (its imported capture, in step, and
 # its poses of frames 0-29 with cam01 held out), the person models and a
 # Release build in build/. Frames 0-15 are scored and 0-7 rendered; the
@@ -35,28 +41,66 @@ for f in "$capture/capture.json" "$poses"; do
     exit 1
   fi
 done
-conditions=("$@")
+conditions=()
+margin=()
+suffix=""
+for a in "$@"; do
+  case $a in
+    --margin=*)
+      margin=(--silhouette-margin "${a#--margin=}")
+      suffix="_margin${a#--margin=}"
+      ;;
+    *) conditions+=("$a") ;;
+  esac
+done
 [ ${#conditions[@]} -gt 0 ] ||
   conditions=(exact shape colour calibration refined tangents all all-tangents)
 out=out/rig_bench
 mkdir -p "$out"
+results=()
 for c in "${conditions[@]}"; do
+  rig=$capture
   case $c in
-    exact) extra=() ;;
+    exact | closeup | halfsize) extra=() ;;
     shape) extra=(--surface-detail 0.03) ;;
     colour) extra=(--colour-mismatch 0.1) ;;
     calibration | refined | tangents) extra=(--calibration-error 0.15) ;;
     all | all-tangents) extra=(--surface-detail 0.03 --colour-mismatch 0.1 --calibration-error 0.15) ;;
     *)
       echo "run_rig_bench: no condition $c (exact shape colour calibration refined tangents all" \
-        "all-tangents)" >&2
+        "all-tangents closeup halfsize)" >&2
       exit 2
       ;;
   esac
-  take="$out/$c/take"
+  dir="$out/$c$suffix"
+  take="$dir/take"
   rm -rf "$take"
-  echo "== $c: filming"
-  $fvv synth --rig "$capture" --rig-poses "$poses" --no-plates --frames 30 --fps 60 \
+  mkdir -p "$dir"
+  case $c in
+    closeup | halfsize)
+      # The rig's cameras at another size: a calibration of their own.
+      rig="$dir/rig"
+      mkdir -p "$rig"
+      python3 - "$capture/capture.json" "$rig/capture.json" "$c" <<'EOF'
+import json, sys
+source, target, condition = sys.argv[1:]
+capture = json.load(open(source))
+for camera in capture["cameras"]:
+    K = camera["K"]
+    if condition == "closeup":
+        K[0][0] *= 1.5
+        K[1][1] *= 1.5
+    else:
+        for row in (0, 1):
+            K[row] = [v / 2 for v in K[row]]
+        camera["width"] //= 2
+        camera["height"] //= 2
+json.dump(capture, open(target, "w"), indent=1)
+EOF
+      ;;
+  esac
+  echo "== $c$suffix: filming"
+  $fvv synth --rig "$rig" --rig-poses "$poses" --no-plates --frames 30 --fps 60 \
     "${extra[@]}" -o "$take" >/dev/null
   case $c in
     colour | all) $fvv capture calibrate-colour "$take" --frames 16:29 --write -q ;;
@@ -67,11 +111,12 @@ for c in "${conditions[@]}"; do
       $fvv capture calibrate-colour "$take" --frames 16:29 --write -q
       ;;
   esac
-  build/bench/real_bench "$take" --frames 0:15 --render-frames 8 --surface --out "$out/$c" \
-    --fvv $fvv >"$out/$c/real_bench.log"
-  echo "== $c: $(grep -A3 '^Renderer II as rendered, mean' "$out/$c/real_bench.log" | tr '\n' ' ')"
+  build/bench/real_bench "$take" --frames 0:15 --render-frames 8 --surface --out "$dir" \
+    --fvv $fvv "${margin[@]}" >"$dir/real_bench.log"
+  echo "== $c$suffix: $(grep -A3 '^Renderer II as rendered, mean' "$dir/real_bench.log" | tr '\n' ' ')"
+  results+=("$c$suffix")
 done
-python3 - "$out" "${conditions[@]}" <<'EOF'
+python3 - "$out" "${results[@]}" <<'EOF'
 import json, sys
 out, conditions = sys.argv[1], sys.argv[2:]
 keys = [("held_out_iou", "held-out IoU"), ("own_iou", "IoU used"), ("renderer2_iou", "II IoU"),
