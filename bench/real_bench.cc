@@ -87,8 +87,9 @@ struct Args {
 std::vector<std::string> EncodeOptions(const Args& a) {
   std::vector<std::string> out;
   if (a.surface) out.push_back("--surface");
-  if (a.surface && !a.surface_prior.empty())
+  if (a.surface && !a.surface_prior.empty()) {
     out.insert(out.end(), {"--surface-prior", a.surface_prior});
+  }
   if (!a.silhouette_margin.empty()) {
     out.insert(out.end(), {"--silhouette-margin", a.silhouette_margin});
   }
