@@ -7,6 +7,7 @@
 #include "container/geometric_visibility.h"
 #include "encoder/capture/calibration.h"
 #include "encoder/encode/mask_dilation.h"
+#include "encoder/io/mask_box.h"
 #include "encoder/shape/depth_map.h"
 
 namespace fvv {
@@ -64,16 +65,9 @@ std::vector<float> MaxFilter(const DepthMap& depth, int r) {
 }  // namespace
 
 int PersonMaskMargin(const Image& silhouette) {
-  const int w = int(silhouette.width), h = int(silhouette.height);
-  int x0 = w, y0 = h, x1 = -1, y1 = -1;
-  for (int y = 0; y < h; ++y) {
-    const uint8_t* row = silhouette.pixels.data() + size_t(y) * w;
-    for (int x = 0; x < w; ++x) {
-      if (!row[x]) continue;
-      x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
-    }
-  }
-  const int extent = x1 < 0 ? 0 : std::max(x1 - x0, y1 - y0) + 1;
+  const MaskBox b =
+      SetPixelBox(silhouette.pixels.data(), int(silhouette.width), int(silhouette.height));
+  const int extent = b.empty() ? 0 : std::max(b.x1 - b.x0, b.y1 - b.y0) + 1;
   return -std::max(1, int(std::lround(extent / kPersonExtentPerMarginPixel)));
 }
 

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "encoder/io/mask_box.h"
+
 namespace fvv {
 namespace {
 
@@ -85,18 +87,10 @@ void CleanMask(Image* mask, const SilhouetteParams& p) {
   // morphology reaches 2 pixels out, and beyond the box everything is
   // background, as it is outside the image. A person mask is a small part
   // of a 1080x1920 frame.
-  int x0 = w, y0 = h, x1 = -1, y1 = -1;
-  for (int y = 0; y < h; ++y) {
-    const uint8_t* row = &mask->pixels[size_t(y) * w];
-    for (int x = 0; x < w; ++x) {
-      if (!row[x]) continue;
-      x0 = std::min(x0, x), x1 = std::max(x1, x);
-      y0 = std::min(y0, y), y1 = y;
-    }
-  }
-  if (x1 < 0) return;
-  x0 = std::max(0, x0 - 4), y0 = std::max(0, y0 - 4);
-  x1 = std::min(w - 1, x1 + 4), y1 = std::min(h - 1, y1 + 4);
+  const MaskBox box = SetPixelBox(mask->pixels.data(), w, h);
+  if (box.empty()) return;
+  const int x0 = std::max(0, box.x0 - 4), y0 = std::max(0, box.y0 - 4);
+  const int x1 = std::min(w - 1, box.x1 + 4), y1 = std::min(h - 1, box.y1 + 4);
   const int bw = x1 - x0 + 1, bh = y1 - y0 + 1;
   std::vector<uint8_t> m(size_t(bw) * bh);
   for (int y = 0; y < bh; ++y) {
@@ -135,16 +129,10 @@ void RefineMaskEdges(Image* coarse, const Image& fine, int radius) {
   const int w = int(coarse->width), h = int(coarse->height), r = std::max(1, radius);
   // Ones of the coarse mask in each (2r + 1)^2 window, from a summed-area
   // table over the mask's box grown by the radius (nothing changes outside).
-  int x0 = w, y0 = h, x1 = -1, y1 = -1;
-  for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) {
-      if (!coarse->pixels[size_t(y) * w + x]) continue;
-      x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = y;
-    }
-  }
-  if (x1 < 0) return;
-  x0 = std::max(0, x0 - r), y0 = std::max(0, y0 - r);
-  x1 = std::min(w - 1, x1 + r), y1 = std::min(h - 1, y1 + r);
+  const MaskBox box = SetPixelBox(coarse->pixels.data(), w, h);
+  if (box.empty()) return;
+  const int x0 = std::max(0, box.x0 - r), y0 = std::max(0, box.y0 - r);
+  const int x1 = std::min(w - 1, box.x1 + r), y1 = std::min(h - 1, box.y1 + r);
   const int bw = x1 - x0 + 1, bh = y1 - y0 + 1;
   std::vector<int32_t> sum(size_t(bw + 1) * (bh + 1), 0);
   for (int y = 0; y < bh; ++y) {
