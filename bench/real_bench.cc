@@ -79,6 +79,7 @@ struct Args {
   bool render = true;
   bool surface = false;           // encode with the surface of every frame (fvv encode --surface)
   std::string surface_prior;      // fvv encode --surface-prior, where given
+  std::string surface_temporal;   // fvv encode --surface-temporal, where given
   std::string silhouette_margin;  // fvv encode --silhouette-margin, where given
 };
 
@@ -89,6 +90,9 @@ std::vector<std::string> EncodeOptions(const Args& a) {
   if (a.surface) out.push_back("--surface");
   if (a.surface && !a.surface_prior.empty()) {
     out.insert(out.end(), {"--surface-prior", a.surface_prior});
+  }
+  if (a.surface && !a.surface_temporal.empty()) {
+    out.insert(out.end(), {"--surface-temporal", a.surface_temporal});
   }
   if (!a.silhouette_margin.empty()) {
     out.insert(out.end(), {"--silhouette-margin", a.silhouette_margin});
@@ -1053,7 +1057,7 @@ int Usage(const char* self, int code) {
   std::printf(
       "usage: %s CAPTURE [--frames A:B] [--render-frames N] [--out DIR] [--fvv PATH]\n"
       "       [--models DIR] [--held-out NAME] [--no-render] [--surface] [--surface-prior W]\n"
-      "       [--silhouette-margin N]\n"
+      "       [--surface-temporal W] [--silhouette-margin N]\n"
       "Leave-one-camera-out tracking and rendering on a real capture (bench/README.md).\n"
       "  --frames A:B         frames to track (default 0:29)\n"
       "  --render-frames N    frames from A to encode and render per held-out camera (default 30)\n"
@@ -1064,6 +1068,7 @@ int Usage(const char* self, int code) {
       "  --no-render          tracking figures only\n"
       "  --surface            encode with the surface of every frame (fvv encode --surface)\n"
       "  --surface-prior W    with it, fvv encode --surface-prior W\n"
+      "  --surface-temporal W with it, fvv encode --surface-temporal W\n"
       "  --silhouette-margin N  fvv encode --silhouette-margin N (default: the encoder's)\n",
       self);
   return code;
@@ -1103,6 +1108,11 @@ int main(int argc, char** argv) {
       if (!v) return Usage(argv[0], 2);
       a.surface = true;
       a.surface_prior = v;
+    } else if (s == "--surface-temporal") {
+      const char* v = value();
+      if (!v) return Usage(argv[0], 2);
+      a.surface = true;
+      a.surface_temporal = v;
     } else if (s == "--silhouette-margin") {
       const char* v = value();
       int margin = 0;

@@ -122,6 +122,21 @@ out=$("$fvv" encode "$dir/cap" -o "$dir/v1.fvv" --atlas 128 --gop-frames 2 --tex
 "$fvv" info "$dir/v1.fvv" | grep -q "format version 1" || fail "precision 2 format version: $("$fvv" info "$dir/v1.fvv" | head -1)"
 "$fvv" decode "$dir/v1.fvv" -o "$dir/v1dec" >/dev/null 2>&1 || fail "decode of the version 1 stream"
 
+# The surface of every frame, and its pull to the previous frame reaching the
+# tracker: without it, the later frames' surface follows their own silhouettes.
+for t in 1 0; do
+  out=$("$fvv" encode "$dir/cap" -o "$dir/s$t.fvv" --atlas 128 --gop-frames 2 --fixed-shape --poses "$dir/cap" \
+    --surface --surface-temporal $t -q 2>&1) || fail "encode --surface --surface-temporal $t: $out"
+  "$fvv" info "$dir/s$t.fvv" | grep -q "tools:.* surface" || fail "surface tool: $("$fvv" info "$dir/s$t.fvv" | grep tools)"
+  "$fvv" decode "$dir/s$t.fvv" -o "$dir/s${t}_dec" --format conformance >/dev/null 2>&1 || fail "decode of the surface stream"
+done
+[ -s "$dir/s1_dec/surface_000002.bin" ] || fail "no surface in the conformance output: $(ls "$dir/s1_dec")"
+cmp -s "$dir/s1_dec/surface_000002.bin" "$dir/s0_dec/surface_000002.bin" &&
+  fail "--surface-temporal changed nothing"
+out=$("$fvv" encode "$dir/cap" -o "$dir/x.fvv" --surface --surface-temporal -1 2>&1) &&
+  fail "a negative --surface-temporal accepted"
+grep -q "surface-temporal" <<<"$out" || fail "--surface-temporal -1 message: $out"
+
 # Bad input: clear errors, non-zero exits, nothing written.
 out=$("$fvv" encode "$dir/nothing" -o "$dir/x.fvv" 2>&1) && fail "missing capture accepted"
 grep -q "nothing" <<<"$out" || fail "missing capture error: $out"

@@ -50,7 +50,7 @@ struct SurfaceTrackingOptions {
   double outside_cosine = 0.6;
   int spread = 8;           // passes spreading the data terms to neighbours
   double smoothness = 1.0;  // pull towards the neighbours' mean displacement
-  double temporal = 2.0;    // pull towards the previous frame's displacement
+  double temporal = 1.0;    // pull towards the previous frame's displacement
   double prior = 0.3;       // pull towards the fitted body (zero)
 };
 

@@ -37,6 +37,7 @@ struct EncodeArgs {
        whole_texture = false, surface = false, no_occluders = false;
   int surface_step = EncoderSettings{}.surface_step_exponent;
   double surface_prior = EncoderSettings{}.surface_tracking.prior;
+  double surface_temporal = EncoderSettings{}.surface_tracking.temporal;
   std::optional<int> margin;  // by the silhouettes' source
   double agreement = EncoderSettings{}.agreement.max_difference;
   double occluder_clearance = ResampleOptions{}.occluder_clearance;
@@ -100,6 +101,7 @@ int RunEncode(const EncodeArgs& a) {
   s.surface = a.surface;
   s.surface_step_exponent = static_cast<uint8_t>(a.surface_step);
   s.surface_tracking.prior = a.surface_prior;
+  s.surface_tracking.temporal = a.surface_temporal;
   if (a.texture_codec == "predictive") {
     // Its defaults: all cameras in one GOP (it predicts across them) and the
     // 5/3 kernel (better than the 9/7 with BISK: docs/encoder.md).
@@ -262,6 +264,11 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
   e->add_option("--surface-prior", a->surface_prior,
                 "With --surface: how strongly each frame's surface is held to the fitted body "
                 "where the silhouettes say little (docs/encoder.md: stronger suits tracked poses)")
+      ->check(CLI::Range(0.0, 100.0))
+      ->capture_default_str();
+  e->add_option("--surface-temporal", a->surface_temporal,
+                "With --surface: how strongly each frame's surface is held to the previous "
+                "frame's (0: each frame from its own silhouettes alone)")
       ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
   e->add_option("--motion-coder", a->motion_coder, "Motion track entropy coder")
