@@ -13,6 +13,7 @@
 //                      [--garment M] [--true-silhouettes 0|1] [--reuse 0|1]
 //                      [--quick 0|1] [--true-poses 0|1] [--persons 0|1] and the surface tracker's
 //                      weights: [--prior W] [--temporal W] [--smoothness W] [--spread N]
+//                      [--steps N]
 // --reuse 1 takes the capture and poses an earlier run left in DIR; --quick 1
 // encodes only the first two streams (no equal-bytes one): for trying weights;
 // --true-poses 1 encodes with the true poses instead of the tracked ones;
@@ -118,12 +119,14 @@ int main(int argc, char** argv) {
       tracking.smoothness = std::atof(v);
     } else if (a == "--spread") {
       tracking.spread = std::atoi(v);
+    } else if (a == "--steps") {
+      tracking.steps = std::atoi(v);
     } else {
       std::fprintf(stderr,
                    "usage: %s [--out DIR] [--frames N] [--cameras N] [--width W --height H] "
                    "[--garment M] [--true-silhouettes 0|1] [--reuse 0|1] [--quick 0|1] "
                    "[--true-poses 0|1] [--persons 0|1] [--prior W] [--temporal W] [--smoothness W] "
-                   "[--spread N]\n",
+                   "[--spread N] [--steps N]\n",
                    argv[0]);
       return 2;
     }
