@@ -123,7 +123,7 @@ out=$("$fvv" encode "$dir/cap" -o "$dir/v1.fvv" --atlas 128 --gop-frames 2 --tex
 "$fvv" decode "$dir/v1.fvv" -o "$dir/v1dec" >/dev/null 2>&1 || fail "decode of the version 1 stream"
 
 # The surface of every frame, and its pull to the previous frame reaching the
-# tracker: without it, the later frames' surface follows their own silhouettes.
+# surface tracker: the first frame has none to hold to, the later ones differ.
 for t in 1 0; do
   out=$("$fvv" encode "$dir/cap" -o "$dir/s$t.fvv" --atlas 128 --gop-frames 2 --fixed-shape --poses "$dir/cap" \
     --surface --surface-temporal $t -q 2>&1) || fail "encode --surface --surface-temporal $t: $out"

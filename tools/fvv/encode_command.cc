@@ -266,9 +266,10 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
                 "where the silhouettes say little (docs/encoder.md: stronger suits tracked poses)")
       ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
-  e->add_option("--surface-temporal", a->surface_temporal,
-                "With --surface: how strongly each frame's surface is held to the previous "
-                "frame's (0: each frame from its own silhouettes alone)")
+  e->add_option(
+       "--surface-temporal", a->surface_temporal,
+       "With --surface: how strongly each frame's surface is held to the previous "
+       "frame's (0: not held, though each frame starts from the one before; docs/encoder.md)")
       ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
   e->add_option("--motion-coder", a->motion_coder, "Motion track entropy coder")
