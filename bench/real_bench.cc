@@ -87,12 +87,12 @@ struct Args {
 // and the silhouette margin, as asked.
 std::vector<std::string> EncodeOptions(const Args& a) {
   std::vector<std::string> out;
-  if (a.surface) out.push_back("--surface");
-  if (a.surface && !a.surface_prior.empty()) {
-    out.insert(out.end(), {"--surface-prior", a.surface_prior});
-  }
-  if (a.surface && !a.surface_temporal.empty()) {
-    out.insert(out.end(), {"--surface-temporal", a.surface_temporal});
+  if (a.surface) {
+    out.push_back("--surface");
+    if (!a.surface_prior.empty()) out.insert(out.end(), {"--surface-prior", a.surface_prior});
+    if (!a.surface_temporal.empty()) {
+      out.insert(out.end(), {"--surface-temporal", a.surface_temporal});
+    }
   }
   if (!a.silhouette_margin.empty()) {
     out.insert(out.end(), {"--silhouette-margin", a.silhouette_margin});
@@ -1103,16 +1103,11 @@ int main(int argc, char** argv) {
       a.render = false;
     } else if (s == "--surface") {
       a.surface = true;
-    } else if (s == "--surface-prior") {
+    } else if (s == "--surface-prior" || s == "--surface-temporal") {
       const char* v = value();
       if (!v) return Usage(argv[0], 2);
       a.surface = true;
-      a.surface_prior = v;
-    } else if (s == "--surface-temporal") {
-      const char* v = value();
-      if (!v) return Usage(argv[0], 2);
-      a.surface = true;
-      a.surface_temporal = v;
+      (s == "--surface-prior" ? a.surface_prior : a.surface_temporal) = v;
     } else if (s == "--silhouette-margin") {
       const char* v = value();
       int margin = 0;
