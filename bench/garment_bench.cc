@@ -13,7 +13,8 @@
 //                      [--garment M] [--true-silhouettes 0|1] [--reuse 0|1]
 //                      [--quick 0|1] [--true-poses 0|1] [--persons 0|1] and the surface tracker's
 //                      weights: [--prior W] [--temporal W] [--smoothness W] [--spread N]
-//                      [--steps N]
+//                      [--steps N] [--stereo W] [--stereo-neighbours N]
+//                      [--stereo-ncc C] [--stereo-angle RAD] [--stereo-every N]
 // --reuse 1 takes the capture and poses an earlier run left in DIR; --quick 1
 // encodes only the first two streams (no equal-bytes one): for trying weights;
 // --true-poses 1 encodes with the true poses instead of the tracked ones;
@@ -121,12 +122,23 @@ int main(int argc, char** argv) {
       tracking.spread = std::atoi(v);
     } else if (a == "--steps") {
       tracking.steps = std::atoi(v);
+    } else if (a == "--stereo") {
+      tracking.stereo = std::atof(v);
+    } else if (a == "--stereo-ncc") {
+      tracking.stereo_match.min_ncc = std::atof(v);
+    } else if (a == "--stereo-every") {
+      tracking.stereo_every = std::atoi(v);
+    } else if (a == "--stereo-neighbours") {
+      tracking.stereo_match.min_neighbours = std::atoi(v);
+    } else if (a == "--stereo-angle") {
+      tracking.stereo_match.max_angle = std::atof(v);
     } else {
       std::fprintf(stderr,
                    "usage: %s [--out DIR] [--frames N] [--cameras N] [--width W --height H] "
                    "[--garment M] [--true-silhouettes 0|1] [--reuse 0|1] [--quick 0|1] "
                    "[--true-poses 0|1] [--persons 0|1] [--prior W] [--temporal W] [--smoothness W] "
-                   "[--spread N] [--steps N]\n",
+                   "[--spread N] [--steps N] [--stereo W] [--stereo-neighbours N] "
+                   "[--stereo-ncc C] [--stereo-angle RAD] [--stereo-every N]\n",
                    argv[0]);
       return 2;
     }

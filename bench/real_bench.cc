@@ -77,9 +77,10 @@ struct Args {
   uint32_t first = 0, last = 29;
   uint32_t render_frames = 30;
   bool render = true;
-  bool surface = false;           // encode with the surface of every frame (fvv encode --surface)
-  std::string surface_prior;      // fvv encode --surface-prior, where given
-  std::string surface_temporal;   // fvv encode --surface-temporal, where given
+  bool surface = false;  // encode with the surface of every frame (fvv encode --surface)
+  // fvv encode's --surface-prior, --surface-temporal and --surface-stereo,
+  // where given: each option and its value.
+  std::vector<std::string> surface_options;
   std::string silhouette_margin;  // fvv encode --silhouette-margin, where given
 };
 
@@ -89,10 +90,7 @@ std::vector<std::string> EncodeOptions(const Args& a) {
   std::vector<std::string> out;
   if (a.surface) {
     out.push_back("--surface");
-    if (!a.surface_prior.empty()) out.insert(out.end(), {"--surface-prior", a.surface_prior});
-    if (!a.surface_temporal.empty()) {
-      out.insert(out.end(), {"--surface-temporal", a.surface_temporal});
-    }
+    out.insert(out.end(), a.surface_options.begin(), a.surface_options.end());
   }
   if (!a.silhouette_margin.empty()) {
     out.insert(out.end(), {"--silhouette-margin", a.silhouette_margin});
@@ -1057,7 +1055,7 @@ int Usage(const char* self, int code) {
   std::printf(
       "usage: %s CAPTURE [--frames A:B] [--render-frames N] [--out DIR] [--fvv PATH]\n"
       "       [--models DIR] [--held-out NAME] [--no-render] [--surface] [--surface-prior W]\n"
-      "       [--surface-temporal W] [--silhouette-margin N]\n"
+      "       [--surface-temporal W] [--surface-stereo W] [--silhouette-margin N]\n"
       "Leave-one-camera-out tracking and rendering on a real capture (bench/README.md).\n"
       "  --frames A:B         frames to track (default 0:29)\n"
       "  --render-frames N    frames from A to encode and render per held-out camera (default 30)\n"
@@ -1069,6 +1067,7 @@ int Usage(const char* self, int code) {
       "  --surface            encode with the surface of every frame (fvv encode --surface)\n"
       "  --surface-prior W    with it, fvv encode --surface-prior W\n"
       "  --surface-temporal W with it, fvv encode --surface-temporal W\n"
+      "  --surface-stereo W   with it, fvv encode --surface-stereo W\n"
       "  --silhouette-margin N  fvv encode --silhouette-margin N (default: the encoder's)\n",
       self);
   return code;
@@ -1103,11 +1102,11 @@ int main(int argc, char** argv) {
       a.render = false;
     } else if (s == "--surface") {
       a.surface = true;
-    } else if (s == "--surface-prior" || s == "--surface-temporal") {
+    } else if (s == "--surface-prior" || s == "--surface-temporal" || s == "--surface-stereo") {
       const char* v = value();
       if (!v) return Usage(argv[0], 2);
       a.surface = true;
-      (s == "--surface-prior" ? a.surface_prior : a.surface_temporal) = v;
+      a.surface_options.insert(a.surface_options.end(), {s, v});
     } else if (s == "--silhouette-margin") {
       const char* v = value();
       int margin = 0;

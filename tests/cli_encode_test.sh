@@ -137,6 +137,30 @@ out=$("$fvv" encode "$dir/cap" -o "$dir/x.fvv" --surface --surface-temporal -1 2
   fail "a negative --surface-temporal accepted"
 grep -q "surface-temporal" <<<"$out" || fail "--surface-temporal -1 message: $out"
 
+# Stereo on the surface: on a ring of 8 cameras (45 degrees apart, two
+# neighbours near enough) it matches vertices, says how many, and moves the
+# surface; refused out of range.
+"$fvv" synth -o "$dir/cap8" --cameras 8 --width 320 --height 240 --frames 2 --held-out 0 \
+  >/dev/null 2>&1 || fail "synth of 8 cameras"
+for w in 3 0; do
+  out=$("$fvv" encode "$dir/cap8" -o "$dir/st$w.fvv" --atlas 128 --gop-frames 2 --fixed-shape \
+    --poses "$dir/cap8" --surface --surface-stereo $w --summary-json "$dir/st$w.json" 2>&1) ||
+    fail "encode --surface --surface-stereo $w: $out"
+  [ "$w" = 0 ] || grep -q "stereo matches" <<<"$out" || fail "no stereo share in the summary: $out"
+  "$fvv" decode "$dir/st$w.fvv" -o "$dir/st${w}_dec" --format conformance >/dev/null 2>&1 ||
+    fail "decode of the stereo surface stream"
+done
+share() { grep -o '"stereo_share": *[0-9.e+-]*' "$1" | grep -o '[0-9.e+-]*$'; }
+awk -v s="$(share "$dir/st3.json")" 'BEGIN { exit !(s > 0.05) }' ||
+  fail "stereo matched a share of $(share "$dir/st3.json")"
+awk -v s="$(share "$dir/st0.json")" 'BEGIN { exit !(s == 0) }' ||
+  fail "stereo without --surface-stereo: $(share "$dir/st0.json")"
+cmp -s "$dir/st3_dec/surface_000001.bin" "$dir/st0_dec/surface_000001.bin" &&
+  fail "--surface-stereo changed nothing"
+out=$("$fvv" encode "$dir/cap8" -o "$dir/x.fvv" --surface --surface-stereo -1 2>&1) &&
+  fail "a negative --surface-stereo accepted"
+grep -q "surface-stereo" <<<"$out" || fail "--surface-stereo -1 message: $out"
+
 # Bad input: clear errors, non-zero exits, nothing written.
 out=$("$fvv" encode "$dir/nothing" -o "$dir/x.fvv" 2>&1) && fail "missing capture accepted"
 grep -q "nothing" <<<"$out" || fail "missing capture error: $out"

@@ -42,8 +42,10 @@ std::string EncodeSummary::Table() const {
     add("  tracking          mean IoU %.3f, %d frame(s) flagged\n", mean_iou, flagged_frames);
   }
   if (surface_bytes > 0) {
-    add("  surface           %.3f s per frame, mean |displacement| %.1f mm\n",
+    add("  surface           %.3f s per frame, mean |displacement| %.1f mm",
         surface_s / std::max(1u, frames), 1000 * surface_mean_abs);
+    if (surface_stereo > 0) add(", stereo matches %.1f %% of the vertices", 100 * surface_stereo);
+    out += "\n";
   }
   if (fallback_texels > 0 || seamless_s > 0) {
     add("  seamless texture  %.3f s per frame; texel(s) no camera saw filled from the nearest "
@@ -126,7 +128,8 @@ std::string EncodeSummary::ToJson() const {
       {"surface",
        {{"bytes", surface_bytes},
         {"seconds_per_frame", surface_s / std::max(1u, frames)},
-        {"mean_abs_m", surface_mean_abs}}},
+        {"mean_abs_m", surface_mean_abs},
+        {"stereo_share", surface_stereo}}},
       {"shape_refinement",
        {{"refined", !refine_moves.empty()},
         {"seconds", refine_s},

@@ -227,10 +227,11 @@ struct EncodeSummary {
   uint32_t suspect_camera_frames = 0;
   uint64_t suspect_dropped = 0;
   double occluder_s = 0;
-  // The surface of every frame (surface): its bytes, tracking seconds, and
-  // the mean |displacement| (metres) over frames.
+  // The surface of every frame (surface): its bytes, tracking seconds, the
+  // mean |displacement| (metres) and the share of vertices a stereo match
+  // spoke for, over frames.
   uint64_t surface_bytes = 0;
-  double surface_s = 0, surface_mean_abs = 0;
+  double surface_s = 0, surface_mean_abs = 0, surface_stereo = 0;
 
   double duration_s() const { return frames / fps; }
   double kbps(uint64_t bytes) const { return bytes * 8.0 / 1000 / duration_s(); }

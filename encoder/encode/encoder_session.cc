@@ -126,6 +126,7 @@ Status Session::AddStaticFrame(uint32_t frame, const std::vector<double>& dofs,
 }
 
 StatusOr<const Mesh*> Session::TrackSurface(uint32_t slot, const std::vector<Affine>& skin,
+                                            const std::vector<Image>& images,
                                             const std::vector<Image>& silhouettes) {
   const auto t0 = Clock::now();
   if (!surface_tracker_) {
@@ -136,7 +137,7 @@ StatusOr<const Mesh*> Session::TrackSurface(uint32_t slot, const std::vector<Aff
   SurfaceTrackingReport report;
   FVV_ASSIGN_OR_RETURN(
       const std::vector<float> d,
-      surface_tracker_->Track(skin, cameras_, silhouettes, &report, pool_.runner()));
+      surface_tracker_->Track(skin, cameras_, silhouettes, images, &report, pool_.runner()));
   // Quantised with hysteresis: a value keeps the previous frame's until the
   // surface has moved a step past it, so that still parts code as repeats
   // (the temporal residuals, mostly zero, are what the zstd frame shrinks).
@@ -157,6 +158,7 @@ StatusOr<const Mesh*> Session::TrackSurface(uint32_t slot, const std::vector<Aff
     surface_mesh_.positions[v] = {bind[3 * v], bind[3 * v + 1], bind[3 * v + 2]};
   }
   sum_.surface_mean_abs += report.mean_abs / sum_.frames;
+  sum_.surface_stereo += report.stereo / sum_.frames;
   sum_.surface_s += Since(t0);
   return &surface_mesh_;
 }
@@ -176,7 +178,7 @@ StatusOr<std::vector<Eigen::Vector3f>> Session::Resample(uint32_t frame, uint32_
       return InvalidArgument("frame " + std::to_string(frame) +
                              ": the surface needs the cameras' silhouettes");
     }
-    FVV_ASSIGN_OR_RETURN(surface, TrackSurface(slot, skin, silhouettes));
+    FVV_ASSIGN_OR_RETURN(surface, TrackSurface(slot, skin, images, silhouettes));
   }
   const auto t0 = Clock::now();
   std::vector<Eigen::Vector3f> normals;

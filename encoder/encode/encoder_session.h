@@ -181,6 +181,7 @@ class Session {
   // into span_surface_[slot] and returned as the decoder will have it (the
   // model's mesh with the frame's bind-pose positions).
   StatusOr<const Mesh*> TrackSurface(uint32_t slot, const std::vector<Affine>& skin,
+                                     const std::vector<Image>& images,
                                      const std::vector<Image>& silhouettes);
 
   // Codes the `frames` frames held for the current time span: one block per

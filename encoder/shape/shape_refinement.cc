@@ -14,6 +14,7 @@
 #include "encoder/body/mesh_ops.h"
 #include "encoder/capture/calibration.h"
 #include "encoder/shape/depth_map.h"
+#include "encoder/shape/patch_stereo.h"
 #include "encoder/shape/projective_texturing.h"
 #include "encoder/shape/surface_index.h"
 
@@ -133,92 +134,13 @@ std::vector<Eigen::Matrix4d> BlendMatrices(const BodyModel& model,
   return out;
 }
 
-// Luma (BT.601) as floats, and bilinear samples of it (NaN outside).
-struct GreyImage {
-  int width = 0, height = 0;
-  std::vector<float> pixels;
-  float At(const Eigen::Vector2d& q) const {
-    if (!(q.x() >= 0 && q.y() >= 0 && q.x() <= width - 1 && q.y() <= height - 1)) return NAN;
-    const int x0 = std::min(int(q.x()), width - 2 < 0 ? 0 : width - 2);
-    const int y0 = std::min(int(q.y()), height - 2 < 0 ? 0 : height - 2);
-    const int x1 = std::min(x0 + 1, width - 1), y1 = std::min(y0 + 1, height - 1);
-    const float fx = float(q.x() - x0), fy = float(q.y() - y0);
-    const float* r0 = &pixels[size_t(y0) * width];
-    const float* r1 = &pixels[size_t(y1) * width];
-    return (1 - fy) * ((1 - fx) * r0[x0] + fx * r0[x1]) + fy * ((1 - fx) * r1[x0] + fx * r1[x1]);
-  }
-};
-
-GreyImage Grey(const Image& rgb) {
-  GreyImage g;
-  g.width = int(rgb.width);
-  g.height = int(rgb.height);
-  g.pixels.resize(size_t(g.width) * g.height);
-  for (size_t i = 0; i < g.pixels.size(); ++i) {
-    g.pixels[i] = 0.299f * rgb.pixels[i * 3] + 0.587f * rgb.pixels[i * 3 + 1] +
-                  0.114f * rgb.pixels[i * 3 + 2];
-  }
-  return g;
-}
-
-// Normalised cross-correlation of two equally long sample vectors; NaN when
-// either is flat or has a sample outside its image.
-double Ncc(const std::vector<float>& a, const std::vector<float>& b) {
-  double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
-  const double n = double(a.size());
-  for (size_t i = 0; i < a.size(); ++i) {
-    if (std::isnan(a[i]) || std::isnan(b[i])) return NAN;
-    sa += a[i], sb += b[i], saa += a[i] * a[i], sbb += b[i] * b[i], sab += a[i] * b[i];
-  }
-  const double va = saa - sa * sa / n, vb = sbb - sb * sb / n;
-  if (!(va > 1e-6 && vb > 1e-6)) return NAN;
-  return (sab - sa * sb / n) / std::sqrt(va * vb);
-}
-
-// The surface around a vertex as a height over its tangent plane,
-// h = a x^2 + b x y + c y^2 along the normal, in the axes u, w (unit, normal
-// x u = w): fitted to the 1-ring by least squares. Stereo patches follow it,
-// not the tangent plane: on a limb a flat patch a few centimetres wide stands
-// off the surface at its edges, which biases matches inwards.
-struct LocalSurface {
-  Vector3d u{1, 0, 0}, w{0, 1, 0};
-  double a = 0, b = 0, c = 0;
-};
-
-LocalSurface FitSurface(const Vector3d& p, const Vector3d& normal,
-                        const std::vector<uint32_t>& ring, const std::vector<Vector3f>& positions) {
-  LocalSurface s;
-  s.u = normal.unitOrthogonal();
-  s.w = normal.cross(s.u);
-  Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
-  Vector3d atb = Vector3d::Zero();
-  for (uint32_t nb : ring) {
-    const Vector3d d = positions[nb].cast<double>() - p;
-    const double x = d.dot(s.u), y = d.dot(s.w), h = d.dot(normal);
-    const Vector3d row(x * x, x * y, y * y);
-    ata += row * row.transpose();
-    atb += row * h;
-  }
-  if (ring.size() >= 3 && std::abs(ata.determinant()) > 1e-24) {
-    const Vector3d abc = ata.ldlt().solve(atb);
-    if (abc.allFinite()) s.a = abc[0], s.b = abc[1], s.c = abc[2];
-  }
-  return s;
-}
-
-struct StereoTarget {
-  bool valid = false;
-  Vector3d point{0, 0, 0};
-  double score = 0;
-};
-
 struct Context {
   const BodyModel& model;
   const std::vector<Camera>& cameras;
   const ShapeRefinementOptions& o;
   const Topology& topo;
   std::vector<Vector3d> centres;
-  std::vector<GreyImage> grey;
+  StereoViews stereo;
   const std::vector<Image>* silhouettes = nullptr;
   std::vector<DepthMap> model_depth;  // per camera, of the current shape (per level)
 };
@@ -262,92 +184,6 @@ bool RimTarget(const Context& ctx, size_t c, const Vector3d& p, const Vector3d& 
     }
   }
   return false;
-}
-
-// Model-based stereo for one vertex at search range `range`.
-StereoTarget MatchVertex(const Context& ctx, const Vector3d& p, const Vector3d& normal,
-                         const LocalSurface& surface, const std::vector<std::vector<uint8_t>>& vis,
-                         uint32_t v, double range) {
-  StereoTarget out;
-  const size_t m = ctx.cameras.size();
-  int key = -1;
-  double best_facing = 0.3;  // a key view looks at the surface, not along it
-  std::vector<double> facing(m, -1);
-  for (size_t c = 0; c < m; ++c) {
-    if (!vis[c][v]) continue;
-    facing[c] = normal.dot((ctx.centres[c] - p).normalized());
-    if (facing[c] > best_facing) best_facing = facing[c], key = int(c);
-  }
-  if (key < 0) return out;
-  const Vector3d key_dir = (ctx.centres[key] - p).normalized();
-  std::vector<std::pair<double, int>> adjacent;
-  for (size_t c = 0; c < m; ++c) {
-    if (int(c) == key || facing[c] < 0.2) continue;
-    const double angle =
-        std::acos(std::clamp(key_dir.dot((ctx.centres[c] - p).normalized()), -1.0, 1.0));
-    if (angle < 0.9) adjacent.emplace_back(angle, int(c));
-  }
-  if (adjacent.empty()) return out;
-  std::sort(adjacent.begin(), adjacent.end());
-  if (adjacent.size() > 2) adjacent.resize(2);
-  // The patch: a square over the local surface, about one key-view pixel
-  // per sample.
-  const Camera& kc = ctx.cameras[key];
-  const double depth = (p - ctx.centres[key]).norm();
-  const double spacing = depth / std::max(kc.fx, kc.fy) / std::max(best_facing, 0.5);
-  const int r = ctx.o.patch_radius, side = 2 * r + 1;
-  std::vector<Vector3d> offsets;
-  for (int y = -r; y <= r; ++y) {
-    for (int x = -r; x <= r; ++x) {
-      const double sx = x * spacing, sy = y * spacing;
-      offsets.push_back(sx * surface.u + sy * surface.w +
-                        (surface.a * sx * sx + surface.b * sx * sy + surface.c * sy * sy) * normal);
-    }
-  }
-  std::vector<float> key_patch(size_t(side) * side), other(key_patch.size());
-  const auto sample = [&](int camera, const Vector3d& centre, std::vector<float>* patch) {
-    for (size_t i = 0; i < offsets.size(); ++i) {
-      Eigen::Vector2d q;
-      (*patch)[i] =
-          ProjectPoint(ctx.cameras[camera], centre + offsets[i], &q) ? ctx.grey[camera].At(q) : NAN;
-    }
-  };
-  // The key patch's contrast decides whether there is anything to match.
-  sample(key, p, &key_patch);
-  double s = 0, ss = 0;
-  for (float k : key_patch) {
-    if (std::isnan(k)) return out;
-    s += k, ss += double(k) * k;
-  }
-  const double n = double(key_patch.size());
-  if (std::sqrt(std::max(0.0, ss / n - (s / n) * (s / n))) < ctx.o.min_patch_std) return out;
-  constexpr int kSteps = 16;
-  const Vector3d ray = -key_dir;  // from the key camera through the vertex
-  double scores[kSteps + 1];
-  for (int i = 0; i <= kSteps; ++i) {
-    const Vector3d q = p + ray * (-range + 2 * range * i / kSteps);
-    sample(key, q, &key_patch);
-    double sum = 0;
-    int count = 0;
-    for (const auto& a : adjacent) {
-      sample(a.second, q, &other);
-      const double c = Ncc(key_patch, other);
-      if (!std::isnan(c)) sum += c, ++count;
-    }
-    scores[i] = count ? sum / count : -1;
-  }
-  const int best = int(std::max_element(scores, scores + kSteps + 1) - scores);
-  // A match at either end of the range may lie beyond it: not trusted.
-  if (best == 0 || best == kSteps || scores[best] < ctx.o.min_ncc) return out;
-  // Sub-step peak by a parabola through the best score and its neighbours.
-  const double l = scores[best - 1], c = scores[best], rr = scores[best + 1];
-  const double denom = l - 2 * c + rr;
-  const double offset = denom < 0 ? std::clamp(0.5 * (l - rr) / denom, -0.5, 0.5) : 0.0;
-  const double t = -range + 2 * range * (best + offset) / kSteps;
-  out.valid = true;
-  out.point = p + ray * t;
-  out.score = c;
-  return out;
 }
 
 // The thin-plate spline (3D: phi(r) = r, plus an affine part) through the
@@ -416,8 +252,15 @@ Status RefineFrame(const BodyModel& model, const std::vector<Camera>& cameras,
   const SurfaceIndex hull_surface = SurfaceIndex::Points(hull->SurfaceVoxels());
   Context ctx{model, cameras, o, topo, {}, {}, &frame.silhouettes, {}};
   for (const Camera& c : cameras) ctx.centres.push_back(CameraCentre(c));
-  ctx.grey.resize(cameras.size());
-  runner(uint32_t(cameras.size()), [&](uint32_t c) { ctx.grey[c] = Grey(frame.images[c]); });
+  ctx.stereo.cameras = cameras;
+  ctx.stereo.centres = ctx.centres;
+  ctx.stereo.grey.resize(cameras.size());
+  runner(uint32_t(cameras.size()), [&](uint32_t c) { ctx.stereo.grey[c] = Grey(frame.images[c]); });
+  PatchStereoOptions stereo_options;
+  stereo_options.patch_radius = o.patch_radius;
+  stereo_options.min_ncc = o.min_ncc;
+  stereo_options.min_patch_std = o.min_patch_std;
+  stereo_options.min_neighbours = 1;
 
   const std::vector<Eigen::Matrix4d> skin = BlendMatrices(model, frame.dofs);
   std::vector<Vector3f> p(model.mesh.positions.size());
@@ -471,7 +314,10 @@ Status RefineFrame(const BodyModel& model, const std::vector<Camera>& cameras,
     std::vector<StereoTarget> stereo(p.size());
     for_canonical([&](uint32_t v) {
       const Vector3d pv = p[v].cast<double>(), nv = normals[v].cast<double>();
-      stereo[v] = MatchVertex(ctx, pv, nv, FitSurface(pv, nv, topo.ring[v], p), vis, v, range);
+      std::vector<uint8_t> seen(cameras.size());
+      for (size_t c = 0; c < cameras.size(); ++c) seen[c] = vis[c][v];
+      stereo[v] = MatchAlongKeyRay(ctx.stereo, seen, pv, nv, FitSurface(pv, nv, topo.ring[v], p),
+                                   range, stereo_options);
     });
     // Per vertex: a camera on whose contour generator it lies (-1: none).
     std::vector<int> contour_camera(p.size(), -1);

@@ -6,6 +6,7 @@
 
 #include "encoder/body/mesh_ops.h"
 #include "encoder/capture/calibration.h"
+#include "encoder/shape/projective_texturing.h"
 #include "encoder/track/silhouette_raster.h"
 
 namespace fvv {
@@ -130,9 +131,41 @@ SurfaceTracker::SurfaceTracker(const Mesh& mesh, const SurfaceTrackingOptions& o
   previous_.assign(mesh.positions.size(), 0.0f);
 }
 
+size_t SurfaceTracker::Match(const std::vector<Vector3d>& p, const StereoViews& views,
+                             std::vector<StereoTarget>* out, const ParallelRunner& runner) const {
+  std::vector<Eigen::Vector3f> pf(p.size());
+  for (size_t v = 0; v < p.size(); ++v) pf[v] = p[v].cast<float>();
+  const std::vector<Eigen::Vector3f> normals = VertexNormals(mesh_.triangles, pf, welded_);
+  // Seen by a camera that faces the surface (depth test at working size).
+  ProjectiveOptions po;
+  po.shift_m = 0;
+  po.depth_tolerance = 0.01;
+  po.min_facing = 0.2;
+  const std::vector<std::vector<uint8_t>> vis =
+      VertexVisibility(mesh_.triangles, pf, normals, views.cameras, po, runner);
+  constexpr uint32_t kChunks = 64;
+  std::vector<size_t> counts(kChunks, 0);
+  runner(kChunks, [&](uint32_t chunk) {
+    std::vector<uint8_t> seen(views.cameras.size());
+    for (size_t i = chunk; i < canonical_.size(); i += kChunks) {
+      const uint32_t v = canonical_[i];
+      for (size_t c = 0; c < seen.size(); ++c) seen[c] = vis[c][v];
+      const Vector3d normal = normals[v].cast<double>();
+      (*out)[v] =
+          MatchAlongKeyRay(views, seen, p[v], normal, FitSurface(p[v], normal, ring_[v], pf),
+                           o_.reach, o_.stereo_match);
+      counts[chunk] += (*out)[v].valid;
+    }
+  });
+  size_t total = 0;
+  for (size_t c : counts) total += c;
+  return total;
+}
+
 StatusOr<std::vector<float>> SurfaceTracker::Track(const std::vector<Affine>& skinning,
                                                    const std::vector<Camera>& cameras,
                                                    const std::vector<Image>& silhouettes,
+                                                   const std::vector<Image>& images,
                                                    SurfaceTrackingReport* report,
                                                    const ParallelRunner& runner) {
   if (silhouettes.size() != cameras.size()) {
@@ -169,10 +202,35 @@ StatusOr<std::vector<float>> SurfaceTracker::Track(const std::vector<Affine>& sk
     }
     used.push_back(uint32_t(c));
   }
+  const bool stereo = o_.stereo > 0 && !images.empty();
+  if (stereo && images.size() != cameras.size()) {
+    return InvalidArgument("surface tracking: " + std::to_string(images.size()) + " images for " +
+                           std::to_string(cameras.size()) + " cameras");
+  }
+  for (uint32_t c : used) {
+    if (!stereo) break;
+    const Image& im = images[c];
+    if (im.width != cameras[c].width || im.height != cameras[c].height || im.channels < 3) {
+      return InvalidArgument("surface tracking: camera " + cameras[c].name +
+                             "'s image is not colour of its calibrated size");
+    }
+  }
   views.resize(used.size());
+  StereoViews stereo_views;
+  if (stereo) stereo_views.grey.resize(used.size());
   runner(uint32_t(used.size()), [&](uint32_t k) {
     views[k] = MakeView(cameras[used[k]], silhouettes[used[k]], o_.max_side);
+    if (stereo) {
+      stereo_views.grey[k] = Grey(images[used[k]], ReductionFactor(cameras[used[k]], o_.max_side));
+    }
   });
+  for (const View& view : views) {
+    if (!stereo) break;
+    stereo_views.cameras.push_back(view.camera);
+    stereo_views.centres.push_back(view.centre);
+  }
+  std::vector<StereoTarget> matches(stereo ? n : 0);
+  size_t matched = 0;
   std::vector<float> d = previous_;
   std::vector<double> move(n), weight(n);
   std::vector<uint8_t> outside(n), contour(n);
@@ -183,6 +241,9 @@ StatusOr<std::vector<float>> SurfaceTracker::Track(const std::vector<Affine>& sk
   for (int step = 0; step < steps; ++step) {
     std::vector<Vector3d> p(n);
     for (size_t v = 0; v < n; ++v) p[v] = base[v] + double(d[v]) * along[v];
+    if (stereo && step % std::max(1, o_.stereo_every) == 0) {
+      matched = Match(p, stereo_views, &matches, runner);
+    }
     runner(uint32_t(views.size()), [&](uint32_t k) {
       View& view = views[k];
       std::vector<Eigen::Vector2f> px(n);
@@ -248,6 +309,11 @@ StatusOr<std::vector<float>> SurfaceTracker::Track(const std::vector<Affine>& sk
           move[v] = inward, weight[v] = 1;
         } else if (outward_count > 0) {
           move[v] = outward_sum / outward_count, weight[v] = 1;
+        } else if (stereo && matches[v].valid) {
+          // The move along `a` that takes the surface's tangent plane
+          // through the matched point.
+          move[v] = (matches[v].point - p[v]).dot(a) / a.squaredNorm();
+          weight[v] = o_.stereo * matches[v].score;
         } else {
           move[v] = 0, weight[v] = 0;
         }
@@ -294,6 +360,7 @@ StatusOr<std::vector<float>> SurfaceTracker::Track(const std::vector<Affine>& sk
     report->outside = out / count;
     report->contour = rim / count;
     report->mean_abs = sum / count;
+    report->stereo = matched / count;
   }
   return d;
 }

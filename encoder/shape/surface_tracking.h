@@ -14,7 +14,11 @@
 // - elsewhere, a vertex on a camera's contour (normal nearly across the ray,
 //   nothing of the model beyond it in that image) goes out to the
 //   silhouette's outline, searched along the normal's image direction; the
-//   contour cameras' moves are averaged.
+//   contour cameras' moves are averaged;
+// - with the camera images given and `stereo` above zero, a vertex no
+//   silhouette speaks for (facing the cameras) goes where a patch on its
+//   surface matches between the camera facing it best and its neighbours
+//   (patch_stereo.h), weighted by the match's correlation.
 //
 // The moves are spread over the mesh (neighbours' weighted moves), then each
 // vertex's displacement is pulled towards them, towards its neighbours' mean
@@ -34,6 +38,7 @@
 #include "container/cameras.h"
 #include "encoder/body/kinematics.h"
 #include "encoder/io/image_io.h"
+#include "encoder/shape/patch_stereo.h"
 
 namespace fvv {
 
@@ -52,12 +57,18 @@ struct SurfaceTrackingOptions {
   double smoothness = 1.0;  // pull towards the neighbours' mean displacement
   double temporal = 1.0;    // pull towards the previous frame's displacement
   double prior = 0.3;       // pull towards the fitted body (zero)
+  // Weight of a stereo match (times its correlation) against a silhouette
+  // term's 1; 0: silhouettes alone. Matched every `stereo_every` steps.
+  double stereo = 0.0;
+  int stereo_every = 4;
+  PatchStereoOptions stereo_match;
 };
 
 struct SurfaceTrackingReport {
   double outside = 0;   // share of the vertex sightings outside a silhouette, at the last step
   double contour = 0;   // share of vertices on some camera's contour, at the last step
   double mean_abs = 0;  // metres, mean |displacement|
+  double stereo = 0;    // share of vertices with a stereo match, at the last match
 };
 
 class SurfaceTracker {
@@ -67,11 +78,13 @@ class SurfaceTracker {
 
   // The frame posed by `skinning` (SkinningMatrices), seen by `cameras` with
   // silhouettes (grey, non-zero = actor; an empty image: that camera is not
-  // used). Returns each vertex's displacement along its bind-pose normal in
+  // used) and, for the stereo term, `images` (RGB, one per camera; empty:
+  // none). Returns each vertex's displacement along its bind-pose normal in
   // metres (welded copies equal), and remembers it for the next frame.
   StatusOr<std::vector<float>> Track(const std::vector<Affine>& skinning,
                                      const std::vector<Camera>& cameras,
                                      const std::vector<Image>& silhouettes,
+                                     const std::vector<Image>& images,
                                      SurfaceTrackingReport* report = nullptr,
                                      const ParallelRunner& runner = SerialRunner);
 
@@ -82,6 +95,11 @@ class SurfaceTracker {
   }
 
  private:
+  // Every vertex of the surface at `p` matched by stereo (at working size);
+  // returns how many matched.
+  size_t Match(const std::vector<Eigen::Vector3d>& p, const StereoViews& views,
+               std::vector<StereoTarget>* out, const ParallelRunner& runner) const;
+
   const Mesh& mesh_;
   SurfaceTrackingOptions o_;
   std::vector<uint32_t> welded_, canonical_;

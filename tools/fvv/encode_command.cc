@@ -38,6 +38,7 @@ struct EncodeArgs {
   int surface_step = EncoderSettings{}.surface_step_exponent;
   double surface_prior = EncoderSettings{}.surface_tracking.prior;
   double surface_temporal = EncoderSettings{}.surface_tracking.temporal;
+  double surface_stereo = EncoderSettings{}.surface_tracking.stereo;
   std::optional<int> margin;  // by the silhouettes' source
   double agreement = EncoderSettings{}.agreement.max_difference;
   double occluder_clearance = ResampleOptions{}.occluder_clearance;
@@ -102,6 +103,7 @@ int RunEncode(const EncodeArgs& a) {
   s.surface_step_exponent = static_cast<uint8_t>(a.surface_step);
   s.surface_tracking.prior = a.surface_prior;
   s.surface_tracking.temporal = a.surface_temporal;
+  s.surface_tracking.stereo = a.surface_stereo;
   if (a.texture_codec == "predictive") {
     // Its defaults: all cameras in one GOP (it predicts across them) and the
     // 5/3 kernel (better than the 9/7 with BISK: docs/encoder.md).
@@ -270,6 +272,12 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
        "--surface-temporal", a->surface_temporal,
        "With --surface: how strongly each frame's surface is held to the previous "
        "frame's (0: not held, though each frame starts from the one before; docs/encoder.md)")
+      ->check(CLI::Range(0.0, 100.0))
+      ->capture_default_str();
+  e->add_option("--surface-stereo", a->surface_stereo,
+                "With --surface: the weight of stereo (a patch matched between neighbouring "
+                "cameras) where no silhouette speaks for the surface (0: silhouettes alone; "
+                "docs/encoder.md)")
       ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
   e->add_option("--motion-coder", a->motion_coder, "Motion track entropy coder")

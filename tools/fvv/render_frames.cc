@@ -220,7 +220,7 @@ class CaptureFramesSource : public FramesDrawnBy<ProjectiveRenderer> {
       }
       StatusOr<std::vector<float>> d =
           tracker_->Track(SkinningMatrices(model_.skeleton, dofs), calibrations_, silhouettes,
-                          nullptr, pool_.runner());
+                          images, nullptr, pool_.runner());
       if (!d.ok()) return d.status();
       tracked_ = f;
       // The positions moved along the bind normals; visibility and blend
