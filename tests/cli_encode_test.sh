@@ -146,7 +146,7 @@ for w in 3 0; do
   out=$("$fvv" encode "$dir/cap8" -o "$dir/st$w.fvv" --atlas 128 --gop-frames 2 --fixed-shape \
     --poses "$dir/cap8" --surface --surface-stereo $w --summary-json "$dir/st$w.json" 2>&1) ||
     fail "encode --surface --surface-stereo $w: $out"
-  [ "$w" = 0 ] || grep -q "stereo matches" <<<"$out" || fail "no stereo share in the summary: $out"
+  grep -q "stereo $w\( (matches\|,\)" <<<"$out" || fail "no stereo weight or share in the summary: $out"
   "$fvv" decode "$dir/st$w.fvv" -o "$dir/st${w}_dec" --format conformance >/dev/null 2>&1 ||
     fail "decode of the stereo surface stream"
 done

@@ -1,7 +1,7 @@
 // Model-based stereo on a textured plane filmed by cameras a known angle
 // apart: a point put off the plane along the key camera's ray is matched back
 // onto it; a flat patch, neighbours too far round or too few give no match;
-// the reduced luma averages whole blocks.
+// the reduced luma averages whole blocks; which rigs suit stereo.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,6 +11,7 @@
 
 #include "encoder/capture/calibration.h"
 #include "encoder/shape/patch_stereo.h"
+#include "encoder/shape/surface_tracking.h"
 
 namespace fvv {
 namespace {
@@ -140,6 +141,34 @@ TEST(PatchStereo, ReducedLumaAveragesWholeBlocks) {
   EXPECT_NEAR(g.pixels[0], 100.0, 0.01);  // two of four pixels at 200
   EXPECT_NEAR(g.pixels[1], 50.0, 0.01);
   EXPECT_NEAR(Grey(im).pixels[0], 200.0, 0.01);
+}
+
+// A ring of `count` cameras 3.6 m from an actor standing at the origin,
+// `width` pixels wide (4:3) with a focal length of 1.125 widths.
+std::vector<Camera> Ring(int count, uint32_t width) {
+  std::vector<Camera> out;
+  for (int i = 0; i < count; ++i) {
+    const double a = 2 * 3.14159265358979 * i / count;
+    out.push_back(LookAtCamera("r", width, width * 3 / 4, 1.125 * width,
+                               Vector3d(3.6 * std::sin(a), 1.3, 3.6 * std::cos(a)),
+                               Vector3d(0, 0.9, 0), Vector3d(0, 1, 0)));
+  }
+  return out;
+}
+
+TEST(PatchStereo, RigsThatSuitStereo) {
+  const Vector3d actor(0, 0.9, 0);
+  const SurfaceTrackingOptions o;
+  EXPECT_TRUE(RigSuitsStereo(Ring(8, 640), actor, o));    // 45 degrees apart, 5 mm a pixel
+  EXPECT_TRUE(RigSuitsStereo(Ring(8, 1280), actor, o));   // worked at 640 pixels: the same
+  EXPECT_FALSE(RigSuitsStereo(Ring(8, 320), actor, o));   // 10 mm a pixel
+  EXPECT_FALSE(RigSuitsStereo(Ring(6, 640), actor, o));   // 60 degrees apart
+  EXPECT_FALSE(RigSuitsStereo(Ring(4, 1280), actor, o));  // 90 degrees apart
+  // Far off to one side, the ring's cameras no longer stand 45 degrees apart
+  // seen from the actor: those behind him see each other's directions closer,
+  // the near ones wider.
+  EXPECT_FALSE(RigSuitsStereo(Ring(8, 640), Vector3d(2.5, 0.9, 0), o));
+  EXPECT_FALSE(RigSuitsStereo({}, actor, o));
 }
 
 }  // namespace

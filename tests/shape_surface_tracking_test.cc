@@ -15,6 +15,7 @@
 
 #include "encoder/shape/shape_refinement.h"
 #include "encoder/shape/surface_index.h"
+#include "encoder/shape/surface_tracking.h"
 #include "encoder/track/track_capture.h"
 #include "fvv/fvv_decoder.hpp"
 #include "tests/synth_capture_fixture.h"
@@ -113,6 +114,10 @@ TEST_F(GarmentTest, TheSurfaceOfEveryFrameFollowsTheGarmentAndRendersBetter) {
       "  with stereo: %.1f %% of the vertices matched; where the garment stands off %.2f mm\n",
       100 * stereo->surface_stereo, 1000 * off_s / off);
   EXPECT_GT(stereo->surface_stereo, 0.05);
+  // By default this rig, a pixel about 1 cm at the actor, keeps to the
+  // silhouettes and the pull to the previous frame.
+  EXPECT_EQ(surfaced->surface_stereo_weight, 0.0);
+  EXPECT_EQ(surfaced->surface_temporal_weight, kTemporal);
   EXPECT_EQ(surfaced->surface_stereo, 0.0);
   EXPECT_LT(off_s, off_b);
 }

@@ -44,7 +44,9 @@ std::string EncodeSummary::Table() const {
   if (surface_bytes > 0) {
     add("  surface           %.3f s per frame, mean |displacement| %.1f mm",
         surface_s / std::max(1u, frames), 1000 * surface_mean_abs);
-    if (surface_stereo > 0) add(", stereo matches %.1f %% of the vertices", 100 * surface_stereo);
+    add("; stereo %g", surface_stereo_weight);
+    if (surface_stereo_weight > 0) add(" (matches %.1f %% of the vertices)", 100 * surface_stereo);
+    add(", pull to the previous frame %g", surface_temporal_weight);
     out += "\n";
   }
   if (fallback_texels > 0 || seamless_s > 0) {
@@ -129,7 +131,9 @@ std::string EncodeSummary::ToJson() const {
        {{"bytes", surface_bytes},
         {"seconds_per_frame", surface_s / std::max(1u, frames)},
         {"mean_abs_m", surface_mean_abs},
-        {"stereo_share", surface_stereo}}},
+        {"stereo_share", surface_stereo},
+        {"stereo_weight", surface_stereo_weight},
+        {"temporal_weight", surface_temporal_weight}}},
       {"shape_refinement",
        {{"refined", !refine_moves.empty()},
         {"seconds", refine_s},

@@ -229,9 +229,11 @@ struct EncodeSummary {
   double occluder_s = 0;
   // The surface of every frame (surface): its bytes, tracking seconds, the
   // mean |displacement| (metres) and the share of vertices a stereo match
-  // spoke for, over frames.
+  // spoke for, over frames; the tracker's stereo weight and pull to the
+  // previous frame (given, or chosen by the rig).
   uint64_t surface_bytes = 0;
   double surface_s = 0, surface_mean_abs = 0, surface_stereo = 0;
+  double surface_stereo_weight = 0, surface_temporal_weight = 0;
 
   double duration_s() const { return frames / fps; }
   double kbps(uint64_t bytes) const { return bytes * 8.0 / 1000 / duration_s(); }

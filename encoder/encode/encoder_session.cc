@@ -159,6 +159,8 @@ StatusOr<const Mesh*> Session::TrackSurface(uint32_t slot, const std::vector<Aff
   }
   sum_.surface_mean_abs += report.mean_abs / sum_.frames;
   sum_.surface_stereo += report.stereo / sum_.frames;
+  sum_.surface_stereo_weight = report.stereo_weight;
+  sum_.surface_temporal_weight = report.temporal_weight;
   sum_.surface_s += Since(t0);
   return &surface_mesh_;
 }

@@ -131,6 +131,30 @@ SurfaceTracker::SurfaceTracker(const Mesh& mesh, const SurfaceTrackingOptions& o
   previous_.assign(mesh.positions.size(), 0.0f);
 }
 
+bool RigSuitsStereo(const std::vector<Camera>& cameras, const Vector3d& actor,
+                    const SurfaceTrackingOptions& o) {
+  std::vector<Vector3d> towards;
+  for (const Camera& c : cameras) {
+    const Vector3d centre = CameraCentre(c);
+    const double distance = (centre - actor).norm();
+    const Camera working = ReducedCamera(c, ReductionFactor(c, o.max_side));
+    if (!(distance > 0) || distance / std::min(working.fx, working.fy) > o.stereo_max_pixel) {
+      return false;
+    }
+    towards.push_back((centre - actor) / distance);
+  }
+  for (size_t i = 0; i < towards.size(); ++i) {
+    int near = 0;
+    for (size_t j = 0; j < towards.size(); ++j) {
+      if (j == i) continue;
+      near +=
+          std::acos(std::clamp(towards[i].dot(towards[j]), -1.0, 1.0)) < o.stereo_match.max_angle;
+    }
+    if (near < o.stereo_match.min_neighbours) return false;
+  }
+  return !towards.empty();
+}
+
 size_t SurfaceTracker::Match(const std::vector<Vector3d>& p, const StereoViews& views,
                              std::vector<StereoTarget>* out, const ParallelRunner& runner) const {
   std::vector<Eigen::Vector3f> pf(p.size());
@@ -201,6 +225,17 @@ StatusOr<std::vector<float>> SurfaceTracker::Track(const std::vector<Affine>& sk
                              std::to_string(cameras[c].height));
     }
     used.push_back(uint32_t(c));
+  }
+  if (!started_ && (o_.stereo < 0 || o_.temporal < 0)) {
+    // The weights by the rig, once: the cameras that see this frame, the
+    // actor where the fitted body stands.
+    std::vector<Camera> seeing;
+    for (uint32_t c : used) seeing.push_back(cameras[c]);
+    Vector3d actor = Vector3d::Zero();
+    for (const Vector3d& b : base) actor += b / double(n);
+    const bool suits = !images.empty() && RigSuitsStereo(seeing, actor, o_);
+    if (o_.stereo < 0) o_.stereo = suits ? kStereoRigStereo : 0.0;
+    if (o_.temporal < 0) o_.temporal = suits && o_.stereo > 0 ? kStereoRigTemporal : kTemporal;
   }
   const bool stereo = o_.stereo > 0 && !images.empty();
   if (stereo && images.size() != cameras.size()) {
@@ -361,6 +396,8 @@ StatusOr<std::vector<float>> SurfaceTracker::Track(const std::vector<Affine>& sk
     report->contour = rim / count;
     report->mean_abs = sum / count;
     report->stereo = matched / count;
+    report->temporal_weight = o_.temporal;
+    report->stereo_weight = o_.stereo;
   }
   return d;
 }

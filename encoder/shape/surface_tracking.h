@@ -55,20 +55,42 @@ struct SurfaceTrackingOptions {
   double outside_cosine = 0.6;
   int spread = 8;           // passes spreading the data terms to neighbours
   double smoothness = 1.0;  // pull towards the neighbours' mean displacement
-  double temporal = 1.0;    // pull towards the previous frame's displacement
   double prior = 0.3;       // pull towards the fitted body (zero)
-  // Weight of a stereo match (times its correlation) against a silhouette
-  // term's 1; 0: silhouettes alone. Matched every `stereo_every` steps.
-  double stereo = 0.0;
+  // Pull towards the previous frame's displacement, and the weight of a
+  // stereo match (times its correlation) against a silhouette term's 1 (0:
+  // silhouettes alone; matched every `stereo_every` steps). Below zero: by
+  // the rig, on the first frame (RigSuitsStereo): where it suits stereo,
+  // kStereoRigStereo and, with stereo on, kStereoRigTemporal; elsewhere no
+  // stereo and kTemporal.
+  double temporal = -1;
+  double stereo = -1;
   int stereo_every = 4;
   PatchStereoOptions stereo_match;
+  // Metres a pixel at working size may cover at the actor for the rig to
+  // suit stereo: a match is good to about a pixel over the cameras' angle,
+  // and coarser than the silhouettes' surface it only adds noise.
+  double stereo_max_pixel = 0.008;
 };
+
+// The weights chosen by the rig (SurfaceTrackingOptions::temporal, stereo).
+constexpr double kTemporal = 1.0;
+constexpr double kStereoRigStereo = 10.0;
+constexpr double kStereoRigTemporal = 0.0;
+
+// Whether the rig filming an actor at `actor` suits stereo: seen from the
+// actor, every camera has options.stereo_match.min_neighbours others within
+// its max_angle, and a pixel at working size covers at most
+// options.stereo_max_pixel there.
+bool RigSuitsStereo(const std::vector<Camera>& cameras, const Eigen::Vector3d& actor,
+                    const SurfaceTrackingOptions& options);
 
 struct SurfaceTrackingReport {
   double outside = 0;   // share of the vertex sightings outside a silhouette, at the last step
   double contour = 0;   // share of vertices on some camera's contour, at the last step
   double mean_abs = 0;  // metres, mean |displacement|
   double stereo = 0;    // share of vertices with a stereo match, at the last match
+  // The weights used (SurfaceTrackingOptions' own, or chosen by the rig).
+  double temporal_weight = 0, stereo_weight = 0;
 };
 
 class SurfaceTracker {
