@@ -125,6 +125,14 @@ $fvv encode "$out/dome" -o "$out/dome.fvv" --poses "$out/dome_poses.json" -q
 $fvv render "$out/dome.fvv" --size 320x240 --contact-sheet 6 -o "$out/dome_views"
 echo "== shape refinement: generic model, visual hull and refined model against a bumpy actor's true surface"
 build/bench/shape_bench --out "$out/shape"
+echo "== the surface of every frame: an actor in loose shorts (fvv synth --garment), 8 cameras 45 degrees"
+echo "   apart at 640x480, a rig that suits stereo; encoded with --surface from the true poses (the"
+echo "   summary says what the rig chose), the held-out camera's view drawn with Renderer II"
+$fvv synth -o "$out/garment" --garment 0.08 --cameras 8 --width 640 --height 480 --frames 4 --held-out 1 \
+  >/dev/null
+$fvv encode "$out/garment" -o "$out/garment.fvv" --poses "$out/garment" --surface | grep -E "^  surface "
+$fvv render "$out/garment.fvv" -o "$out/garment_heldout" --cameras-from "$out/garment/truth/heldout" \
+  --camera 0 | tail -1
 real=../shared/data/real/pose2sim_single
 if [ -d "$real" ]; then
   echo "== a real capture (Pose2Sim's demo: Qualisys calibration, 4 portrait videos at 60 fps): import and look"
