@@ -82,10 +82,13 @@ struct Args {
   // where given: each option and its value.
   std::vector<std::string> surface_options;
   std::string silhouette_margin;  // fvv encode --silhouette-margin, where given
+  // fvv encode --psnr and --atlas, where given: the rate of the stream with
+  // masks (the default stream takes its bytes) and both streams' atlas size.
+  std::string psnr, atlas;
 };
 
-// fvv encode's arguments beyond the stream's own: the surface of every frame
-// and the silhouette margin, as asked.
+// fvv encode's arguments beyond the stream's own: the surface of every frame,
+// the silhouette margin and the atlas size, as asked.
 std::vector<std::string> EncodeOptions(const Args& a) {
   std::vector<std::string> out;
   if (a.surface) {
@@ -95,6 +98,7 @@ std::vector<std::string> EncodeOptions(const Args& a) {
   if (!a.silhouette_margin.empty()) {
     out.insert(out.end(), {"--silhouette-margin", a.silhouette_margin});
   }
+  if (!a.atlas.empty()) out.insert(out.end(), {"--atlas", a.atlas});
   return out;
 }
 
@@ -683,6 +687,7 @@ int Run(const Args& a) {
           "--frames", range, "--masks", "-q",   "--summary-json", masked_json};
       const std::vector<std::string> options = EncodeOptions(a);
       masked_args.insert(masked_args.end(), options.begin(), options.end());
+      if (!a.psnr.empty()) masked_args.insert(masked_args.end(), {"--psnr", a.psnr});
       Status s = RunFvv(a, masked_args);
       StatusOr<nlohmann::json> masked_summary = ReadJson(masked_json);
       if (s.ok() && !masked_summary.ok()) s = masked_summary.status();
@@ -1055,7 +1060,8 @@ int Usage(const char* self, int code) {
   std::printf(
       "usage: %s CAPTURE [--frames A:B] [--render-frames N] [--out DIR] [--fvv PATH]\n"
       "       [--models DIR] [--held-out NAME] [--no-render] [--surface] [--surface-prior W]\n"
-      "       [--surface-temporal W] [--surface-stereo W] [--silhouette-margin N]\n"
+      "       [--surface-temporal W] [--surface-stereo W] [--silhouette-margin N] [--psnr P]\n"
+      "       [--atlas N]\n"
       "Leave-one-camera-out tracking and rendering on a real capture (bench/README.md).\n"
       "  --frames A:B         frames to track (default 0:29)\n"
       "  --render-frames N    frames from A to encode and render per held-out camera (default 30)\n"
@@ -1068,7 +1074,10 @@ int Usage(const char* self, int code) {
       "  --surface-prior W    with it, fvv encode --surface-prior W\n"
       "  --surface-temporal W with it, fvv encode --surface-temporal W\n"
       "  --surface-stereo W   with it, fvv encode --surface-stereo W\n"
-      "  --silhouette-margin N  fvv encode --silhouette-margin N (default: the encoder's)\n",
+      "  --silhouette-margin N  fvv encode --silhouette-margin N (default: the encoder's)\n"
+      "  --psnr P             fvv encode --psnr P for the stream with masks, whose bytes the\n"
+      "                       default stream takes (default: the encoder's rate)\n"
+      "  --atlas N            fvv encode --atlas N (default: the encoder's)\n",
       self);
   return code;
 }
@@ -1107,6 +1116,10 @@ int main(int argc, char** argv) {
       if (!v) return Usage(argv[0], 2);
       a.surface = true;
       a.surface_options.insert(a.surface_options.end(), {s, v});
+    } else if (s == "--psnr" || s == "--atlas") {
+      const char* v = value();
+      if (!v) return Usage(argv[0], 2);
+      (s == "--psnr" ? a.psnr : a.atlas) = v;
     } else if (s == "--silhouette-margin") {
       const char* v = value();
       int margin = 0;
