@@ -117,7 +117,7 @@ TEST_F(GarmentTest, TheSurfaceOfEveryFrameFollowsTheGarmentAndRendersBetter) {
   // By default this rig, a pixel about 1 cm at the actor, keeps to the
   // silhouettes and the pull to the previous frame.
   EXPECT_EQ(surfaced->surface_stereo_weight, 0.0);
-  EXPECT_EQ(surfaced->surface_temporal_weight, kTemporal);
+  EXPECT_EQ(surfaced->surface_temporal_weight, kSurfaceTemporal);
   EXPECT_EQ(surfaced->surface_stereo, 0.0);
   EXPECT_LT(off_s, off_b);
 }

@@ -234,8 +234,9 @@ StatusOr<std::vector<float>> SurfaceTracker::Track(const std::vector<Affine>& sk
     Vector3d actor = Vector3d::Zero();
     for (const Vector3d& b : base) actor += b / double(n);
     const bool suits = !images.empty() && RigSuitsStereo(seeing, actor, o_);
-    if (o_.stereo < 0) o_.stereo = suits ? kStereoRigStereo : 0.0;
-    if (o_.temporal < 0) o_.temporal = suits && o_.stereo > 0 ? kStereoRigTemporal : kTemporal;
+    if (o_.stereo < 0) o_.stereo = suits ? kStereoRigSurfaceStereo : 0.0;
+    if (o_.temporal < 0)
+      o_.temporal = suits && o_.stereo > 0 ? kStereoRigSurfaceTemporal : kSurfaceTemporal;
   }
   const bool stereo = o_.stereo > 0 && !images.empty();
   if (stereo && images.size() != cameras.size()) {

@@ -15,10 +15,11 @@
 //   nothing of the model beyond it in that image) goes out to the
 //   silhouette's outline, searched along the normal's image direction; the
 //   contour cameras' moves are averaged;
-// - with the camera images given and `stereo` above zero, a vertex no
-//   silhouette speaks for (facing the cameras) goes where a patch on its
-//   surface matches between the camera facing it best and its neighbours
-//   (patch_stereo.h), weighted by the match's correlation.
+// - with the camera images given and stereo on (by the options, or where
+//   the rig suits it), a vertex no silhouette speaks for (facing the
+//   cameras) goes where a patch on its surface matches between the camera
+//   facing it best and its neighbours (patch_stereo.h), weighted by the
+//   match's correlation.
 //
 // The moves are spread over the mesh (neighbours' weighted moves), then each
 // vertex's displacement is pulled towards them, towards its neighbours' mean
@@ -60,8 +61,8 @@ struct SurfaceTrackingOptions {
   // stereo match (times its correlation) against a silhouette term's 1 (0:
   // silhouettes alone; matched every `stereo_every` steps). Below zero: by
   // the rig, on the first frame (RigSuitsStereo): where it suits stereo,
-  // kStereoRigStereo and, with stereo on, kStereoRigTemporal; elsewhere no
-  // stereo and kTemporal.
+  // kStereoRigSurfaceStereo and, with stereo on, kStereoRigSurfaceTemporal; elsewhere no
+  // stereo and kSurfaceTemporal.
   double temporal = -1;
   double stereo = -1;
   int stereo_every = 4;
@@ -73,9 +74,9 @@ struct SurfaceTrackingOptions {
 };
 
 // The weights chosen by the rig (SurfaceTrackingOptions::temporal, stereo).
-constexpr double kTemporal = 1.0;
-constexpr double kStereoRigStereo = 10.0;
-constexpr double kStereoRigTemporal = 0.0;
+constexpr double kSurfaceTemporal = 1.0;
+constexpr double kStereoRigSurfaceStereo = 10.0;
+constexpr double kStereoRigSurfaceTemporal = 0.0;
 
 // Whether the rig filming an actor at `actor` suits stereo: seen from the
 // actor, every camera has options.stereo_match.min_neighbours others within
