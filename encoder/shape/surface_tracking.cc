@@ -243,12 +243,13 @@ StatusOr<std::vector<float>> SurfaceTracker::Track(const std::vector<Affine>& sk
     return InvalidArgument("surface tracking: " + std::to_string(images.size()) + " images for " +
                            std::to_string(cameras.size()) + " cameras");
   }
-  for (uint32_t c : used) {
-    if (!stereo) break;
-    const Image& im = images[c];
-    if (im.width != cameras[c].width || im.height != cameras[c].height || im.channels < 3) {
-      return InvalidArgument("surface tracking: camera " + cameras[c].name +
-                             "'s image is not colour of its calibrated size");
+  if (stereo) {
+    for (uint32_t c : used) {
+      const Image& im = images[c];
+      if (im.width != cameras[c].width || im.height != cameras[c].height || im.channels < 3) {
+        return InvalidArgument("surface tracking: camera " + cameras[c].name +
+                               "'s image is not colour of its calibrated size");
+      }
     }
   }
   views.resize(used.size());
@@ -260,10 +261,11 @@ StatusOr<std::vector<float>> SurfaceTracker::Track(const std::vector<Affine>& sk
       stereo_views.grey[k] = Grey(images[used[k]], ReductionFactor(cameras[used[k]], o_.max_side));
     }
   });
-  for (const View& view : views) {
-    if (!stereo) break;
-    stereo_views.cameras.push_back(view.camera);
-    stereo_views.centres.push_back(view.centre);
+  if (stereo) {
+    for (const View& view : views) {
+      stereo_views.cameras.push_back(view.camera);
+      stereo_views.centres.push_back(view.centre);
+    }
   }
   std::vector<StereoTarget> matches(stereo ? n : 0);
   size_t matched = 0;
