@@ -7,7 +7,13 @@
 # view).
 #
 # Usage: bench/run_real_bench.sh [FRAMES A:B] [RENDER_FRAMES N] [--refine[=FROM]] [--strict]
-#                               [--surface] [--no-colour]
+#                               [--surface] [--no-colour] [--take=DIR] [--out=DIR]
+#   --take=DIR          the take to run (default ../shared/data/real/pose2sim_single): its
+#                       calibration in DIR/calibration (every *.qca.txt, *.toml, *.yml and
+#                       *.yaml there, read together by fvv capture import-calib) and one video
+#                       per camera in DIR/videos, named as the calibration names the camera
+#   --out=DIR           where the results go (default out/real_bench for the default take,
+#                       out/real_bench_NAME for a take in a directory NAME)
 #   --refine            camera poses from the keypoints (refine-calib --from keypoints)
 #   --refine=silhouettes  camera orientations from the tracked actor's outlines
 #   --refine=tangents   the frame offsets checked again and the camera orientations refined
@@ -27,10 +33,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 real=../shared/data/real/pose2sim_single
-if [ ! -d "$real" ]; then
-  echo "run_real_bench: no real capture at $real (see ../shared/data/README.md)" >&2
-  exit 1
-fi
+out=""
 refine=""
 strict=0
 colour=1
@@ -43,9 +46,39 @@ for a in "$@"; do
     --strict) strict=1 ;;
     --surface) bench_args+=(--surface) ;;
     --no-colour) colour=0 ;;
+    --take=*) real=${a#--take=} ;;
+    --out=*) out=${a#--out=} ;;
+    --*) echo "run_real_bench: unknown option $a (see the usage at the top of $0)" >&2; exit 2 ;;
     *) args+=("$a") ;;
   esac
 done
+if [ ! -d "$real" ]; then
+  echo "run_real_bench: no take at $real (the default's is described in ../shared/data/README.md)" >&2
+  exit 1
+fi
+real=$(cd "$real" && pwd)
+if [ -z "$out" ]; then
+  if [ "$real" = "$(cd ../shared/data/real/pose2sim_single 2>/dev/null && pwd)" ]; then
+    out=out/real_bench
+  else
+    out=out/real_bench_$(basename "$real")
+  fi
+fi
+shopt -s nullglob
+calib=("$real"/calibration/*.qca.txt "$real"/calibration/*.toml "$real"/calibration/*.yml
+  "$real"/calibration/*.yaml)
+videos=("$real"/videos/*)
+shopt -u nullglob
+if [ ${#calib[@]} = 0 ]; then
+  echo "run_real_bench: no calibration in $real/calibration (*.qca.txt, *.toml, *.yml or *.yaml)" >&2
+  exit 1
+fi
+if [ ${#videos[@]} = 0 ]; then
+  echo "run_real_bench: no videos in $real/videos (one per camera, named as the calibration names it)" >&2
+  exit 1
+fi
+# Every camera's video has the first one's extension.
+ext=${videos[0]##*.}
 case $refine in
   "" | keypoints | silhouettes | tangents) ;;
   *) echo "run_real_bench: --refine=keypoints, silhouettes or tangents, not $refine" >&2; exit 2 ;;
@@ -57,19 +90,32 @@ fi
 frames=${args[0]:-0:29}
 render_frames=${args[1]:-30}
 last=${frames#*:}
-span="$((last + 1)):$((last + 68))"
 fvv=build/tools/fvv/fvv
-out=out/real_bench
 mkdir -p "$out/capture"
-# The up axis comes from the format (Qualisys: z).
-$fvv capture import-calib "$real/calibration/Calib.qca.txt" -o "$out/capture" \
-  --video "$(cd "$real/videos" && pwd)/{camera}.mp4"
+# The up axis comes from the format (Qualisys: z) or from the cameras.
+$fvv capture import-calib "${calib[@]}" -o "$out/capture" --video "$real/videos/{camera}.$ext"
 # The cameras were not started together: skip each one's early frames.
 $fvv capture sync "$out/capture" --write
+# The refinement reads the 68 frames after the scored ones, or as many as the take has after
+# them (at least 24).
+count=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["frame_count"])' \
+  "$out/capture/capture.json")
+if [ "$count" -le "$last" ]; then
+  echo "run_real_bench: frames $frames reach beyond the take's $count frames in step" >&2
+  exit 1
+fi
+end=$((last + 68 < count - 1 ? last + 68 : count - 1))
+span="$((last + 1)):$end"
+if [ -n "$refine" ] && [ $((end - last)) -lt 24 ]; then
+  echo "run_real_bench: --refine reads the frames after $frames, and the take has $((end - last))" \
+    "of them in step (24 at least); score earlier frames" >&2
+  exit 1
+fi
 # The keypoints can leave a camera a frame or two off; the masks' tangents,
 # from the frames after the scored ones, check each offset again.
 if [ "$refine" = tangents ]; then
-  $fvv capture sync "$out/capture" --from tangents --frames "$((last + 3)):$((last + 64))" --write
+  $fvv capture sync "$out/capture" --from tangents --write \
+    --frames "$((last + 3)):$((last + 64 < count - 1 ? last + 64 : count - 1))"
 fi
 if [ $strict = 0 ]; then
   if [ -n "$refine" ]; then
