@@ -204,6 +204,20 @@ grep -q "up axis y: as --up says" <<<"$out" && grep -q "warning: up axis: the ca
 out=$("$fvv" capture check "$dir/zup" 2>&1) || fail "y-up capture does not check: $out"
 grep -q "warning: the cameras do not stand upright in this capture's world" <<<"$out" ||
   fail "check does not warn of a lying rig: $out"
+# A capture directory that does not exist yet is made, once the import succeeds;
+# one that fails leaves none behind.
+out=$("$fvv" capture import-calib "$dir/zup.toml" -o "$dir/new/capture" \
+  --images "$dir/cap/{camera}/%06d.png" --translation-unit mm 2>&1) ||
+  fail "import-calib into a new directory: $out"
+"$fvv" capture check "$dir/new/capture" >/dev/null || fail "the new directory's capture does not check"
+out=$("$fvv" capture import-calib "$dir/zup.toml" -o "$dir/never" --images "$dir/none/{camera}/%06d.png" \
+  --translation-unit mm 2>&1) && fail "import-calib without frames accepted"
+grep -q "no frames found" <<<"$out" || fail "no frames message: $out"
+[ ! -e "$dir/never" ] || fail "a failed import left its directory"
+touch "$dir/plain"
+out=$("$fvv" capture import-calib "$dir/zup.toml" -o "$dir/plain" \
+  --images "$dir/cap/{camera}/%06d.png" --translation-unit mm 2>&1) && fail "a file as --output accepted"
+grep -q "plain: cannot make the directory" <<<"$out" || fail "file as --output message: $out"
 printf '[cam00]\nwidth = 96\n' >"$dir/partial.toml"
 out=$("$fvv" capture import-calib "$dir/partial.toml" -o "$dir/imported" 2>&1) && fail "partial calibration accepted"
 grep -q "partial.toml: cam00: no camera matrix\|no camera found" <<<"$out" || fail "partial message: $out"

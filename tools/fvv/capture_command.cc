@@ -6,8 +6,10 @@
 #include <array>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <memory>
+#include <system_error>
 
 #include "encoder/capture/calibration.h"
 #include "encoder/capture/calibration_import.h"
@@ -294,6 +296,13 @@ int RunImportCalib(const ImportArgs& a) {
   // Round trip through the parser: what we write must load.
   StatusOr<Capture> check = ParseCapture(CaptureToJson(c), c.directory);
   if (!check.ok()) return Fail(check.status());
+  // Made only now, so that an import that fails leaves nothing behind.
+  std::error_code made;
+  std::filesystem::create_directories(a.output_dir, made);
+  if (made || !std::filesystem::is_directory(a.output_dir)) {
+    return Fail(InvalidArgument("--output " + a.output_dir + ": cannot make the directory" +
+                                (made ? " (" + made.message() + ")" : "")));
+  }
   Status s = SaveCapture(c);
   if (!s.ok()) return Fail(s);
   std::printf(
@@ -912,9 +921,10 @@ void AddCaptureCommands(CLI::App* app, int* exit_code) {
                  "each other (EasyMocap's intri.yml and extri.yml)")
       ->required()
       ->check(CLI::ExistingFile);
-  ic->add_option("-o,--output", imp->output_dir, "Capture directory to write capture.json into")
-      ->required()
-      ->check(CLI::ExistingDirectory);
+  ic->add_option("-o,--output", imp->output_dir,
+                 "Capture directory to write capture.json into (created if missing, once the "
+                 "import has succeeded)")
+      ->required();
   ic->add_option("--images", imp->images, "Frame pattern per camera ({camera} = its name)")
       ->capture_default_str();
   ic->add_option("--video", imp->video, "Video file per camera instead ({camera} = its name)");
