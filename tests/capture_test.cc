@@ -722,6 +722,23 @@ TEST_F(CaptureFiles, ImportsQualisysQca) {
   ASSERT_EQ(got->cameras.size(), 2u);  // the inactive camera is left out
   EXPECT_EQ(got->cameras[1].name, "cam02");
   for (const Camera& c : got->cameras) ExpectSameCamera(truth, c);
+  // The same cameras again in another format (a take's folder holding the
+  // lab's file and a converted one): their fields are named apart and would
+  // merge without a clash, so the import refuses to mix them.
+  std::ofstream(dir_ + "/Calib_converted.toml")
+      << "[cam_1]\nname = \"cam01\"\nsize = [ 640.0, 480.0,]\n"
+      << "matrix = [ [ " << truth.fx << ", 0.0, " << truth.cx << ",], [ 0.0, " << truth.fy << ", "
+      << truth.cy << ",], [ 0.0, 0.0, 1.0,],]\ndistortions = [ 0.0, 0.0, 0.0, 0.0,]\n"
+      << "rotation = [ " << RotationVector(truth) << ",]\n"
+      << "translation = [ " << List(truth.translation.data(), 3) << ",]\n";
+  StatusOr<ImportedCalibration> both =
+      ImportCalibrationFiles({dir_ + "/Calib.qca.txt", dir_ + "/Calib_converted.toml"}, 1.0);
+  ASSERT_FALSE(both.ok());
+  EXPECT_NE(both.status().message().find("two calibrations describe camera cam01"),
+            std::string::npos)
+      << both.status().message();
+  EXPECT_NE(both.status().message().find("(Qualisys) and"), std::string::npos);
+  EXPECT_NE(both.status().message().find("(TOML); give one"), std::string::npos);
   // Broken files: a missing attribute, and not a calibration at all.
   std::ofstream(dir_ + "/broken.qca.txt")
       << "<calibration><cameras><camera serial=\"c\"><fov_video left=\"0\"/><transform/>"

@@ -349,9 +349,12 @@ StatusOr<ImportedCalibration> ImportCalibrationFiles(const std::vector<std::stri
   if (!(unit > 0)) return InvalidArgument("translation unit must be positive");
   if (paths.empty()) return InvalidArgument("no calibration file given");
   ImportedCalibration result;
-  // Cameras in order of first mention; a later file adds the fields an earlier
-  // one lacks (EasyMocap's extrinsics), never replaces one.
+  // Cameras in order of first mention; a later file of the same format adds
+  // the fields an earlier one lacks (EasyMocap's extrinsics), never replaces
+  // one. Two formats name their fields apart, so a camera both describe would
+  // mix two calibrations field by field without a clash: refused.
   std::vector<Entry> merged;
+  std::vector<std::string> merged_format;
   for (const std::string& path : paths) {
     std::vector<Entry> entries;
     StatusOr<std::string> format = ParseFile(path, &entries);
@@ -367,7 +370,14 @@ StatusOr<ImportedCalibration> ImportCalibrationFiles(const std::vector<std::stri
                                [&](const Entry& m) { return m.name == e.name; });
       if (same == merged.end()) {
         merged.push_back(std::move(e));
+        merged_format.push_back(*format);
         continue;
+      }
+      const std::string& earlier = merged_format[size_t(same - merged.begin())];
+      if (earlier != *format) {
+        return InvalidArgument("two calibrations describe camera " + e.name + ": " + same->where +
+                               " (" + earlier + ") and " + e.where + " (" + *format +
+                               "); give one");
       }
       for (const auto& [key, value] : e.fields.items()) {
         if (same->fields.contains(key)) {
