@@ -31,6 +31,9 @@
 #                       renders it is scored against)
 # Needs the person models (tools/setup.sh fetches them) and a Release build in build/.
 set -euo pipefail
+# Paths given on the command line are read from where the script is run.
+here=$PWD
+absolute() { case $1 in /*) echo "$1" ;; *) echo "$here/$1" ;; esac; }
 cd "$(dirname "$0")/.."
 real=../shared/data/real/pose2sim_single
 out=""
@@ -46,12 +49,20 @@ for a in "$@"; do
     --strict) strict=1 ;;
     --surface) bench_args+=(--surface) ;;
     --no-colour) colour=0 ;;
-    --take=*) real=${a#--take=} ;;
-    --out=*) out=${a#--out=} ;;
+    --take=*) real=$(absolute "${a#--take=}") ;;
+    --out=*) out=$(absolute "${a#--out=}") ;;
     --*) echo "run_real_bench: unknown option $a (see the usage at the top of $0)" >&2; exit 2 ;;
     *) args+=("$a") ;;
   esac
 done
+case $refine in
+  "" | keypoints | silhouettes | tangents) ;;
+  *) echo "run_real_bench: --refine=keypoints, silhouettes or tangents, not $refine" >&2; exit 2 ;;
+esac
+if [ $strict = 1 ] && [ -z "$refine" ]; then
+  echo "run_real_bench: --strict needs --refine (as imported, every protocol is the same)" >&2
+  exit 2
+fi
 if [ ! -d "$real" ]; then
   echo "run_real_bench: no take at $real (the default's is described in ../shared/data/README.md)" >&2
   exit 1
@@ -79,14 +90,6 @@ if [ ${#videos[@]} = 0 ]; then
 fi
 # Every camera's video has the first one's extension.
 ext=${videos[0]##*.}
-case $refine in
-  "" | keypoints | silhouettes | tangents) ;;
-  *) echo "run_real_bench: --refine=keypoints, silhouettes or tangents, not $refine" >&2; exit 2 ;;
-esac
-if [ $strict = 1 ] && [ -z "$refine" ]; then
-  echo "run_real_bench: --strict needs --refine (as imported, every protocol is the same)" >&2
-  exit 2
-fi
 frames=${args[0]:-0:29}
 render_frames=${args[1]:-30}
 last=${frames#*:}
@@ -144,12 +147,13 @@ for held in $names; do
     $fvv capture calibrate-colour "$dir/capture" --cameras "$others" --frames "$span" --write -q
   fi
   build/bench/real_bench "$dir/capture" --frames "$frames" --render-frames "$render_frames" \
-    --out "$dir" --fvv $fvv --held-out "$held"
+    --out "$dir" --fvv $fvv --held-out "$held" "${bench_args[@]}"
 done
 python3 - "$out" $names <<'EOF'
 import json, sys
 out, names = sys.argv[1], sys.argv[2:]
-keys = ["held_out_iou", "held_out_joint_px", "own_iou", "renderer2_psnr", "renderer1_psnr"]
+keys = ["held_out_iou", "held_out_joint_px", "own_iou", "renderer2_iou", "renderer2_psnr",
+        "renderer2_psnr_both_cover", "renderer1_psnr"]
 rows = []
 for n in names:
     for c in json.load(open(f"{out}/strict_{n}/real_bench.json"))["cameras"]:
