@@ -160,9 +160,11 @@ for n in names:
         if c["camera"] == n:
             rows.append(c)
 print("strict protocol: each camera held out as imported, the others refined among themselves")
-print("%-10s" % "held out" + "".join("%20s" % k for k in keys))
+labels = ["IoU held out", "joints (px)", "IoU used", "IoU rendered", "R. II (dB)", "both cover",
+          "R. I (dB)"]
+print("%-10s" % "held out" + "".join("%14s" % k for k in labels))
 for r in rows:
-    print("%-10s" % r["camera"] + "".join("%20.3f" % r[k] for k in keys))
-print("%-10s" % "mean" + "".join("%20.3f" % (sum(r[k] for r in rows) / len(rows)) for k in keys))
+    print("%-10s" % r["camera"] + "".join("%14.3f" % r[k] for k in keys))
+print("%-10s" % "mean" + "".join("%14.3f" % (sum(r[k] for r in rows) / len(rows)) for k in keys))
 json.dump({"protocol": "strict", "cameras": rows}, open(f"{out}/real_bench_strict.json", "w"), indent=1)
 EOF
