@@ -10,8 +10,12 @@
 #                               [--surface] [--no-colour] [--take=DIR] [--out=DIR]
 #   --take=DIR          the take to run (default ../shared/data/real/pose2sim_single): its
 #                       calibration in DIR/calibration (every *.qca.txt, *.toml, *.yml and
-#                       *.yaml there, read together by fvv capture import-calib) and one video
-#                       per camera in DIR/videos, named as the calibration names the camera
+#                       *.yaml there, read together by fvv capture import-calib), and one video
+#                       per camera in DIR/videos or one folder of numbered PNG or JPEG images
+#                       per camera in DIR/images, named as the calibration names the camera
+#                       (bench/take_layout.py)
+#   --fps=R             the take's frame rate, where its frames do not say (images: 25 unless
+#                       given; it sets the streams' playback rate, not the scores)
 #   --out=DIR           where the results go (default out/real_bench for the default take,
 #                       out/real_bench_NAME for a take in a directory NAME)
 #   --refine            camera poses from the keypoints (refine-calib --from keypoints)
@@ -37,6 +41,7 @@ absolute() { case $1 in /*) echo "$1" ;; *) echo "$here/$1" ;; esac; }
 cd "$(dirname "$0")/.."
 real=../shared/data/real/pose2sim_single
 out=""
+fps=()
 refine=""
 strict=0
 colour=1
@@ -51,6 +56,7 @@ for a in "$@"; do
     --no-colour) colour=0 ;;
     --take=*) real=$(absolute "${a#--take=}") ;;
     --out=*) out=$(absolute "${a#--out=}") ;;
+    --fps=*) fps=(--fps "${a#--fps=}") ;;
     --*) echo "run_real_bench: unknown option $a (see the usage at the top of $0)" >&2; exit 2 ;;
     *) args+=("$a") ;;
   esac
@@ -75,28 +81,16 @@ if [ -z "$out" ]; then
     out=out/real_bench_$(basename "$real")
   fi
 fi
-shopt -s nullglob
-calib=("$real"/calibration/*.qca.txt "$real"/calibration/*.toml "$real"/calibration/*.yml
-  "$real"/calibration/*.yaml)
-videos=("$real"/videos/*)
-shopt -u nullglob
-if [ ${#calib[@]} = 0 ]; then
-  echo "run_real_bench: no calibration in $real/calibration (*.qca.txt, *.toml, *.yml or *.yaml)" >&2
-  exit 1
-fi
-if [ ${#videos[@]} = 0 ]; then
-  echo "run_real_bench: no videos in $real/videos (one per camera, named as the calibration names it)" >&2
-  exit 1
-fi
-# Every camera's video has the first one's extension.
-ext=${videos[0]##*.}
+# The calibration files, then the videos' or the images' pattern.
+layout=$(python3 bench/take_layout.py "$real") || exit 1
+mapfile -t import_args <<<"$layout"
 frames=${args[0]:-0:29}
 render_frames=${args[1]:-30}
 last=${frames#*:}
 fvv=build/tools/fvv/fvv
 mkdir -p "$out/capture"
 # The up axis comes from the format (Qualisys: z) or from the cameras.
-$fvv capture import-calib "${calib[@]}" -o "$out/capture" --video "$real/videos/{camera}.$ext"
+$fvv capture import-calib "${import_args[@]}" "${fps[@]}" -o "$out/capture"
 # The cameras were not started together: skip each one's early frames.
 $fvv capture sync "$out/capture" --write
 # The refinement reads the 68 frames after the scored ones, or as many as the take has after
