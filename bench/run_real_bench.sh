@@ -39,7 +39,8 @@ set -euo pipefail
 here=$PWD
 absolute() { case $1 in /*) echo "$1" ;; *) echo "$here/$1" ;; esac; }
 cd "$(dirname "$0")/.."
-real=../shared/data/real/pose2sim_single
+default_take=../shared/data/real/pose2sim_single
+real=$default_take
 out=""
 fps=()
 refine=""
@@ -75,7 +76,7 @@ if [ ! -d "$real" ]; then
 fi
 real=$(cd "$real" && pwd)
 if [ -z "$out" ]; then
-  if [ "$real" = "$(cd ../shared/data/real/pose2sim_single 2>/dev/null && pwd)" ]; then
+  if [ "$real" = "$(cd "$default_take" 2>/dev/null && pwd)" ]; then
     out=out/real_bench
   else
     out=out/real_bench_$(basename "$real")

@@ -184,7 +184,8 @@ StatusOr<Camera> CameraFrom(const json& c, const std::string& name, double unit,
 struct Entry {
   std::string name;
   json fields;
-  std::string where;  // file (and section) for messages
+  std::string where;        // file (and section) for messages
+  std::string format = "";  // the file's (ParseFile), set as files are merged
 };
 
 // EasyMocap: `names` lists the cameras; intri.yml holds K_<name> and
@@ -354,7 +355,6 @@ StatusOr<ImportedCalibration> ImportCalibrationFiles(const std::vector<std::stri
   // one. Two formats name their fields apart, so a camera both describe would
   // mix two calibrations field by field without a clash: refused.
   std::vector<Entry> merged;
-  std::vector<std::string> merged_format;
   for (const std::string& path : paths) {
     std::vector<Entry> entries;
     StatusOr<std::string> format = ParseFile(path, &entries);
@@ -366,17 +366,16 @@ StatusOr<ImportedCalibration> ImportCalibrationFiles(const std::vector<std::stri
     // exports give); the other formats leave the world's axes to the rig.
     if (*format == "Qualisys") result.up_axis = 'z';
     for (Entry& e : entries) {
+      e.format = *format;
       auto same = std::find_if(merged.begin(), merged.end(),
                                [&](const Entry& m) { return m.name == e.name; });
       if (same == merged.end()) {
         merged.push_back(std::move(e));
-        merged_format.push_back(*format);
         continue;
       }
-      const std::string& earlier = merged_format[size_t(same - merged.begin())];
-      if (earlier != *format) {
+      if (same->format != e.format) {
         return InvalidArgument("two calibrations describe camera " + e.name + ": " + same->where +
-                               " (" + earlier + ") and " + e.where + " (" + *format +
+                               " (" + same->format + ") and " + e.where + " (" + e.format +
                                "); give one");
       }
       for (const auto& [key, value] : e.fields.items()) {

@@ -9,7 +9,6 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
-#include <system_error>
 
 #include "encoder/capture/calibration.h"
 #include "encoder/capture/calibration_import.h"
@@ -297,11 +296,10 @@ int RunImportCalib(const ImportArgs& a) {
   StatusOr<Capture> check = ParseCapture(CaptureToJson(c), c.directory);
   if (!check.ok()) return Fail(check.status());
   // Made only now, so that an import that fails leaves nothing behind.
-  std::error_code made;
-  std::filesystem::create_directories(a.output_dir, made);
-  if (made || !std::filesystem::is_directory(a.output_dir)) {
+  const Status made = MakeDirectories(a.output_dir);
+  if (!made.ok() || !std::filesystem::is_directory(a.output_dir)) {
     return Fail(InvalidArgument("--output " + a.output_dir + ": cannot make the directory" +
-                                (made ? " (" + made.message() + ")" : "")));
+                                (made.ok() ? "" : " (" + made.message() + ")")));
   }
   Status s = SaveCapture(c);
   if (!s.ok()) return Fail(s);
