@@ -32,10 +32,8 @@ def files(directory):
 def layout(take):
     take = os.path.abspath(take)
     calibration_dir = os.path.join(take, "calibration")
-    if not os.path.isdir(calibration_dir):
-        fail("no calibration in %s (*.qca.txt, *.toml, *.yml or *.yaml)" % calibration_dir)
     calibration = [os.path.join(calibration_dir, f) for f in files(calibration_dir)
-                   if f.lower().endswith(CALIBRATION)]
+                   if f.lower().endswith(CALIBRATION)] if os.path.isdir(calibration_dir) else []
     if not calibration:
         fail("no calibration in %s (*.qca.txt, *.toml, *.yml or *.yaml)" % calibration_dir)
     videos_dir = os.path.join(take, "videos")
