@@ -43,7 +43,11 @@ stage "sanitizer build"
 # fast, 20 s optimised); their suites' other tests run there. The
 # command line's shard test tracks a take and its shards (past its 600 s
 # timeout under the sanitizers on a busy machine, 27 s optimised; the shards'
-# other paths run there in the encoder's shard tests). Renderer I tracking a
+# other paths run there in the encoder's shard tests), and so do its commands
+# that track a synthetic capture (fvv track, fvv encode tracking a dome's few
+# cameras, fvv capture calibrate-colour: 230 s under the sanitizers, 15 s
+# optimised; the tracker and the colour calibration run there in their own
+# suites, the rest of fvv capture in cli_capture). Renderer I tracking a
 # capture itself (105 s under the sanitizers, 10 s optimised) runs the tracker
 # that the command-line encode test runs there. The loose-shorts actor's
 # surface tests encode and score 8 frames twice (23 s optimised), and refine
@@ -56,6 +60,7 @@ slow+='TrackTest\.(SmoothedFramesReachTheCallbackInOrderWithTheirPoses|'
 slow+='SightingsHoldTheFitWithOneCameraConfused|RecoversKnownMotionWithinBounds|'
 slow+='NamesTheCameraWhoseCalibrationDisagrees|SilhouetteRefinementTurnsBumpedCamerasBack)$|'
 slow+='ShapeRefinementTest\.FeaturePointsCorrectAPoseError$|^cli_shards$|^cli_render_tracked$|'
+slow+='^cli_capture_tracking$|'
 slow+='SightingSides\.InARigOfTwelveTryingTheCamerasThatStandOutDecidesAsTryingAll$|'
 slow+='(Tracked)?GarmentTest\.)'
 CC=cc CXX=c++ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DFVV_WERROR=ON >/dev/null
