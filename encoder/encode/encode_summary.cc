@@ -51,9 +51,9 @@ std::string EncodeSummary::Table() const {
   }
   if (fallback_texels > 0 || seamless_s > 0) {
     add("  seamless texture  %.3f s per frame; texel(s) no camera saw filled from the nearest "
-        "frames that saw them %llu, from it %llu\n",
+        "frames that saw them %llu, from it %llu, from their mirror %llu\n",
         seamless_s / std::max(1u, frames), (unsigned long long)temporal_fill_texels,
-        (unsigned long long)fallback_texels);
+        (unsigned long long)fallback_texels, (unsigned long long)mirror_fill_texels);
   }
   if (occluder_s > 0) {
     add("  occluders         %.3f s per frame; something else found in %u frame(s), %llu "
@@ -117,7 +117,8 @@ std::string EncodeSummary::ToJson() const {
       {"seamless_texture",
        {{"seconds", seamless_s},
         {"temporal_fill_texels", temporal_fill_texels},
-        {"fallback_texels", fallback_texels}}},
+        {"fallback_texels", fallback_texels},
+        {"mirror_fill_texels", mirror_fill_texels}}},
       {"agreement", {{"texels", agreement_texels}, {"dropped", agreement_dropped}}},
       {"occluders",
        {{"seconds_per_frame", occluder_s / std::max(1u, frames)},

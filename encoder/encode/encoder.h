@@ -82,6 +82,11 @@ struct EncoderSettings {
   // mean colour of the frames of its time span, at most this many frames
   // away, that saw it (encoder/encode/temporal_fill.h; 0: off).
   uint32_t temporal_fill_frames = 15;
+  // After the static texture: a texel no camera has seen in any frame so far,
+  // deep inside what the cameras missed, takes the colour of its mirror on the
+  // other side of the body where a camera saw that in the frame
+  // (encoder/encode/mirror_texels.h).
+  bool mirror_fill = true;
   std::string static_texture;
 
   // Format and rate.
@@ -207,9 +212,10 @@ struct EncodeSummary {
   // level (metres).
   double refine_s = 0;
   std::vector<double> refine_moves;
-  // Texels filled from the nearest frames that saw them, and from the static
-  // texture (summed over frames), and the static texture's time.
-  uint64_t temporal_fill_texels = 0, fallback_texels = 0;
+  // Texels filled from the nearest frames that saw them, from the static
+  // texture and from their twins (mirror_fill; summed over frames), and the
+  // static texture's time.
+  uint64_t temporal_fill_texels = 0, fallback_texels = 0, mirror_fill_texels = 0;
   double seamless_s = 0;
   // Without masks: texels a player may take from a camera that did not see
   // them (summed over frames and cameras), and those of them left to the fill

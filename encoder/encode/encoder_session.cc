@@ -5,6 +5,7 @@
 #include "encoder/capture/calibration.h"
 #include "encoder/capture/colour_gain.h"
 #include "encoder/encode/blend_share.h"
+#include "encoder/encode/mirror_texels.h"
 
 namespace fvv {
 namespace encoding {
@@ -90,9 +91,13 @@ Status Session::AllocateForModel() {
     static_ = std::make_unique<StaticTexture>(s_.atlas_size);
     span_fallback_.assign(s_.gop_frames, {});
     all_seen_.assign(texels, 1);
-    if (s_.fallback_texture && s_.temporal_fill_frames > 0) {
+    if (s_.fallback_texture && (s_.temporal_fill_frames > 0 || s_.mirror_fill)) {
       span_seamless_.assign(s_.gop_frames, {});
       span_labels_.assign(s_.gop_frames, {});
+    }
+    // A texture directory already holds its encode's fills (CodeSpan).
+    if (s_.fallback_texture && s_.mirror_fill && s_.textures.empty()) {
+      mirror_ = MirrorTexels(map_, model_.mesh);
     }
   }
   if (!s_.save_textures.empty()) FVV_RETURN_IF_ERROR(MakeTextureDirectories());
@@ -389,6 +394,35 @@ void Session::ApplyFallback(uint32_t frames) {
       static_->Get(texel, &span_rgb_[(plane * texels + texel) * 3]);
       span_mask_[plane * texels + texel] = 1;
       ++sum_.fallback_texels;
+    }
+  }
+  if (!mirror_.empty()) FillFromMirrors(frames);
+}
+
+// Texels no camera has seen in any frame so far, deep inside what the
+// cameras missed, take their mirror's colour as the frame's seamless texture
+// holds it, in their best-facing camera.
+void Session::FillFromMirrors(uint32_t frames) {
+  const size_t texels = size_t(s_.atlas_size) * s_.atlas_size;
+  const uint32_t gap = MirrorFillGap(s_.atlas_size);
+  std::vector<uint8_t> held(texels), seen(texels);
+  for (uint32_t t = 0; t < frames; ++t) {
+    if (span_labels_[t].empty()) continue;
+    std::fill(held.begin(), held.end(), 0);
+    for (uint32_t c = 0; c < sum_.cameras; ++c) {
+      const uint8_t* mask = &span_mask_[(size_t(t) * sum_.cameras + c) * texels];
+      for (size_t i = 0; i < texels; ++i) held[i] |= mask[i] != 0;
+    }
+    for (size_t i = 0; i < texels; ++i) seen[i] = span_labels_[t][i] >= 0;
+    for (const auto& [entry, other] : MirrorFillTargets(map_, mirror_, held, seen, gap)) {
+      const uint32_t texel = map_.texel[entry], from = map_.texel[other];
+      const int16_t camera = span_fallback_[t][texel];
+      if (camera < 0) continue;
+      const size_t plane = size_t(t) * sum_.cameras + uint32_t(camera);
+      std::copy_n(&span_seamless_[t][size_t(from) * 3], 3,
+                  &span_rgb_[(plane * texels + texel) * 3]);
+      span_mask_[plane * texels + texel] = 1;
+      ++sum_.mirror_fill_texels;
     }
   }
 }

@@ -194,6 +194,9 @@ class Session {
   // nearest frames that saw them (temporal_fill_frames), else the static
   // texture's, in their best-facing camera.
   void ApplyFallback(uint32_t frames);
+  // Then texels still unheld, far from what the cameras saw, from their twin
+  // on the other side of the body (mirror_texels.h).
+  void FillFromMirrors(uint32_t frames);
 
   // Without masks: texels a player may take from a camera that did not see
   // them take the mean colour of the cameras that did, so that the player's
@@ -254,6 +257,7 @@ class Session {
   // Without masks, per slot: the posed surface (blend shares; empty for a
   // texture directory's frames).
   std::vector<std::vector<Eigen::Vector3f>> span_positions_, span_normals_;
+  std::vector<int32_t> mirror_;                      // MirrorTexels, with mirror_fill
   std::unique_ptr<StaticTexture> static_;            // with fallback_texture or static_texture
   bool static_fixed_ = false;                        // a prepared take's: frames do not add to it
   std::vector<std::vector<int16_t>> span_fallback_;  // per slot: best-facing camera per texel

@@ -33,8 +33,8 @@ struct EncodeArgs {
   uint32_t atlas = 512, threads = 2;
   uint16_t gop_frames = 8, gop_cameras = 1, key_interval = 1;
   bool masks = false, no_masks = false, extract = false, fixed_shape = false, quiet = false,
-       refine_shape = false, no_fallback = false, no_prune = false, model_floats = false,
-       whole_texture = false, surface = false, no_occluders = false;
+       refine_shape = false, no_fallback = false, no_mirror_fill = false, no_prune = false,
+       model_floats = false, whole_texture = false, surface = false, no_occluders = false;
   int surface_step = EncoderSettings{}.surface_step_exponent;
   double surface_prior = EncoderSettings{}.surface_tracking.prior;
   double surface_temporal = EncoderSettings{}.surface_tracking.temporal;
@@ -73,6 +73,7 @@ int RunEncode(const EncodeArgs& a) {
   s.pose_smoothing.sigma_frames = a.smooth;
   s.refine_shape = a.refine_shape;
   s.fallback_texture = !a.no_fallback;
+  s.mirror_fill = !a.no_mirror_fill;
   s.temporal_fill_frames = a.temporal_fill;
   s.static_texture = a.static_texture;
   s.features = a.features;
@@ -336,6 +337,10 @@ void AddEncodeCommand(CLI::App* app, int* exit_code) {
                 "at most this many frames away, that saw it, before the static texture (0: off)")
       ->check(CLI::Range(0u, 100000u))
       ->capture_default_str();
+  e->add_flag("--no-mirror-fill", a->no_mirror_fill,
+              "After the static texture, leave a texel no camera has seen so far to the fill "
+              "from the texels around it, instead of the colour of its mirror on the other side "
+              "of the body (where it lies deep inside what the cameras missed)");
   e->add_option("--static-texture", a->static_texture,
                 "Also write the actor's static seamless texture (atlas layout) to this image");
   e->add_option("--features", a->features,
