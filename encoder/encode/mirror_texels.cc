@@ -37,6 +37,7 @@ constexpr float kLeastNormalAgreement = 0.7f;
 
 std::vector<int32_t> MirrorTexels(const TexelMap& map, const Mesh& mesh, float max_distance) {
   const size_t n = map.texel.size();
+  if (!(max_distance > 0)) return std::vector<int32_t>(n, -1);
   std::vector<Eigen::Vector3f> pos(n), nrm(n);
   for (size_t e = 0; e < n; ++e) EntrySurface(map, mesh, e, &pos[e], &nrm[e]);
   // Cells max_distance wide: the nearest within it lies in the 27 cells
