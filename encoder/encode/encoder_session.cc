@@ -91,14 +91,14 @@ Status Session::AllocateForModel() {
     static_ = std::make_unique<StaticTexture>(s_.atlas_size);
     span_fallback_.assign(s_.gop_frames, {});
     all_seen_.assign(texels, 1);
-    if (s_.fallback_texture && (s_.temporal_fill_frames > 0 || s_.mirror_fill)) {
+    // A texture directory already holds its encode's fills (CodeSpan): what
+    // only the fills read is not made for it.
+    const bool fills = s_.fallback_texture && s_.textures.empty();
+    if (fills && (s_.temporal_fill_frames > 0 || s_.mirror_fill)) {
       span_seamless_.assign(s_.gop_frames, {});
       span_labels_.assign(s_.gop_frames, {});
     }
-    // A texture directory already holds its encode's fills (CodeSpan).
-    if (s_.fallback_texture && s_.mirror_fill && s_.textures.empty()) {
-      mirror_ = MirrorTexels(map_, model_.mesh);
-    }
+    if (fills && s_.mirror_fill) mirror_ = MirrorTexels(map_, model_.mesh);
   }
   if (!s_.save_textures.empty()) FVV_RETURN_IF_ERROR(MakeTextureDirectories());
   return Status::Ok();
@@ -366,7 +366,9 @@ void Session::AddToStaticTexture(uint32_t slot, const std::vector<Eigen::Vector3
     if (!span_labels_.empty())
       span_seamless_[slot] = std::move(blend), span_labels_[slot] = std::move(labels);
   }
-  span_fallback_[slot] = BestCameraLabels(map_, model_.mesh, positions, cameras_, facing);
+  if (s_.textures.empty()) {
+    span_fallback_[slot] = BestCameraLabels(map_, model_.mesh, positions, cameras_, facing);
+  }
   sum_.seamless_s += Since(t0);
 }
 
