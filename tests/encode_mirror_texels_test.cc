@@ -9,6 +9,7 @@
 
 #include "encoder/atlas/atlas.h"
 #include "encoder/body/generic_body.h"
+#include "encoder/body/mesh_ops.h"
 #include "encoder/encode/mirror_texels.h"
 
 namespace fvv {
@@ -30,12 +31,11 @@ AtlasOfTheBody MakeAtlas(uint32_t size) {
   if (!atlas.ok()) return a;
   a.mesh = atlas->mesh;
   a.map = MapAtlasTexels(a.mesh, size);
+  const std::vector<Eigen::Vector3f> positions = MeshPositions(a.mesh);
+  const std::vector<Eigen::Vector3f> normals = MeshNormals(a.mesh);
   for (size_t e = 0; e < a.map.texel.size(); ++e) {
-    Eigen::Vector3f p = Eigen::Vector3f::Zero();
-    for (size_t k = 0; k < 3; ++k) {
-      const uint32_t v = a.mesh.triangles[a.map.triangle[e]][k];
-      p += a.map.weights[e][k] * Eigen::Vector3f(a.mesh.positions[v].data());
-    }
+    Eigen::Vector3f p, n;
+    TexelSurfacePoint(a.map, a.mesh.triangles, positions, normals, e, &p, &n);
     a.position.push_back(p);
   }
   return a;

@@ -60,6 +60,13 @@ std::vector<Eigen::Vector3f> MeshPositions(const Mesh& mesh) {
   return out;
 }
 
+std::vector<Eigen::Vector3f> MeshNormals(const Mesh& mesh) {
+  std::vector<Eigen::Vector3f> out;
+  out.reserve(mesh.normals.size());
+  for (const auto& n : mesh.normals) out.emplace_back(n[0], n[1], n[2]);
+  return out;
+}
+
 void SetMeshPositions(const std::vector<Eigen::Vector3f>& positions, Mesh* mesh) {
   const std::vector<uint32_t> welded = WeldVertices(MeshPositions(*mesh));
   const std::vector<Eigen::Vector3f> normals = VertexNormals(mesh->triangles, positions, welded);

@@ -30,6 +30,8 @@ std::vector<std::vector<uint32_t>> VertexNeighbours(
 
 // The mesh's positions as vectors, and back (normals recomputed).
 std::vector<Eigen::Vector3f> MeshPositions(const Mesh& mesh);
+// The mesh's stored normals as vectors.
+std::vector<Eigen::Vector3f> MeshNormals(const Mesh& mesh);
 void SetMeshPositions(const std::vector<Eigen::Vector3f>& positions, Mesh* mesh);
 
 }  // namespace fvv

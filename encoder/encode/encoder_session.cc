@@ -457,12 +457,8 @@ void Session::FillForPlayers(uint32_t frames) {
       if (!unseen) continue;
       offered[t] += unseen;
       if (shares && count > 0) {
-        const auto& tri = model_.mesh.triangles[map_.triangle[e]];
-        const auto& w = map_.weights[e];
-        const Eigen::Vector3f p =
-            w[0] * positions[tri[0]] + w[1] * positions[tri[1]] + w[2] * positions[tri[2]];
-        const Eigen::Vector3f nrm =
-            (w[0] * normals[tri[0]] + w[1] * normals[tri[1]] + w[2] * normals[tri[2]]).normalized();
+        Eigen::Vector3f p, nrm;
+        TexelSurfacePoint(map_, model_.mesh.triangles, positions, normals, e, &p, &nrm);
         for (uint32_t c = 0; c < n; ++c) {
           to_camera[c] = (centres[c] - p).normalized();
           weight[c] = BlendFacingWeight(nrm.dot(to_camera[c]));

@@ -5,22 +5,10 @@
 #include <cmath>
 #include <unordered_map>
 
+#include "encoder/body/mesh_ops.h"
+
 namespace fvv {
 namespace {
-
-// Bind-pose position and unit normal of a texel map entry.
-void EntrySurface(const TexelMap& map, const Mesh& mesh, size_t e, Eigen::Vector3f* p,
-                  Eigen::Vector3f* n) {
-  p->setZero(), n->setZero();
-  const std::array<uint32_t, 3>& tri = mesh.triangles[map.triangle[e]];
-  for (size_t k = 0; k < 3; ++k) {
-    const float w = map.weights[e][k];
-    *p += w * Eigen::Vector3f(mesh.positions[tri[k]].data());
-    *n += w * Eigen::Vector3f(mesh.normals[tri[k]].data());
-  }
-  const float len = n->norm();
-  if (len > 0) *n /= len;
-}
 
 uint64_t CellKey(int x, int y, int z) {
   constexpr int kBias = 1 << 20;  // cells of 2 cm: +-20 km
@@ -38,8 +26,12 @@ constexpr float kLeastNormalAgreement = 0.7f;
 std::vector<int32_t> MirrorTexels(const TexelMap& map, const Mesh& mesh, float max_distance) {
   const size_t n = map.texel.size();
   if (!(max_distance > 0)) return std::vector<int32_t>(n, -1);
+  const std::vector<Eigen::Vector3f> positions = MeshPositions(mesh);
+  const std::vector<Eigen::Vector3f> normals = MeshNormals(mesh);
   std::vector<Eigen::Vector3f> pos(n), nrm(n);
-  for (size_t e = 0; e < n; ++e) EntrySurface(map, mesh, e, &pos[e], &nrm[e]);
+  for (size_t e = 0; e < n; ++e) {
+    TexelSurfacePoint(map, mesh.triangles, positions, normals, e, &pos[e], &nrm[e]);
+  }
   // Cells max_distance wide: the nearest within it lies in the 27 cells
   // around the mirrored point.
   auto cell = [&](float v) { return int(std::floor(v / max_distance)); };

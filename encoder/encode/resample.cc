@@ -126,6 +126,15 @@ TexelMap MapAtlasTexels(const Mesh& mesh, uint32_t size, double dilation) {
   return map;
 }
 
+void TexelSurfacePoint(const TexelMap& map, const std::vector<std::array<uint32_t, 3>>& triangles,
+                       const std::vector<Vector3f>& positions, const std::vector<Vector3f>& normals,
+                       size_t e, Vector3f* p, Vector3f* n) {
+  const auto& tri = triangles[map.triangle[e]];
+  const auto& bw = map.weights[e];
+  *p = bw[0] * positions[tri[0]] + bw[1] * positions[tri[1]] + bw[2] * positions[tri[2]];
+  *n = (bw[0] * normals[tri[0]] + bw[1] * normals[tri[1]] + bw[2] * normals[tri[2]]).normalized();
+}
+
 void ResampleView(const TexelMap& map, const Mesh& mesh, const std::vector<Vector3f>& positions,
                   const std::vector<Vector3f>& normals, const Camera& camera, const Image& image,
                   const Image& silhouette, const ResampleOptions& o, uint8_t* rgb, uint8_t* mask,
@@ -159,12 +168,8 @@ void ResampleView(const TexelMap& map, const Mesh& mesh, const std::vector<Vecto
   if (usable) deepest = MaxFilter(depth, int(std::ceil(pixels_per_texel)));
   const uint8_t* src = image.pixels.data();
   for (size_t e = 0; e < map.texel.size(); ++e) {
-    const auto& tri = mesh.triangles[map.triangle[e]];
-    const auto& bw = map.weights[e];
-    const Vector3f p =
-        bw[0] * positions[tri[0]] + bw[1] * positions[tri[1]] + bw[2] * positions[tri[2]];
-    const Vector3f nrm =
-        (bw[0] * normals[tri[0]] + bw[1] * normals[tri[1]] + bw[2] * normals[tri[2]]).normalized();
+    Vector3f p, nrm;
+    TexelSurfacePoint(map, mesh.triangles, positions, normals, e, &p, &nrm);
     const Vector3f view = centre - p;
     const float facing = nrm.dot(view) / view.norm();
     // Normals interpolated on the GPU differ a little from these.

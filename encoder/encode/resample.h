@@ -39,6 +39,14 @@ struct TexelMap {
 };
 TexelMap MapAtlasTexels(const Mesh& mesh, uint32_t size, double dilation = 1.0);
 
+// Entry `e`'s point and unit normal on the surface of `triangles` with these
+// vertex positions and normals (the bind pose's or a posed frame's):
+// its triangle's vertices weighted by its barycentric weights.
+void TexelSurfacePoint(const TexelMap& map, const std::vector<std::array<uint32_t, 3>>& triangles,
+                       const std::vector<Eigen::Vector3f>& positions,
+                       const std::vector<Eigen::Vector3f>& normals, size_t e, Eigen::Vector3f* p,
+                       Eigen::Vector3f* n);
+
 // The image silhouette's margin by where it comes from. Given or subtracted
 // silhouettes are pixel-accurate: grown a little, so that texels near the
 // outline are kept where the model and the silhouette disagree slightly. The
