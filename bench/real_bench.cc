@@ -81,7 +81,8 @@ struct Args {
   // fvv encode's --surface-prior, --surface-temporal and --surface-stereo,
   // where given: each option and its value.
   std::vector<std::string> surface_options;
-  std::string silhouette_margin;  // fvv encode --silhouette-margin, where given
+  std::vector<std::string> encode_options;  // --encode-option: passed to both encodes as given
+  std::string silhouette_margin;            // fvv encode --silhouette-margin, where given
   // fvv encode --psnr and --atlas, where given: the rate of the stream with
   // masks (the default stream takes its bytes) and both streams' atlas size.
   std::string psnr, atlas;
@@ -99,6 +100,7 @@ std::vector<std::string> EncodeOptions(const Args& a) {
     out.insert(out.end(), {"--silhouette-margin", a.silhouette_margin});
   }
   if (!a.atlas.empty()) out.insert(out.end(), {"--atlas", a.atlas});
+  out.insert(out.end(), a.encode_options.begin(), a.encode_options.end());
   return out;
 }
 
@@ -1061,7 +1063,7 @@ int Usage(const char* self, int code) {
       "usage: %s CAPTURE [--frames A:B] [--render-frames N] [--out DIR] [--fvv PATH]\n"
       "       [--models DIR] [--held-out NAME] [--no-render] [--surface] [--surface-prior W]\n"
       "       [--surface-temporal W] [--surface-stereo W] [--silhouette-margin N] [--psnr P]\n"
-      "       [--atlas N]\n"
+      "       [--atlas N] [--encode-option OPT ...]\n"
       "Leave-one-camera-out tracking and rendering on a real capture (bench/README.md).\n"
       "  --frames A:B         frames to track (default 0:29)\n"
       "  --render-frames N    frames from A to encode and render per held-out camera (default 30)\n"
@@ -1077,7 +1079,9 @@ int Usage(const char* self, int code) {
       "  --silhouette-margin N  fvv encode --silhouette-margin N (default: the encoder's)\n"
       "  --psnr P             fvv encode --psnr P for the stream with masks, whose bytes the\n"
       "                       default stream takes (default: the encoder's rate)\n"
-      "  --atlas N            fvv encode --atlas N (default: the encoder's)\n",
+      "  --atlas N            fvv encode --atlas N (default: the encoder's)\n"
+      "  --encode-option OPT  pass OPT to both encodes as one argument, e.g. --no-mirror-fill\n"
+      "                       or --temporal-fill=0 (repeat for more)\n",
       self);
   return code;
 }
@@ -1120,6 +1124,10 @@ int main(int argc, char** argv) {
       const char* v = value();
       if (!v) return Usage(argv[0], 2);
       (s == "--psnr" ? a.psnr : a.atlas) = v;
+    } else if (s == "--encode-option") {
+      const char* v = value();
+      if (!v || v[0] != '-') return Usage(argv[0], 2);
+      a.encode_options.push_back(v);
     } else if (s == "--silhouette-margin") {
       const char* v = value();
       int margin = 0;
