@@ -91,9 +91,8 @@ Status Session::AllocateForModel() {
     static_ = std::make_unique<StaticTexture>(s_.atlas_size);
     span_fallback_.assign(s_.gop_frames, {});
     all_seen_.assign(texels, 1);
-    // A texture directory already holds its encode's fills (CodeSpan): what
-    // only the fills read is not made for it.
-    const bool fills = s_.fallback_texture && s_.textures.empty();
+    // What only the fills read is made only where they apply.
+    const bool fills = AppliesFills();
     if (fills && (s_.temporal_fill_frames > 0 || s_.mirror_fill)) {
       span_seamless_.assign(s_.gop_frames, {});
       span_labels_.assign(s_.gop_frames, {});
@@ -366,7 +365,7 @@ void Session::AddToStaticTexture(uint32_t slot, const std::vector<Eigen::Vector3
     if (!span_labels_.empty())
       span_seamless_[slot] = std::move(blend), span_labels_[slot] = std::move(labels);
   }
-  if (s_.textures.empty()) {
+  if (AppliesFills()) {
     span_fallback_[slot] = BestCameraLabels(map_, model_.mesh, positions, cameras_, facing);
   }
   sum_.seamless_s += Since(t0);

@@ -190,6 +190,11 @@ class Session {
   // of every texel is kept for the fallback.
   void AddToStaticTexture(uint32_t slot, const std::vector<Eigen::Vector3f>& positions);
 
+  // Whether the span's unseen texels are filled (ApplyFallback). A texture
+  // directory holds the textures as its encode coded them, fills included,
+  // and a filled texel reads as seen there: filling again would take a
+  // twin's colour from a filled texel, where its encode did not.
+  bool AppliesFills() const { return s_.fallback_texture && s_.textures.empty(); }
   // Texels of the span's frames that no camera saw take the colour of the
   // nearest frames that saw them (temporal_fill_frames), else the static
   // texture's, in their best-facing camera.

@@ -7,10 +7,7 @@ namespace fvv {
 namespace encoding {
 
 Status Session::CodeSpan(uint32_t frames) {
-  // A texture directory holds the textures as its encode coded them, fills
-  // included, and a filled texel reads as seen there: filling again would
-  // take a twin's colour from a filled texel, where its encode did not.
-  if (s_.fallback_texture && static_ && s_.textures.empty()) ApplyFallback(frames);
+  if (static_ && AppliesFills()) ApplyFallback(frames);
   if (!span_usable_.empty()) FillForPlayers(frames);
   const uint32_t span_first = first_ + uint32_t(fragments_.size() / CameraGroups()) * s_.gop_frames;
   // Saved as coded (fallback texels included), so other codecs compared on
